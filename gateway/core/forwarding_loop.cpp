@@ -1,0 +1,111 @@
+#include "gateway/core/forwarding_loop.hpp"
+
+#include <utility>
+
+namespace tgw::core {
+
+ForwardingLoop::ForwardingLoop(const SchedulerConfig& config, const Clock& clock, SampleSink& sink)
+    : clock_(clock), sink_(sink), scheduler_(config) {}
+
+ForwardingLoop::~ForwardingLoop() {
+    stop();
+}
+
+void ForwardingLoop::start() {
+    thread_ = std::thread([this] { run(); });
+}
+
+void ForwardingLoop::stop() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (stopped_)
+            return;
+        stopping_ = true;
+    }
+    wake_.notify_all();
+    if (thread_.joinable())
+        thread_.join();
+    std::lock_guard<std::mutex> lock(mutex_);
+    scheduler_.drain(sink_, DropReason::shutdown);
+    stopped_ = true;
+}
+
+TopicId ForwardingLoop::add_topic(const TopicConfig& topic) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return scheduler_.add_topic(topic);
+}
+
+void ForwardingLoop::set_ttl(TopicId topic, Duration ttl) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    scheduler_.set_ttl(topic, ttl);
+}
+
+void ForwardingLoop::submit(Sample&& sample) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    {
+        if (stopped_) {
+            // Arrived after shutdown drained the queue: still logged, never lost.
+            scheduler_.push(std::move(sample), clock_.now(), clock_.wall_now(), sink_);
+            scheduler_.drain(sink_, DropReason::shutdown);
+            return;
+        }
+        const SteadyTime now = clock_.now();
+        scheduler_.push(std::move(sample), now, clock_.wall_now(), sink_);
+        scheduler_.release(now, sink_);
+        // The loop thread must recompute its wake-up: the new sample may be due before what it waits for.
+        if (scheduler_.queued_samples() > 0) {
+            kick_nts();
+        }
+    }
+}
+
+void ForwardingLoop::set_rate(double rate_bps) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        scheduler_.set_rate(rate_bps);
+        kick_nts();
+    }
+}
+
+TopicCounters ForwardingLoop::counters(TopicId topic) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return scheduler_.counters(topic);
+}
+
+TopicCounters ForwardingLoop::total_counters() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return scheduler_.total_counters();
+}
+
+double ForwardingLoop::rate_bps() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return scheduler_.rate_bps();
+}
+
+std::size_t ForwardingLoop::queued_samples() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return scheduler_.queued_samples();
+}
+
+void ForwardingLoop::kick_nts() {
+    kicked_ = true;
+    wake_.notify_one();
+}
+
+void ForwardingLoop::run() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stopping_) {
+        const SteadyTime now = clock_.now();
+        scheduler_.release(now, sink_);
+        const auto next = scheduler_.next_wakeup(now);
+        // The clock is injected, but waiting needs real time: sleep for the span the scheduler asked for.
+        if (next) {
+            wake_.wait_for(lock, *next - now, [this] { return stopping_ || kicked_; });
+        } else {
+            wake_.wait(lock, [this] { return stopping_ || kicked_; });
+        }
+        kicked_ = false;
+    }
+}
+
+}  // namespace tgw::core

@@ -1,0 +1,42 @@
+#pragma once
+
+#include <cstdint>
+
+#include "gateway/core/time.hpp"
+
+namespace tgw::core {
+
+/// The link as the gateway models it: non-preemptive, one sample on the wire at a time, at the sensed rate.
+/// Sending charges the sample's wire time; the link is free again once what was charged has drained. A
+/// short lead lets the next sample be handed to the kernel just before the previous one finishes, so the
+/// link never idles while the queue holds something (a token bucket whose depth is lead x rate).
+class LinkBudget {
+  public:
+    LinkBudget(double rate_bps, Duration lead);
+
+    /// Follow a new sensed rate. What was already charged keeps its old wire time.
+    void set_rate(double rate_bps) { rate_bps_ = rate_bps; }
+    double rate_bps() const { return rate_bps_; }
+
+    /// Time to put `bits` on the wire at the current rate; Duration::max() when the rate is 0.
+    Duration transmit_time(std::uint64_t bits) const;
+
+    /// True if a sample may be handed to the link now.
+    bool can_send(SteadyTime now) const { return rate_bps_ > 0.0 && busy_until_ <= now + lead_; }
+
+    /// When the link will have drained what was charged.
+    SteadyTime busy_until() const { return busy_until_; }
+
+    /// When the next sample may be handed to the link.
+    SteadyTime next_send_time() const { return busy_until_ - lead_; }
+
+    /// Charge `bits` sent at `now`; returns when they will have left the link.
+    SteadyTime charge(SteadyTime now, std::uint64_t bits);
+
+  private:
+    double rate_bps_;
+    Duration lead_;
+    SteadyTime busy_until_{};
+};
+
+}  // namespace tgw::core

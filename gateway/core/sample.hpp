@@ -1,0 +1,31 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "gateway/core/time.hpp"
+
+namespace tgw::core {
+
+/// Index of a topic in the scheduler's topic table, dense from 0.
+using TopicId = std::uint32_t;
+
+/// The DDS instance a keyed sample belongs to (the RTPS key hash), opaque to the core.
+struct InstanceKey {
+    std::array<std::uint8_t, 16> bytes{};
+    bool valid = false;
+};
+
+/// One sample on its way from the robot domain to the WAN, as the core sees it: opaque bytes with times.
+struct Sample {
+    TopicId topic = 0;
+    std::vector<std::uint8_t> payload;  ///< serialized data as received, encapsulation header included
+    InstanceKey key;
+    WallTime source_time;        ///< the publisher's source timestamp
+    SteadyTime arrival;          ///< set by the scheduler on push
+    SteadyTime deadline;         ///< set by the scheduler on push: source (or arrival) time + the topic's TTL
+    std::uint64_t sequence = 0;  ///< set by the scheduler on push: arrival order, breaks ties
+};
+
+}  // namespace tgw::core

@@ -1,0 +1,248 @@
+#include "gateway/core/scheduler.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <utility>
+
+namespace tgw::core {
+
+namespace {
+
+/// The shortest-TTL active topics, the first two, so that a candidate from the most urgent topic is checked
+/// against the next one.
+struct ProtectedTopics {
+    TopicId first_topic = std::numeric_limits<TopicId>::max();
+    Duration first_limit = Duration::max();
+    Duration second_limit = Duration::max();
+
+    void offer(TopicId topic, Duration limit) {
+        if (limit < first_limit) {
+            second_limit = first_limit;
+            first_limit = limit;
+            first_topic = topic;
+        } else if (limit < second_limit) {
+            second_limit = limit;
+        }
+    }
+    Duration limit_for(TopicId candidate) const { return candidate == first_topic ? second_limit : first_limit; }
+};
+
+}  // namespace
+
+Scheduler::Scheduler(const SchedulerConfig& config) : config_(config), budget_(config.initial_rate_bps, config.lead) {}
+
+TopicId Scheduler::add_topic(const TopicConfig& topic) {
+    topics_.push_back(TopicState{topic, {}, {}, 0, false});
+    return static_cast<TopicId>(topics_.size() - 1);
+}
+
+void Scheduler::set_ttl(TopicId topic, Duration ttl) {
+    topics_[topic].config.ttl = ttl;
+}
+
+std::int64_t Scheduler::rank_of(TopicId topic) const {
+    switch (config_.policy) {
+        case PolicyKind::ttl:
+        case PolicyKind::paper:
+            return topics_[topic].config.ttl.count();
+        case PolicyKind::edf:
+        case PolicyKind::fifo:
+            return 0;
+    }
+    return 0;
+}
+
+void Scheduler::push(Sample&& sample, SteadyTime now, WallTime wall_now, SampleSink& sink) {
+    TopicState& topic = topics_[sample.topic];
+    ++topic.counters.received;
+    sample.arrival = now;
+    sample.sequence = next_sequence_++;
+    // A sample cannot be born after it arrived: a source clock running ahead must not lengthen its life.
+    SteadyTime origin = now;
+    if (config_.trust_source_clock) {
+        origin = std::min(now, now + std::chrono::duration_cast<Duration>(sample.source_time - wall_now));
+    }
+    sample.deadline = origin + topic.config.ttl;
+    const std::uint64_t wire_bits = config_.wire.wire_bits(sample.payload.size());
+    topic.last_arrival = now;
+    topic.last_wire_bits = wire_bits;
+    topic.seen = true;
+
+    if (config_.policy == PolicyKind::fifo) {
+        forward(std::move(sample), wire_bits, sink);
+        return;
+    }
+    if (sample.deadline <= now) {
+        drop(std::move(sample), DropReason::expired, sink);
+        return;
+    }
+    const std::int64_t rank = rank_of(sample.topic);
+    queue_.push(std::move(sample), rank);
+    ++topic.counters.queued;
+    evict_over_cap(sink);
+}
+
+void Scheduler::release(SteadyTime now, SampleSink& sink) {
+    expire(now, sink);
+    switch (config_.policy) {
+        case PolicyKind::ttl:
+        case PolicyKind::edf:
+            release_by_deadline(now, sink);
+            break;
+        case PolicyKind::paper:
+            release_paper_period(now, sink);
+            break;
+        case PolicyKind::fifo:
+            break;
+    }
+}
+
+Sample Scheduler::take(DeadlineQueue::Slot slot) {
+    Sample sample = queue_.take(slot);
+    --topics_[sample.topic].counters.queued;
+    return sample;
+}
+
+void Scheduler::forward(Sample&& sample, std::uint64_t wire_bits, SampleSink& sink) {
+    TopicCounters& c = topics_[sample.topic].counters;
+    ++c.forwarded;
+    c.forwarded_payload_bytes += sample.payload.size();
+    c.forwarded_wire_bytes += wire_bits / 8;
+    sink.forward(std::move(sample));
+}
+
+void Scheduler::drop(Sample&& sample, DropReason reason, SampleSink& sink) {
+    ++topics_[sample.topic].counters.dropped_for(reason);
+    sink.drop(std::move(sample), reason);
+}
+
+void Scheduler::expire(SteadyTime now, SampleSink& sink) {
+    while (!queue_.empty() && queue_.at(queue_.earliest_deadline()).deadline <= now) {
+        drop(take(queue_.earliest_deadline()), DropReason::expired, sink);
+    }
+}
+
+void Scheduler::evict_over_cap(SampleSink& sink) {
+    while (!queue_.empty() && queue_.memory_bytes() > config_.memory_cap_bytes) {
+        drop(take(queue_.least_urgent()), DropReason::evicted, sink);
+    }
+}
+
+void Scheduler::release_by_deadline(SteadyTime now, SampleSink& sink) {
+    blocked_wakeup_.reset();
+    if (queue_.empty() || !budget_.can_send(now)) {
+        return;
+    }
+    // The link is non-preemptive: a sample on the wire holds it for its whole wire time. Protect the most
+    // urgent active topic: nothing may occupy the link longer than that topic's TTL minus its own wire time.
+    ProtectedTopics protect;
+    for (TopicId id = 0; id < topics_.size(); ++id) {
+        const TopicState& t = topics_[id];
+        if (t.seen && now - t.last_arrival <= t.config.ttl) {
+            protect.offer(id, t.config.ttl - budget_.transmit_time(t.last_wire_bits));
+        }
+    }
+
+    while (!queue_.empty() && budget_.can_send(now)) {
+        const SteadyTime start = std::max(now, budget_.busy_until());
+        bool sent = false;
+        for (auto it = queue_.by_urgency().begin(); it != queue_.by_urgency().end();) {
+            const DeadlineQueue::Slot slot = it->slot;
+            ++it;  // before take() invalidates the iterator
+            const Sample& sample = queue_.at(slot);
+            const std::uint64_t bits = config_.wire.wire_bits(sample.payload.size());
+            const Duration tx = budget_.transmit_time(bits);
+            const bool blocks_urgent = tx > protect.limit_for(sample.topic);
+            if (start + tx + config_.link_latency > sample.deadline) {
+                drop(take(slot), blocks_urgent ? DropReason::oversize : DropReason::doomed, sink);
+                continue;
+            }
+            if (blocks_urgent) {
+                // Wait for a faster link; give up once it could no longer make its deadline.
+                const SteadyTime give_up = sample.deadline - tx - config_.link_latency + Duration(1);
+                blocked_wakeup_ = blocked_wakeup_ ? std::min(*blocked_wakeup_, give_up) : give_up;
+                continue;
+            }
+            budget_.charge(now, bits);
+            forward(take(slot), bits, sink);
+            sent = true;
+            break;
+        }
+        if (!sent) {
+            break;
+        }
+    }
+}
+
+void Scheduler::release_paper_period(SteadyTime now, SampleSink& sink) {
+    if (!paper_started_) {
+        next_paper_period_ = now;
+        paper_started_ = true;
+    }
+    if (now < next_paper_period_) {
+        return;
+    }
+    // The paper's filter: walk the list by TTL and mark what fits in rate x period, counting only payload
+    // (plus an assumed overhead factor); send the marked at once. The rest waits for the next period.
+    double remaining_bits = budget_.rate_bps() * to_seconds(config_.paper_period);
+    std::vector<DeadlineQueue::Slot> marked;
+    for (const auto& key : queue_.by_urgency()) {
+        const double bits =
+            8.0 * static_cast<double>(queue_.at(key.slot).payload.size()) * (1.0 + config_.paper_overhead);
+        if (bits <= remaining_bits) {
+            remaining_bits -= bits;
+            marked.push_back(key.slot);
+        }
+    }
+    for (DeadlineQueue::Slot slot : marked) {
+        Sample sample = take(slot);
+        const std::uint64_t bits = config_.wire.wire_bits(sample.payload.size());
+        budget_.charge(now, bits);
+        forward(std::move(sample), bits, sink);
+    }
+    next_paper_period_ += config_.paper_period;
+    if (next_paper_period_ <= now) {
+        next_paper_period_ = now + config_.paper_period;
+    }
+}
+
+std::optional<SteadyTime> Scheduler::next_wakeup(SteadyTime now) const {
+    if (queue_.empty()) {
+        return std::nullopt;
+    }
+    SteadyTime next = queue_.at(queue_.earliest_deadline()).deadline;
+    switch (config_.policy) {
+        case PolicyKind::ttl:
+        case PolicyKind::edf:
+            if (budget_.rate_bps() > 0.0) {
+                if (!budget_.can_send(now)) {
+                    next = std::min(next, budget_.next_send_time());
+                } else if (blocked_wakeup_) {
+                    next = std::min(next, *blocked_wakeup_);
+                }
+            }
+            break;
+        case PolicyKind::paper:
+            next = std::min(next, paper_started_ ? next_paper_period_ : now);
+            break;
+        case PolicyKind::fifo:
+            break;
+    }
+    return std::max(next, now);
+}
+
+void Scheduler::drain(SampleSink& sink, DropReason reason) {
+    while (!queue_.empty()) {
+        drop(take(queue_.most_urgent()), reason, sink);
+    }
+}
+
+TopicCounters Scheduler::total_counters() const {
+    TopicCounters total;
+    for (const TopicState& t : topics_) {
+        total += t.counters;
+    }
+    return total;
+}
+
+}  // namespace tgw::core

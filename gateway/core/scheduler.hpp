@@ -1,0 +1,104 @@
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gateway/core/deadline_queue.hpp"
+#include "gateway/core/link_budget.hpp"
+#include "gateway/core/policy_kind.hpp"
+#include "gateway/core/sample_sink.hpp"
+#include "gateway/core/topic_counters.hpp"
+#include "gateway/core/wire_model.hpp"
+
+namespace tgw::core {
+
+struct SchedulerConfig {
+    PolicyKind policy = PolicyKind::ttl;
+    double initial_rate_bps = 0.0;
+    WireModel wire;
+    std::size_t memory_cap_bytes = 64u << 20;
+    /// How early the next sample may be handed to the link before the previous one has drained.
+    Duration lead = std::chrono::milliseconds(2);
+    /// One-way latency of the link beyond transmission, counted when judging whether a sample can still arrive.
+    Duration link_latency = Duration::zero();
+    /// Deadlines from the publisher's source timestamp (true) or from the arrival at the gateway (false).
+    bool trust_source_clock = true;
+    /// `paper` only: the filter's period, and the overhead it assumes on top of the payload (0.25 = 25 %).
+    Duration paper_period = std::chrono::seconds(1);
+    double paper_overhead = 0.0;
+};
+
+/// The per-topic facts the scheduler needs.
+struct TopicConfig {
+    std::string name;
+    Duration ttl = std::chrono::seconds(5);
+};
+
+/// The scheduling core: a pure step machine with no clock and no threads of its own. Samples come in with
+/// push(); release(now) sends what the policy and the link budget admit, and logs what can no longer be
+/// sent; next_wakeup() says when release() has something to do again. Not thread-safe: ForwardingLoop wraps
+/// it for the gateway, tm-sim drives it in simulated time.
+class Scheduler {
+  public:
+    explicit Scheduler(const SchedulerConfig& config);
+
+    TopicId add_topic(const TopicConfig& topic);
+    void set_ttl(TopicId topic, Duration ttl);
+    const TopicConfig& topic(TopicId id) const { return topics_[id].config; }
+    std::size_t topic_count() const { return topics_.size(); }
+
+    /// Take a sample in. `now` and `wall_now` are the same instant on the two clocks. Samples already
+    /// expired, and the least urgent when over the memory cap, go to `sink.drop`; under `fifo` the sample is
+    /// forwarded at once.
+    void push(Sample&& sample, SteadyTime now, WallTime wall_now, SampleSink& sink);
+
+    /// One scheduling step at `now`.
+    void release(SteadyTime now, SampleSink& sink);
+
+    /// When release() has something to do next, absent new samples or rate changes; nullopt if nothing.
+    std::optional<SteadyTime> next_wakeup(SteadyTime now) const;
+
+    void set_rate(double rate_bps) { budget_.set_rate(rate_bps); }
+    double rate_bps() const { return budget_.rate_bps(); }
+
+    /// Everything still queued goes to `sink.drop` with `reason` (shutdown).
+    void drain(SampleSink& sink, DropReason reason = DropReason::shutdown);
+
+    const TopicCounters& counters(TopicId topic) const { return topics_[topic].counters; }
+    TopicCounters total_counters() const;
+    std::size_t queued_samples() const { return queue_.size(); }
+    std::size_t queued_bytes() const { return queue_.memory_bytes(); }
+    const SchedulerConfig& config() const { return config_; }
+
+  private:
+    struct TopicState {
+        TopicConfig config;
+        TopicCounters counters;
+        SteadyTime last_arrival{};
+        std::uint64_t last_wire_bits = 0;
+        bool seen = false;
+    };
+
+    std::int64_t rank_of(TopicId topic) const;
+    Sample take(DeadlineQueue::Slot slot);
+    void forward(Sample&& sample, std::uint64_t wire_bits, SampleSink& sink);
+    void drop(Sample&& sample, DropReason reason, SampleSink& sink);
+    void expire(SteadyTime now, SampleSink& sink);
+    void evict_over_cap(SampleSink& sink);
+    void release_by_deadline(SteadyTime now, SampleSink& sink);
+    void release_paper_period(SteadyTime now, SampleSink& sink);
+
+    SchedulerConfig config_;
+    std::vector<TopicState> topics_;
+    DeadlineQueue queue_;
+    LinkBudget budget_;
+    std::uint64_t next_sequence_ = 0;
+    SteadyTime next_paper_period_{};
+    bool paper_started_ = false;
+    /// When a sample held back by the non-preemptive rule must be looked at again; set by release().
+    std::optional<SteadyTime> blocked_wakeup_;
+};
+
+}  // namespace tgw::core

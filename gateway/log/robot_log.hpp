@@ -1,0 +1,52 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "gateway/core/drop_reason.hpp"
+#include "gateway/core/sample.hpp"
+
+namespace tgw::log {
+
+/// One sample that was not sent, with its times on the wall clock (the steady times of the core converted at
+/// the edge, so the file can be read against the base camp's recording).
+struct LogRecord {
+    std::string_view topic;
+    std::string_view type_name;
+    const core::Sample* sample = nullptr;  ///< payload and instance key; not owned
+    core::DropReason reason = core::DropReason::expired;
+    core::WallTime arrival;
+    core::WallTime deadline;
+    core::WallTime logged_at;
+};
+
+/// The on-robot log: an SQLite file with one row per sample not sent (topic, type name, payload, instance
+/// key, source time, arrival, deadline, logged time, reason). Appends are buffered and written in batched
+/// transactions by a background thread, so the gateway's path never waits on the disk; flush() and the
+/// destructor write everything still buffered.
+class RobotLog {
+public:
+    /// Opens or creates `path` (WAL mode). Throws core::ConfigError naming the file if it cannot.
+    explicit RobotLog(const std::string& path);
+    ~RobotLog();
+
+    RobotLog(const RobotLog&) = delete;
+    RobotLog& operator=(const RobotLog&) = delete;
+
+    /// Copies the record into the buffer. Never throws; a failed write is counted and reported once.
+    void append(const LogRecord& record);
+    /// Blocks until everything appended so far is committed to the file.
+    void flush();
+
+    std::uint64_t rows_written() const;
+    std::uint64_t write_errors() const;
+    const std::string& path() const;
+
+private:
+    class Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tgw::log

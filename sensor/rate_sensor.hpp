@@ -1,0 +1,32 @@
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "gateway/core/clock.hpp"
+
+namespace tgw::sensor {
+
+/// One reading of a link's data rate.
+struct RateReading {
+    bool ok = false;
+    double rate_bps = 0.0;
+    std::string detail;  ///< extra fields for people, e.g. "signal -52 dBm"; may be empty
+    std::string error;   ///< why the reading failed, when !ok
+};
+
+/// Measures the data rate the link to the base camp can carry now. Polled by the gateway and by tm-sense.
+class RateSensor {
+public:
+    virtual ~RateSensor() = default;
+    /// Never throws on the running path: a failure is a reading with ok == false.
+    virtual RateReading read() = 0;
+    /// The SPEC it was made from, for logs and status.
+    virtual std::string describe() const = 0;
+};
+
+/// Builds a sensor from a SPEC of DESIGN section 6 (`fixed:BPS`, `trace:FILE`, ...). Throws core::ConfigError
+/// naming the spec, file and line when it is malformed or the sensor cannot start.
+std::unique_ptr<RateSensor> make_sensor(const std::string& spec, const core::Clock& clock);
+
+}  // namespace tgw::sensor

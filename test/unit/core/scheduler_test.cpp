@@ -1,0 +1,321 @@
+#include "gateway/core/scheduler.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "test/fakes/fake_clock.hpp"
+#include "test/fakes/recording_sink.hpp"
+
+namespace tgw::core {
+namespace {
+
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+class SchedulerTest : public ::testing::Test {
+  protected:
+    void make_sut(PolicyKind policy, double rate_bps) {
+        config.policy = policy;
+        config.initial_rate_bps = rate_bps;
+        config.lead = Duration::zero();
+        sut = std::make_unique<Scheduler>(config);
+        a = sut->add_topic({"A", seconds(1)});
+        b = sut->add_topic({"B", seconds(2)});
+        c = sut->add_topic({"C", seconds(5)});
+        d = sut->add_topic({"D", seconds(20)});
+    }
+
+    /// Pushes a sample of `payload_bytes` stamped `age` before now at the source.
+    void push(TopicId topic, std::size_t payload_bytes = 64, Duration age = Duration::zero()) {
+        Sample s;
+        s.topic = topic;
+        s.payload.assign(payload_bytes, static_cast<std::uint8_t>(topic));
+        s.source_time = clock.wall_now() - std::chrono::duration_cast<WallClock::duration>(age);
+        sut->push(std::move(s), clock.now(), clock.wall_now(), sink);
+    }
+
+    void release() { sut->release(clock.now(), sink); }
+
+    /// Runs the scheduler as the gateway's loop would, in simulated time, for `span`.
+    void run_for(Duration span) {
+        const SteadyTime end = clock.now() + span;
+        release();
+        while (auto next = sut->next_wakeup(clock.now())) {
+            if (*next > end)
+                break;
+            clock.advance(std::max(*next - clock.now(), Duration(1)));
+            release();
+        }
+        if (clock.now() < end)
+            clock.advance(end - clock.now());
+    }
+
+    /// Wire time of a 64-byte sample at `rate_bps` under the default wire model.
+    Duration wire_time_64(double rate_bps) const {
+        return from_seconds(static_cast<double>(config.wire.wire_bits(64)) / rate_bps);
+    }
+
+    SchedulerConfig config;
+    test::FakeClock clock;
+    test::RecordingSink sink;
+    std::unique_ptr<Scheduler> sut;
+    TopicId a = 0, b = 0, c = 0, d = 0;
+};
+
+TEST_F(SchedulerTest, SendsAtOnceWhenTheLinkIsFree) {
+    make_sut(PolicyKind::ttl, 100'000);
+    push(d);
+    release();
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{d}));
+}
+
+TEST_F(SchedulerTest, TtlPolicySendsShortestTtlFirstWhileTheLinkIsBusy) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(d);
+    release();  // D occupies the link
+    push(d);
+    push(c);
+    push(b);
+    push(a);
+    run_for(seconds(2));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{d, a, b, c, d}));
+}
+
+TEST_F(SchedulerTest, TtlPolicyPrefersShortTtlEvenOverAnOlderLongTtlSampleDueSooner) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(c);
+    release();                          // occupies the link
+    push(d, 64, milliseconds(19'500));  // due in 0.5 s
+    push(a);                            // due in 1 s
+    run_for(milliseconds(200));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, a}));
+}
+
+TEST_F(SchedulerTest, EdfPolicySendsNearestDeadlineFirstAcrossTopics) {
+    make_sut(PolicyKind::edf, 10'000);
+    push(c);
+    release();
+    push(d, 64, milliseconds(19'500));  // due in 0.5 s
+    push(a);                            // due in 1 s
+    run_for(milliseconds(200));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, d}));
+}
+
+TEST_F(SchedulerTest, EqualTtlSamplesGoNearestDeadlineFirst) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(c);
+    release();
+    push(b, 64, milliseconds(100));
+    push(b, 65, milliseconds(900));
+    run_for(milliseconds(300));
+    const auto sent = sink.forwarded();
+    ASSERT_EQ(sent.size(), 3u);
+    EXPECT_EQ(sent[1].payload.size(), 65u);
+}
+
+TEST_F(SchedulerTest, LogsSamplesThatExpireWhileQueued) {
+    make_sut(PolicyKind::ttl, 0.0);
+    push(a);
+    push(b);
+    run_for(milliseconds(1'500));
+    EXPECT_EQ(sink.dropped_count(DropReason::expired), 1u);
+    EXPECT_EQ(sut->queued_samples(), 1u);
+}
+
+TEST_F(SchedulerTest, LogsSampleAlreadyExpiredOnArrival) {
+    make_sut(PolicyKind::ttl, 100'000);
+    push(a, 64, milliseconds(1'200));
+    EXPECT_EQ(sink.dropped_count(DropReason::expired), 1u);
+    EXPECT_EQ(sut->queued_samples(), 0u);
+}
+
+TEST_F(SchedulerTest, DropsEarlyASampleThatCanNoLongerArriveInTime) {
+    make_sut(PolicyKind::ttl, 10'000);
+    const Duration tx = wire_time_64(10'000);
+    push(a, 64, seconds(1) - tx / 2);  // half its wire time left
+    release();
+    EXPECT_EQ(sink.dropped_count(DropReason::doomed), 1u);
+    EXPECT_TRUE(sink.forwarded().empty());
+}
+
+TEST_F(SchedulerTest, CountsLinkLatencyWhenJudgingWhetherASampleCanArrive) {
+    config.link_latency = milliseconds(300);
+    make_sut(PolicyKind::ttl, 100'000);
+    push(a, 64, milliseconds(800));
+    release();
+    EXPECT_EQ(sink.dropped_count(DropReason::doomed), 1u);
+}
+
+TEST_F(SchedulerTest, ZeroRateKeepsSamplesUntilTheirDeadlineInsteadOfDroppingThemEarly) {
+    make_sut(PolicyKind::ttl, 0.0);
+    push(d);
+    run_for(seconds(10));
+    EXPECT_EQ(sut->queued_samples(), 1u);
+    sut->set_rate(100'000);
+    release();
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{d}));
+}
+
+TEST_F(SchedulerTest, EvictsLeastUrgentSampleWhenOverMemoryCap) {
+    config.memory_cap_bytes = 3 * (1'000 + DeadlineQueue::BOOKKEEPING_BYTES);
+    make_sut(PolicyKind::ttl, 0.0);
+    push(a, 1'000);
+    push(d, 1'000);
+    push(b, 1'000);
+    push(c, 1'000);
+    const auto dropped = sink.dropped();
+    ASSERT_EQ(dropped.size(), 1u);
+    EXPECT_EQ(dropped[0].reason, DropReason::evicted);
+    EXPECT_EQ(dropped[0].sample.topic, d);
+    EXPECT_LE(sut->queued_bytes(), config.memory_cap_bytes);
+}
+
+TEST_F(SchedulerTest, HoldsBackALargeSampleThatWouldMakeTheMostUrgentTopicMissItsDeadline) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(a);
+    release();
+    push(d, 6'000);  // about 5 s on the wire at 10 kbit/s: A could not get through for 5 s
+    run_for(seconds(1));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a}));
+    EXPECT_EQ(sut->queued_samples(), 1u);
+}
+
+TEST_F(SchedulerTest, SendsAHeldBackLargeSampleOnceTheLinkIsFastEnough) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(a);
+    release();
+    push(d, 6'000);
+    run_for(seconds(1));
+    sut->set_rate(200'000);
+    run_for(milliseconds(10));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a, d}));
+}
+
+TEST_F(SchedulerTest, LogsAHeldBackSampleAsOversizeWhenItCanNoLongerMakeItsDeadline) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(d, 6'000);
+    for (int i = 0; i < 100; ++i) {  // A stays active at 5 Hz for 20 s
+        push(a);
+        run_for(milliseconds(200));
+    }
+    EXPECT_EQ(sink.dropped_count(DropReason::oversize), 1u);
+    EXPECT_EQ(sut->counters(a).forwarded, 100u);
+    EXPECT_EQ(sut->queued_samples(), 0u);
+}
+
+TEST_F(SchedulerTest, LargeSamplesAreNotHeldBackOnceNoShortTtlTopicIsActive) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(a);
+    release();
+    clock.advance(seconds(2));  // A has gone quiet for longer than its TTL
+    push(d, 6'000);
+    release();
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a, d}));
+}
+
+TEST_F(SchedulerTest, PacesReleasesAtTheLinkRate) {
+    make_sut(PolicyKind::ttl, 20'000);
+    for (int i = 0; i < 100; ++i)
+        push(d, 500);
+    run_for(seconds(10));
+    const auto& counters = sut->counters(d);
+    const double sent_bits = 8.0 * static_cast<double>(counters.forwarded_wire_bytes);
+    EXPECT_LE(sent_bits, 20'000.0 * 10 + 8.0 * static_cast<double>(config.wire.wire_bytes(500)));
+    EXPECT_GE(sent_bits, 20'000.0 * 9);
+}
+
+TEST_F(SchedulerTest, PaperPolicySendsWhatFitsInRateTimesPeriodShortestTtlFirst) {
+    config.paper_period = seconds(1);
+    make_sut(PolicyKind::paper, 8 * 200);  // 200 payload bytes per period
+    push(d, 150);
+    push(c, 100);
+    push(a, 60);
+    push(b, 60);
+    release();
+    // A (60) and B (60) fit, C (100) would not, D (150) would not; the paper walks on past a misfit.
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a, b}));
+    clock.advance(milliseconds(500));
+    release();
+    EXPECT_EQ(sink.forwarded().size(), 2u);  // waits for the next period
+    clock.advance(milliseconds(500));
+    release();
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a, b, c}));
+}
+
+TEST_F(SchedulerTest, PaperPolicyAssumedOverheadShrinksWhatFits) {
+    config.paper_overhead = 0.5;
+    make_sut(PolicyKind::paper, 8 * 200);
+    push(a, 100);
+    push(b, 100);
+    release();
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a}));
+}
+
+TEST_F(SchedulerTest, FifoForwardsAtOnceWithoutBudget) {
+    make_sut(PolicyKind::fifo, 0.0);
+    push(d, 5'000);
+    push(a);
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{d, a}));
+    EXPECT_FALSE(sut->next_wakeup(clock.now()));
+}
+
+TEST_F(SchedulerTest, DrainLogsEverythingQueuedAsShutdown) {
+    make_sut(PolicyKind::ttl, 0.0);
+    push(a);
+    push(d);
+    sut->drain(sink);
+    EXPECT_EQ(sink.dropped_count(DropReason::shutdown), 2u);
+    EXPECT_EQ(sut->queued_samples(), 0u);
+}
+
+TEST_F(SchedulerTest, NextWakeupIsWhenTheLinkFreesOrTheEarliestDeadline) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(a);
+    push(b);
+    release();
+    EXPECT_EQ(*sut->next_wakeup(clock.now()), clock.now() + wire_time_64(10'000));
+    sut->set_rate(0.0);
+    EXPECT_EQ(*sut->next_wakeup(clock.now()), clock.now() + seconds(2));
+}
+
+TEST_F(SchedulerTest, SourceClockAheadOfTheGatewayDoesNotLengthenTheDeadline) {
+    make_sut(PolicyKind::ttl, 0.0);
+    push(a, 64, -seconds(30));  // stamped 30 s in the future
+    run_for(milliseconds(1'001));
+    EXPECT_EQ(sink.dropped_count(DropReason::expired), 1u);
+}
+
+TEST_F(SchedulerTest, ArrivalClockIgnoresTheSourceTimestamp) {
+    config.trust_source_clock = false;
+    make_sut(PolicyKind::ttl, 0.0);
+    push(a, 64, seconds(30));  // stamped long ago by a skewed clock
+    EXPECT_EQ(sut->queued_samples(), 1u);
+}
+
+TEST_F(SchedulerTest, EverySampleIsForwardedQueuedOrLogged) {
+    config.memory_cap_bytes = 40'000;
+    make_sut(PolicyKind::ttl, 15'000);
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> topic(0, 3), size(20, 3'000), gap_ms(0, 40), rate(0, 60'000);
+    for (int i = 0; i < 5'000; ++i) {
+        push(static_cast<TopicId>(topic(rng)), static_cast<std::size_t>(size(rng)));
+        if (i % 500 == 0)
+            sut->set_rate(rate(rng));
+        run_for(milliseconds(gap_ms(rng)));
+    }
+    for (TopicId t : {a, b, c, d}) {
+        const TopicCounters& n = sut->counters(t);
+        EXPECT_TRUE(n.balanced()) << "topic " << t;
+    }
+    const TopicCounters total = sut->total_counters();
+    EXPECT_EQ(total.received, 5'000u);
+    EXPECT_EQ(total.forwarded, sink.forwarded().size());
+    EXPECT_EQ(total.dropped_total(), sink.dropped().size());
+    EXPECT_EQ(total.queued, sut->queued_samples());
+    EXPECT_GT(total.forwarded, 0u);
+    EXPECT_GT(total.dropped_total(), 0u);
+}
+
+}  // namespace
+}  // namespace tgw::core

@@ -1,0 +1,31 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gateway/core/paper_workload.hpp"
+#include "gateway/core/policy_kind.hpp"
+#include "gateway/sim/simulation.hpp"
+
+namespace tgw::sim {
+
+/// tm-sim's output: per-type delivery for one policy over several links, as Markdown.
+class ResultTable {
+  public:
+    ResultTable(std::vector<core::MessageStream> workload, core::PolicyKind policy, double duration_s);
+
+    void add(std::string link_name, SimulationResult result);
+
+    /// A table per link: offered, on time, late, lost, logged by reason, mean and standard deviation.
+    std::string detailed_markdown() const;
+    /// One row per link: percent on time per type, and mean transmission time.
+    std::string summary_markdown() const;
+
+  private:
+    std::vector<core::MessageStream> workload_;
+    core::PolicyKind policy_;
+    double duration_s_;
+    std::vector<std::pair<std::string, SimulationResult>> rows_;
+};
+
+}  // namespace tgw::sim

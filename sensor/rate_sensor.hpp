@@ -17,7 +17,7 @@ struct RateReading {
 
 /// Measures the data rate the link to the base camp can carry now. Polled by the gateway and by tm-sense.
 class RateSensor {
-public:
+  public:
     virtual ~RateSensor() = default;
     /// Never throws on the running path: a failure is a reading with ok == false.
     virtual RateReading read() = 0;

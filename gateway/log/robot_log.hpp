@@ -27,7 +27,7 @@ struct LogRecord {
 /// transactions by a background thread, so the gateway's path never waits on the disk; flush() and the
 /// destructor write everything still buffered.
 class RobotLog {
-public:
+  public:
     /// Opens or creates `path` (WAL mode). Throws core::ConfigError naming the file if it cannot.
     explicit RobotLog(const std::string& path);
     ~RobotLog();
@@ -44,7 +44,7 @@ public:
     std::uint64_t write_errors() const;
     const std::string& path() const;
 
-private:
+  private:
     class Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -9,6 +9,7 @@
 #include "gateway/core/config_error.hpp"
 #include "gateway/sim/result_table.hpp"
 #include "gateway/sim/simulation.hpp"
+#include "sensor/rate_trace.hpp"
 
 namespace {
 
@@ -30,7 +31,12 @@ std::vector<PolicyKind> parse_policies(const std::vector<std::string>& names) {
 }
 
 tgw::sim::RateProfile load_trace_profile(const std::string& file) {
-    throw ConfigError("--trace " + file + ": not supported yet");
+    const tgw::sensor::RateTrace trace = tgw::sensor::load_rate_trace(file);
+    std::vector<tgw::sim::RateProfile::Step> steps;
+    for (const auto& step : trace.steps()) {
+        steps.push_back({step.at, step.rate_bps});
+    }
+    return tgw::sim::RateProfile(std::move(steps));
 }
 
 }  // namespace

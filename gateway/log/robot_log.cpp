@@ -1,0 +1,356 @@
+#include "gateway/log/robot_log.hpp"
+
+#include <sqlite3.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "gateway/core/config_error.hpp"
+
+namespace tgw::log {
+
+namespace {
+
+constexpr int SCHEMA_VERSION = 1;
+/// A batch is committed when it holds this many rows, or when its oldest row has waited BATCH_DELAY.
+constexpr std::size_t BATCH_ROWS = 1000;
+constexpr auto BATCH_DELAY = std::chrono::milliseconds(50);
+/// Past this much buffered payload (the disk stalled, or is far slower than the drops), further rows are
+/// refused and counted as write errors rather than letting the gateway run out of memory.
+constexpr std::size_t MAX_BUFFERED_BYTES = std::size_t{256} << 20;
+/// How long a write waits for a reader of the file (sqlite3, tm-basecamp) to let go of a lock.
+constexpr int BUSY_TIMEOUT_MS = 2000;
+
+constexpr const char* SCHEMA_SQL =
+    "CREATE TABLE IF NOT EXISTS meta ("
+    "  key TEXT PRIMARY KEY,"
+    "  value TEXT NOT NULL);"
+    "CREATE TABLE IF NOT EXISTS dropped_samples ("
+    "  id INTEGER PRIMARY KEY,"
+    "  topic TEXT NOT NULL,"
+    "  type_name TEXT NOT NULL,"
+    "  payload BLOB NOT NULL,"
+    "  instance_key BLOB,"
+    "  source_time_ns INTEGER NOT NULL,"
+    "  arrival_ns INTEGER NOT NULL,"
+    "  deadline_ns INTEGER NOT NULL,"
+    "  logged_ns INTEGER NOT NULL,"
+    "  reason TEXT NOT NULL);";
+
+constexpr const char* INSERT_SQL =
+    "INSERT INTO dropped_samples (topic, type_name, payload, instance_key, source_time_ns, arrival_ns, "
+    "deadline_ns, logged_ns, reason) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9);";
+
+struct DbCloser {
+    void operator()(sqlite3* db) const { sqlite3_close_v2(db); }
+};
+struct StmtFinalizer {
+    void operator()(sqlite3_stmt* stmt) const { sqlite3_finalize(stmt); }
+};
+using DbPtr = std::unique_ptr<sqlite3, DbCloser>;
+using StmtPtr = std::unique_ptr<sqlite3_stmt, StmtFinalizer>;
+
+/// A record copied out of the caller's sample, owned by the buffer.
+struct Row {
+    std::string topic;
+    std::string type_name;
+    std::vector<std::uint8_t> payload;
+    std::optional<core::InstanceKey> key;
+    std::int64_t source_time_ns = 0;
+    std::int64_t arrival_ns = 0;
+    std::int64_t deadline_ns = 0;
+    std::int64_t logged_ns = 0;
+    core::DropReason reason = core::DropReason::expired;
+};
+
+}  // namespace
+
+class RobotLog::Impl {
+  public:
+    explicit Impl(const std::string& path) : path_(path) {
+        open();
+        writer_ = std::thread([this] { run(); });
+    }
+
+    ~Impl() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stopping_ = true;
+        }
+        wake_writer_.notify_one();
+        writer_.join();  // the writer commits everything still buffered before it returns
+        insert_.reset();
+        db_.reset();
+        if (write_errors_ > 0)
+            std::fprintf(stderr, "on-robot log %s: %llu row(s) could not be written\n", path_.c_str(),
+                         static_cast<unsigned long long>(write_errors_));
+    }
+
+    void append(const LogRecord& record) noexcept {
+        try {
+            Row row;
+            row.topic.assign(record.topic.data(), record.topic.size());
+            row.type_name.assign(record.type_name.data(), record.type_name.size());
+            if (record.sample != nullptr) {
+                row.payload = record.sample->payload;
+                if (record.sample->key.valid)
+                    row.key = record.sample->key;
+                row.source_time_ns = core::to_ns(record.sample->source_time);
+            }
+            row.arrival_ns = core::to_ns(record.arrival);
+            row.deadline_ns = core::to_ns(record.deadline);
+            row.logged_ns = core::to_ns(record.logged_at);
+            row.reason = record.reason;
+
+            std::unique_lock<std::mutex> lock(mutex_);
+            if (buffered_bytes_ + row.payload.size() > MAX_BUFFERED_BYTES) {
+                lock.unlock();
+                fail_rows(1, "buffer full: the disk is not keeping up");
+                return;
+            }
+            const std::size_t payload_bytes = row.payload.size();
+            pending_.push_back(std::move(row));
+            ++appended_;
+            buffered_bytes_ += payload_bytes;
+            if (pending_.size() == 1)
+                first_pending_at_ = std::chrono::steady_clock::now();
+            // The writer waits for the first row, then for a full batch or the batch delay; wake it only then.
+            const bool wake = pending_.size() == 1 || pending_.size() == BATCH_ROWS;
+            lock.unlock();
+            if (wake)
+                wake_writer_.notify_one();
+        } catch (const std::exception& e) {
+            // Only allocation can fail here, before the row reached the buffer: it is lost, counted, reported once.
+            fail_rows(1, e.what());
+        }
+    }
+
+    void flush() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        const std::uint64_t target = appended_;
+        flush_requested_ = true;
+        wake_writer_.notify_one();
+        done_changed_.wait(lock, [&] { return done_ >= target; });
+    }
+
+    std::uint64_t rows_written() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return rows_written_;
+    }
+    std::uint64_t write_errors() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return write_errors_;
+    }
+    const std::string& path() const { return path_; }
+
+  private:
+    [[noreturn]] void fail_open(const std::string& what) const {
+        std::string message = "on-robot log " + path_ + ": " + what;
+        if (db_ != nullptr)
+            message += ": " + std::string(sqlite3_errmsg(db_.get()));
+        throw core::ConfigError(message);
+    }
+
+    void exec_or_fail(const char* sql, const char* what) {
+        if (sqlite3_exec(db_.get(), sql, nullptr, nullptr, nullptr) != SQLITE_OK)
+            fail_open(what);
+    }
+
+    /// Opens or creates the file, turns WAL on and checks or creates the schema. Throws core::ConfigError.
+    void open() {
+        if (path_.empty())
+            throw core::ConfigError("on-robot log: the file name is empty");
+        sqlite3* raw = nullptr;
+        const int rc = sqlite3_open_v2(path_.c_str(), &raw, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr);
+        db_.reset(raw);  // sqlite3_open_v2 hands out a handle even on failure, to carry the message
+        if (rc != SQLITE_OK)
+            fail_open("cannot open");
+        sqlite3_extended_result_codes(db_.get(), 1);
+        sqlite3_busy_timeout(db_.get(), BUSY_TIMEOUT_MS);
+
+        // SQLite opens lazily: the first statement is where an unwritable or foreign file shows.
+        sqlite3_stmt* raw_stmt = nullptr;
+        if (sqlite3_prepare_v2(db_.get(), "PRAGMA journal_mode=WAL;", -1, &raw_stmt, nullptr) != SQLITE_OK)
+            fail_open("cannot open");
+        StmtPtr wal(raw_stmt);
+        if (sqlite3_step(wal.get()) != SQLITE_ROW)
+            fail_open("cannot switch to WAL mode");
+        const auto* mode = reinterpret_cast<const char*>(sqlite3_column_text(wal.get(), 0));
+        if (mode == nullptr || std::string(mode) != "wal")
+            throw core::ConfigError("on-robot log " + path_ + ": the file system does not support WAL mode (got " +
+                                    (mode ? mode : "nothing") + ")");
+        wal.reset();
+
+        // In WAL mode, NORMAL loses at most the last commits on power loss and never corrupts the file.
+        exec_or_fail("PRAGMA synchronous=NORMAL;", "cannot set synchronous mode");
+        exec_or_fail("BEGIN IMMEDIATE;", "cannot create the schema");
+        exec_or_fail(SCHEMA_SQL, "cannot create the schema");
+        exec_or_fail(("INSERT OR IGNORE INTO meta (key, value) VALUES ('schema_version', '" +
+                      std::to_string(SCHEMA_VERSION) + "');")
+                         .c_str(),
+                     "cannot create the schema");
+        exec_or_fail("COMMIT;", "cannot create the schema");
+        check_schema_version();
+
+        if (sqlite3_prepare_v3(db_.get(), INSERT_SQL, -1, SQLITE_PREPARE_PERSISTENT, &raw_stmt, nullptr) != SQLITE_OK)
+            fail_open("cannot prepare the insert statement");
+        insert_.reset(raw_stmt);
+    }
+
+    void check_schema_version() {
+        sqlite3_stmt* raw = nullptr;
+        if (sqlite3_prepare_v2(db_.get(), "SELECT value FROM meta WHERE key = 'schema_version';", -1, &raw, nullptr) !=
+            SQLITE_OK)
+            fail_open("cannot read the schema version");
+        StmtPtr stmt(raw);
+        if (sqlite3_step(stmt.get()) != SQLITE_ROW)
+            fail_open("cannot read the schema version");
+        const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(stmt.get(), 0));
+        const std::string version = text ? text : "";
+        if (version != std::to_string(SCHEMA_VERSION))
+            throw core::ConfigError("on-robot log " + path_ + ": schema version " + version + ", this gateway writes " +
+                                    std::to_string(SCHEMA_VERSION));
+    }
+
+    /// The writer thread: commits the buffer in batches until stopped, then commits what is left.
+    void run() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            if (pending_.empty()) {
+                if (stopping_)
+                    break;
+                if (flush_requested_) {
+                    flush_requested_ = false;  // everything appended before the flush is already done
+                    continue;
+                }
+                wake_writer_.wait(lock, [&] { return stopping_ || flush_requested_ || !pending_.empty(); });
+                continue;
+            }
+            wake_writer_.wait_until(lock, first_pending_at_ + BATCH_DELAY,
+                                    [&] { return stopping_ || flush_requested_ || pending_.size() >= BATCH_ROWS; });
+            std::vector<Row> batch;
+            batch.swap(pending_);
+            buffered_bytes_ = 0;
+            flush_requested_ = false;
+            lock.unlock();
+            const std::size_t written = write_batch(batch);
+            lock.lock();
+            rows_written_ += written;
+            done_ += batch.size();
+            done_changed_.notify_all();
+        }
+    }
+
+    /// Writes the rows in one transaction; returns how many were committed. Called on the writer thread only.
+    std::size_t write_batch(const std::vector<Row>& batch) {
+        sqlite3* db = db_.get();
+        if (sqlite3_exec(db, "BEGIN;", nullptr, nullptr, nullptr) != SQLITE_OK) {
+            fail_rows(batch.size(), sqlite3_errmsg(db));
+            return 0;
+        }
+        std::size_t inserted = 0;
+        for (const Row& row : batch) {
+            if (insert(row)) {
+                ++inserted;
+            } else {
+                fail_rows(1, sqlite3_errmsg(db));
+            }
+        }
+        if (sqlite3_exec(db, "COMMIT;", nullptr, nullptr, nullptr) != SQLITE_OK) {
+            fail_rows(inserted, sqlite3_errmsg(db));
+            sqlite3_exec(db, "ROLLBACK;", nullptr, nullptr, nullptr);
+            return 0;
+        }
+        return inserted;
+    }
+
+    bool insert(const Row& row) {
+        sqlite3_stmt* stmt = insert_.get();
+        sqlite3_reset(stmt);
+        // SQLITE_STATIC: the row outlives the step.
+        sqlite3_bind_text(stmt, 1, row.topic.data(), static_cast<int>(row.topic.size()), SQLITE_STATIC);
+        sqlite3_bind_text(stmt, 2, row.type_name.data(), static_cast<int>(row.type_name.size()), SQLITE_STATIC);
+        // A zero-length blob, not NULL, for an empty payload: the column is NOT NULL.
+        sqlite3_bind_blob(stmt, 3, row.payload.empty() ? "" : static_cast<const void*>(row.payload.data()),
+                          static_cast<int>(row.payload.size()), SQLITE_STATIC);
+        if (row.key)
+            sqlite3_bind_blob(stmt, 4, row.key->bytes.data(), static_cast<int>(row.key->bytes.size()), SQLITE_STATIC);
+        else
+            sqlite3_bind_null(stmt, 4);
+        sqlite3_bind_int64(stmt, 5, row.source_time_ns);
+        sqlite3_bind_int64(stmt, 6, row.arrival_ns);
+        sqlite3_bind_int64(stmt, 7, row.deadline_ns);
+        sqlite3_bind_int64(stmt, 8, row.logged_ns);
+        const std::string_view reason = core::to_string(row.reason);
+        sqlite3_bind_text(stmt, 9, reason.data(), static_cast<int>(reason.size()), SQLITE_STATIC);
+        const bool ok = sqlite3_step(stmt) == SQLITE_DONE;
+        sqlite3_reset(stmt);
+        sqlite3_clear_bindings(stmt);
+        return ok;
+    }
+
+    /// Counts `n` rows as lost; the first failure is reported on stderr, the rest only counted.
+    void fail_rows(std::size_t n, const char* why) noexcept {
+        if (n == 0)
+            return;
+        bool first = false;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            first = write_errors_ == 0;
+            write_errors_ += n;
+        }
+        if (first)
+            std::fprintf(stderr, "on-robot log %s: write failed: %s (further failures are only counted)\n",
+                         path_.c_str(), why);
+    }
+
+    const std::string path_;
+    DbPtr db_;
+    StmtPtr insert_;
+
+    mutable std::mutex mutex_;
+    std::condition_variable wake_writer_;
+    std::condition_variable done_changed_;
+    std::vector<Row> pending_;
+    std::size_t buffered_bytes_ = 0;
+    std::chrono::steady_clock::time_point first_pending_at_{};
+    std::uint64_t appended_ = 0;  ///< rows that reached the buffer
+    std::uint64_t done_ = 0;      ///< rows the writer has finished with, written or failed
+    std::uint64_t rows_written_ = 0;
+    std::uint64_t write_errors_ = 0;
+    bool flush_requested_ = false;
+    bool stopping_ = false;
+    std::thread writer_;
+};
+
+RobotLog::RobotLog(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
+
+RobotLog::~RobotLog() = default;
+
+void RobotLog::append(const LogRecord& record) {
+    impl_->append(record);
+}
+
+void RobotLog::flush() {
+    impl_->flush();
+}
+
+std::uint64_t RobotLog::rows_written() const {
+    return impl_->rows_written();
+}
+
+std::uint64_t RobotLog::write_errors() const {
+    return impl_->write_errors();
+}
+
+const std::string& RobotLog::path() const {
+    return impl_->path();
+}
+
+}  // namespace tgw::log

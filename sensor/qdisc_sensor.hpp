@@ -1,0 +1,38 @@
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "sensor/rate_sensor.hpp"
+
+struct nl_sock;
+
+namespace tgw::sensor {
+
+/// `qdisc:IFACE`: the rate of the kernel shaper at the root of an interface, read through rtnetlink on every
+/// poll, so it follows `tc qdisc change` at once. Understands tbf (its rate) and htb (the sum of its top-level
+/// classes' rates, which cannot borrow from one another). Reads the network namespace of the thread that built
+/// it. Not thread-safe: one poller at a time.
+class QdiscSensor final : public RateSensor {
+  public:
+    /// Throws core::ConfigError naming the interface when it does not exist or has no shaper we understand.
+    explicit QdiscSensor(std::string interface);
+    ~QdiscSensor() override;
+
+    QdiscSensor(const QdiscSensor&) = delete;
+    QdiscSensor& operator=(const QdiscSensor&) = delete;
+
+    /// On failure (the interface or the shaper went away), ok is false and `error` says why.
+    RateReading read() override;
+    std::string describe() const override;
+
+  private:
+    struct SocketCloser {
+        void operator()(nl_sock* socket) const;
+    };
+
+    std::string interface_;
+    std::unique_ptr<nl_sock, SocketCloser> socket_;
+};
+
+}  // namespace tgw::sensor

@@ -1,0 +1,142 @@
+#include "sensor/qdisc_sensor.hpp"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sched.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "gateway/core/config_error.hpp"
+#include "test/fakes/fake_clock.hpp"
+
+namespace tgw::sensor {
+namespace {
+
+/// Each test builds its own network namespace with a veth pair (tgwa, tgwb), a tbf at the root of tgwa, and
+/// enters it on the test's thread so that the sensor's netlink socket sees it. The namespace is named after
+/// the process and the test, and is removed in TearDown even when the test fails.
+class QdiscSensorTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        if (geteuid() != 0) {
+            GTEST_SKIP() << "needs root to create network namespaces";
+        }
+        if (!sh("ip netns list")) {
+            GTEST_SKIP() << "`ip netns` is not available";
+        }
+        static int counter = 0;
+        netns = "tgw-" + std::to_string(getpid()) + "-qdisc-" + std::to_string(++counter);
+        if (!sh("ip netns add " + netns)) {
+            GTEST_SKIP() << "cannot create a network namespace here";
+        }
+        created = true;
+        ASSERT_TRUE(in_netns("ip link add tgwa type veth peer name tgwb"));
+        ASSERT_TRUE(in_netns("ip link set tgwa up"));
+        ASSERT_TRUE(in_netns("ip link set tgwb up"));
+        ASSERT_TRUE(in_netns("tc qdisc add dev tgwa root tbf rate 20kbit burst 1600 latency 100ms"));
+
+        original = open("/proc/self/ns/net", O_RDONLY | O_CLOEXEC);
+        ASSERT_GE(original, 0);
+        const int target = open(("/run/netns/" + netns).c_str(), O_RDONLY | O_CLOEXEC);
+        ASSERT_GE(target, 0);
+        const int entered = setns(target, CLONE_NEWNET);
+        close(target);
+        ASSERT_EQ(entered, 0);
+    }
+
+    void TearDown() override {
+        if (original >= 0) {
+            EXPECT_EQ(setns(original, CLONE_NEWNET), 0);
+            close(original);
+        }
+        if (created) {
+            EXPECT_TRUE(sh("ip netns del " + netns));
+        }
+    }
+
+    static bool sh(const std::string& command) { return std::system((command + " >/dev/null 2>&1").c_str()) == 0; }
+    bool in_netns(const std::string& command) const { return sh("ip netns exec " + netns + " " + command); }
+
+    std::string netns;
+    bool created = false;
+    int original = -1;
+};
+
+TEST_F(QdiscSensorTest, ReadsTheRateOfTheRootTbf) {
+    QdiscSensor sut("tgwa");
+    const RateReading reading = sut.read();
+    ASSERT_TRUE(reading.ok) << reading.error;
+    EXPECT_EQ(reading.rate_bps, 20'000.0);
+    EXPECT_EQ(reading.detail, "tbf");
+    EXPECT_EQ(sut.describe(), "qdisc:tgwa");
+}
+
+TEST_F(QdiscSensorTest, FollowsTcQdiscChangeOnTheNextRead) {
+    QdiscSensor sut("tgwa");
+    ASSERT_TRUE(in_netns("tc qdisc change dev tgwa root tbf rate 56kbit burst 1600 latency 100ms"));
+    const RateReading reading = sut.read();
+    ASSERT_TRUE(reading.ok) << reading.error;
+    EXPECT_EQ(reading.rate_bps, 56'000.0);
+}
+
+TEST_F(QdiscSensorTest, ReadsTheRateOfTheTopLevelHtbClass) {
+    ASSERT_TRUE(in_netns("tc qdisc add dev tgwb root handle 1: htb default 1"));
+    ASSERT_TRUE(in_netns("tc class add dev tgwb parent 1: classid 1:1 htb rate 30kbit"));
+    QdiscSensor sut("tgwb");
+    const RateReading reading = sut.read();
+    ASSERT_TRUE(reading.ok) << reading.error;
+    EXPECT_EQ(reading.rate_bps, 30'000.0);
+    EXPECT_EQ(reading.detail, "htb class 1:1");
+}
+
+TEST_F(QdiscSensorTest, ReadingFailsCleanlyOnceTheQdiscIsRemoved) {
+    QdiscSensor sut("tgwa");
+    ASSERT_TRUE(in_netns("tc qdisc del dev tgwa root"));
+    const RateReading reading = sut.read();
+    EXPECT_FALSE(reading.ok);
+    EXPECT_NE(reading.error.find("tgwa"), std::string::npos) << reading.error;
+}
+
+TEST_F(QdiscSensorTest, ReadingFailsCleanlyOnceTheInterfaceIsGone) {
+    QdiscSensor sut("tgwa");
+    ASSERT_TRUE(in_netns("ip link del tgwa"));
+    const RateReading reading = sut.read();
+    EXPECT_FALSE(reading.ok);
+    EXPECT_NE(reading.error.find("no interface tgwa"), std::string::npos) << reading.error;
+}
+
+TEST_F(QdiscSensorTest, RefusesToStartOnAMissingInterfaceNamingIt) {
+    try {
+        QdiscSensor sut("tgw-nosuch");
+        FAIL() << "expected core::ConfigError";
+    } catch (const core::ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("no interface tgw-nosuch"), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(QdiscSensorTest, RefusesToStartOnAnInterfaceWithoutAShaper) {
+    try {
+        QdiscSensor sut("tgwb");
+        FAIL() << "expected core::ConfigError";
+    } catch (const core::ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("tgwb"), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(QdiscSensorTest, IsWhatTheFactoryMakesForAQdiscSpec) {
+    test::FakeClock clock;
+    auto sut = make_sensor("qdisc:tgwa", clock);
+    EXPECT_EQ(sut->describe(), "qdisc:tgwa");
+    EXPECT_EQ(sut->read().rate_bps, 20'000.0);
+    try {
+        make_sensor("qdisc:tgwb", clock);
+        FAIL() << "expected core::ConfigError";
+    } catch (const core::ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("sensor qdisc:tgwb: ", 0), 0u) << e.what();
+    }
+}
+
+}  // namespace
+}  // namespace tgw::sensor

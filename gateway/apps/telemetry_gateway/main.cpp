@@ -1,0 +1,140 @@
+// telemetry-gateway: bridge every robot-domain topic into the WAN domain, most urgent first, within the link
+// budget the rate sensor measures; log what is not sent.
+#include <CLI/CLI.hpp>
+
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "gateway/core/config_error.hpp"
+#include "gateway/core/policy_kind.hpp"
+#include "gateway/dds/gateway.hpp"
+#include "gateway/dds/rate_poller.hpp"
+#include "sensor/rate_sensor.hpp"
+
+namespace {
+
+using tgw::core::ConfigError;
+
+constexpr std::chrono::milliseconds SENSOR_POLL_INTERVAL{100};
+
+void print_summary(const tgw::dds::Gateway& gateway) {
+    std::printf("%-32s %10s %10s %8s", "topic", "received", "forwarded", "queued");
+    for (auto name : tgw::core::DROP_REASON_NAMES) {
+        std::printf(" %9.*s", static_cast<int>(name.size()), name.data());
+    }
+    std::printf("  ttl\n");
+    for (const auto& topic : gateway.topics()) {
+        const tgw::core::TopicCounters c = gateway.counters(topic.id);
+        std::printf("%-32s %10llu %10llu %8llu", topic.name.c_str(), static_cast<unsigned long long>(c.received),
+                    static_cast<unsigned long long>(c.forwarded), static_cast<unsigned long long>(c.queued));
+        for (auto d : c.dropped) {
+            std::printf(" %9llu", static_cast<unsigned long long>(d));
+        }
+        const auto source = tgw::dds::to_string(topic.ttl.source);
+        std::printf("  %.3g s (%.*s)\n", tgw::core::to_seconds(topic.ttl.ttl), static_cast<int>(source.size()),
+                    source.data());
+    }
+}
+
+/// Blocks until SIGINT or SIGTERM, or `duration_s` (when positive) has passed.
+void wait_for_end(const sigset_t& signals, double duration_s) {
+    if (duration_s <= 0) {
+        int sig = 0;
+        sigwait(&signals, &sig);
+        return;
+    }
+    const auto end = std::chrono::steady_clock::now() + tgw::core::from_seconds(duration_s);
+    while (true) {
+        const auto left = end - std::chrono::steady_clock::now();
+        if (left <= std::chrono::nanoseconds::zero()) {
+            return;
+        }
+        const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(left).count();
+        timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+        if (sigtimedwait(&signals, nullptr, &ts) > 0) {
+            return;
+        }
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"telemetry-gateway: bridge robot-domain DDS topics to the WAN domain within the link's rate"};
+    app.set_version_flag("--version", std::string("telemetry-gateway ") + TGW_VERSION);
+    tgw::dds::GatewayConfig config;
+    std::string sensor_spec = "fixed:50000";
+    std::string policy_name = "ttl";
+    double duration_s = 0.0;
+    double default_ttl_s = 5.0;
+    bool arrival_clock = false;
+    app.add_option("--robot-domain", config.robot_domain, "DDS domain of the robot's processes")->capture_default_str();
+    app.add_option("--wan-domain", config.wan_domain, "DDS domain towards the base camp")->capture_default_str();
+    app.add_option("--wan-peer", config.wan_peers,
+                   "base-camp participant, IPv4[:PORT] (default port: participant 0's); repeatable");
+    app.add_option("--wan-interface", config.wan_interface, "interface name or IPv4 address to bind the WAN to");
+    app.add_option("--wan-port", config.wan_port, "own WAN metatraffic port (default: Fast DDS's well-known port)");
+    app.add_option("--sensor", sensor_spec, "link rate sensor: fixed:BPS, trace:FILE, ...")->capture_default_str();
+    app.add_option("--policy", policy_name, "ttl, edf, paper or fifo")->capture_default_str();
+    app.add_option("--qos", config.qos_file, "Fast DDS XML profiles (data_writer profiles named after topics)");
+    app.add_option("--log", config.log_file, "on-robot SQLite log of samples not sent");
+    app.add_option("--allow", config.allow, "bridge only topics matching this glob; repeatable");
+    app.add_option("--deny", config.deny, "never bridge topics matching this glob; repeatable, wins over --allow");
+    app.add_option("--duration", duration_s, "seconds to run (default: until SIGINT/SIGTERM)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--default-ttl", default_ttl_s, "TTL in seconds of topics with no profile or Lifespan")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    auto* trust = app.add_flag("--trust-source-clock", "deadlines from the publisher's source timestamp (default)");
+    app.add_flag("--arrival-clock", arrival_clock, "deadlines from the arrival at the gateway")->excludes(trust);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    }
+
+    // Signals are taken by sigwait in this thread only; every thread created from here on inherits the mask.
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGINT);
+    sigaddset(&signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+    try {
+        const auto policy = tgw::core::parse_policy(policy_name);
+        if (!policy) {
+            throw ConfigError("--policy '" + policy_name + "': expected ttl, edf, paper or fifo");
+        }
+        config.scheduler.policy = *policy;
+        config.scheduler.trust_source_clock = !arrival_clock;
+        config.default_ttl = tgw::core::from_seconds(default_ttl_s);
+
+        tgw::core::SystemClock clock;
+        const auto sensor = tgw::sensor::make_sensor(sensor_spec, clock);
+        const tgw::sensor::RateReading first = sensor->read();
+        if (first.ok) {
+            config.scheduler.initial_rate_bps = first.rate_bps;
+        }
+
+        tgw::dds::Gateway gateway(config, clock);
+        tgw::dds::RatePoller poller(
+            *sensor, [&gateway](double rate_bps) { gateway.set_rate(rate_bps); }, SENSOR_POLL_INTERVAL);
+        poller.start();
+        std::cerr << "telemetry-gateway: robot domain " << config.robot_domain << " -> WAN domain " << config.wan_domain
+                  << ", policy " << policy_name << ", sensor " << sensor->describe() << '\n';
+
+        wait_for_end(signals, duration_s);
+
+        poller.stop();
+        gateway.stop();
+        print_summary(gateway);
+    } catch (const ConfigError& e) {
+        std::cerr << "telemetry-gateway: " << e.what() << '\n';
+        return 2;
+    }
+    return 0;
+}

@@ -1,0 +1,56 @@
+#include "gateway/dds/discovery.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
+
+#include "gateway/dds/dds_time.hpp"
+
+namespace tgw::dds {
+
+using eprosima::fastrtps::rtps::GuidPrefix_t;
+using eprosima::fastrtps::rtps::WriterDiscoveryInfo;
+
+namespace {
+
+// RTPS entity kinds (RTPS 2.x, 9.3.1.2): user-defined writers with and without key.
+constexpr std::uint8_t ENTITY_KIND_WRITER_WITH_KEY = 0x02;
+
+}  // namespace
+
+Discovery::Discovery(Callback on_publisher) : on_publisher_(std::move(on_publisher)) {}
+
+void Discovery::ignore_participant(const GuidPrefix_t& prefix) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ignored_.push_back(prefix);
+}
+
+bool Discovery::ignored(const GuidPrefix_t& prefix) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::find(ignored_.begin(), ignored_.end(), prefix) != ignored_.end();
+}
+
+void Discovery::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* /*participant*/,
+                                       WriterDiscoveryInfo&& info) {
+    // A changed QoS keeps the topic's first TTL; a removed writer leaves its bridge in place for the next one.
+    if (info.status != WriterDiscoveryInfo::DISCOVERED_WRITER) {
+        return;
+    }
+    const auto& data = info.info;
+    if (ignored(data.guid().guidPrefix)) {
+        return;
+    }
+    DiscoveredPublisher pub;
+    pub.topic = data.topicName().to_string();
+    pub.type_name = data.typeName().to_string();
+    // Vendors announce keyed-ness in the writer's entity kind; Fast DDS also derives topicKind from it.
+    pub.keyed = data.topicKind() == eprosima::fastrtps::rtps::WITH_KEY ||
+                data.guid().entityId.value[3] == ENTITY_KIND_WRITER_WITH_KEY;
+    pub.lifespan = to_duration(data.m_qos.m_lifespan.duration);
+    pub.reliable = data.m_qos.m_reliability.kind == eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
+    pub.transient_local = data.m_qos.m_durability.kind != eprosima::fastdds::dds::VOLATILE_DURABILITY_QOS;
+    on_publisher_(std::move(pub));
+}
+
+}  // namespace tgw::dds

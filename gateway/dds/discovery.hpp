@@ -1,0 +1,49 @@
+#pragma once
+
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/rtps/common/GuidPrefix_t.hpp>
+
+#include "gateway/core/time.hpp"
+
+namespace tgw::dds {
+
+/// What the gateway learns about a publisher on the robot domain, from SEDP.
+struct DiscoveredPublisher {
+    std::string topic;
+    std::string type_name;
+    bool keyed = false;
+    std::optional<core::Duration> lifespan;  ///< nullopt when the writer's Lifespan is infinite
+    bool reliable = false;
+    bool transient_local = false;  ///< durability TRANSIENT_LOCAL or stronger
+};
+
+/// The robot participant's listener: turns every publisher discovered on the robot domain, whenever it
+/// appears, into a DiscoveredPublisher for `on_publisher`. Publishers of the gateway's own participants are
+/// ignored. Runs in Fast DDS's discovery thread: `on_publisher` must return quickly and create no entities.
+class Discovery final : public eprosima::fastdds::dds::DomainParticipantListener {
+  public:
+    using Callback = std::function<void(DiscoveredPublisher&&)>;
+
+    explicit Discovery(Callback on_publisher);
+
+    /// Publishers of this participant will not be reported (the gateway's own).
+    void ignore_participant(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix);
+
+    void on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
+                                eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override;
+
+  private:
+    bool ignored(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
+
+    Callback on_publisher_;
+    mutable std::mutex mutex_;
+    std::vector<eprosima::fastrtps::rtps::GuidPrefix_t> ignored_;
+};
+
+}  // namespace tgw::dds

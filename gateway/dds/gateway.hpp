@@ -1,0 +1,135 @@
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "gateway/core/clock.hpp"
+#include "gateway/core/forwarding_loop.hpp"
+#include "gateway/core/scheduler.hpp"
+#include "gateway/dds/discovery.hpp"
+#include "gateway/dds/topic_filter.hpp"
+#include "gateway/dds/ttl_resolver.hpp"
+
+namespace tgw::log {
+class RobotLog;
+}
+
+namespace tgw::dds {
+
+class GatewaySink;
+class RobotParticipant;
+class TopicBridge;
+class TopicDirectory;
+class WanRouter;
+
+/// Everything the telemetry-gateway program's flags set (DESIGN section 6).
+struct GatewayConfig {
+    int robot_domain = 0;
+    int wan_domain = 1;
+    std::vector<std::string> wan_peers;  ///< ADDR or ADDR:PORT, see parse_wan_peer
+    std::string wan_interface;           ///< interface name or IPv4 address; empty: every interface
+    std::uint16_t wan_port = 0;          ///< own metatraffic port on the WAN; 0: Fast DDS's well-known port
+    std::vector<std::string> robot_interfaces{"127.0.0.1"};  ///< the robot participant's UDP addresses
+    std::string qos_file;                                    ///< Fast DDS XML; empty: none
+    std::string log_file;                                    ///< on-robot SQLite log; empty: none
+    std::vector<std::string> allow;                          ///< topic globs; empty: all
+    std::vector<std::string> deny;
+    core::Duration default_ttl = std::chrono::seconds(5);
+    core::SchedulerConfig scheduler;
+    std::chrono::seconds wan_lease{120};
+    std::chrono::seconds wan_announcement_period{20};
+
+    /// Throws core::ConfigError naming the flag at fault. Checks what needs no file or network.
+    void validate() const;
+};
+
+/// A robot-domain topic the gateway bridges to the WAN.
+struct BridgedTopic {
+    core::TopicId id = 0;
+    std::string name;
+    std::string type_name;
+    bool keyed = false;
+    ResolvedTtl ttl;
+};
+
+/// The whole gateway in one object (main stays thin; integration tests create it in-process): the on-robot
+/// log, the WAN participant, the ForwardingLoop with its sink, and the robot participant whose discovery
+/// creates, for each admitted topic, a WAN writer and a type-agnostic reader. Entities are created in a
+/// worker thread of its own, never in Fast DDS's discovery callback.
+class Gateway {
+  public:
+    /// Starts everything. Throws core::ConfigError (bad flag, file, or a participant that cannot be created).
+    Gateway(GatewayConfig config, const core::Clock& clock);
+    ~Gateway();
+
+    Gateway(const Gateway&) = delete;
+    Gateway& operator=(const Gateway&) = delete;
+
+    /// Stops reading the robot domain, writes everything still queued to the log as `shutdown` and flushes
+    /// the log. The WAN participant stays until destruction. Idempotent.
+    void stop();
+
+    /// The link rate the scheduler budgets for, from the rate sensor.
+    void set_rate(double rate_bps);
+
+    std::vector<BridgedTopic> topics() const;
+    std::optional<BridgedTopic> find_topic(const std::string& name) const;
+    /// Waits until `name` is bridged (reader and WAN writer exist); false on timeout.
+    bool wait_for_topic(const std::string& name, std::chrono::milliseconds timeout) const;
+
+    core::TopicCounters counters(core::TopicId id) const;
+    core::TopicCounters total_counters() const;
+    std::size_t queued_samples() const;
+
+    std::int32_t robot_matched_writers(core::TopicId id) const;
+    std::int32_t wan_matched_readers(core::TopicId id) const;
+    std::optional<core::Duration> wan_writer_lifespan(core::TopicId id) const;
+    std::uint64_t wan_write_failures() const;
+    /// Samples handed to the on-robot log.
+    std::uint64_t logged() const;
+
+  private:
+    struct Bridge;
+
+    void on_publisher(DiscoveredPublisher&& pub);
+    void run_worker();
+    void bridge_nts(const DiscoveredPublisher& pub);  // the worker thread only
+    void stop_worker();
+
+    GatewayConfig config_;
+    const core::Clock& clock_;
+    TopicFilter filter_;
+
+    std::unique_ptr<log::RobotLog> log_;
+    std::unique_ptr<WanRouter> wan_;
+    std::unique_ptr<TopicDirectory> directory_;
+    std::unique_ptr<GatewaySink> sink_;
+    std::unique_ptr<core::ForwardingLoop> loop_;
+    std::unique_ptr<Discovery> discovery_;
+
+    mutable std::mutex bridges_mutex_;
+    mutable std::condition_variable bridges_changed_;
+    std::map<std::string, std::unique_ptr<Bridge>> bridges_;
+    std::vector<BridgedTopic> by_id_;
+
+    std::mutex events_mutex_;
+    std::condition_variable events_changed_;
+    std::deque<DiscoveredPublisher> events_;
+    bool worker_stopping_ = false;
+    std::thread worker_;
+
+    std::unique_ptr<RobotParticipant> robot_;
+    std::mutex stop_mutex_;
+    bool stopped_ = false;
+};
+
+}  // namespace tgw::dds

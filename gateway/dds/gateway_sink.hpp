@@ -1,0 +1,39 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+
+#include "gateway/core/clock.hpp"
+#include "gateway/core/sample_sink.hpp"
+#include "gateway/dds/topic_directory.hpp"
+#include "gateway/dds/wan_router.hpp"
+#include "gateway/log/robot_log.hpp"
+
+namespace tgw::dds {
+
+/// Where the scheduler's decisions land in the gateway: released samples are written to the WAN, the others
+/// appended to the on-robot log (when there is one) with their steady times converted to wall time here, at
+/// the edge. Never throws; failures are counted.
+class GatewaySink final : public core::SampleSink {
+  public:
+    /// `log` may be null (no --log): dropped samples are then only counted.
+    GatewaySink(WanRouter& wan, log::RobotLog* log, const TopicDirectory& topics, const core::Clock& clock);
+
+    void forward(core::Sample&& sample) override;
+    void drop(core::Sample&& sample, core::DropReason reason) override;
+
+    std::uint64_t wan_write_failures() const { return wan_write_failures_.load(); }
+    std::uint64_t logged() const { return logged_.load(); }
+
+  private:
+    core::WallTime to_wall(core::SteadyTime t) const;
+
+    WanRouter& wan_;
+    log::RobotLog* log_;
+    const TopicDirectory& topics_;
+    const core::Clock& clock_;
+    std::atomic<std::uint64_t> wan_write_failures_{0};
+    std::atomic<std::uint64_t> logged_{0};
+};
+
+}  // namespace tgw::dds

@@ -1,0 +1,80 @@
+#include "gateway/dds/passthrough_type.hpp"
+
+#include <cstring>
+
+namespace tgw::dds {
+
+using eprosima::fastrtps::rtps::InstanceHandle_t;
+using eprosima::fastrtps::rtps::SerializedPayload_t;
+
+namespace {
+
+InstanceHandle_t make_unknown_instance() {
+    InstanceHandle_t handle;
+    for (std::size_t i = 0; i < 16; ++i) {
+        handle.value[i] = 0xff;
+    }
+    return handle;
+}
+
+// A hint for pre-allocation only: endpoints of this type use dynamic payload pools, and larger samples
+// are accepted (DDS Router does the same).
+constexpr std::uint32_t TYPE_SIZE_HINT_BYTES = 2048;
+
+}  // namespace
+
+const InstanceHandle_t PassthroughType::UNKNOWN_INSTANCE = make_unknown_instance();
+
+PassthroughType::PassthroughType(const std::string& type_name, bool keyed) {
+    setName(type_name.c_str());
+    m_typeSize = TYPE_SIZE_HINT_BYTES;
+    m_isGetKeyDefined = keyed;
+    // No type object or type information is known; matching is by type name, as with any vendor.
+    auto_fill_type_object(false);
+    auto_fill_type_information(false);
+}
+
+bool PassthroughType::serialize(void* data, SerializedPayload_t* payload) {
+    const auto* sample = static_cast<const PassthroughData*>(data);
+    const auto size = static_cast<std::uint32_t>(sample->payload.size());
+    if (payload->max_size < size) {
+        payload->reserve(size);
+    }
+    if (size > 0) {
+        std::memcpy(payload->data, sample->payload.data(), size);
+    }
+    payload->length = size;
+    // The second byte of the encapsulation header says the byte order; keep what the publisher used.
+    payload->encapsulation = (size >= 2 && (sample->payload[1] & 0x01) != 0) ? CDR_LE : CDR_BE;
+    return true;
+}
+
+bool PassthroughType::deserialize(SerializedPayload_t* payload, void* data) {
+    auto* sample = static_cast<PassthroughData*>(data);
+    sample->payload.assign(payload->data, payload->data + payload->length);
+    return true;
+}
+
+std::function<std::uint32_t()> PassthroughType::getSerializedSizeProvider(void* data) {
+    const auto* sample = static_cast<const PassthroughData*>(data);
+    return [sample] { return static_cast<std::uint32_t>(sample->payload.size()); };
+}
+
+void* PassthroughType::createData() {
+    return new PassthroughData();
+}
+
+void PassthroughType::deleteData(void* data) {
+    delete static_cast<PassthroughData*>(data);
+}
+
+bool PassthroughType::getKey(void* data, InstanceHandle_t* handle, bool /*force_md5*/) {
+    if (!m_isGetKeyDefined) {
+        return false;
+    }
+    const auto* sample = static_cast<const PassthroughData*>(data);
+    *handle = sample->key.isDefined() ? sample->key : UNKNOWN_INSTANCE;
+    return true;
+}
+
+}  // namespace tgw::dds

@@ -1,0 +1,40 @@
+#include "gateway/dds/qos_file.hpp"
+
+#include <tinyxml2.h>
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+
+#include "gateway/core/config_error.hpp"
+
+namespace tgw::dds {
+
+namespace fdds = eprosima::fastdds::dds;
+using eprosima::fastrtps::types::ReturnCode_t;
+
+void load_qos_file(const std::string& path) {
+    // Fast DDS reports only that the file failed; read it first to name the line of a syntax error.
+    tinyxml2::XMLDocument doc;
+    const tinyxml2::XMLError err = doc.LoadFile(path.c_str());
+    if (err == tinyxml2::XML_ERROR_FILE_NOT_FOUND || err == tinyxml2::XML_ERROR_FILE_COULD_NOT_BE_OPENED ||
+        err == tinyxml2::XML_ERROR_FILE_READ_ERROR) {
+        throw core::ConfigError("--qos " + path + ": cannot read the file");
+    }
+    if (err != tinyxml2::XML_SUCCESS) {
+        throw core::ConfigError("--qos " + path + ":" + std::to_string(doc.ErrorLineNum()) + ": malformed XML (" +
+                                doc.ErrorStr() + ")");
+    }
+    if (fdds::DomainParticipantFactory::get_instance()->load_XML_profiles_file(path) != ReturnCode_t::RETCODE_OK) {
+        throw core::ConfigError("--qos " + path + ": Fast DDS rejected the profiles (its log above names the element)");
+    }
+}
+
+std::optional<fdds::DomainParticipantQos> participant_profile(const std::string& name) {
+    fdds::DomainParticipantQos qos;
+    if (fdds::DomainParticipantFactory::get_instance()->get_participant_qos_from_profile(name, qos) !=
+        ReturnCode_t::RETCODE_OK) {
+        return std::nullopt;
+    }
+    return qos;
+}
+
+}  // namespace tgw::dds

@@ -1,0 +1,22 @@
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+
+namespace tgw::dds {
+
+/// Participant profiles the gateway starts from when the --qos file defines them; transports, locators and
+/// discovery peers are always set by the gateway on top.
+inline constexpr const char* ROBOT_PARTICIPANT_PROFILE = "tgw_robot_participant";
+inline constexpr const char* WAN_PARTICIPANT_PROFILE = "tgw_wan_participant";
+
+/// Loads a Fast DDS XML profiles file into the process (DomainParticipantFactory::load_XML_profiles_file).
+/// Throws core::ConfigError naming the file, and the line for malformed XML, when it does not load.
+void load_qos_file(const std::string& path);
+
+/// The participant profile `name` from the loaded files, if there is one.
+std::optional<eprosima::fastdds::dds::DomainParticipantQos> participant_profile(const std::string& name);
+
+}  // namespace tgw::dds

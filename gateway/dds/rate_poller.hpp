@@ -1,0 +1,45 @@
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <thread>
+
+#include "sensor/rate_sensor.hpp"
+
+namespace tgw::dds {
+
+/// Reads the rate sensor every `interval` in a thread of its own and hands each good reading to `apply`
+/// (ForwardingLoop::set_rate). A failed reading keeps the last rate; the first failure is reported once.
+class RatePoller {
+  public:
+    RatePoller(sensor::RateSensor& sensor, std::function<void(double)> apply, std::chrono::milliseconds interval);
+    ~RatePoller();
+
+    RatePoller(const RatePoller&) = delete;
+    RatePoller& operator=(const RatePoller&) = delete;
+
+    /// Reads once in the calling thread (so the rate is set before traffic), then starts the thread.
+    void start();
+    void stop();
+
+    std::uint64_t failures() const { return failures_.load(); }
+
+  private:
+    void poll_once();
+    void run();
+
+    sensor::RateSensor& sensor_;
+    std::function<void(double)> apply_;
+    std::chrono::milliseconds interval_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    bool stopping_ = false;
+    std::thread thread_;
+    std::atomic<std::uint64_t> failures_{0};
+};
+
+}  // namespace tgw::dds

@@ -1,0 +1,116 @@
+#include "gateway/dds/robot_participant.hpp"
+
+#include <iostream>
+#include <memory>
+
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+
+#include "gateway/core/config_error.hpp"
+#include "gateway/dds/passthrough_type.hpp"
+
+namespace tgw::dds {
+
+namespace fdds = eprosima::fastdds::dds;
+using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
+using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
+
+namespace {
+
+// Room for bursts between two listener calls; the bridge takes every sample as it arrives.
+constexpr std::int32_t READER_HISTORY_DEPTH = 1000;
+
+}  // namespace
+
+RobotParticipant::RobotParticipant(int domain, fdds::DomainParticipantListener* listener,
+                                   const std::vector<std::string>& interfaces,
+                                   const std::optional<fdds::DomainParticipantQos>& base) {
+    fdds::DomainParticipantQos qos =
+        base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
+    qos.name("telemetry-gateway/robot");
+    qos.transport().use_builtin_transports = false;
+    qos.transport().user_transports.push_back(std::make_shared<SharedMemTransportDescriptor>());
+    auto udp = std::make_shared<UDPv4TransportDescriptor>();
+    udp->interfaceWhiteList = interfaces;
+    qos.transport().user_transports.push_back(udp);
+
+    participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
+        static_cast<fdds::DomainId_t>(domain), qos, listener, fdds::StatusMask::none());
+    if (participant_ == nullptr) {
+        throw core::ConfigError("--robot-domain " + std::to_string(domain) +
+                                ": cannot create the robot participant (see the Fast DDS log)");
+    }
+    subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    if (subscriber_ == nullptr) {
+        fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+        throw core::ConfigError("--robot-domain " + std::to_string(domain) + ": cannot create a subscriber");
+    }
+}
+
+RobotParticipant::~RobotParticipant() {
+    if (participant_ != nullptr) {
+        participant_->set_listener(nullptr);
+        participant_->delete_contained_entities();
+        fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+    }
+}
+
+fdds::DataReader* RobotParticipant::create_reader(const DiscoveredPublisher& pub, fdds::DataReaderListener* listener) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    fdds::TypeSupport type = participant_->find_type(pub.type_name);
+    if (type.empty()) {
+        type = fdds::TypeSupport(new PassthroughType(pub.type_name, pub.keyed));
+        if (participant_->register_type(type, pub.type_name) != ReturnCode_t::RETCODE_OK) {
+            std::cerr << "telemetry-gateway: cannot register type " << pub.type_name << " for " << pub.topic << '\n';
+            return nullptr;
+        }
+    }
+    fdds::Topic* topic = participant_->create_topic(pub.topic, pub.type_name, fdds::TOPIC_QOS_DEFAULT);
+    if (topic == nullptr) {
+        std::cerr << "telemetry-gateway: cannot create robot topic " << pub.topic << '\n';
+        return nullptr;
+    }
+
+    fdds::DataReaderQos qos = subscriber_->get_default_datareader_qos();
+    // Never stronger than the publisher's, or they would not match. expects_inline_qos stays false: Cyclone
+    // refuses readers that set it (DESIGN section 7); the instance comes from SampleInfo.
+    qos.reliability().kind = pub.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+    qos.durability().kind = pub.transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+    qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+    qos.history().depth = READER_HISTORY_DEPTH;
+    qos.resource_limits().max_samples_per_instance = READER_HISTORY_DEPTH;
+    qos.resource_limits().max_samples = fdds::LENGTH_UNLIMITED;
+    qos.resource_limits().max_instances = fdds::LENGTH_UNLIMITED;
+    qos.resource_limits().allocated_samples = 16;
+    qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
+    qos.data_sharing().off();
+
+    fdds::DataReader* reader = subscriber_->create_datareader(topic, qos, listener, fdds::StatusMask::all());
+    if (reader == nullptr) {
+        std::cerr << "telemetry-gateway: cannot create a reader for " << pub.topic << '\n';
+        participant_->delete_topic(topic);
+    }
+    return reader;
+}
+
+void RobotParticipant::delete_reader(fdds::DataReader* reader) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (reader == nullptr) {
+        return;
+    }
+    reader->set_listener(nullptr);
+    auto* topic = const_cast<fdds::TopicDescription*>(reader->get_topicdescription());
+    subscriber_->delete_datareader(reader);
+    if (auto* t = dynamic_cast<fdds::Topic*>(topic)) {
+        participant_->delete_topic(t);
+    }
+}
+
+eprosima::fastrtps::rtps::GuidPrefix_t RobotParticipant::guid_prefix() const {
+    return participant_->guid().guidPrefix;
+}
+
+}  // namespace tgw::dds

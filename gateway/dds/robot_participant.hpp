@@ -1,0 +1,52 @@
+#pragma once
+
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+
+#include "gateway/dds/discovery.hpp"
+
+namespace tgw::dds {
+
+/// The gateway's participant on the robot domain. It stays on this host: shared memory and UDP bound to
+/// the loopback interface (or the addresses given). It discovers every publisher (its listener) and holds
+/// the type-agnostic readers; it writes nothing.
+class RobotParticipant {
+  public:
+    /// Throws core::ConfigError if the participant cannot be created. `listener` must outlive this object
+    /// and receives discovery callbacks from the moment the participant exists. `base` is the starting QoS
+    /// (an XML participant profile, or the default); transports and name are set here.
+    RobotParticipant(int domain, eprosima::fastdds::dds::DomainParticipantListener* listener,
+                     const std::vector<std::string>& interfaces,
+                     const std::optional<eprosima::fastdds::dds::DomainParticipantQos>& base);
+    ~RobotParticipant();
+
+    RobotParticipant(const RobotParticipant&) = delete;
+    RobotParticipant& operator=(const RobotParticipant&) = delete;
+
+    /// A passthrough reader that matches `pub` (same topic, type name, keyed-ness; reliability and
+    /// durability no stronger than the publisher's). Returns nullptr on failure, after logging it.
+    eprosima::fastdds::dds::DataReader* create_reader(const DiscoveredPublisher& pub,
+                                                      eprosima::fastdds::dds::DataReaderListener* listener);
+
+    /// Detaches the listener and deletes the reader and its topic.
+    void delete_reader(eprosima::fastdds::dds::DataReader* reader);
+
+    eprosima::fastrtps::rtps::GuidPrefix_t guid_prefix() const;
+
+  private:
+    eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+    eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+    std::mutex mutex_;
+};
+
+}  // namespace tgw::dds

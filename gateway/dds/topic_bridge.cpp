@@ -1,0 +1,50 @@
+#include "gateway/dds/topic_bridge.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+
+#include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/passthrough_type.hpp"
+
+namespace tgw::dds {
+
+namespace fdds = eprosima::fastdds::dds;
+
+TopicBridge::TopicBridge(core::TopicId topic, bool keyed, core::ForwardingLoop& loop, const core::Clock& clock)
+    : topic_(topic), keyed_(keyed), loop_(loop), clock_(clock) {}
+
+void TopicBridge::on_data_available(fdds::DataReader* reader) {
+    // Locals, not members: Fast DDS may call this from the SHM and the UDP receive threads at once.
+    PassthroughData data;
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) {
+            continue;  // dispose or unregister: no payload to carry
+        }
+        core::Sample sample;
+        sample.topic = topic_;
+        sample.payload = std::move(data.payload);
+        data.payload = {};
+        if (keyed_ && info.instance_handle.isDefined() && info.instance_handle != PassthroughType::UNKNOWN_INSTANCE) {
+            const eprosima::fastrtps::rtps::octet* hash = info.instance_handle.value;
+            std::copy(hash, hash + sample.key.bytes.size(), sample.key.bytes.begin());
+            sample.key.valid = true;
+        }
+        if (const auto source = to_wall_time(info.source_timestamp)) {
+            sample.source_time = *source;
+        } else {
+            sample.source_time = clock_.wall_now();
+            stamped_on_arrival_.fetch_add(1, std::memory_order_relaxed);
+        }
+        loop_.submit(std::move(sample));
+    }
+}
+
+void TopicBridge::on_subscription_matched(fdds::DataReader* /*reader*/, const fdds::SubscriptionMatchedStatus& info) {
+    matched_.store(info.current_count);
+}
+
+}  // namespace tgw::dds

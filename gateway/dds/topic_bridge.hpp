@@ -1,0 +1,40 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+
+#include "gateway/core/clock.hpp"
+#include "gateway/core/forwarding_loop.hpp"
+
+namespace tgw::dds {
+
+/// The listener of one topic's type-agnostic reader on the robot domain: every sample it takes becomes a
+/// core::Sample (payload as received, instance from SampleInfo, the publisher's source timestamp) and goes
+/// to the ForwardingLoop in the same thread. The payload is copied once, from Fast DDS's cache into the
+/// sample's own buffer, and moved from there on.
+class TopicBridge final : public eprosima::fastdds::dds::DataReaderListener {
+  public:
+    TopicBridge(core::TopicId topic, bool keyed, core::ForwardingLoop& loop, const core::Clock& clock);
+
+    void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
+    void on_subscription_matched(eprosima::fastdds::dds::DataReader* reader,
+                                 const eprosima::fastdds::dds::SubscriptionMatchedStatus& info) override;
+
+    core::TopicId topic() const { return topic_; }
+    /// Robot-domain writers currently matched.
+    std::int32_t matched_writers() const { return matched_.load(); }
+    /// Samples that carried no source timestamp and were stamped on arrival.
+    std::uint64_t stamped_on_arrival() const { return stamped_on_arrival_.load(); }
+
+  private:
+    const core::TopicId topic_;
+    const bool keyed_;
+    core::ForwardingLoop& loop_;
+    const core::Clock& clock_;
+    std::atomic<std::int32_t> matched_{0};
+    std::atomic<std::uint64_t> stamped_on_arrival_{0};
+};
+
+}  // namespace tgw::dds

@@ -1,0 +1,36 @@
+#include "gateway/dds/ttl_resolver.hpp"
+
+namespace tgw::dds {
+
+namespace {
+
+bool applies(const std::optional<core::Duration>& lifespan) {
+    return lifespan.has_value() && *lifespan > core::Duration::zero() && *lifespan != core::Duration::max();
+}
+
+}  // namespace
+
+std::string_view to_string(TtlSource source) {
+    switch (source) {
+        case TtlSource::profile:
+            return "profile";
+        case TtlSource::publisher:
+            return "publisher";
+        case TtlSource::fallback:
+            return "default";
+    }
+    return "?";
+}
+
+ResolvedTtl resolve_ttl(std::optional<core::Duration> profile_lifespan,
+                        std::optional<core::Duration> publisher_lifespan, core::Duration default_ttl) {
+    if (applies(profile_lifespan)) {
+        return {*profile_lifespan, TtlSource::profile};
+    }
+    if (applies(publisher_lifespan)) {
+        return {*publisher_lifespan, TtlSource::publisher};
+    }
+    return {default_ttl, TtlSource::fallback};
+}
+
+}  // namespace tgw::dds

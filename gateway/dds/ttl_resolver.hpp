@@ -1,0 +1,28 @@
+#pragma once
+
+#include <optional>
+#include <string_view>
+
+#include "gateway/core/time.hpp"
+
+namespace tgw::dds {
+
+/// Where a topic's TTL came from (DESIGN section 4), first that applies.
+enum class TtlSource {
+    profile,    ///< a data_writer profile named after the topic in the --qos file: the operator's intent
+    publisher,  ///< the Lifespan QoS of the discovered publisher
+    fallback,   ///< the gateway's --default-ttl
+};
+
+std::string_view to_string(TtlSource source);
+
+struct ResolvedTtl {
+    core::Duration ttl{};
+    TtlSource source = TtlSource::fallback;
+};
+
+/// Pure rule of DESIGN section 4. A lifespan that is absent, infinite or not positive does not apply.
+ResolvedTtl resolve_ttl(std::optional<core::Duration> profile_lifespan,
+                        std::optional<core::Duration> publisher_lifespan, core::Duration default_ttl);
+
+}  // namespace tgw::dds

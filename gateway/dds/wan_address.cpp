@@ -1,0 +1,85 @@
+#include "gateway/dds/wan_address.hpp"
+
+#include <arpa/inet.h>
+#include <ifaddrs.h>
+#include <netinet/in.h>
+
+#include <memory>
+
+#include "gateway/core/config_error.hpp"
+
+namespace tgw::dds {
+
+namespace {
+
+// RTPS 2.x port mapping defaults (PB, DG, PG, d1).
+constexpr int PORT_BASE = 7400;
+constexpr int DOMAIN_GAIN = 250;
+constexpr int PARTICIPANT_GAIN = 2;
+constexpr int OFFSET_METATRAFFIC_UNICAST = 10;
+
+bool is_ipv4(const std::string& text) {
+    in_addr addr{};
+    return inet_pton(AF_INET, text.c_str(), &addr) == 1;
+}
+
+}  // namespace
+
+std::uint16_t metatraffic_unicast_port(int domain, int participant_id) {
+    return static_cast<std::uint16_t>(PORT_BASE + DOMAIN_GAIN * domain + OFFSET_METATRAFFIC_UNICAST +
+                                      PARTICIPANT_GAIN * participant_id);
+}
+
+WanPeer parse_wan_peer(const std::string& text, int domain) {
+    WanPeer peer;
+    const auto colon = text.rfind(':');
+    peer.address = colon == std::string::npos ? text : text.substr(0, colon);
+    if (!is_ipv4(peer.address)) {
+        throw core::ConfigError("--wan-peer '" + text + "': expected an IPv4 address, optionally with :PORT");
+    }
+    if (colon == std::string::npos) {
+        peer.port = metatraffic_unicast_port(domain, 0);
+        return peer;
+    }
+    const std::string port_text = text.substr(colon + 1);
+    std::size_t used = 0;
+    long port = 0;
+    try {
+        port = std::stol(port_text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != port_text.size() || port <= 0 || port > 65535) {
+        throw core::ConfigError("--wan-peer '" + text + "': port must be a number from 1 to 65535");
+    }
+    peer.port = static_cast<std::uint16_t>(port);
+    return peer;
+}
+
+std::string resolve_interface_address(const std::string& name_or_address) {
+    if (is_ipv4(name_or_address)) {
+        return name_or_address;
+    }
+    ifaddrs* list = nullptr;
+    if (getifaddrs(&list) != 0) {
+        throw core::ConfigError("--wan-interface '" + name_or_address + "': cannot list network interfaces");
+    }
+    std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> guard(list, freeifaddrs);
+    bool exists = false;
+    for (const ifaddrs* it = list; it != nullptr; it = it->ifa_next) {
+        if (it->ifa_name == nullptr || name_or_address != it->ifa_name) {
+            continue;
+        }
+        exists = true;
+        if (it->ifa_addr != nullptr && it->ifa_addr->sa_family == AF_INET) {
+            char buf[INET_ADDRSTRLEN] = {};
+            const auto* sin = reinterpret_cast<const sockaddr_in*>(it->ifa_addr);
+            inet_ntop(AF_INET, &sin->sin_addr, buf, sizeof buf);
+            return buf;
+        }
+    }
+    throw core::ConfigError("--wan-interface '" + name_or_address + "': " +
+                            (exists ? "the interface has no IPv4 address" : "no such interface or IPv4 address"));
+}
+
+}  // namespace tgw::dds

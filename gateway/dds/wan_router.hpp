@@ -1,0 +1,87 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+
+#include "gateway/core/sample.hpp"
+#include "gateway/dds/wan_address.hpp"
+
+namespace tgw::dds {
+
+/// How the WAN participant reaches the base camp.
+struct WanConfig {
+    int domain = 1;
+    std::vector<WanPeer> peers;
+    /// IPv4 address to bind to (see resolve_interface_address); empty: every interface.
+    std::string interface_address;
+    /// Own metatraffic unicast port; 0: the well-known port of the participant id Fast DDS assigns.
+    std::uint16_t listen_port = 0;
+    /// SPDP, unless a participant profile is given: how long the peer keeps us without hearing from us, and
+    /// how often we announce. Fast DDS's
+    /// 20 s / 3 s put 5,300 bit/s on the link with one idle peer (DESIGN section 4); these cut that ~7x.
+    std::chrono::seconds lease_duration{120};
+    std::chrono::seconds announcement_period{20};
+};
+
+/// Outcome of one write, counted by the caller; nothing on this path throws.
+enum class WriteResult { ok, unknown_topic, failed };
+
+/// The gateway's participant on the WAN domain: UDPv4 unicast only (no multicast, no shared memory), bound to
+/// one interface, announcing itself to the configured peers' exact ports, with long announcement periods.
+/// One DataWriter per bridged topic, with the robot topic's name and type name, Lifespan = the topic's TTL,
+/// best-effort unless the topic's data_writer profile says otherwise. It only writes.
+class WanRouter {
+  public:
+    /// Throws core::ConfigError when the participant cannot be created. `base`: starting QoS (an XML
+    /// participant profile) or nullopt for Fast DDS's default; transports, locators and discovery periods
+    /// are then set from `config`.
+    WanRouter(const WanConfig& config, const std::optional<eprosima::fastdds::dds::DomainParticipantQos>& base);
+    ~WanRouter();
+
+    WanRouter(const WanRouter&) = delete;
+    WanRouter& operator=(const WanRouter&) = delete;
+
+    /// The data_writer profile named after `topic` in the loaded XML files, if there is one.
+    std::optional<eprosima::fastdds::dds::DataWriterQos> writer_profile(const std::string& topic) const;
+
+    /// Creates the topic's writer. False (after logging it) when Fast DDS refuses.
+    bool add_topic(core::TopicId id, const std::string& topic, const std::string& type_name, bool keyed,
+                   core::Duration ttl);
+
+    /// Writes with the sample's source timestamp and instance; takes the payload. Never throws.
+    WriteResult write(core::Sample&& sample);
+
+    /// The Lifespan QoS of the topic's writer, or nullopt if there is no writer.
+    std::optional<core::Duration> writer_lifespan(core::TopicId id) const;
+    /// Base-camp readers currently matched with the topic's writer.
+    std::int32_t matched_readers(core::TopicId id) const;
+    std::uint64_t write_failures() const { return write_failures_.load(); }
+
+    eprosima::fastrtps::rtps::GuidPrefix_t guid_prefix() const;
+
+  private:
+    class WriterListener;
+    struct Entry;
+
+    Entry* entry(core::TopicId id) const;
+
+    eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+    eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
+    mutable std::mutex mutex_;
+    std::vector<std::unique_ptr<Entry>> entries_;  // indexed by TopicId
+    std::atomic<std::uint64_t> write_failures_{0};
+};
+
+}  // namespace tgw::dds

@@ -1,0 +1,244 @@
+#pragma once
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
+#include <fastrtps/utils/IPLocator.h>
+#include <fastrtps/xmlparser/XMLProfileManager.h>
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+
+#include "gateway/dds/wan_address.hpp"
+
+namespace tgw::test {
+
+namespace fdds = eprosima::fastdds::dds;
+
+/// Polls `condition` every 10 ms until it holds or `timeout` passes; true if it held.
+inline bool wait_until(const std::function<bool()>& condition,
+                       std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (!condition()) {
+        if (std::chrono::steady_clock::now() >= end) {
+            return false;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return true;
+}
+
+/// Makes participants of this process talk through their transports (shared memory, UDP) instead of Fast
+/// DDS's in-process shortcut, so the tests see what separate processes would. Call before creating any.
+inline void use_transports_in_process() {
+    eprosima::fastrtps::LibrarySettingsAttributes settings;
+    settings.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
+    eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(settings);
+}
+
+/// Domain ids and ports for one test process: derived from the process id so that parallel ctest runs (one
+/// process per test) do not meet. Robot and WAN domains are an adjacent pair in 10..199.
+struct TestDomains {
+    int robot = 0;
+    int wan = 0;
+    std::uint16_t wan_reader_port = 0;   ///< the test's base-camp participant, the gateway's --wan-peer
+    std::uint16_t gateway_wan_port = 0;  ///< the gateway's own WAN metatraffic port
+
+    static TestDomains for_this_process() {
+        TestDomains d;
+        d.robot = 10 + static_cast<int>(::getpid() % 95) * 2;
+        d.wan = d.robot + 1;
+        // Participant ids well above what Fast DDS assigns in one process, so the ports are free.
+        d.wan_reader_port = dds::metatraffic_unicast_port(d.wan, 60);
+        d.gateway_wan_port = dds::metatraffic_unicast_port(d.wan, 61);
+        return d;
+    }
+};
+
+/// A participant with one publisher and one subscriber; deletes everything it made.
+class TestParticipant {
+  public:
+    TestParticipant(int domain, const fdds::DomainParticipantQos& qos,
+                    fdds::DomainParticipantListener* listener = nullptr) {
+        participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
+            static_cast<fdds::DomainId_t>(domain), qos, listener, fdds::StatusMask::none());
+        if (participant_ != nullptr) {
+            publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+            subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+        }
+    }
+    ~TestParticipant() {
+        if (participant_ != nullptr) {
+            participant_->delete_contained_entities();
+            fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+        }
+    }
+    TestParticipant(const TestParticipant&) = delete;
+    TestParticipant& operator=(const TestParticipant&) = delete;
+
+    bool ok() const { return participant_ != nullptr && publisher_ != nullptr && subscriber_ != nullptr; }
+    fdds::DomainParticipant* participant() { return participant_; }
+
+    /// A robot-side participant: Fast DDS defaults (shared memory, UDP, multicast), as a robot process has.
+    static fdds::DomainParticipantQos robot_qos() { return fdds::PARTICIPANT_QOS_DEFAULT; }
+
+    /// A base-camp participant on loopback only: UDPv4, no multicast, its metatraffic on `own_port`,
+    /// announcing itself to `peer_port` (the gateway's WAN participant).
+    static fdds::DomainParticipantQos wan_qos(std::uint16_t own_port, std::uint16_t peer_port) {
+        using eprosima::fastrtps::rtps::IPLocator;
+        using eprosima::fastrtps::rtps::Locator_t;
+        fdds::DomainParticipantQos qos;
+        qos.name("test/basecamp");
+        qos.transport().use_builtin_transports = false;
+        auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+        udp->interfaceWhiteList.push_back("127.0.0.1");
+        qos.transport().user_transports.push_back(udp);
+        Locator_t own;
+        own.kind = LOCATOR_KIND_UDPv4;
+        IPLocator::setIPv4(own, "127.0.0.1");
+        own.port = own_port;
+        qos.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(own);
+        Locator_t peer = own;
+        peer.port = peer_port;
+        qos.wire_protocol().builtin.initialPeersList.push_back(peer);
+        return qos;
+    }
+
+    fdds::DataWriter* make_writer(const std::string& topic_name, fdds::TypeSupport type, fdds::DataWriterQos qos,
+                                  fdds::DataWriterListener* listener = nullptr) {
+        fdds::Topic* topic = topic_for(topic_name, type);
+        return topic == nullptr ? nullptr
+                                : publisher_->create_datawriter(topic, qos, listener, fdds::StatusMask::all());
+    }
+
+    fdds::DataReader* make_reader(const std::string& topic_name, fdds::TypeSupport type, fdds::DataReaderQos qos,
+                                  fdds::DataReaderListener* listener = nullptr) {
+        fdds::Topic* topic = topic_for(topic_name, type);
+        return topic == nullptr ? nullptr
+                                : subscriber_->create_datareader(topic, qos, listener, fdds::StatusMask::all());
+    }
+
+    fdds::DataWriterQos default_writer_qos() const { return publisher_->get_default_datawriter_qos(); }
+    fdds::DataReaderQos default_reader_qos() const { return subscriber_->get_default_datareader_qos(); }
+
+  private:
+    fdds::Topic* topic_for(const std::string& topic_name, fdds::TypeSupport type) {
+        if (participant_->find_type(type.get_type_name()).empty()) {
+            if (participant_->register_type(type) != ReturnCode_t::RETCODE_OK) {
+                return nullptr;
+            }
+        }
+        if (auto* existing = participant_->find_topic(topic_name, eprosima::fastrtps::Duration_t(0, 0))) {
+            return existing;
+        }
+        return participant_->create_topic(topic_name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+    }
+
+    fdds::DomainParticipant* participant_ = nullptr;
+    fdds::Publisher* publisher_ = nullptr;
+    fdds::Subscriber* subscriber_ = nullptr;
+};
+
+/// Counts matches of a writer.
+class MatchCounter final : public fdds::DataWriterListener {
+  public:
+    void on_publication_matched(fdds::DataWriter*, const fdds::PublicationMatchedStatus& info) override {
+        matched = info.current_count;
+    }
+    std::atomic<int> matched{0};
+};
+
+/// Takes every sample of type T a reader receives, with its SampleInfo.
+template <typename T>
+class CollectingReader final : public fdds::DataReaderListener {
+  public:
+    struct Received {
+        T data;
+        fdds::SampleInfo info;
+    };
+
+    void on_data_available(fdds::DataReader* reader) override {
+        T data;
+        fdds::SampleInfo info;
+        while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
+            if (info.valid_data) {
+                std::lock_guard<std::mutex> lock(mutex_);
+                received_.push_back({data, info});
+            }
+        }
+    }
+    void on_subscription_matched(fdds::DataReader*, const fdds::SubscriptionMatchedStatus& info) override {
+        matched = info.current_count;
+    }
+
+    std::size_t count() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return received_.size();
+    }
+    std::vector<Received> received() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return received_;
+    }
+
+    std::atomic<int> matched{0};
+
+  private:
+    mutable std::mutex mutex_;
+    std::vector<Received> received_;
+};
+
+/// Records the WAN writers the base camp discovers, with their Lifespan.
+class PublisherWatcher final : public fdds::DomainParticipantListener {
+  public:
+    void on_publisher_discovery(fdds::DomainParticipant*,
+                                eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
+        if (info.status != eprosima::fastrtps::rtps::WriterDiscoveryInfo::DISCOVERED_WRITER) {
+            return;
+        }
+        std::lock_guard<std::mutex> lock(mutex_);
+        seen_.push_back({info.info.topicName().to_string(), info.info.typeName().to_string(),
+                         info.info.m_qos.m_lifespan.duration, info.info.m_qos.m_reliability.kind});
+    }
+
+    struct Seen {
+        std::string topic;
+        std::string type_name;
+        eprosima::fastrtps::Duration_t lifespan;
+        fdds::ReliabilityQosPolicyKind reliability;
+    };
+
+    bool find(const std::string& topic, Seen& out) const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (const Seen& s : seen_) {
+            if (s.topic == topic) {
+                out = s;
+                return true;
+            }
+        }
+        return false;
+    }
+
+  private:
+    mutable std::mutex mutex_;
+    std::vector<Seen> seen_;
+};
+
+}  // namespace tgw::test

@@ -1,0 +1,489 @@
+// Real Fast DDS participants in one process: robot domain -> Gateway -> WAN domain over loopback UDP.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <set>
+#include <string>
+
+#include "KeyedReadingPubSubTypes.h"
+#include "PaperWorkloadPubSubTypes.h"
+#include "RosStringPubSubTypes.h"
+#include "gateway/core/clock.hpp"
+#include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/gateway.hpp"
+#include "test/integration/dds_test_support.hpp"
+#include "test/integration/error_log_counter.hpp"
+#include "test/integration/opaque_type.hpp"
+
+namespace tgw::test {
+namespace {
+
+using namespace std::chrono_literals;
+using dds::Gateway;
+using dds::GatewayConfig;
+
+constexpr auto MATCH_TIMEOUT = std::chrono::milliseconds(8000);
+
+class GatewayIntegrationTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        ErrorLogCounter::instance().take_errors();
+        use_transports_in_process();
+        domains_ = TestDomains::for_this_process();
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        topic_prefix_ = std::string("tgw_it/") + info->name() + "/";
+        robot_ = std::make_unique<TestParticipant>(domains_.robot, TestParticipant::robot_qos());
+        ASSERT_TRUE(robot_->ok());
+        basecamp_ = std::make_unique<TestParticipant>(
+            domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port), &watcher_);
+        ASSERT_TRUE(basecamp_->ok());
+    }
+
+    void TearDown() override {
+        gateway_.reset();
+        robot_.reset();
+        basecamp_.reset();
+        listeners_.clear();
+        for (const std::string& file : files_) {
+            std::remove(file.c_str());
+            std::remove((file + "-wal").c_str());
+            std::remove((file + "-shm").c_str());
+        }
+        const auto errors = ErrorLogCounter::instance().take_errors();
+        std::string all;
+        for (const auto& e : errors) {
+            all += e + "\n";
+        }
+        EXPECT_TRUE(errors.empty()) << "Fast DDS logged errors:\n" << all;
+    }
+
+    GatewayConfig config() const {
+        GatewayConfig c;
+        c.robot_domain = domains_.robot;
+        c.wan_domain = domains_.wan;
+        c.wan_peers = {"127.0.0.1:" + std::to_string(domains_.wan_reader_port)};
+        c.wan_interface = "127.0.0.1";
+        c.wan_port = domains_.gateway_wan_port;
+        c.scheduler.initial_rate_bps = 50e6;
+        c.default_ttl = 5s;
+        return c;
+    }
+
+    void start_gateway(const GatewayConfig& c) { gateway_ = std::make_unique<Gateway>(c, clock_); }
+
+    /// A listener that outlives the entities it is attached to (they are deleted in TearDown).
+    template <typename T>
+    T& listener() {
+        auto owned = std::make_shared<T>();
+        listeners_.push_back(owned);
+        return *owned;
+    }
+
+    std::string temp_file(const std::string& suffix) {
+        const std::string path = "/tmp/tgw_it_" + std::to_string(::getpid()) + "_" +
+                                 ::testing::UnitTest::GetInstance()->current_test_info()->name() + suffix;
+        files_.push_back(path);
+        std::remove(path.c_str());
+        return path;
+    }
+
+    static fdds::DataWriterQos robot_writer_qos(TestParticipant& p, std::optional<core::Duration> lifespan = {}) {
+        fdds::DataWriterQos q = p.default_writer_qos();
+        q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+        q.history().depth = 1000;
+        if (lifespan) {
+            q.lifespan().duration = dds::to_dds_duration(*lifespan);
+        }
+        return q;
+    }
+
+    static fdds::DataReaderQos wan_reader_qos(TestParticipant& p) {
+        fdds::DataReaderQos q = p.default_reader_qos();
+        q.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+        q.history().depth = 1000;
+        return q;
+    }
+
+    /// Waits until the gateway bridges `topic`, its robot reader matched `writer_matches` and its WAN writer
+    /// matched `reader_matches`.
+    void wait_for_bridge(const std::string& topic, const MatchCounter& writer_matches,
+                         const std::atomic<int>& reader_matches) {
+        ASSERT_TRUE(gateway_->wait_for_topic(topic, MATCH_TIMEOUT)) << topic << " was never bridged";
+        ASSERT_TRUE(wait_until([&] { return writer_matches.matched.load() > 0; }, MATCH_TIMEOUT))
+            << "the gateway's robot reader never matched " << topic;
+        ASSERT_TRUE(wait_until([&] { return reader_matches.load() > 0; }, MATCH_TIMEOUT))
+            << "the base camp never matched the gateway's WAN writer of " << topic;
+        // Both ends must know each other: the WAN writer is best effort, so what it writes before it has
+        // matched the base camp's reader is lost for good.
+        const core::TopicId id = gateway_->find_topic(topic)->id;
+        ASSERT_TRUE(wait_until([&] { return gateway_->wan_matched_readers(id) > 0; }, MATCH_TIMEOUT))
+            << "the gateway's WAN writer never matched the base camp's reader of " << topic;
+        ASSERT_TRUE(wait_until([&] { return gateway_->robot_matched_writers(id) > 0; }, MATCH_TIMEOUT))
+            << "the gateway's robot reader never matched the writer of " << topic;
+    }
+
+    void expect_balanced() const {
+        const core::TopicCounters c = gateway_->total_counters();
+        EXPECT_EQ(c.received, c.forwarded + c.queued + c.dropped_total())
+            << "received " << c.received << " forwarded " << c.forwarded << " queued " << c.queued << " dropped "
+            << c.dropped_total();
+    }
+
+    static eprosima::fastrtps::Time_t wall_stamp(core::WallTime t) { return dds::to_dds_time(t); }
+
+    core::SystemClock clock_;
+    TestDomains domains_;
+    std::string topic_prefix_;
+    PublisherWatcher watcher_;
+    std::unique_ptr<TestParticipant> robot_;
+    std::unique_ptr<TestParticipant> basecamp_;
+    std::unique_ptr<Gateway> gateway_;
+    std::vector<std::string> files_;
+    std::vector<std::shared_ptr<void>> listeners_;
+};
+
+TEST_F(GatewayIntegrationTest, ForwardsPaperMessagesWithPayloadAndSourceTimestamp) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "paper_A";
+    auto& writer_matches = listener<MatchCounter>();
+    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                       robot_writer_qos(*robot_, 2s), &writer_matches);
+    ASSERT_NE(writer, nullptr);
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                     wan_reader_qos(*basecamp_), &wan),
+              nullptr);
+    wait_for_bridge(topic, writer_matches, wan.matched);
+
+    constexpr int N = 10;
+    std::vector<eprosima::fastrtps::Time_t> stamps;
+    for (int i = 0; i < N; ++i) {
+        idl::PaperMessage msg;
+        msg.generated_ns(static_cast<std::uint64_t>(1000 + i));
+        msg.data(std::vector<std::uint8_t>(41, static_cast<std::uint8_t>(i)));
+        stamps.push_back(wall_stamp(clock_.wall_now() - std::chrono::milliseconds(5 * (N - i))));
+        ASSERT_EQ(writer->write_w_timestamp(&msg, fdds::HANDLE_NIL, stamps.back()), ReturnCode_t::RETCODE_OK);
+    }
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= N; })) << "got " << wan.count() << " of " << N;
+    const auto got = wan.received();
+    for (int i = 0; i < N; ++i) {
+        EXPECT_EQ(got[i].data.generated_ns(), static_cast<std::uint64_t>(1000 + i));
+        EXPECT_EQ(got[i].data.data(), std::vector<std::uint8_t>(41, static_cast<std::uint8_t>(i)));
+        EXPECT_EQ(got[i].info.source_timestamp.seconds(), stamps[i].seconds);
+        EXPECT_EQ(got[i].info.source_timestamp.nanosec(), stamps[i].nanosec);
+    }
+    const auto bridged = gateway_->find_topic(topic);
+    ASSERT_TRUE(bridged);
+    EXPECT_EQ(bridged->type_name, "tgw::idl::PaperMessage");
+    EXPECT_FALSE(bridged->keyed);
+    EXPECT_EQ(gateway_->counters(bridged->id).forwarded, static_cast<std::uint64_t>(N));
+    expect_balanced();
+}
+
+TEST_F(GatewayIntegrationTest, KeepsTheInstancesOfAKeyedTopic) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "keyed";
+    auto& writer_matches = listener<MatchCounter>();
+    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::KeyedReadingPubSubType()),
+                                       robot_writer_qos(*robot_), &writer_matches);
+    ASSERT_NE(writer, nullptr);
+    auto& wan = listener<CollectingReader<idl::KeyedReading>>();
+    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::KeyedReadingPubSubType()),
+                                     wan_reader_qos(*basecamp_), &wan),
+              nullptr);
+    wait_for_bridge(topic, writer_matches, wan.matched);
+    ASSERT_TRUE(gateway_->find_topic(topic)->keyed);
+
+    std::map<std::uint32_t, fdds::InstanceHandle_t> robot_handles;
+    constexpr int ROUNDS = 3;
+    for (int round = 0; round < ROUNDS; ++round) {
+        for (std::uint32_t sensor : {7u, 11u, 4242u}) {
+            idl::KeyedReading r;
+            r.sensor_id(sensor);
+            r.value(round * 1.5);
+            r.label("sensor-" + std::to_string(sensor));
+            robot_handles[sensor] = writer->register_instance(&r);
+            ASSERT_EQ(writer->write(&r, robot_handles[sensor]), ReturnCode_t::RETCODE_OK);
+        }
+    }
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= 3 * ROUNDS; })) << "got " << wan.count();
+    std::map<std::uint32_t, std::set<fdds::InstanceHandle_t>> handles_by_sensor;
+    for (const auto& r : wan.received()) {
+        handles_by_sensor[r.data.sensor_id()].insert(r.info.instance_handle);
+        EXPECT_EQ(r.data.label(), "sensor-" + std::to_string(r.data.sensor_id()));
+    }
+    ASSERT_EQ(handles_by_sensor.size(), 3u);
+    std::set<fdds::InstanceHandle_t> distinct;
+    for (const auto& [sensor, handles] : handles_by_sensor) {
+        ASSERT_EQ(handles.size(), 1u) << "sensor " << sensor << " arrived as several instances";
+        EXPECT_EQ(*handles.begin(), robot_handles[sensor]) << "the WAN instance is not the robot's";
+        distinct.insert(*handles.begin());
+    }
+    EXPECT_EQ(distinct.size(), 3u);
+    expect_balanced();
+}
+
+TEST_F(GatewayIntegrationTest, CarriesATypeOnlyThePublisherKnows) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "opaque";
+    auto& writer_matches = listener<MatchCounter>();
+    auto* writer =
+        robot_->make_writer(topic, fdds::TypeSupport(new OpaqueBlobType()), robot_writer_qos(*robot_), &writer_matches);
+    ASSERT_NE(writer, nullptr);
+    auto& wan = listener<CollectingReader<OpaqueBlob>>();
+    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new OpaqueBlobType()), wan_reader_qos(*basecamp_), &wan),
+              nullptr);
+    wait_for_bridge(topic, writer_matches, wan.matched);
+    EXPECT_EQ(gateway_->find_topic(topic)->type_name, OpaqueBlobType::TYPE_NAME);
+
+    OpaqueBlob blob;
+    blob.id = 0xdeadbeef;
+    for (int i = 0; i < 3000; ++i) {  // larger than one datagram's worth of fragment: DATA_FRAG on the WAN
+        blob.bytes.push_back(static_cast<std::uint8_t>(i * 7));
+    }
+    ASSERT_TRUE(writer->write(&blob));
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= 1; }));
+    const auto got = wan.received().front().data;
+    EXPECT_EQ(got.id, blob.id);
+    EXPECT_EQ(got.bytes, blob.bytes);
+}
+
+TEST_F(GatewayIntegrationTest, TakesTheTtlFromThePublishersLifespan) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "lifespan";
+    auto& writer_matches = listener<MatchCounter>();
+    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                       robot_writer_qos(*robot_, 3s), &writer_matches);
+    ASSERT_NE(writer, nullptr);
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                     wan_reader_qos(*basecamp_), &wan),
+              nullptr);
+    wait_for_bridge(topic, writer_matches, wan.matched);
+
+    const auto bridged = gateway_->find_topic(topic);
+    EXPECT_EQ(bridged->ttl.source, dds::TtlSource::publisher);
+    EXPECT_EQ(bridged->ttl.ttl, core::Duration(3s));
+    EXPECT_EQ(gateway_->wan_writer_lifespan(bridged->id), core::Duration(3s));
+    PublisherWatcher::Seen seen;
+    ASSERT_TRUE(wait_until([&] { return watcher_.find(topic, seen); }));
+    EXPECT_EQ(seen.lifespan, eprosima::fastrtps::Duration_t(3, 0)) << "the base camp sees another Lifespan";
+    EXPECT_EQ(seen.reliability, fdds::BEST_EFFORT_RELIABILITY_QOS);
+}
+
+TEST_F(GatewayIntegrationTest, TakesTheTtlFromAnXmlProfileNamedAfterTheTopic) {
+    const std::string topic = topic_prefix_ + std::to_string(::getpid()) + "/profiled";
+    const std::string xml = temp_file(".xml");
+    {
+        std::ofstream out(xml);
+        out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+               "<dds xmlns=\"http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles\"><profiles>\n"
+               "<data_writer profile_name=\""
+            << topic
+            << "\"><qos><reliability><kind>BEST_EFFORT</kind></reliability>"
+               "<lifespan><duration><sec>7</sec><nanosec>0</nanosec></duration></lifespan></qos></data_writer>\n"
+               "</profiles></dds>\n";
+    }
+    GatewayConfig c = config();
+    c.qos_file = xml;
+    start_gateway(c);
+    auto& writer_matches = listener<MatchCounter>();
+    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                       robot_writer_qos(*robot_, 3s), &writer_matches);
+    ASSERT_NE(writer, nullptr);
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                     wan_reader_qos(*basecamp_), &wan),
+              nullptr);
+    wait_for_bridge(topic, writer_matches, wan.matched);
+
+    const auto bridged = gateway_->find_topic(topic);
+    EXPECT_EQ(bridged->ttl.source, dds::TtlSource::profile) << "the profile must win over the publisher's 3 s";
+    EXPECT_EQ(bridged->ttl.ttl, core::Duration(7s));
+    PublisherWatcher::Seen seen;
+    ASSERT_TRUE(wait_until([&] { return watcher_.find(topic, seen); }));
+    EXPECT_EQ(seen.lifespan, eprosima::fastrtps::Duration_t(7, 0));
+}
+
+TEST_F(GatewayIntegrationTest, UsesTheDefaultTtlWhenNothingElseApplies) {
+    GatewayConfig c = config();
+    c.default_ttl = 9s;
+    start_gateway(c);
+    const std::string topic = topic_prefix_ + "no_lifespan";
+    auto& writer_matches = listener<MatchCounter>();
+    ASSERT_NE(robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                  robot_writer_qos(*robot_), &writer_matches),
+              nullptr);
+    ASSERT_TRUE(gateway_->wait_for_topic(topic, MATCH_TIMEOUT));
+    const auto bridged = gateway_->find_topic(topic);
+    EXPECT_EQ(bridged->ttl.source, dds::TtlSource::fallback);
+    EXPECT_EQ(bridged->ttl.ttl, core::Duration(9s));
+}
+
+TEST_F(GatewayIntegrationTest, BridgesATopicThatAppearsAfterTheGatewayStarted) {
+    start_gateway(config());
+    const std::string first = topic_prefix_ + "first";
+    auto& first_matches = listener<MatchCounter>();
+    ASSERT_NE(robot_->make_writer(first, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                  robot_writer_qos(*robot_), &first_matches),
+              nullptr);
+    ASSERT_TRUE(gateway_->wait_for_topic(first, MATCH_TIMEOUT));
+
+    // Only now, with the gateway running for a while, does the second topic appear, in a new participant.
+    TestParticipant late_robot(domains_.robot, TestParticipant::robot_qos());
+    ASSERT_TRUE(late_robot.ok());
+    const std::string later = topic_prefix_ + "later";
+    auto& writer_matches = listener<MatchCounter>();
+    auto* writer = late_robot.make_writer(later, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                          robot_writer_qos(late_robot), &writer_matches);
+    ASSERT_NE(writer, nullptr);
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_NE(basecamp_->make_reader(later, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                     wan_reader_qos(*basecamp_), &wan),
+              nullptr);
+    wait_for_bridge(later, writer_matches, wan.matched);
+    idl::PaperMessage msg;
+    msg.generated_ns(42);
+    ASSERT_TRUE(writer->write(&msg));
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= 1; }));
+    EXPECT_EQ(wan.received().front().data.generated_ns(), 42u);
+}
+
+TEST_F(GatewayIntegrationTest, BridgesARos2TopicByItsDdsNames) {
+    start_gateway(config());
+    const std::string topic = "rt/chatter";  // the domain is unique to this test
+    auto& writer_matches = listener<MatchCounter>();
+    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new std_msgs::msg::dds_::String_PubSubType()),
+                                       robot_writer_qos(*robot_), &writer_matches);
+    ASSERT_NE(writer, nullptr);
+    auto& wan = listener<CollectingReader<std_msgs::msg::dds_::String_>>();
+    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new std_msgs::msg::dds_::String_PubSubType()),
+                                     wan_reader_qos(*basecamp_), &wan),
+              nullptr);
+    wait_for_bridge(topic, writer_matches, wan.matched);
+    EXPECT_EQ(gateway_->find_topic(topic)->type_name, "std_msgs::msg::dds_::String_");
+
+    std_msgs::msg::dds_::String_ hello;
+    hello.data("hello from the robot");
+    ASSERT_TRUE(writer->write(&hello));
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= 1; }));
+    EXPECT_EQ(wan.received().front().data.data(), "hello from the robot");
+}
+
+TEST_F(GatewayIntegrationTest, DeniedTopicsAreNotBridged) {
+    GatewayConfig c = config();
+    c.deny = {"*/secret*"};
+    start_gateway(c);
+    const std::string secret = topic_prefix_ + "secret_plans";
+    const std::string open = topic_prefix_ + "open";
+    auto& m1 = listener<MatchCounter>();
+    auto& m2 = listener<MatchCounter>();
+    ASSERT_NE(robot_->make_writer(secret, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                  robot_writer_qos(*robot_), &m1),
+              nullptr);
+    ASSERT_NE(
+        robot_->make_writer(open, fdds::TypeSupport(new idl::PaperMessagePubSubType()), robot_writer_qos(*robot_), &m2),
+        nullptr);
+    ASSERT_TRUE(gateway_->wait_for_topic(open, MATCH_TIMEOUT));
+    EXPECT_FALSE(gateway_->find_topic(secret));
+    EXPECT_EQ(m1.matched.load(), 0);
+}
+
+TEST_F(GatewayIntegrationTest, WritesTheQueueToTheLogOnShutdown) {
+    GatewayConfig c = config();
+    c.log_file = temp_file(".db");
+    c.scheduler.initial_rate_bps = 1000;  // about one sample a second: the rest waits in the queue
+    c.default_ttl = 60s;
+    start_gateway(c);
+    const std::string topic = topic_prefix_ + "slow";
+    auto& writer_matches = listener<MatchCounter>();
+    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                       robot_writer_qos(*robot_), &writer_matches);
+    ASSERT_NE(writer, nullptr);
+    ASSERT_TRUE(gateway_->wait_for_topic(topic, MATCH_TIMEOUT));
+    ASSERT_TRUE(wait_until([&] { return writer_matches.matched.load() > 0; }, MATCH_TIMEOUT));
+
+    constexpr std::uint64_t N = 20;
+    for (std::uint64_t i = 0; i < N; ++i) {
+        idl::PaperMessage msg;
+        msg.generated_ns(i);
+        msg.data(std::vector<std::uint8_t>(41, 1));
+        ASSERT_TRUE(writer->write(&msg));
+    }
+    const core::TopicId id = gateway_->find_topic(topic)->id;
+    ASSERT_TRUE(wait_until([&] { return gateway_->counters(id).received >= N; }));
+    EXPECT_GT(gateway_->queued_samples(), 0u);
+    expect_balanced();
+
+    gateway_->stop();
+    const core::TopicCounters after = gateway_->counters(id);
+    EXPECT_EQ(after.queued, 0u);
+    EXPECT_EQ(after.received, N);
+    EXPECT_EQ(after.received, after.forwarded + after.dropped_total());
+    const std::uint64_t shutdown = after.dropped_for(core::DropReason::shutdown);
+    EXPECT_GT(shutdown, 0u);
+    EXPECT_EQ(gateway_->logged(), after.dropped_total());
+
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open_v2(c.log_file.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+    sqlite3_stmt* stmt = nullptr;
+    ASSERT_EQ(sqlite3_prepare_v2(db,
+                                 "SELECT COUNT(*), COUNT(DISTINCT type_name), MIN(topic) FROM dropped_samples "
+                                 "WHERE reason = 'shutdown'",
+                                 -1, &stmt, nullptr),
+              SQLITE_OK);
+    ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
+    EXPECT_EQ(static_cast<std::uint64_t>(sqlite3_column_int64(stmt, 0)), shutdown);
+    EXPECT_EQ(sqlite3_column_int64(stmt, 1), 1);
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(sqlite3_column_text(stmt, 2))), topic);
+    sqlite3_finalize(stmt);
+    sqlite3_close(db);
+}
+
+TEST_F(GatewayIntegrationTest, EverySampleIsForwardedQueuedOrLogged) {
+    GatewayConfig c = config();
+    c.log_file = temp_file(".db");
+    c.scheduler.initial_rate_bps = 20000;
+    start_gateway(c);
+    const std::string topic = topic_prefix_ + "overload";
+    auto& writer_matches = listener<MatchCounter>();
+    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                       robot_writer_qos(*robot_, 1s), &writer_matches);
+    ASSERT_NE(writer, nullptr);
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                     wan_reader_qos(*basecamp_), &wan),
+              nullptr);
+    wait_for_bridge(topic, writer_matches, wan.matched);
+
+    // 200 D-sized samples at once on a 20,000 bit/s link with a 1 s TTL: most cannot be sent.
+    constexpr std::uint64_t N = 200;
+    for (std::uint64_t i = 0; i < N; ++i) {
+        idl::PaperMessage msg;
+        msg.generated_ns(i);
+        msg.data(std::vector<std::uint8_t>(1016, 2));
+        ASSERT_TRUE(writer->write(&msg));
+    }
+    const core::TopicId id = gateway_->find_topic(topic)->id;
+    ASSERT_TRUE(wait_until([&] { return gateway_->counters(id).received >= N; }));
+    expect_balanced();
+    ASSERT_TRUE(wait_until([&] { return gateway_->queued_samples() == 0; }, 5s));
+    gateway_->stop();
+    const core::TopicCounters after = gateway_->counters(id);
+    EXPECT_EQ(after.received, N);
+    EXPECT_EQ(after.queued, 0u);
+    EXPECT_EQ(after.received, after.forwarded + after.dropped_total());
+    EXPECT_GT(after.forwarded, 0u);
+    EXPECT_GT(after.dropped_total(), 0u);
+    EXPECT_EQ(gateway_->logged(), after.dropped_total());
+    EXPECT_EQ(gateway_->wan_write_failures(), 0u);
+    EXPECT_LE(wan.count(), after.forwarded);
+}
+
+}  // namespace
+}  // namespace tgw::test

@@ -1,0 +1,92 @@
+// Every XML file in qos/ loads into Fast DDS, and the paper workload's profiles say what DESIGN section 2 says.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+
+#include "gateway/core/config_error.hpp"
+#include "gateway/dds/qos_file.hpp"
+#include "test/integration/dds_test_support.hpp"
+#include "test/integration/error_log_counter.hpp"
+
+namespace tgw::test {
+namespace {
+
+class QosFilesTest : public ::testing::Test {
+  protected:
+    void SetUp() override { ErrorLogCounter::instance().take_errors(); }
+    void TearDown() override {
+        const auto errors = ErrorLogCounter::instance().take_errors();
+        EXPECT_TRUE(errors.empty()) << errors.size() << " Fast DDS errors, first: " << errors.front();
+    }
+};
+
+std::vector<std::filesystem::path> qos_files() {
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::directory_iterator(TGW_QOS_DIR)) {
+        if (entry.path().extension() == ".xml") {
+            files.push_back(entry.path());
+        }
+    }
+    return files;
+}
+
+TEST_F(QosFilesTest, EveryXmlFileInQosLoads) {
+    const auto files = qos_files();
+    ASSERT_FALSE(files.empty());
+    for (const auto& file : files) {
+        EXPECT_NO_THROW(dds::load_qos_file(file.string())) << file;
+    }
+}
+
+TEST_F(QosFilesTest, PaperWorkloadProfilesCarryTheTtlsAsLifespan) {
+    dds::load_qos_file(std::string(TGW_QOS_DIR) + "/paper_workload.xml");
+    TestParticipant p(10 + static_cast<int>(::getpid() % 95) * 2, fdds::PARTICIPANT_QOS_DEFAULT);
+    ASSERT_TRUE(p.ok());
+    fdds::Publisher* publisher = p.participant()->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    const std::pair<const char*, int> expected[] = {
+        {"telemetry/A", 1}, {"telemetry/B", 2}, {"telemetry/C", 5}, {"telemetry/D", 20}};
+    for (const auto& [topic, seconds] : expected) {
+        fdds::DataWriterQos qos;
+        ASSERT_EQ(publisher->get_datawriter_qos_from_profile(topic, qos), ReturnCode_t::RETCODE_OK) << topic;
+        EXPECT_EQ(qos.lifespan().duration, eprosima::fastrtps::Duration_t(seconds, 0)) << topic;
+        EXPECT_EQ(qos.reliability().kind, fdds::BEST_EFFORT_RELIABILITY_QOS) << topic;
+    }
+}
+
+TEST_F(QosFilesTest, ParticipantProfilesExist) {
+    dds::load_qos_file(std::string(TGW_QOS_DIR) + "/gateway_participants.xml");
+    const auto wan = dds::participant_profile(dds::WAN_PARTICIPANT_PROFILE);
+    ASSERT_TRUE(wan);
+    EXPECT_EQ(wan->wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod,
+              eprosima::fastrtps::Duration_t(20, 0));
+    EXPECT_TRUE(dds::participant_profile(dds::ROBOT_PARTICIPANT_PROFILE));
+}
+
+TEST_F(QosFilesTest, MalformedXmlNamesTheFileAndLine) {
+    const std::string path = "/tmp/tgw_qos_bad_" + std::to_string(::getpid()) + ".xml";
+    {
+        std::ofstream out(path);
+        out << "<?xml version=\"1.0\"?>\n<dds>\n<profiles>\n<data_writer profile_name=\"x\">\n</dds>\n";
+    }
+    try {
+        dds::load_qos_file(path);
+        ADD_FAILURE() << "no ConfigError";
+    } catch (const core::ConfigError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(path), std::string::npos) << what;
+        EXPECT_NE(what.find(":4:"), std::string::npos) << what;  // the unclosed element
+    }
+    std::remove(path.c_str());
+}
+
+TEST_F(QosFilesTest, MissingFileIsAConfigError) {
+    EXPECT_THROW(dds::load_qos_file("/nonexistent/tgw.xml"), core::ConfigError);
+}
+
+}  // namespace
+}  // namespace tgw::test

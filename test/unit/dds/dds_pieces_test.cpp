@@ -1,0 +1,108 @@
+// The DDS side's pure pieces: topic filter, TTL rule, WAN addresses, passthrough type.
+#include <gtest/gtest.h>
+
+#include "gateway/core/config_error.hpp"
+#include "gateway/dds/passthrough_type.hpp"
+#include "gateway/dds/topic_filter.hpp"
+#include "gateway/dds/ttl_resolver.hpp"
+#include "gateway/dds/wan_address.hpp"
+
+namespace tgw::dds {
+namespace {
+
+using namespace std::chrono_literals;
+
+TEST(TopicFilterTest, AdmitsEverythingWithoutGlobs) {
+    const TopicFilter sut;
+    EXPECT_TRUE(sut.admits("telemetry/A"));
+    EXPECT_TRUE(sut.admits("rt/chatter"));
+}
+
+TEST(TopicFilterTest, AdmitsOnlyAllowedTopicsWhenAllowGlobsAreGiven) {
+    const TopicFilter sut({"telemetry/*", "rt/chatter"}, {});
+    EXPECT_TRUE(sut.admits("telemetry/A"));
+    EXPECT_TRUE(sut.admits("rt/chatter"));
+    EXPECT_FALSE(sut.admits("rt/camera/image"));
+}
+
+TEST(TopicFilterTest, DenyWinsOverAllow) {
+    const TopicFilter sut({"telemetry/*"}, {"telemetry/D", "*/debug*"});
+    EXPECT_TRUE(sut.admits("telemetry/A"));
+    EXPECT_FALSE(sut.admits("telemetry/D"));
+    EXPECT_FALSE(sut.admits("telemetry/debug/x"));
+}
+
+TEST(TtlResolverTest, ProfileWinsOverPublisherAndDefault) {
+    const auto sut = resolve_ttl(7s, 3s, 5s);
+    EXPECT_EQ(sut.ttl, core::Duration(7s));
+    EXPECT_EQ(sut.source, TtlSource::profile);
+}
+
+TEST(TtlResolverTest, PublisherLifespanWinsOverDefault) {
+    const auto sut = resolve_ttl(std::nullopt, 3s, 5s);
+    EXPECT_EQ(sut.ttl, core::Duration(3s));
+    EXPECT_EQ(sut.source, TtlSource::publisher);
+}
+
+TEST(TtlResolverTest, InfiniteOrZeroLifespansDoNotApply) {
+    const auto sut = resolve_ttl(core::Duration::max(), core::Duration::zero(), 5s);
+    EXPECT_EQ(sut.ttl, core::Duration(5s));
+    EXPECT_EQ(sut.source, TtlSource::fallback);
+}
+
+TEST(WanAddressTest, PeerWithoutPortGetsParticipantZerosMetatrafficPort) {
+    const WanPeer sut = parse_wan_peer("192.0.2.7", 1);
+    EXPECT_EQ(sut.address, "192.0.2.7");
+    EXPECT_EQ(sut.port, 7660);  // 7400 + 250 * 1 + 10
+}
+
+TEST(WanAddressTest, PeerWithPortKeepsIt) {
+    EXPECT_EQ(parse_wan_peer("10.0.0.1:7412", 0).port, 7412);
+}
+
+TEST(WanAddressTest, BadPeersAreConfigErrorsNamingTheFlag) {
+    for (const char* bad : {"", "base-camp", "10.0.0.1:", "10.0.0.1:70000", "10.0.0.1:x"}) {
+        try {
+            parse_wan_peer(bad, 1);
+            ADD_FAILURE() << bad;
+        } catch (const core::ConfigError& e) {
+            EXPECT_NE(std::string(e.what()).find("--wan-peer"), std::string::npos);
+        }
+    }
+}
+
+TEST(WanAddressTest, InterfaceNameResolvesToItsAddress) {
+    EXPECT_EQ(resolve_interface_address("lo"), "127.0.0.1");
+    EXPECT_EQ(resolve_interface_address("127.0.0.1"), "127.0.0.1");
+    EXPECT_THROW(resolve_interface_address("no-such-if0"), core::ConfigError);
+}
+
+TEST(PassthroughTypeTest, SerializesThePayloadUntouched) {
+    PassthroughType sut("any::Type", false);
+    PassthroughData in;
+    in.payload = {0x00, 0x01, 0x00, 0x00, 1, 2, 3, 4, 5};
+    eprosima::fastrtps::rtps::SerializedPayload_t payload(4);
+    ASSERT_TRUE(sut.serialize(&in, &payload));
+    EXPECT_EQ(payload.length, in.payload.size());
+    EXPECT_EQ(payload.encapsulation, CDR_LE);
+    PassthroughData out;
+    ASSERT_TRUE(sut.deserialize(&payload, &out));
+    EXPECT_EQ(out.payload, in.payload);
+    EXPECT_STREQ(sut.getName(), "any::Type");
+}
+
+TEST(PassthroughTypeTest, KeyIsTheCarriedKeyHashOrTheUnknownInstance) {
+    PassthroughType sut("any::Keyed", true);
+    PassthroughData data;
+    eprosima::fastrtps::rtps::InstanceHandle_t handle;
+    ASSERT_TRUE(sut.getKey(&data, &handle));
+    EXPECT_EQ(handle, PassthroughType::UNKNOWN_INSTANCE);
+    data.key.value[0] = 42;
+    ASSERT_TRUE(sut.getKey(&data, &handle));
+    EXPECT_EQ(handle, data.key);
+    PassthroughType unkeyed("any::Unkeyed", false);
+    EXPECT_FALSE(unkeyed.getKey(&data, &handle));
+}
+
+}  // namespace
+}  // namespace tgw::dds

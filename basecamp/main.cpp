@@ -1,0 +1,105 @@
+// tm-basecamp: the base camp's side of the link. record: every topic of a domain into SQLite; report: the
+// paper's metrics per topic from a recording.
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <csignal>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "basecamp/recorder.hpp"
+#include "basecamp/report.hpp"
+#include "basecamp/sample_store.hpp"
+#include "gateway/core/config_error.hpp"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+void on_signal(int) {
+    g_stop.store(true);
+}
+
+/// Splits "TOPIC=VALUE" at its last '='; topics may contain '='-free slashes and colons.
+template <typename T>
+std::map<std::string, T> parse_assignments(const std::vector<std::string>& items, const std::string& flag) {
+    std::map<std::string, T> result;
+    for (const std::string& item : items) {
+        const auto eq = item.rfind('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == item.size())
+            throw tgw::core::ConfigError(flag + ": expected TOPIC=VALUE, got '" + item + "'");
+        try {
+            std::size_t used = 0;
+            const std::string value = item.substr(eq + 1);
+            const double number = std::stod(value, &used);
+            if (used != value.size() || number < 0)
+                throw std::invalid_argument(value);
+            result[item.substr(0, eq)] = static_cast<T>(number);
+        } catch (const std::exception&) {
+            throw tgw::core::ConfigError(flag + ": '" + item + "': the value is not a non-negative number");
+        }
+    }
+    return result;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"tm-basecamp: records every topic of the WAN domain and reports on-time delivery per topic"};
+    app.set_version_flag("--version", std::string("tm-basecamp ") + TGW_VERSION);
+    app.require_subcommand(1);
+
+    CLI::App* record = app.add_subcommand("record", "subscribe to every topic on a domain, one SQLite row per sample");
+    int domain = 1;
+    std::string out;
+    double duration_s = 0.0;
+    tgw::basecamp::PeerTransport transport;
+    record->add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
+    record->add_option("--peer", transport.peers,
+                       "IPv4 address of the robot (repeatable): UDP unicast only, no multicast, no shared memory");
+    record->add_option("--interface", transport.interface, "interface name or IPv4 address to bind every socket to");
+    record->add_option("--out", out, "the SQLite file to write (WAL mode)")->required();
+    record->add_option("--duration", duration_s, "seconds to record; until SIGINT/SIGTERM without it")
+        ->check(CLI::PositiveNumber);
+
+    CLI::App* report = app.add_subcommand("report", "print received, on time and transmission time per topic");
+    std::string in;
+    std::vector<std::string> ttls;
+    std::vector<std::string> offered;
+    report->add_option("FILE", in, "a recording made by 'tm-basecamp record'")->required()->check(CLI::ExistingFile);
+    report->add_option("--ttl", ttls, "TOPIC=SECONDS: the TTL to judge a topic by (default: the writer's Lifespan)");
+    report->add_option("--offered", offered, "TOPIC=N: how many samples the robot published on a topic");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    }
+
+    try {
+        if (record->parsed()) {
+            tgw::basecamp::SampleStore store(out, "--out");
+            tgw::basecamp::Recorder recorder(domain, transport, store);
+            std::signal(SIGINT, on_signal);
+            std::signal(SIGTERM, on_signal);
+            const auto duration = duration_s > 0 ? tgw::core::from_seconds(duration_s) : tgw::core::Duration::max() / 2;
+            recorder.run(duration, g_stop);
+            store.flush();
+            std::cout << "tm-basecamp record: domain " << domain << " -> " << out << "\n";
+            for (const auto& [topic, count] : recorder.received())
+                std::cout << "  " << topic << ": " << count << " samples\n";
+            std::cout << "  rows written: " << store.rows_written() << ", write errors: " << store.write_errors()
+                      << "\n";
+        } else {
+            tgw::basecamp::ReportOptions options;
+            options.ttl_s = parse_assignments<double>(ttls, "--ttl");
+            options.offered = parse_assignments<std::uint64_t>(offered, "--offered");
+            tgw::basecamp::print_report(std::cout, tgw::basecamp::read_report(in, options));
+        }
+    } catch (const tgw::core::ConfigError& e) {
+        std::cerr << "tm-basecamp: " << e.what() << "\n";
+        return 2;
+    }
+    return 0;
+}

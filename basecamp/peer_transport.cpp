@@ -1,0 +1,95 @@
+#include "basecamp/peer_transport.hpp"
+
+#include <arpa/inet.h>
+#include <ifaddrs.h>
+#include <netinet/in.h>
+
+#include <memory>
+
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
+
+#include "gateway/core/config_error.hpp"
+
+namespace tgw::basecamp {
+
+namespace {
+
+using eprosima::fastrtps::rtps::IPLocator;
+using eprosima::fastrtps::rtps::Locator_t;
+
+bool is_ipv4(const std::string& text) {
+    in_addr addr{};
+    return inet_pton(AF_INET, text.c_str(), &addr) == 1;
+}
+
+Locator_t udp_locator(const std::string& address) {
+    Locator_t locator;
+    locator.kind = LOCATOR_KIND_UDPv4;
+    IPLocator::setIPv4(locator, address);
+    return locator;
+}
+
+}  // namespace
+
+std::string resolve_ipv4(const std::string& name_or_addr, const std::string& flag) {
+    if (is_ipv4(name_or_addr))
+        return name_or_addr;
+    ifaddrs* list = nullptr;
+    if (getifaddrs(&list) != 0)
+        throw core::ConfigError(flag + ": cannot list network interfaces");
+    std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> guard(list, freeifaddrs);
+    for (const ifaddrs* it = list; it != nullptr; it = it->ifa_next) {
+        if (it->ifa_addr == nullptr || it->ifa_addr->sa_family != AF_INET || name_or_addr != it->ifa_name)
+            continue;
+        char text[INET_ADDRSTRLEN] = {};
+        const auto* sin = reinterpret_cast<const sockaddr_in*>(it->ifa_addr);
+        inet_ntop(AF_INET, &sin->sin_addr, text, sizeof(text));
+        return text;
+    }
+    throw core::ConfigError(flag + ": '" + name_or_addr + "' is neither an IPv4 address nor an interface with one");
+}
+
+void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport) {
+    using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
+    using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
+    if (transport.peers.empty() && transport.interface.empty())
+        return;
+
+    auto udp = std::make_shared<UDPv4TransportDescriptor>();
+    std::string bound;
+    if (!transport.interface.empty()) {
+        bound = resolve_ipv4(transport.interface, transport.interface_flag);
+        udp->interfaceWhiteList.push_back(bound);
+    }
+    qos.transport().use_builtin_transports = false;
+    qos.transport().user_transports.push_back(udp);
+
+    auto& builtin = qos.wire_protocol().builtin;
+    if (transport.peers.empty()) {
+        // Local use (the robot domain): multicast discovery on the bound interface, shared memory kept.
+        qos.transport().user_transports.push_back(std::make_shared<SharedMemTransportDescriptor>());
+        return;
+    }
+
+    // Over the slow link: the peer runs one participant per domain, so its first port is enough; every
+    // SPDP datagram to a port nobody listens on costs link time for nothing.
+    udp->maxInitialPeersRange = 1;
+    for (const std::string& peer : transport.peers) {
+        if (!is_ipv4(peer))
+            throw core::ConfigError(transport.peers_flag + ": '" + peer + "' is not an IPv4 address");
+        builtin.initialPeersList.push_back(udp_locator(peer));
+    }
+    // Naming a unicast metatraffic locator keeps Fast DDS from adding its default multicast ones; port 0
+    // lets it pick the participant's standard port.
+    const std::string local = bound.empty() ? std::string("0.0.0.0") : bound;
+    builtin.metatrafficUnicastLocatorList.push_back(udp_locator(local));
+    qos.wire_protocol().default_unicast_locator_list.push_back(udp_locator(local));
+    // SPDP announcements are about 500 bytes each: every 3 s (the default) is 1,300 bit/s per peer on a link
+    // that may carry 10,000. Announce every 10 s and keep the lease well above it.
+    builtin.discovery_config.leaseDuration = eprosima::fastrtps::Duration_t(60, 0);
+    builtin.discovery_config.leaseDuration_announcementperiod = eprosima::fastrtps::Duration_t(10, 0);
+}
+
+}  // namespace tgw::basecamp

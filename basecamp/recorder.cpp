@@ -1,0 +1,166 @@
+#include "basecamp/recorder.hpp"
+
+#include <cstdio>
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include "gateway/core/config_error.hpp"
+#include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/passthrough_type.hpp"
+
+namespace tgw::basecamp {
+
+namespace fdds = eprosima::fastdds::dds;
+
+/// The reader of one topic and its listener: takes every sample and hands it to the store.
+class Recorder::TopicReader final : public fdds::DataReaderListener {
+  public:
+    TopicReader(const dds::DiscoveredPublisher& publisher, SampleStore& store)
+        : topic_(publisher.topic), type_name_(publisher.type_name), keyed_(publisher.keyed), store_(store) {
+        if (publisher.lifespan)
+            lifespan_ns_ = publisher.lifespan->count();
+    }
+
+    void on_data_available(fdds::DataReader* reader) override {
+        dds::PassthroughData data;
+        fdds::SampleInfo info;
+        while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
+            if (!info.valid_data)
+                continue;
+            const std::int64_t now_ns = core::to_ns(core::WallClock::now());
+            SampleRecord record;
+            record.topic = topic_;
+            record.type_name = type_name_;
+            record.payload = std::move(data.payload);
+            const auto source = dds::to_wall_time(info.source_timestamp);
+            record.source_ns = source ? core::to_ns(*source) : 0;
+            const auto reception = dds::to_wall_time(info.reception_timestamp);
+            record.receive_ns = reception ? core::to_ns(*reception) : now_ns;
+            record.lifespan_ns = lifespan_ns_;
+            if (keyed_) {
+                for (std::size_t i = 0; i < 16; ++i)
+                    record.instance.push_back(info.instance_handle.value[i]);
+            }
+            store_.add(std::move(record));
+            ++received;
+        }
+    }
+
+    std::atomic<std::uint64_t> received{0};
+
+  private:
+    std::string topic_;
+    std::string type_name_;
+    bool keyed_;
+    std::optional<std::int64_t> lifespan_ns_;
+    SampleStore& store_;
+};
+
+Recorder::Recorder(int domain, const PeerTransport& transport, SampleStore& store) : store_(store) {
+    discovery_ = std::make_unique<dds::Discovery>([this](dds::DiscoveredPublisher&& publisher) {
+        // Discovery thread: entities are created by run(), never here.
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            discovered_.push_back(std::move(publisher));
+        }
+        discovered_cv_.notify_all();
+    });
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
+    fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
+    qos.name("tm-basecamp");
+    apply_peer_transport(qos, transport);
+    participant_ = factory->create_participant(domain, qos, discovery_.get(), fdds::StatusMask::none());
+    if (participant_ == nullptr)
+        throw core::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));
+    subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    if (subscriber_ == nullptr)
+        throw core::ConfigError("cannot create a DDS subscriber");
+}
+
+Recorder::~Recorder() {
+    if (participant_ != nullptr) {
+        participant_->set_listener(nullptr);
+        participant_->delete_contained_entities();
+        fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+    }
+}
+
+void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
+    if (readers_.count(publisher.topic) != 0)
+        return;
+    if (participant_->find_type(publisher.type_name).empty()) {
+        fdds::TypeSupport type(new dds::PassthroughType(publisher.type_name, publisher.keyed));
+        if (type.register_type(participant_) != ReturnCode_t::RETCODE_OK) {
+            std::fprintf(stderr, "tm-basecamp: cannot register type '%s' for '%s'\n", publisher.type_name.c_str(),
+                         publisher.topic.c_str());
+            return;
+        }
+    }
+    fdds::Topic* topic = participant_->create_topic(publisher.topic, publisher.type_name, fdds::TOPIC_QOS_DEFAULT);
+    if (topic == nullptr) {
+        std::fprintf(stderr, "tm-basecamp: cannot create topic '%s'\n", publisher.topic.c_str());
+        return;
+    }
+    fdds::DataReaderQos qos = subscriber_->get_default_datareader_qos();
+    // Match the writer as it is: a reliable writer gets a reliable reader, so the link carries what it would
+    // carry for any base-camp subscriber. The reader keeps late samples: they are what the report measures.
+    qos.reliability().kind = publisher.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+    qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
+    qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+    qos.history().depth = 1000;
+    qos.resource_limits().max_samples = 100000;
+    qos.resource_limits().max_instances = 1000;
+    qos.resource_limits().max_samples_per_instance = 1000;
+    qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
+    qos.data_sharing().off();
+    // Cyclone DDS 0.10 refuses readers that expect inline QoS (DESIGN section 7).
+    qos.expects_inline_qos(false);
+
+    auto reader = std::make_unique<TopicReader>(publisher, store_);
+    if (subscriber_->create_datareader(topic, qos, reader.get()) == nullptr) {
+        std::fprintf(stderr, "tm-basecamp: cannot create a reader for '%s'\n", publisher.topic.c_str());
+        return;
+    }
+    TopicRecord record;
+    record.topic = publisher.topic;
+    record.type_name = publisher.type_name;
+    if (publisher.lifespan)
+        record.lifespan_ns = publisher.lifespan->count();
+    record.keyed = publisher.keyed;
+    record.reliable = publisher.reliable;
+    record.discovered_ns = core::to_ns(core::WallClock::now());
+    store_.add_topic(std::move(record));
+    readers_.emplace(publisher.topic, std::move(reader));
+}
+
+void Recorder::run(core::Duration duration, const std::atomic<bool>& stop) {
+    const auto end = core::SteadyClock::now() + duration;
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stop.load() && core::SteadyClock::now() < end) {
+        discovered_cv_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !discovered_.empty(); });
+        while (!discovered_.empty()) {
+            const dds::DiscoveredPublisher publisher = std::move(discovered_.front());
+            discovered_.pop_front();
+            lock.unlock();
+            subscribe(publisher);
+            lock.lock();
+        }
+    }
+}
+
+std::map<std::string, std::uint64_t> Recorder::received() const {
+    std::map<std::string, std::uint64_t> counts;
+    for (const auto& [topic, reader] : readers_)
+        counts[topic] = reader->received.load();
+    return counts;
+}
+
+}  // namespace tgw::basecamp

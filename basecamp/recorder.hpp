@@ -1,0 +1,57 @@
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "basecamp/peer_transport.hpp"
+#include "basecamp/sample_store.hpp"
+#include "gateway/core/time.hpp"
+#include "gateway/dds/discovery.hpp"
+
+namespace eprosima::fastdds::dds {
+class DomainParticipant;
+class Subscriber;
+class DataReader;
+}  // namespace eprosima::fastdds::dds
+
+namespace tgw::basecamp {
+
+/// Subscribes to every topic that appears on a domain, whatever its type (tgw::dds::PassthroughType), and
+/// writes each received sample to a SampleStore.
+class Recorder {
+  public:
+    /// Creates the participant. Throws core::ConfigError when DDS refuses it.
+    Recorder(int domain, const PeerTransport& transport, SampleStore& store);
+    ~Recorder();
+    Recorder(const Recorder&) = delete;
+    Recorder& operator=(const Recorder&) = delete;
+
+    /// Creates readers for topics as they are discovered, until `duration` has passed or `stop` turns true.
+    void run(core::Duration duration, const std::atomic<bool>& stop);
+
+    /// Samples received so far, per topic.
+    std::map<std::string, std::uint64_t> received() const;
+
+  private:
+    class TopicReader;
+
+    void subscribe(const dds::DiscoveredPublisher& publisher);
+
+    SampleStore& store_;
+    std::unique_ptr<dds::Discovery> discovery_;
+    eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+    eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+    std::map<std::string, std::unique_ptr<TopicReader>> readers_;
+
+    mutable std::mutex mutex_;
+    std::condition_variable discovered_cv_;
+    std::deque<dds::DiscoveredPublisher> discovered_;
+};
+
+}  // namespace tgw::basecamp

@@ -1,0 +1,182 @@
+#include "basecamp/report.hpp"
+
+#include <sqlite3.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "gateway/core/config_error.hpp"
+
+namespace tgw::basecamp {
+
+namespace {
+
+constexpr const char* PAPER_MESSAGE_TYPE = "tgw::idl::PaperMessage";
+
+/// Welford's running mean and variance: one pass, no catastrophic cancellation.
+struct RunningStats {
+    std::uint64_t n = 0;
+    double mean = 0.0;
+    double m2 = 0.0;
+    double max = 0.0;
+
+    void add(double x) {
+        ++n;
+        const double delta = x - mean;
+        mean += delta / static_cast<double>(n);
+        m2 += delta * (x - mean);
+        if (n == 1 || x > max)
+            max = x;
+    }
+    double stddev() const { return n > 1 ? std::sqrt(m2 / static_cast<double>(n - 1)) : 0.0; }
+};
+
+struct Accumulator {
+    TopicReport report;
+    RunningStats transit_ms;
+    std::optional<std::int64_t> lifespan_ns;
+    std::optional<std::uint32_t> max_sequence;
+    bool all_paper = true;
+};
+
+using Db = std::unique_ptr<sqlite3, int (*)(sqlite3*)>;
+using Stmt = std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)>;
+
+Stmt prepare(sqlite3* db, const std::string& path, const char* sql) {
+    sqlite3_stmt* stmt = nullptr;
+    if (sqlite3_prepare_v2(db, sql, -1, &stmt, nullptr) != SQLITE_OK)
+        throw core::ConfigError(path + ": not a tm-basecamp recording: " + sqlite3_errmsg(db));
+    return Stmt(stmt, sqlite3_finalize);
+}
+
+std::uint32_t read_u32(const std::uint8_t* p, bool little) {
+    return little ? (std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 |
+                     std::uint32_t{p[3]} << 24)
+                  : (std::uint32_t{p[3]} | std::uint32_t{p[2]} << 8 | std::uint32_t{p[1]} << 16 |
+                     std::uint32_t{p[0]} << 24);
+}
+
+}  // namespace
+
+std::optional<std::uint32_t> paper_message_sequence(const std::uint8_t* payload, std::size_t size) {
+    // Encapsulation (2 bytes representation id, 2 options), then generated_ns (8), then sequence (4).
+    if (payload == nullptr || size < 16 || payload[0] != 0x00 || payload[1] > 0x01)
+        return std::nullopt;
+    return read_u32(payload + 12, payload[1] == 0x01);
+}
+
+std::vector<TopicReport> read_report(const std::string& path, const ReportOptions& options) {
+    sqlite3* raw = nullptr;
+    if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
+        const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
+        sqlite3_close(raw);
+        throw core::ConfigError("report: cannot open '" + path + "': " + why);
+    }
+    Db db(raw, sqlite3_close);
+
+    std::map<std::string, Accumulator> topics;
+    Stmt declared = prepare(db.get(), path, "SELECT topic, type_name, lifespan_ns FROM topics");
+    while (sqlite3_step(declared.get()) == SQLITE_ROW) {
+        Accumulator& acc = topics[reinterpret_cast<const char*>(sqlite3_column_text(declared.get(), 0))];
+        acc.report.type_name = reinterpret_cast<const char*>(sqlite3_column_text(declared.get(), 1));
+        if (sqlite3_column_type(declared.get(), 2) != SQLITE_NULL)
+            acc.lifespan_ns = sqlite3_column_int64(declared.get(), 2);
+    }
+
+    Stmt rows = prepare(db.get(), path,
+                        "SELECT topic, type_name, source_ns, receive_ns, lifespan_ns, payload FROM samples "
+                        "ORDER BY id");
+    std::map<std::string, std::vector<double>> transits;
+    while (sqlite3_step(rows.get()) == SQLITE_ROW) {
+        const std::string topic = reinterpret_cast<const char*>(sqlite3_column_text(rows.get(), 0));
+        Accumulator& acc = topics[topic];
+        const std::string type_name = reinterpret_cast<const char*>(sqlite3_column_text(rows.get(), 1));
+        acc.report.type_name = type_name;
+        const std::int64_t source_ns = sqlite3_column_int64(rows.get(), 2);
+        const std::int64_t receive_ns = sqlite3_column_int64(rows.get(), 3);
+        if (sqlite3_column_type(rows.get(), 4) != SQLITE_NULL)
+            acc.lifespan_ns = sqlite3_column_int64(rows.get(), 4);
+        ++acc.report.received;
+        const double transit_ms = static_cast<double>(receive_ns - source_ns) / 1e6;
+        acc.transit_ms.add(transit_ms);
+        transits[topic].push_back(transit_ms);
+        if (type_name == PAPER_MESSAGE_TYPE) {
+            const auto* payload = static_cast<const std::uint8_t*>(sqlite3_column_blob(rows.get(), 5));
+            const auto seq =
+                paper_message_sequence(payload, static_cast<std::size_t>(sqlite3_column_bytes(rows.get(), 5)));
+            if (seq && (!acc.max_sequence || *seq > *acc.max_sequence))
+                acc.max_sequence = seq;
+        } else {
+            acc.all_paper = false;
+        }
+    }
+
+    std::vector<TopicReport> reports;
+    for (auto& [topic, acc] : topics) {
+        TopicReport r = acc.report;
+        r.topic = topic;
+        if (const auto it = options.ttl_s.find(topic); it != options.ttl_s.end()) {
+            r.ttl_s = it->second;
+            r.ttl_from = "flag";
+        } else if (acc.lifespan_ns) {
+            r.ttl_s = static_cast<double>(*acc.lifespan_ns) / 1e9;
+            r.ttl_from = "lifespan";
+        }
+        if (r.ttl_s) {
+            const double ttl_ms = *r.ttl_s * 1e3;
+            for (double t : transits[topic])
+                if (t <= ttl_ms)
+                    ++r.on_time;
+        }
+        if (const auto it = options.offered.find(topic); it != options.offered.end()) {
+            r.offered = it->second;
+            r.offered_from = "flag";
+        } else if (acc.all_paper && acc.max_sequence) {
+            r.offered = std::uint64_t{*acc.max_sequence} + 1;
+            r.offered_from = "sequence";
+        }
+        r.mean_ms = acc.transit_ms.mean;
+        r.stddev_ms = acc.transit_ms.stddev();
+        r.max_ms = acc.transit_ms.max;
+        reports.push_back(r);
+    }
+    return reports;
+}
+
+void print_report(std::ostream& out, const std::vector<TopicReport>& reports) {
+    char line[320];
+    std::snprintf(line, sizeof(line), "%-20s %6s %8s %8s %8s %9s %10s %10s %10s\n", "topic", "ttl_s", "offered",
+                  "received", "on_time", "%on_time", "mean_ms", "sd_ms", "max_ms");
+    out << line;
+    bool offered_from_sequence = false;
+    for (const TopicReport& r : reports) {
+        char ttl[16] = "-";
+        char offered[24] = "-";
+        char on_time[24] = "-";
+        char percent[16] = "-";
+        if (r.ttl_s) {
+            std::snprintf(ttl, sizeof(ttl), "%.1f", *r.ttl_s);
+            std::snprintf(on_time, sizeof(on_time), "%llu", static_cast<unsigned long long>(r.on_time));
+        }
+        if (r.offered) {
+            std::snprintf(offered, sizeof(offered), "%s%llu", r.offered_from == "sequence" ? ">=" : "",
+                          static_cast<unsigned long long>(*r.offered));
+            offered_from_sequence = offered_from_sequence || r.offered_from == "sequence";
+        }
+        const std::uint64_t base = r.offered ? *r.offered : r.received;
+        if (r.ttl_s && base > 0)
+            std::snprintf(percent, sizeof(percent), "%.1f", 100.0 * static_cast<double>(r.on_time) / base);
+        std::snprintf(line, sizeof(line), "%-20s %6s %8s %8llu %8s %9s %10.1f %10.1f %10.1f\n", r.topic.c_str(), ttl,
+                      offered, static_cast<unsigned long long>(r.received), on_time, percent, r.mean_ms, r.stddev_ms,
+                      r.max_ms);
+        out << line;
+    }
+    out << "on time: transmission time (receive - source timestamp) <= TTL; %on_time is of offered, or of received "
+           "when offered is unknown.\n";
+    if (offered_from_sequence)
+        out << ">=N: offered counted from PaperMessage sequence numbers (samples after the last one received are "
+               "not seen); pass --offered TOPIC=N for the exact count.\n";
+}
+
+}  // namespace tgw::basecamp

@@ -1,0 +1,42 @@
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace tgw::basecamp {
+
+/// What `tm-basecamp report` computes for one topic: the paper's two metrics.
+struct TopicReport {
+    std::string topic;
+    std::string type_name;
+    std::optional<double> ttl_s;  ///< from --ttl, else the writer's declared Lifespan; empty if neither
+    std::string ttl_from;         ///< "flag", "lifespan" or "" when unknown
+    std::uint64_t received = 0;
+    std::uint64_t on_time = 0;             ///< received with transmission time <= TTL
+    std::optional<std::uint64_t> offered;  ///< samples published, when known
+    std::string offered_from;              ///< "flag" or "sequence" (PaperMessage sequence numbers)
+    double mean_ms = 0.0;                  ///< transmission time: receive minus source timestamp
+    double stddev_ms = 0.0;                ///< sample standard deviation
+    double max_ms = 0.0;
+};
+
+struct ReportOptions {
+    std::map<std::string, double> ttl_s;           ///< --ttl TOPIC=S
+    std::map<std::string, std::uint64_t> offered;  ///< --offered TOPIC=N
+};
+
+/// Reads a recording made by `tm-basecamp record`. Throws core::ConfigError naming the file if it cannot.
+std::vector<TopicReport> read_report(const std::string& path, const ReportOptions& options);
+
+/// Sequence number of a serialized tgw::idl::PaperMessage (encapsulation, generated_ns, sequence, data),
+/// or nothing when the payload is too short or not CDR.
+std::optional<std::uint32_t> paper_message_sequence(const std::uint8_t* payload, std::size_t size);
+
+/// The per-topic table.
+void print_report(std::ostream& out, const std::vector<TopicReport>& reports);
+
+}  // namespace tgw::basecamp

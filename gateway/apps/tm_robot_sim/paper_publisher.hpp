@@ -1,0 +1,58 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "basecamp/peer_transport.hpp"
+#include "gateway/core/paper_workload.hpp"
+
+namespace eprosima::fastdds::dds {
+class DomainParticipant;
+class Publisher;
+class DataWriter;
+}  // namespace eprosima::fastdds::dds
+
+namespace tgw::robot_sim {
+
+/// What one stream published.
+struct StreamReport {
+    core::MessageStream stream;
+    std::uint64_t written = 0;
+    std::uint64_t failed = 0;          ///< write() returned an error
+    std::uint64_t late = 0;            ///< published more than one period after its due time
+    double max_lag_ms = 0.0;           ///< worst delay of a publication behind its due time
+    std::size_t serialized_bytes = 0;  ///< payload size on the wire, CDR with encapsulation
+};
+
+/// Publishes a workload as tgw::idl::PaperMessage, one topic and writer per stream, Lifespan = the stream's
+/// TTL, source timestamp = generated_ns = the wall clock at publication.
+class PaperPublisher {
+  public:
+    /// Creates the participant and writers. Throws core::ConfigError when DDS refuses them.
+    PaperPublisher(int domain, const std::vector<core::MessageStream>& streams,
+                   const basecamp::PeerTransport& transport);
+    ~PaperPublisher();
+    PaperPublisher(const PaperPublisher&) = delete;
+    PaperPublisher& operator=(const PaperPublisher&) = delete;
+
+    /// Publishes every stream at its rate for `duration` (steady clock, sleep_until), or until `stop` turns
+    /// true. Returns one report per stream.
+    std::vector<StreamReport> run(core::Duration duration, const std::atomic<bool>& stop);
+
+    /// Waits at most `max_wait` for matched readers to acknowledge what was written.
+    void linger(core::Duration max_wait);
+
+  private:
+    std::vector<core::MessageStream> streams_;
+    eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+    eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
+    std::vector<eprosima::fastdds::dds::DataWriter*> writers_;
+};
+
+/// Prints the reports as a table, one line per stream plus a total.
+void print_reports(std::ostream& out, const std::vector<StreamReport>& reports, double seconds);
+
+}  // namespace tgw::robot_sim

@@ -67,6 +67,11 @@ void ForwardingLoop::set_rate(double rate_bps) {
     }
 }
 
+void ForwardingLoop::charge_link(std::uint64_t bits) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    scheduler_.charge_link(clock_.now(), bits);
+}
+
 TopicCounters ForwardingLoop::counters(TopicId topic) const {
     std::lock_guard<std::mutex> lock(mutex_);
     return scheduler_.counters(topic);

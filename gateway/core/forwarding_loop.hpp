@@ -29,6 +29,8 @@ class ForwardingLoop {
     void set_ttl(TopicId topic, Duration ttl);
     void submit(Sample&& sample);
     void set_rate(double rate_bps);
+    /// See Scheduler::charge_link.
+    void charge_link(std::uint64_t bits);
 
     TopicCounters counters(TopicId topic) const;
     TopicCounters total_counters() const;

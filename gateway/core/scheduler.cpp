@@ -29,7 +29,15 @@ struct ProtectedTopics {
 
 }  // namespace
 
-Scheduler::Scheduler(const SchedulerConfig& config) : config_(config), budget_(config.initial_rate_bps, config.lead) {}
+Scheduler::Scheduler(const SchedulerConfig& config)
+    : config_(config),
+      sensed_rate_bps_(config.initial_rate_bps),
+      budget_(config.initial_rate_bps * config.budget_fraction, config.lead) {}
+
+void Scheduler::set_rate(double sensed_rate_bps) {
+    sensed_rate_bps_ = sensed_rate_bps;
+    budget_.set_rate(sensed_rate_bps * config_.budget_fraction);
+}
 
 TopicId Scheduler::add_topic(const TopicConfig& topic) {
     topics_.push_back(TopicState{topic, {}, {}, 0, false});
@@ -184,7 +192,8 @@ void Scheduler::release_paper_period(SteadyTime now, SampleSink& sink) {
     }
     // The paper's filter: walk the list by TTL and mark what fits in rate x period, counting only payload
     // (plus an assumed overhead factor); send the marked at once. The rest waits for the next period.
-    double remaining_bits = budget_.rate_bps() * to_seconds(config_.paper_period);
+    // The paper spends the whole sensed rate; its only margin is the assumed overhead.
+    double remaining_bits = sensed_rate_bps_ * to_seconds(config_.paper_period);
     std::vector<DeadlineQueue::Slot> marked;
     for (const auto& key : queue_.by_urgency()) {
         const double bits =
@@ -229,6 +238,12 @@ std::optional<SteadyTime> Scheduler::next_wakeup(SteadyTime now) const {
             break;
     }
     return std::max(next, now);
+}
+
+void Scheduler::charge_link(SteadyTime now, std::uint64_t bits) {
+    if (budget_.rate_bps() > 0.0) {
+        budget_.charge(now, bits);
+    }
 }
 
 void Scheduler::drain(SampleSink& sink, DropReason reason) {

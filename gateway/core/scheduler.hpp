@@ -17,6 +17,10 @@ namespace tgw::core {
 struct SchedulerConfig {
     PolicyKind policy = PolicyKind::ttl;
     double initial_rate_bps = 0.0;
+    /// The share of the sensed rate the budget spends. The rest absorbs what the gateway does not schedule (the
+    /// WAN participant's discovery traffic) and a sensor that reads a little high, so that the shaper's queue
+    /// drains instead of standing full.
+    double budget_fraction = 0.95;
     WireModel wire;
     std::size_t memory_cap_bytes = 64u << 20;
     /// How early the next sample may be handed to the link before the previous one has drained.
@@ -60,8 +64,16 @@ class Scheduler {
     /// When release() has something to do next, absent new samples or rate changes; nullopt if nothing.
     std::optional<SteadyTime> next_wakeup(SteadyTime now) const;
 
-    void set_rate(double rate_bps) { budget_.set_rate(rate_bps); }
-    double rate_bps() const { return budget_.rate_bps(); }
+    /// Follow a new reading of the rate sensor.
+    void set_rate(double sensed_rate_bps);
+    /// The last sensed rate.
+    double rate_bps() const { return sensed_rate_bps_; }
+    /// What the budget spends: the sensed rate times budget_fraction.
+    double budget_rate_bps() const { return budget_.rate_bps(); }
+
+    /// Count traffic the scheduler did not release but that shares the link (the WAN participant announcing a
+    /// new writer): the link is busy with it before the next sample goes.
+    void charge_link(SteadyTime now, std::uint64_t bits);
 
     /// Everything still queued goes to `sink.drop` with `reason` (shutdown).
     void drain(SampleSink& sink, DropReason reason = DropReason::shutdown);
@@ -93,6 +105,7 @@ class Scheduler {
     SchedulerConfig config_;
     std::vector<TopicState> topics_;
     DeadlineQueue queue_;
+    double sensed_rate_bps_;
     LinkBudget budget_;
     std::uint64_t next_sequence_ = 0;
     SteadyTime next_paper_period_{};

@@ -5,16 +5,33 @@
 
 namespace tgw::core {
 
-/// What a sample costs on the link beyond its serialized payload. Defaults are what Fast DDS 2.9 puts on a
-/// tbf-shaped veth for a best-effort writer sending one sample per datagram (DESIGN section 2): Ethernet 14,
-/// IPv4 20, UDP 8, RTPS header 20 per datagram; INFO_TS 12 and DATA 24 per sample; payload padded to 4.
-/// Large samples fragment (DATA_FRAG): each fragment pays the datagram and a DATA_FRAG header again.
+/// What a sample costs on the link beyond its serialized payload, as tbf counts it (whole Ethernet frames).
+/// Defaults measured with tcpdump on the testbed's veth for the gateway's best-effort WAN writers (Debian's
+/// Fast DDS 2.9): every datagram carries Ethernet 14, IPv4 20, UDP 8, the RTPS header 20, INFO_DST 16 and the
+/// 60-byte statistics submessage that this Fast DDS build adds to every message: 138 bytes. Each sample adds
+/// INFO_TS 12 and the DATA header 24, and its payload padded to 4. The WAN transport keeps every datagram
+/// within one frame (MAX_DATAGRAM_PAYLOAD_BYTES), so a larger sample goes as DATA_FRAG submessages, one per
+/// datagram, each paying the datagram's overhead, INFO_TS and a 36-byte DATA_FRAG header. Checked against
+/// captures of the paper's four types (238, 262, 462, 1210 bytes) and of 3,000- and 6,000-byte samples.
 struct WireModel {
-    std::size_t per_datagram_bytes = 62;
+    /// The UDP payload that fits an Ethernet frame of 1500 bytes of IP.
+    static constexpr std::size_t MAX_DATAGRAM_PAYLOAD_BYTES = 1472;
+
+    std::size_t per_datagram_bytes = 138;
     std::size_t per_sample_bytes = 36;
-    std::size_t per_fragment_bytes = 36;        ///< DATA_FRAG submessage header
-    std::size_t fragment_payload_bytes = 1344;  ///< payload carried by one fragment before a new datagram
-    std::size_t max_unfragmented_bytes = 1400;  ///< payloads larger than this go as DATA_FRAG
+    std::size_t per_fragment_bytes = 48;  ///< INFO_TS and the DATA_FRAG header
+    /// Payload per DATA_FRAG: Fast DDS fills RTPS messages of 1440 bytes, 144 of them headers.
+    std::size_t fragment_payload_bytes = 1296;
+    /// Payloads up to this size go in one DATA submessage (1440 bytes of RTPS message less 132 of headers).
+    std::size_t max_unfragmented_bytes = 1308;
+
+    /// The SEDP announcement of a new writer to one peer: 526 bytes on the wire for "telemetry/A" and
+    /// "tgw::idl::PaperMessage" (captured), most of it fixed, plus the two names.
+    std::size_t writer_announcement_bytes = 493;
+
+    std::size_t announcement_bytes(std::size_t topic_name_bytes, std::size_t type_name_bytes) const {
+        return writer_announcement_bytes + topic_name_bytes + type_name_bytes;
+    }
 
     /// Bytes on the wire for one sample of `payload_bytes` serialized bytes sent alone.
     std::size_t wire_bytes(std::size_t payload_bytes) const;

@@ -1,5 +1,6 @@
 #include "gateway/dds/gateway.hpp"
 
+#include <algorithm>
 #include <iostream>
 #include <utility>
 
@@ -196,6 +197,9 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub) {
     if (!wan_->add_topic(bridge->info.id, pub.topic, pub.type_name, pub.keyed, ttl.ttl)) {
         return;
     }
+    // The new writer's SEDP announcement goes to every peer over the same slow link as the samples.
+    const std::size_t announcement = config_.scheduler.wire.announcement_bytes(pub.topic.size(), pub.type_name.size());
+    loop_->charge_link(8u * announcement * std::max<std::size_t>(1, config_.wan_peers.size()));
     bridge->listener = std::make_unique<TopicBridge>(bridge->info.id, pub.keyed, *loop_, clock_);
     bridge->reader = robot_->create_reader(pub, bridge->listener.get());
     if (bridge->reader == nullptr) {
@@ -271,6 +275,10 @@ std::uint64_t Gateway::wan_write_failures() const {
 
 std::uint64_t Gateway::logged() const {
     return sink_->logged();
+}
+
+core::LatencyHistogram::Snapshot Gateway::processing_latency() const {
+    return sink_->processing_latency().snapshot();
 }
 
 }  // namespace tgw::dds

@@ -14,6 +14,7 @@
 
 #include "gateway/core/clock.hpp"
 #include "gateway/core/forwarding_loop.hpp"
+#include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/scheduler.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/topic_filter.hpp"
@@ -96,6 +97,9 @@ class Gateway {
     std::uint64_t wan_write_failures() const;
     /// Samples handed to the on-robot log.
     std::uint64_t logged() const;
+    /// The gateway's own processing time of every sample forwarded so far: from its arrival in the scheduler
+    /// to the return of the WAN DataWriter's write (time queued for the link budget included).
+    core::LatencyHistogram::Snapshot processing_latency() const;
 
   private:
     struct Bridge;

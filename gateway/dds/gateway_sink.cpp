@@ -8,9 +8,12 @@ GatewaySink::GatewaySink(WanRouter& wan, log::RobotLog* log, const TopicDirector
     : wan_(wan), log_(log), topics_(topics), clock_(clock) {}
 
 void GatewaySink::forward(core::Sample&& sample) {
+    const core::SteadyTime arrival = sample.arrival;
     if (wan_.write(std::move(sample)) != WriteResult::ok) {
         wan_write_failures_.fetch_add(1, std::memory_order_relaxed);
+        return;
     }
+    processing_latency_.record(clock_.now() - arrival);
 }
 
 void GatewaySink::drop(core::Sample&& sample, core::DropReason reason) {

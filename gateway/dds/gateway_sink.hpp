@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "gateway/core/clock.hpp"
+#include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/sample_sink.hpp"
 #include "gateway/dds/topic_directory.hpp"
 #include "gateway/dds/wan_router.hpp"
@@ -24,6 +25,9 @@ class GatewaySink final : public core::SampleSink {
 
     std::uint64_t wan_write_failures() const { return wan_write_failures_.load(); }
     std::uint64_t logged() const { return logged_.load(); }
+    /// The gateway's own time per forwarded sample: from its arrival (Scheduler::push) to the return of the
+    /// WAN write. Failed writes are not counted.
+    const core::LatencyHistogram& processing_latency() const { return processing_latency_; }
 
   private:
     core::WallTime to_wall(core::SteadyTime t) const;
@@ -34,6 +38,7 @@ class GatewaySink final : public core::SampleSink {
     const core::Clock& clock_;
     std::atomic<std::uint64_t> wan_write_failures_{0};
     std::atomic<std::uint64_t> logged_{0};
+    core::LatencyHistogram processing_latency_;
 };
 
 }  // namespace tgw::dds

@@ -10,6 +10,7 @@
 #include <fastdds/dds/topic/Topic.hpp>
 
 #include "gateway/core/config_error.hpp"
+#include "gateway/core/wire_model.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 
@@ -60,6 +61,9 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     qos.transport().use_builtin_transports = false;
     qos.transport().user_transports.clear();
     auto udp = std::make_shared<UDPv4TransportDescriptor>();
+    // One RTPS message per Ethernet frame: larger samples go as DATA_FRAG, which the wire model counts,
+    // instead of IP fragments of one 64 kB datagram, all lost when one frame is.
+    udp->maxMessageSize = core::WireModel::MAX_DATAGRAM_PAYLOAD_BYTES;
     if (!config.interface_address.empty()) {
         udp->interfaceWhiteList.push_back(config.interface_address);
     }

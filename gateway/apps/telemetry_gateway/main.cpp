@@ -38,6 +38,13 @@ void print_summary(const tgw::dds::Gateway& gateway) {
         std::printf("  %.3g s (%.*s)\n", tgw::core::to_seconds(topic.ttl.ttl), static_cast<int>(source.size()),
                     source.data());
     }
+    const auto latency = gateway.processing_latency();
+    const auto us = [](tgw::core::Duration d) { return std::chrono::duration<double, std::micro>(d).count(); };
+    std::printf(
+        "processing per forwarded sample (arrival to WAN write, queueing included): %llu samples, median %.1f us, "
+        "p99 %.1f us, max %.1f us\n",
+        static_cast<unsigned long long>(latency.count), us(latency.median()), us(latency.percentile(0.99)),
+        us(latency.max));
 }
 
 /// Blocks until SIGINT or SIGTERM, or `duration_s` (when positive) has passed.
@@ -80,6 +87,10 @@ int main(int argc, char** argv) {
     app.add_option("--wan-port", config.wan_port, "own WAN metatraffic port (default: Fast DDS's well-known port)");
     app.add_option("--sensor", sensor_spec, "link rate sensor: fixed:BPS, trace:FILE, ...")->capture_default_str();
     app.add_option("--policy", policy_name, "ttl, edf, paper or fifo")->capture_default_str();
+    app.add_option("--budget-fraction", config.scheduler.budget_fraction,
+                   "share of the sensed rate the scheduler spends; the rest absorbs discovery traffic")
+        ->check(CLI::Range(0.01, 1.0))
+        ->capture_default_str();
     app.add_option("--qos", config.qos_file, "Fast DDS XML profiles (data_writer profiles named after topics)");
     app.add_option("--log", config.log_file, "on-robot SQLite log of samples not sent");
     app.add_option("--allow", config.allow, "bridge only topics matching this glob; repeatable");

@@ -28,12 +28,16 @@ int main(int argc, char** argv) {
     double rate_hz = 5.0;
     double duration_s = 60.0;
     double linger_s = 1.0;
+    double wait_match_s = 0.0;
     tgw::basecamp::PeerTransport transport;
     app.add_option("--domain", domain, "DDS domain id to publish on")->check(CLI::Range(0, 232));
     app.add_option("--workload", workload, "paper, or a file of lines 'TYPE TOPIC DATA_BYTES TTL_S [RATE_HZ]'");
     app.add_option("--rate-hz", rate_hz, "publications per second of each stream")->check(CLI::PositiveNumber);
     app.add_option("--duration", duration_s, "seconds of publishing")->check(CLI::PositiveNumber);
     app.add_option("--linger", linger_s, "seconds to wait at the end for readers to acknowledge")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--wait-match", wait_match_s,
+                   "seconds to wait, before publishing, for every topic to have a subscriber (0: start at once)")
         ->check(CLI::NonNegativeNumber);
     app.add_option("--peer", transport.peers,
                    "IPv4 address of the other end (repeatable): UDP unicast only, no multicast, no shared memory");
@@ -49,6 +53,12 @@ int main(int argc, char** argv) {
         tgw::robot_sim::PaperPublisher publisher(domain, streams, transport);
         std::signal(SIGINT, on_signal);
         std::signal(SIGTERM, on_signal);
+        if (wait_match_s > 0) {
+            if (const std::size_t unmatched = publisher.wait_for_readers(tgw::core::from_seconds(wait_match_s))) {
+                std::cerr << "tm-robot-sim: " << unmatched << " topic(s) had no subscriber after --wait-match "
+                          << wait_match_s << " s; publishing anyway\n";
+            }
+        }
         const auto start = tgw::core::SteadyClock::now();
         const auto reports = publisher.run(tgw::core::from_seconds(duration_s), g_stop);
         const double elapsed = tgw::core::to_seconds(tgw::core::SteadyClock::now() - start);

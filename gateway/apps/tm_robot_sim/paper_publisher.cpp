@@ -126,6 +126,22 @@ std::vector<StreamReport> PaperPublisher::run(core::Duration duration, const std
     return reports;
 }
 
+std::size_t PaperPublisher::wait_for_readers(core::Duration max_wait) {
+    const auto end = core::SteadyClock::now() + max_wait;
+    for (;;) {
+        std::size_t unmatched = 0;
+        for (dds::DataWriter* writer : writers_) {
+            dds::PublicationMatchedStatus status;
+            writer->get_publication_matched_status(status);
+            if (status.current_count == 0)
+                ++unmatched;
+        }
+        if (unmatched == 0 || core::SteadyClock::now() >= end)
+            return unmatched;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+}
+
 void PaperPublisher::linger(core::Duration max_wait) {
     // Reliable samples still unacknowledged are lost when the participant goes; give them a bounded chance.
     const auto end = core::SteadyClock::now() + max_wait;

@@ -42,6 +42,10 @@ class PaperPublisher {
     /// true. Returns one report per stream.
     std::vector<StreamReport> run(core::Duration duration, const std::atomic<bool>& stop);
 
+    /// Waits at most `max_wait` until every writer has matched a reader; returns how many have not. Without it
+    /// an experiment loses its first second or two to discovery, samples that no gateway could have seen.
+    std::size_t wait_for_readers(core::Duration max_wait);
+
     /// Waits at most `max_wait` for matched readers to acknowledge what was written.
     void linger(core::Duration max_wait);
 

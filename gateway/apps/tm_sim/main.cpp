@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
     double overhead_factor = 1.0;
     double paper_period_s = 1.0;
     double paper_overhead = 0.0;
+    double budget_fraction = tgw::core::SchedulerConfig{}.budget_fraction;
     bool summary = false;
     app.add_option("--policy", policy_names, "ttl, edf, paper, fifo or all; repeatable")->delimiter(',');
     app.add_option("--workload", workload, "the workload: paper")->check(CLI::IsMember({"paper"}));
@@ -73,6 +74,9 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     app.add_option("--paper-overhead", paper_overhead, "paper policy: assumed overhead, 0.25 = 25 %")
         ->check(CLI::NonNegativeNumber);
+    app.add_option("--budget-fraction", budget_fraction, "share of the sensed rate the scheduler spends")
+        ->check(CLI::Range(0.01, 1.0))
+        ->capture_default_str();
     app.add_flag("--summary", summary, "one Markdown row per rate: percent on time per type");
     try {
         app.parse(argc, argv);
@@ -103,6 +107,7 @@ int main(int argc, char** argv) {
                 config.scheduler.policy = policy;
                 config.scheduler.paper_period = tgw::core::from_seconds(paper_period_s);
                 config.scheduler.paper_overhead = paper_overhead;
+                config.scheduler.budget_fraction = budget_fraction;
                 config.link = links[i];
                 config.duration = tgw::core::from_seconds(duration_s);
                 config.warmup = tgw::core::from_seconds(warmup_s);

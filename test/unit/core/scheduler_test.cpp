@@ -19,6 +19,7 @@ class SchedulerTest : public ::testing::Test {
         config.policy = policy;
         config.initial_rate_bps = rate_bps;
         config.lead = Duration::zero();
+        config.budget_fraction = 1.0;  // exact arithmetic below; the fraction has a test of its own
         sut = std::make_unique<Scheduler>(config);
         a = sut->add_topic({"A", seconds(1)});
         b = sut->add_topic({"B", seconds(2)});
@@ -108,7 +109,7 @@ TEST_F(SchedulerTest, EqualTtlSamplesGoNearestDeadlineFirst) {
     release();
     push(b, 64, milliseconds(100));
     push(b, 65, milliseconds(900));
-    run_for(milliseconds(300));
+    run_for(seconds(1));
     const auto sent = sink.forwarded();
     ASSERT_EQ(sent.size(), 3u);
     EXPECT_EQ(sent[1].payload.size(), 65u);
@@ -214,6 +215,16 @@ TEST_F(SchedulerTest, LargeSamplesAreNotHeldBackOnceNoShortTtlTopicIsActive) {
     EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a, d}));
 }
 
+TEST_F(SchedulerTest, TrafficChargedFromOutsideDelaysTheNextSample) {
+    make_sut(PolicyKind::ttl, 10'000);
+    sut->charge_link(clock.now(), 5'000);  // half a second of discovery traffic
+    push(a);
+    release();
+    EXPECT_TRUE(sink.forwarded().empty());
+    run_for(milliseconds(500));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a}));
+}
+
 TEST_F(SchedulerTest, PacesReleasesAtTheLinkRate) {
     make_sut(PolicyKind::ttl, 20'000);
     for (int i = 0; i < 100; ++i)
@@ -223,6 +234,21 @@ TEST_F(SchedulerTest, PacesReleasesAtTheLinkRate) {
     const double sent_bits = 8.0 * static_cast<double>(counters.forwarded_wire_bytes);
     EXPECT_LE(sent_bits, 20'000.0 * 10 + 8.0 * static_cast<double>(config.wire.wire_bytes(500)));
     EXPECT_GE(sent_bits, 20'000.0 * 9);
+}
+
+TEST_F(SchedulerTest, BudgetSpendsOnlyItsFractionOfTheSensedRate) {
+    make_sut(PolicyKind::ttl, 20'000);
+    sut->set_rate(40'000);
+    EXPECT_EQ(sut->rate_bps(), 40'000);
+    EXPECT_EQ(sut->budget_rate_bps(), 40'000);
+    SchedulerConfig c;
+    c.initial_rate_bps = 40'000;
+    c.budget_fraction = 0.9;
+    Scheduler with_margin(c);
+    EXPECT_EQ(with_margin.rate_bps(), 40'000);
+    EXPECT_DOUBLE_EQ(with_margin.budget_rate_bps(), 36'000);
+    with_margin.set_rate(10'000);
+    EXPECT_DOUBLE_EQ(with_margin.budget_rate_bps(), 9'000);
 }
 
 TEST_F(SchedulerTest, PaperPolicySendsWhatFitsInRateTimesPeriodShortestTtlFirst) {

@@ -29,18 +29,6 @@ class SimulationTest : public ::testing::TestWithParam<PolicyKind> {
     SimulationConfig config;
 };
 
-TEST_P(SimulationTest, EveryTypeWhoseCumulativeDemandFitsArrivesOnTime) {
-    for (double rate = 10'000; rate <= 70'000; rate += 10'000) {
-        const SimulationResult result = run(rate);
-        for (std::size_t i = 0; i < config.workload.size(); ++i) {
-            if (cumulative_demand_bps(config, i) <= 0.95 * rate) {
-                EXPECT_GE(result.per_stream[i].on_time_percent(), 99.0)
-                    << config.workload[i].type << " at " << rate << " bit/s";
-            }
-        }
-    }
-}
-
 TEST_P(SimulationTest, NoPriorityInversionAtAnyRate) {
     for (double rate = 10'000; rate <= 70'000; rate += 5'000) {
         const SimulationResult result = run(rate);
@@ -68,6 +56,22 @@ TEST_P(SimulationTest, BudgetedLinkNeverOverflowsTheShaper) {
 
 INSTANTIATE_TEST_SUITE_P(DeadlinePolicies, SimulationTest, ::testing::Values(PolicyKind::ttl, PolicyKind::edf),
                          [](const auto& info) { return std::string(core::to_string(info.param)); });
+
+// The target, for the default policy: a type whose cumulative wire demand (its own and that of all
+// shorter-TTL types) fits in 95 % of the rate arrives at least 99 % on time. `edf` is the baseline and does not.
+TEST(SimulationTargetTest, EveryTypeWhoseCumulativeDemandFitsArrivesOnTimeUnderTtl) {
+    SimulationConfig config;
+    for (double rate = 10'000; rate <= 70'000; rate += 5'000) {
+        config.link = RateProfile::constant(rate);
+        const SimulationResult result = run_simulation(config);
+        for (std::size_t i = 0; i < config.workload.size(); ++i) {
+            if (cumulative_demand_bps(config, i) <= 0.95 * rate) {
+                EXPECT_GE(result.per_stream[i].on_time_percent(), 99.0)
+                    << config.workload[i].type << " at " << rate << " bit/s";
+            }
+        }
+    }
+}
 
 TEST(SimulationControlTest, FifoShowsPriorityInversionBelowTheWorkloadsDemand) {
     SimulationConfig config;

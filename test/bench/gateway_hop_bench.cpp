@@ -1,0 +1,397 @@
+// gateway_hop_bench: what the gateway costs a sample, in one process on loopback, budget unconstrained.
+//
+// A robot-domain publisher (shared memory and UDP on 127.0.0.1, as a robot process) writes PaperMessage samples
+// at a steady pace, alternating between two topics: one the Gateway bridges to a UDP-only reader in the WAN
+// domain, one read directly by the same kind of UDP-only reader in the robot domain (the gateway denies it).
+// Both paths run in the same time window, so machine noise hits them alike. Printed per sample size: the
+// gateway's own processing time (its LatencyHistogram: arrival to the return of the WAN write), and the
+// one-way latency (reader's receive time minus the source timestamp) via the gateway and direct, with the
+// ratio. Not run by ctest; scripts/bench runs it.
+#include <CLI/CLI.hpp>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+
+#include "PaperWorkloadPubSubTypes.h"
+#include "gateway/core/clock.hpp"
+#include "gateway/core/config_error.hpp"
+#include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/gateway.hpp"
+#include "test/integration/dds_test_support.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+using tgw::test::TestParticipant;
+using tgw::test::fdds::DataReaderQos;
+using tgw::test::fdds::DataWriter;
+using tgw::test::fdds::DataWriterQos;
+using tgw::test::fdds::DomainParticipantQos;
+namespace fdds = eprosima::fastdds::dds;
+
+constexpr auto MATCH_TIMEOUT = 10s;
+// Encapsulation (4) + generated_ns (8) + sequence_number (4) + sequence length (4): a PaperMessage's bytes
+// before its data.
+constexpr std::size_t PAPER_MESSAGE_FIXED_BYTES = 20;
+// The participant ids of the publisher and the direct reader, high enough to be free in this process.
+constexpr int PUBLISHER_PARTICIPANT_ID = 70;
+constexpr int DIRECT_READER_PARTICIPANT_ID = 71;
+
+struct Options {
+    std::vector<std::size_t> sizes{32, 4096};
+    int samples = 20'000;
+    int warmup = 1'000;
+    int period_us = 250;
+    int repeat = 1;
+    bool direct_shm = false;
+    bool reliable = false;
+};
+
+/// Domains and ports of this process: the pair 150..229 from the process id, away from the tests' 10..199 mostly.
+struct BenchDomains {
+    int robot = 0;
+    int wan = 0;
+    std::uint16_t wan_reader_port = 0;
+    std::uint16_t gateway_wan_port = 0;
+    std::uint16_t publisher_port = 0;
+
+    static BenchDomains for_this_process() {
+        BenchDomains d;
+        d.robot = 150 + static_cast<int>(::getpid() % 40) * 2;
+        d.wan = d.robot + 1;
+        d.wan_reader_port = tgw::dds::metatraffic_unicast_port(d.wan, 60);
+        d.gateway_wan_port = tgw::dds::metatraffic_unicast_port(d.wan, 61);
+        d.publisher_port = tgw::dds::metatraffic_unicast_port(d.robot, PUBLISHER_PARTICIPANT_ID);
+        return d;
+    }
+};
+
+eprosima::fastrtps::rtps::Locator_t loopback(std::uint16_t port) {
+    eprosima::fastrtps::rtps::Locator_t l;
+    l.kind = LOCATOR_KIND_UDPv4;
+    eprosima::fastrtps::rtps::IPLocator::setIPv4(l, "127.0.0.1");
+    l.port = port;
+    return l;
+}
+
+/// A robot process: shared memory and UDP on loopback, a fixed participant id so that UDP-only readers can
+/// name its discovery port.
+DomainParticipantQos publisher_qos() {
+    DomainParticipantQos qos;
+    qos.name("bench/publisher");
+    qos.wire_protocol().participant_id = PUBLISHER_PARTICIPANT_ID;
+    qos.transport().use_builtin_transports = false;
+    qos.transport().user_transports.push_back(
+        std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>());
+    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+    udp->interfaceWhiteList.push_back("127.0.0.1");
+    qos.transport().user_transports.push_back(udp);
+    return qos;
+}
+
+/// A subscriber reaching the robot domain over UDP only, as a base-camp process would without the gateway.
+DomainParticipantQos direct_reader_qos(const BenchDomains& d, bool shm) {
+    if (shm) {
+        DomainParticipantQos qos = publisher_qos();
+        qos.name("bench/direct");
+        qos.wire_protocol().participant_id = DIRECT_READER_PARTICIPANT_ID;
+        return qos;
+    }
+    DomainParticipantQos qos;
+    qos.name("bench/direct");
+    qos.wire_protocol().participant_id = DIRECT_READER_PARTICIPANT_ID;
+    qos.transport().use_builtin_transports = false;
+    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+    udp->interfaceWhiteList.push_back("127.0.0.1");
+    qos.transport().user_transports.push_back(udp);
+    qos.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(
+        loopback(tgw::dds::metatraffic_unicast_port(d.robot, DIRECT_READER_PARTICIPANT_ID)));
+    qos.wire_protocol().builtin.initialPeersList.push_back(loopback(d.publisher_port));
+    return qos;
+}
+
+/// Records, for every sample past the warm-up, its one-way latency: receive wall time minus source timestamp.
+class LatencyReader final : public fdds::DataReaderListener {
+  public:
+    explicit LatencyReader(int warmup) : warmup_(warmup) {}
+
+    void on_data_available(fdds::DataReader* reader) override {
+        fdds::SampleInfo info;
+        while (reader->take_next_sample(&data_, &info) == ReturnCode_t::RETCODE_OK) {
+            const auto received = tgw::core::WallClock::now();
+            if (!info.valid_data) {
+                continue;
+            }
+            const auto source = tgw::dds::to_wall_time(info.source_timestamp);
+            received_.fetch_add(1);
+            if (!source || static_cast<int>(data_.sequence_number()) < warmup_) {
+                continue;
+            }
+            std::lock_guard<std::mutex> lock(mutex_);
+            latencies_ns_.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(received - *source).count());
+        }
+    }
+    void on_subscription_matched(fdds::DataReader*, const fdds::SubscriptionMatchedStatus& info) override {
+        matched.store(info.current_count);
+    }
+
+    std::uint64_t received() const { return received_.load(); }
+    std::vector<std::int64_t> latencies_ns() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return latencies_ns_;
+    }
+
+    std::atomic<int> matched{0};
+
+  private:
+    const int warmup_;
+    tgw::idl::PaperMessage data_;  // one receive thread per reader
+    std::atomic<std::uint64_t> received_{0};
+    mutable std::mutex mutex_;
+    std::vector<std::int64_t> latencies_ns_;
+};
+
+double percentile_us(std::vector<std::int64_t> v, double q) {
+    if (v.empty()) {
+        return 0.0;
+    }
+    std::sort(v.begin(), v.end());
+    const auto rank = static_cast<std::size_t>(std::max(1.0, std::ceil(q * static_cast<double>(v.size()))));
+    return static_cast<double>(v[std::min(rank, v.size()) - 1]) / 1e3;
+}
+
+double us(tgw::core::Duration d) {
+    return std::chrono::duration<double, std::micro>(d).count();
+}
+
+class Bench {
+  public:
+    explicit Bench(const Options& options) : options_(options), domains_(BenchDomains::for_this_process()) {}
+
+    bool set_up() {
+        tgw::test::use_transports_in_process();
+        publisher_ = std::make_unique<TestParticipant>(domains_.robot, publisher_qos());
+        direct_ = std::make_unique<TestParticipant>(domains_.robot, direct_reader_qos(domains_, options_.direct_shm));
+        basecamp_ = std::make_unique<TestParticipant>(
+            domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port));
+        if (!publisher_->ok() || !direct_->ok() || !basecamp_->ok()) {
+            std::fprintf(stderr, "gateway_hop_bench: cannot create the participants (domains %d, %d)\n", domains_.robot,
+                         domains_.wan);
+            return false;
+        }
+        tgw::dds::GatewayConfig config;
+        config.robot_domain = domains_.robot;
+        config.wan_domain = domains_.wan;
+        config.wan_peers = {"127.0.0.1:" + std::to_string(domains_.wan_reader_port)};
+        config.wan_interface = "127.0.0.1";
+        config.wan_port = domains_.gateway_wan_port;
+        config.deny = {"bench/direct/*"};
+        config.scheduler.initial_rate_bps = 1e12;  // unconstrained: every sample is released on arrival
+        config.default_ttl = 5s;
+        gateway_ = std::make_unique<tgw::dds::Gateway>(config, clock_);
+        return true;
+    }
+
+    /// One row: `size` bytes of serialized payload, the samples of both paths interleaved.
+    bool run(std::size_t size, int run) {
+        const std::string suffix = std::to_string(size) + "/" + std::to_string(run);
+        const std::string via_topic = "bench/gateway/" + suffix;
+        const std::string direct_topic = "bench/direct/" + suffix;
+        fdds::TypeSupport type(new tgw::idl::PaperMessagePubSubType());
+
+        auto via_reader = std::make_unique<LatencyReader>(options_.warmup);
+        auto direct_reader = std::make_unique<LatencyReader>(options_.warmup);
+        tgw::test::MatchCounter via_matches;
+        tgw::test::MatchCounter direct_matches;
+        DataWriter* via_writer = publisher_->make_writer(via_topic, type, writer_qos(), &via_matches);
+        DataWriter* direct_writer = publisher_->make_writer(direct_topic, type, writer_qos(), &direct_matches);
+        fdds::DataReader* via = basecamp_->make_reader(via_topic, type, reader_qos(false), via_reader.get());
+        // The direct reader is what the gateway's robot reader is: reliable when the publisher is.
+        fdds::DataReader* direct =
+            direct_->make_reader(direct_topic, type, reader_qos(options_.reliable), direct_reader.get());
+        if (via_writer == nullptr || direct_writer == nullptr || via == nullptr || direct == nullptr) {
+            std::fprintf(stderr, "gateway_hop_bench: cannot create the endpoints of %s\n", suffix.c_str());
+            return false;
+        }
+        if (!wait_for_matches(via_topic, via_matches, *via_reader, direct_matches, *direct_reader)) {
+            return false;
+        }
+
+        tgw::idl::PaperMessage message;
+        message.data().assign(size > PAPER_MESSAGE_FIXED_BYTES ? size - PAPER_MESSAGE_FIXED_BYTES : 0, 0x5a);
+        const auto period = std::chrono::microseconds(options_.period_us);
+        auto next = std::chrono::steady_clock::now();
+        const auto publish = [&](int first, int end) {
+            for (int i = first; i < end; ++i) {
+                message.sequence_number(static_cast<std::uint32_t>(i));
+                for (DataWriter* writer : {via_writer, direct_writer}) {
+                    next += period;
+                    std::this_thread::sleep_until(next);
+                    message.generated_ns(static_cast<std::uint64_t>(tgw::core::to_ns(tgw::core::WallClock::now())));
+                    writer->write(&message);
+                }
+            }
+        };
+        publish(0, options_.warmup);
+        // Let the warm-up drain, then count only what follows.
+        settle(*via_reader, *direct_reader);
+        const auto before = gateway_->processing_latency();
+        next = std::chrono::steady_clock::now();
+        publish(options_.warmup, options_.warmup + options_.samples);
+        settle(*via_reader, *direct_reader);
+        const auto processing = gateway_->processing_latency().since(before);
+
+        const auto via_ns = via_reader->latencies_ns();
+        const auto direct_ns = direct_reader->latencies_ns();
+        const double via_p50 = percentile_us(via_ns, 0.5);
+        const double direct_p50 = percentile_us(direct_ns, 0.5);
+        std::printf(
+            "%6zu %4d %8.1f %8.1f %8.1f %9.1f %9.1f %9.1f %9.1f %9.1f %7.2f %7zu %7zu\n", size, run,
+            us(processing.median()), us(processing.percentile(0.9)), us(processing.percentile(0.99)), direct_p50,
+            percentile_us(direct_ns, 0.99), via_p50, percentile_us(via_ns, 0.99), via_p50 - direct_p50,
+            direct_p50 > 0 ? via_p50 / direct_p50 : 0.0,
+            static_cast<std::size_t>(options_.samples) - std::min<std::size_t>(options_.samples, via_ns.size()),
+            static_cast<std::size_t>(options_.samples) - std::min<std::size_t>(options_.samples, direct_ns.size()));
+        std::fflush(stdout);
+        // The readers' listeners die with this scope: detach them first.
+        via->set_listener(nullptr);
+        direct->set_listener(nullptr);
+        via_writer->set_listener(nullptr);
+        direct_writer->set_listener(nullptr);
+        return true;
+    }
+
+    void tear_down() {
+        gateway_.reset();
+        basecamp_.reset();
+        direct_.reset();
+        publisher_.reset();
+    }
+
+  private:
+    DataWriterQos writer_qos() const {
+        DataWriterQos q = publisher_->default_writer_qos();
+        q.reliability().kind = options_.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+        q.history().depth = 100;
+        q.data_sharing().off();
+        return q;
+    }
+
+    DataReaderQos reader_qos(bool reliable) const {
+        DataReaderQos q = basecamp_->default_reader_qos();
+        q.reliability().kind = reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+        q.history().depth = 1000;
+        q.data_sharing().off();
+        return q;
+    }
+
+    bool wait_for_matches(const std::string& via_topic, const tgw::test::MatchCounter& via_matches,
+                          const LatencyReader& via_reader, const tgw::test::MatchCounter& direct_matches,
+                          const LatencyReader& direct_reader) {
+        if (!gateway_->wait_for_topic(via_topic, MATCH_TIMEOUT)) {
+            std::fprintf(stderr, "gateway_hop_bench: %s was never bridged\n", via_topic.c_str());
+            return false;
+        }
+        const tgw::core::TopicId id = gateway_->find_topic(via_topic)->id;
+        const bool matched = tgw::test::wait_until(
+            [&] {
+                return via_matches.matched.load() > 0 && via_reader.matched.load() > 0 &&
+                       gateway_->wan_matched_readers(id) > 0 && gateway_->robot_matched_writers(id) > 0 &&
+                       direct_matches.matched.load() > 0 && direct_reader.matched.load() > 0;
+            },
+            MATCH_TIMEOUT);
+        if (!matched) {
+            std::fprintf(stderr, "gateway_hop_bench: the endpoints of %s never matched\n", via_topic.c_str());
+        }
+        return matched;
+    }
+
+    /// Waits until neither reader has received anything for 200 ms.
+    static void settle(const LatencyReader& a, const LatencyReader& b) {
+        std::uint64_t seen = a.received() + b.received();
+        while (true) {
+            std::this_thread::sleep_for(200ms);
+            const std::uint64_t now = a.received() + b.received();
+            if (now == seen) {
+                return;
+            }
+            seen = now;
+        }
+    }
+
+    Options options_;
+    BenchDomains domains_;
+    tgw::core::SystemClock clock_;
+    std::unique_ptr<TestParticipant> publisher_;
+    std::unique_ptr<TestParticipant> direct_;
+    std::unique_ptr<TestParticipant> basecamp_;
+    std::unique_ptr<tgw::dds::Gateway> gateway_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"gateway_hop_bench: the gateway's processing time and added one-way latency, loopback"};
+    Options options;
+    app.add_option("--size", options.sizes, "serialized sample sizes in bytes; repeatable")->capture_default_str();
+    app.add_option("--samples", options.samples, "samples per path and size, after the warm-up")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--warmup", options.warmup, "samples per path left out at the start")->capture_default_str();
+    app.add_option("--period-us", options.period_us, "microseconds between two writes (the paths alternate)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--repeat", options.repeat, "rows per size")->check(CLI::PositiveNumber)->capture_default_str();
+    app.add_flag("--direct-shm", options.direct_shm,
+                 "the direct reader uses shared memory, as the gateway's robot reader does (default: UDP, as a "
+                 "base-camp reader would)");
+    app.add_flag("--reliable", options.reliable,
+                 "reliable publisher (the gateway's robot reader and the direct reader follow; default: best effort)");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    }
+
+    Bench bench(options);
+    try {
+        if (!bench.set_up()) {
+            return 1;
+        }
+    } catch (const tgw::core::ConfigError& e) {
+        std::fprintf(stderr, "gateway_hop_bench: %s\n", e.what());
+        return 1;
+    }
+    std::printf(
+        "gateway hop: %d samples per path, one every %d us per path, %s publisher, direct reader on %s, "
+        "loopback, budget unconstrained; times in us\n",
+        options.samples, 2 * options.period_us, options.reliable ? "reliable" : "best-effort",
+        options.direct_shm ? "shared memory" : "UDP");
+    std::printf("%6s %4s %8s %8s %8s %9s %9s %9s %9s %9s %7s %7s %7s\n", "bytes", "run", "proc50", "proc90", "proc99",
+                "direct50", "direct99", "via_gw50", "via_gw99", "added50", "ratio", "lost_gw", "lost_dir");
+    int rc = 0;
+    for (int run = 1; run <= options.repeat && rc == 0; ++run) {
+        for (std::size_t size : options.sizes) {
+            if (!bench.run(size, run)) {
+                rc = 1;
+                break;
+            }
+        }
+    }
+    bench.tear_down();
+    return rc;
+}

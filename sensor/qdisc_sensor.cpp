@@ -92,16 +92,23 @@ RateReading read_root_shaper(nl_sock* socket, const std::string& interface) {
         return failure(interface + " has no root qdisc, so no shaper");
     const char* kind = rtnl_tc_get_kind(TC_CAST(root.get()));
     const std::string kind_name = kind ? kind : "";
+    RateReading reading;
     if (kind_name == "tbf") {
         const int bytes_per_s = rtnl_qdisc_tbf_get_rate(root.get());
         if (bytes_per_s < 0)
             return failure("tbf at the root of " + interface + " reports no rate");
-        return success(8.0 * bytes_per_s, "tbf");
+        reading = success(8.0 * bytes_per_s, "tbf");
+    } else if (kind_name == "htb") {
+        reading = read_htb(socket, interface, ifindex, rtnl_tc_get_handle(TC_CAST(root.get())));
+    } else {
+        return failure("the root qdisc of " + interface + " is " + (kind_name.empty() ? "unnamed" : kind_name) +
+                       ", not a shaper this sensor reads (tbf, htb)");
     }
-    if (kind_name == "htb")
-        return read_htb(socket, interface, ifindex, rtnl_tc_get_handle(TC_CAST(root.get())));
-    return failure("the root qdisc of " + interface + " is " + (kind_name.empty() ? "unnamed" : kind_name) +
-                   ", not a shaper this sensor reads (tbf, htb)");
+    if (reading.ok) {
+        reading.queued_bytes = rtnl_tc_get_stat(TC_CAST(root.get()), RTNL_TC_BACKLOG);
+        reading.detail += ", backlog " + std::to_string(*reading.queued_bytes) + " B";
+    }
+    return reading;
 }
 
 }  // namespace

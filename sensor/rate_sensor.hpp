@@ -1,6 +1,8 @@
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "gateway/core/clock.hpp"
@@ -13,6 +15,9 @@ struct RateReading {
     double rate_bps = 0.0;
     std::string detail;  ///< extra fields for people, e.g. "signal -52 dBm"; may be empty
     std::string error;   ///< why the reading failed, when !ok
+    /// Bytes waiting in the link's queue now, where the sensor sees it (a kernel shaper's backlog): traffic the
+    /// gateway did not schedule (discovery) or that the link did not carry as fast as the rate says.
+    std::optional<std::uint64_t> queued_bytes;
 };
 
 /// Measures the data rate the link to the base camp can carry now. Polled by the gateway and by tm-sense.

@@ -72,6 +72,11 @@ void ForwardingLoop::charge_link(std::uint64_t bits) {
     scheduler_.charge_link(clock_.now(), bits);
 }
 
+void ForwardingLoop::observe_link_backlog(std::uint64_t bits) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    scheduler_.observe_link_backlog(clock_.now(), bits);
+}
+
 TopicCounters ForwardingLoop::counters(TopicId topic) const {
     std::lock_guard<std::mutex> lock(mutex_);
     return scheduler_.counters(topic);

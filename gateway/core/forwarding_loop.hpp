@@ -31,6 +31,8 @@ class ForwardingLoop {
     void set_rate(double rate_bps);
     /// See Scheduler::charge_link.
     void charge_link(std::uint64_t bits);
+    /// See Scheduler::observe_link_backlog.
+    void observe_link_backlog(std::uint64_t bits);
 
     TopicCounters counters(TopicId topic) const;
     TopicCounters total_counters() const;

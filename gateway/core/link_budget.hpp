@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 #include "gateway/core/time.hpp"
@@ -29,6 +30,9 @@ class LinkBudget {
 
     /// When the next sample may be handed to the link.
     SteadyTime next_send_time() const { return busy_until_ - lead_; }
+
+    /// The link is seen busy until at least `t` (a queue the budget did not fill itself).
+    void hold_until(SteadyTime t) { busy_until_ = std::max(busy_until_, t); }
 
     /// Charge `bits` sent at `now`; returns when they will have left the link.
     SteadyTime charge(SteadyTime now, std::uint64_t bits);

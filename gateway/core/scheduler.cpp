@@ -246,6 +246,12 @@ void Scheduler::charge_link(SteadyTime now, std::uint64_t bits) {
     }
 }
 
+void Scheduler::observe_link_backlog(SteadyTime now, std::uint64_t bits) {
+    if (sensed_rate_bps_ > 0.0) {
+        budget_.hold_until(now + from_seconds(static_cast<double>(bits) / sensed_rate_bps_));
+    }
+}
+
 void Scheduler::drain(SampleSink& sink, DropReason reason) {
     while (!queue_.empty()) {
         drop(take(queue_.most_urgent()), reason, sink);

@@ -75,6 +75,11 @@ class Scheduler {
     /// new writer): the link is busy with it before the next sample goes.
     void charge_link(SteadyTime now, std::uint64_t bits);
 
+    /// The link's own queue holds `bits` now (a shaper's backlog, read by the rate sensor). Nothing more is
+    /// released until it has drained at the sensed rate, so a queue that discovery traffic or a sensor reading
+    /// high left behind drains instead of standing.
+    void observe_link_backlog(SteadyTime now, std::uint64_t bits);
+
     /// Everything still queued goes to `sink.drop` with `reason` (shutdown).
     void drain(SampleSink& sink, DropReason reason = DropReason::shutdown);
 

@@ -125,6 +125,10 @@ void Gateway::stop() {
     }
 }
 
+void Gateway::observe_link_backlog(std::uint64_t bytes) {
+    loop_->observe_link_backlog(8u * bytes);
+}
+
 void Gateway::set_rate(double rate_bps) {
     loop_->set_rate(rate_bps);
 }

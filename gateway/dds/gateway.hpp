@@ -81,6 +81,8 @@ class Gateway {
 
     /// The link rate the scheduler budgets for, from the rate sensor.
     void set_rate(double rate_bps);
+    /// What the rate sensor sees queued in the link now, in bytes.
+    void observe_link_backlog(std::uint64_t bytes);
 
     std::vector<BridgedTopic> topics() const;
     std::optional<BridgedTopic> find_topic(const std::string& name) const;

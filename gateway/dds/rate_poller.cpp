@@ -5,7 +5,7 @@
 
 namespace tgw::dds {
 
-RatePoller::RatePoller(sensor::RateSensor& sensor, std::function<void(double)> apply,
+RatePoller::RatePoller(sensor::RateSensor& sensor, std::function<void(const sensor::RateReading&)> apply,
                        std::chrono::milliseconds interval)
     : sensor_(sensor), apply_(std::move(apply)), interval_(interval) {}
 
@@ -32,7 +32,7 @@ void RatePoller::stop() {
 void RatePoller::poll_once() {
     const sensor::RateReading reading = sensor_.read();
     if (reading.ok) {
-        apply_(reading.rate_bps);
+        apply_(reading);
         return;
     }
     if (failures_.fetch_add(1) == 0) {

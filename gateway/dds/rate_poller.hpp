@@ -13,10 +13,11 @@
 namespace tgw::dds {
 
 /// Reads the rate sensor every `interval` in a thread of its own and hands each good reading to `apply`
-/// (ForwardingLoop::set_rate). A failed reading keeps the last rate; the first failure is reported once.
+/// (the gateway's rate and link backlog). A failed reading keeps the last rate; the first failure is reported once.
 class RatePoller {
   public:
-    RatePoller(sensor::RateSensor& sensor, std::function<void(double)> apply, std::chrono::milliseconds interval);
+    RatePoller(sensor::RateSensor& sensor, std::function<void(const sensor::RateReading&)> apply,
+               std::chrono::milliseconds interval);
     ~RatePoller();
 
     RatePoller(const RatePoller&) = delete;
@@ -33,7 +34,7 @@ class RatePoller {
     void run();
 
     sensor::RateSensor& sensor_;
-    std::function<void(double)> apply_;
+    std::function<void(const sensor::RateReading&)> apply_;
     std::chrono::milliseconds interval_;
     std::mutex mutex_;
     std::condition_variable wake_;

@@ -133,7 +133,14 @@ int main(int argc, char** argv) {
 
         tgw::dds::Gateway gateway(config, clock);
         tgw::dds::RatePoller poller(
-            *sensor, [&gateway](double rate_bps) { gateway.set_rate(rate_bps); }, SENSOR_POLL_INTERVAL);
+            *sensor,
+            [&gateway](const tgw::sensor::RateReading& reading) {
+                gateway.set_rate(reading.rate_bps);
+                if (reading.queued_bytes) {
+                    gateway.observe_link_backlog(*reading.queued_bytes);
+                }
+            },
+            SENSOR_POLL_INTERVAL);
         poller.start();
         std::cerr << "telemetry-gateway: robot domain " << config.robot_domain << " -> WAN domain " << config.wan_domain
                   << ", policy " << policy_name << ", sensor " << sensor->describe() << '\n';

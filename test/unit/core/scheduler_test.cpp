@@ -225,6 +225,26 @@ TEST_F(SchedulerTest, TrafficChargedFromOutsideDelaysTheNextSample) {
     EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a}));
 }
 
+TEST_F(SchedulerTest, WaitsForABacklogSeenInTheLinkToDrain) {
+    make_sut(PolicyKind::ttl, 10'000);
+    sut->observe_link_backlog(clock.now(), 3'000);  // 300 ms of someone else's traffic in the shaper
+    push(a);
+    run_for(milliseconds(299));
+    EXPECT_TRUE(sink.forwarded().empty());
+    run_for(milliseconds(1));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a}));
+}
+
+TEST_F(SchedulerTest, ABacklogOfItsOwnSamplesDoesNotDelayTheNextOneTwice) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(a);
+    release();                                                          // the link is busy with it for its wire time
+    sut->observe_link_backlog(clock.now(), config.wire.wire_bits(64));  // the shaper holds that same sample
+    push(a);
+    run_for(wire_time_64(10'000));
+    EXPECT_EQ(sink.forwarded().size(), 2u);
+}
+
 TEST_F(SchedulerTest, PacesReleasesAtTheLinkRate) {
     make_sut(PolicyKind::ttl, 20'000);
     for (int i = 0; i < 100; ++i)

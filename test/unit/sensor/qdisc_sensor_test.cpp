@@ -69,7 +69,8 @@ TEST_F(QdiscSensorTest, ReadsTheRateOfTheRootTbf) {
     const RateReading reading = sut.read();
     ASSERT_TRUE(reading.ok) << reading.error;
     EXPECT_EQ(reading.rate_bps, 20'000.0);
-    EXPECT_EQ(reading.detail, "tbf");
+    EXPECT_EQ(reading.detail, "tbf, backlog 0 B");
+    EXPECT_EQ(reading.queued_bytes, std::optional<std::uint64_t>(0));
     EXPECT_EQ(sut.describe(), "qdisc:tgwa");
 }
 
@@ -88,7 +89,7 @@ TEST_F(QdiscSensorTest, ReadsTheRateOfTheTopLevelHtbClass) {
     const RateReading reading = sut.read();
     ASSERT_TRUE(reading.ok) << reading.error;
     EXPECT_EQ(reading.rate_bps, 30'000.0);
-    EXPECT_EQ(reading.detail, "htb class 1:1");
+    EXPECT_EQ(reading.detail, "htb class 1:1, backlog 0 B");
 }
 
 TEST_F(QdiscSensorTest, ReadingFailsCleanlyOnceTheQdiscIsRemoved) {

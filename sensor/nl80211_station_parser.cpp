@@ -125,8 +125,8 @@ StationParseResult parse_station_message(const void* data, std::size_t size) {
     nlmsghdr header{};
     std::memcpy(&header, data, sizeof header);
     if (header.nlmsg_len < NLMSG_HDRLEN || header.nlmsg_len > size)
-        return failure("truncated station message: its header says " + std::to_string(header.nlmsg_len) +
-                       " bytes, " + std::to_string(size) + " arrived");
+        return failure("truncated station message: its header says " + std::to_string(header.nlmsg_len) + " bytes, " +
+                       std::to_string(size) + " arrived");
     if (header.nlmsg_len < NLMSG_HDRLEN + GENL_HDRLEN)
         return failure("truncated station message: no generic netlink header");
     const auto* bytes = static_cast<const std::uint8_t*>(data);

@@ -1,18 +1,24 @@
 // make_sensor(): the one place that turns a SPEC of DESIGN section 6 into a sensor.
+#include <optional>
 #include <string_view>
 
 #include "gateway/core/config_error.hpp"
 #include "sensor/bit_rate.hpp"
 #include "sensor/fixed_sensor.hpp"
+#include "sensor/guarded_sensor.hpp"
+#include "sensor/link_quality_table.hpp"
+#include "sensor/nl80211_sensor.hpp"
 #include "sensor/qdisc_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
 #include "sensor/trace_sensor.hpp"
+#include "sensor/wireless_sensor.hpp"
 
 namespace tgw::sensor {
 
 namespace {
 
-constexpr const char* KNOWN_SPECS = "fixed:BPS, trace:FILE, qdisc:IFACE, nl80211:IFACE[:PEER_MAC], wireless:IFACE";
+constexpr const char* KNOWN_SPECS =
+    "fixed:BPS, trace:FILE, qdisc:IFACE, nl80211:IFACE[:PEER_MAC], wireless:IFACE[:table=FILE]";
 
 [[noreturn]] void fail(const std::string& spec, const std::string& what) {
     throw core::ConfigError("sensor " + spec + ": " + what);
@@ -47,6 +53,46 @@ std::unique_ptr<RateSensor> make_qdisc(const std::string& spec, std::string_view
     }
 }
 
+/// `IFACE[:PEER_MAC]`: the MAC holds colons itself, so the interface ends at the first one.
+std::unique_ptr<RateSensor> make_nl80211(const std::string& spec, std::string_view arg) {
+    const auto colon = arg.find(':');
+    const std::string interface(arg.substr(0, colon));
+    std::optional<MacAddress> peer;
+    if (colon != std::string_view::npos) {
+        const std::string_view mac = arg.substr(colon + 1);
+        peer = parse_mac(mac);
+        if (!peer)
+            fail(spec, "'" + std::string(mac) + "' is not a MAC address (for example 02:00:00:00:01:00)");
+    }
+    try {
+        return std::make_unique<Nl80211Sensor>(interface, peer);
+    } catch (const core::ConfigError& e) {
+        fail(spec, e.what());
+    }
+}
+
+/// `IFACE[:table=FILE]`.
+std::unique_ptr<RateSensor> make_wireless(const std::string& spec, std::string_view arg) {
+    const auto colon = arg.find(':');
+    const std::string interface(arg.substr(0, colon));
+    std::string table_file;
+    if (colon != std::string_view::npos) {
+        constexpr std::string_view TABLE = "table=";
+        const std::string_view option = arg.substr(colon + 1);
+        if (option.substr(0, TABLE.size()) != TABLE || option.size() == TABLE.size())
+            fail(spec, "unknown option '" + std::string(option) + "', expected wireless:IFACE[:table=FILE]");
+        table_file = std::string(option.substr(TABLE.size()));
+    }
+    try {
+        auto sensor = std::make_unique<WirelessSensor>(
+            interface, table_file.empty() ? LinkQualityTable::default_table() : load_link_quality_table(table_file));
+        sensor->set_table_name(table_file);
+        return sensor;
+    } catch (const core::ConfigError& e) {
+        fail(spec, e.what());
+    }
+}
+
 }  // namespace
 
 std::unique_ptr<RateSensor> make_sensor(const std::string& spec, const core::Clock& clock) {
@@ -63,9 +109,19 @@ std::unique_ptr<RateSensor> make_sensor(const std::string& spec, const core::Clo
         return make_trace(spec, arg, clock);
     if (kind == "qdisc")
         return make_qdisc(spec, arg);
-    if (kind == "nl80211" || kind == "wireless")
-        fail(spec, "not implemented yet");
+    if (kind == "nl80211")
+        return make_nl80211(spec, arg);
+    if (kind == "wireless")
+        return make_wireless(spec, arg);
     fail(spec, "unknown kind '" + std::string(kind) + "', expected one of " + KNOWN_SPECS);
+}
+
+std::unique_ptr<RateSensor> make_guarded_sensor(const std::string& spec, const GuardConfig& config,
+                                                const core::Clock& clock, SensorLog log) {
+    // Before the sensor is built: a bad guard should not cost a netlink round trip, and names the spec as given.
+    if (auto error = config.validate(); !error.empty())
+        fail(spec, error);
+    return std::make_unique<GuardedSensor>(make_sensor(spec, clock), config, clock, std::move(log));
 }
 
 }  // namespace tgw::sensor

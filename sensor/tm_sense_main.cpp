@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "gateway/core/config_error.hpp"
+#include "sensor/guarded_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
 
 namespace {
@@ -31,9 +32,23 @@ int main(int argc, char** argv) {
     std::string spec;
     int interval_ms = 1000;
     long count = 0;
-    app.add_option("--sensor", spec, "fixed:BPS, trace:FILE, qdisc:IFACE, ...")->required();
+    app.add_option("--sensor", spec,
+                   "fixed:BPS, trace:FILE, qdisc:IFACE, nl80211:IFACE[:PEER_MAC], wireless:IFACE[:table=FILE]")
+        ->required();
     app.add_option("--interval", interval_ms, "milliseconds between readings")->check(CLI::PositiveNumber);
     app.add_option("--count", count, "readings to print, 0 = until interrupted")->check(CLI::NonNegativeNumber);
+    // The guard the gateway can put around its sensor, to see what the budget would get.
+    bool guard = false;
+    tgw::sensor::GuardConfig guard_config;
+    double hold_s = tgw::core::to_seconds(guard_config.hold);
+    app.add_flag("--guard", guard, "hold, floor, smooth and discount the readings as the gateway's guard does");
+    app.add_option("--hold", hold_s, "with --guard: seconds a failed sensor keeps its last good rate")
+        ->capture_default_str();
+    app.add_option("--floor", guard_config.floor_bps, "with --guard: bit/s once the hold is over")
+        ->capture_default_str();
+    app.add_option("--smoothing", guard_config.smoothing, "with --guard: weight of a rising reading, (0, 1]")
+        ->capture_default_str();
+    app.add_option("--margin", guard_config.margin, "with --guard: fraction taken off, [0, 1)")->capture_default_str();
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -43,7 +58,15 @@ int main(int argc, char** argv) {
     tgw::core::SystemClock clock;
     std::unique_ptr<tgw::sensor::RateSensor> sensor;
     try {
-        sensor = tgw::sensor::make_sensor(spec, clock);
+        if (guard) {
+            guard_config.hold = tgw::core::from_seconds(hold_s);
+            sensor = tgw::sensor::make_guarded_sensor(spec, guard_config, clock,
+                                                      [](tgw::sensor::SensorLogLevel, const std::string& message) {
+                                                          std::cerr << "tm-sense: " << message << std::endl;
+                                                      });
+        } else {
+            sensor = tgw::sensor::make_sensor(spec, clock);
+        }
     } catch (const tgw::core::ConfigError& e) {
         std::cerr << "tm-sense: --" << e.what() << "\n";  // the message starts "sensor SPEC: "
         return 2;

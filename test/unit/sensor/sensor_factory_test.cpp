@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "gateway/core/config_error.hpp"
+#include "sensor/guarded_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
 #include "test/fakes/fake_clock.hpp"
 
@@ -90,9 +91,41 @@ TEST_F(SensorFactoryTest, RejectsATraceSpecWithoutAFile) {
     EXPECT_EQ(error_of("trace:"), "sensor trace:: no trace file given (trace:FILE)");
 }
 
-TEST_F(SensorFactoryTest, ReportsTheWirelessSensorsAsNotImplementedYet) {
-    EXPECT_EQ(error_of("nl80211:wlan0"), "sensor nl80211:wlan0: not implemented yet");
-    EXPECT_EQ(error_of("wireless:wlan0"), "sensor wireless:wlan0: not implemented yet");
+TEST_F(SensorFactoryTest, RejectsAnNl80211SpecOnAMissingInterfaceNamingIt) {
+    EXPECT_EQ(error_of("nl80211:tgw-nosuch0"), "sensor nl80211:tgw-nosuch0: no interface tgw-nosuch0");
+    EXPECT_EQ(error_of("nl80211:"), "sensor nl80211:: no interface given (nl80211:IFACE[:PEER_MAC])");
+}
+
+TEST_F(SensorFactoryTest, RejectsAWirelessSpecWithAnUnknownOption) {
+    EXPECT_EQ(error_of("wireless:wlan0:rate=5"),
+              "sensor wireless:wlan0:rate=5: unknown option 'rate=5', expected wireless:IFACE[:table=FILE]");
+    EXPECT_EQ(error_of("wireless:wlan0:table="),
+              "sensor wireless:wlan0:table=: unknown option 'table=', expected wireless:IFACE[:table=FILE]");
+}
+
+TEST_F(SensorFactoryTest, RejectsABadQualityTableNamingTheFileAndLine) {
+    const std::string path = write_file("bad.table", "0 1M\n10 fast\n");
+    EXPECT_EQ(error_of("wireless:wlan0:table=" + path),
+              "sensor wireless:wlan0:table=" + path + ": " + path + ":2: rate 'fast' is not a number of bit/s");
+}
+
+TEST_F(SensorFactoryTest, WrapsASensorInAGuardOnRequest) {
+    GuardConfig config;
+    config.margin = 0.1;
+    auto sut = make_guarded_sensor("fixed:20k", config, clock, nullptr);
+    EXPECT_DOUBLE_EQ(sut->read().rate_bps, 18'000.0);
+    EXPECT_EQ(sut->describe(), "fixed:20000");
+}
+
+TEST_F(SensorFactoryTest, RejectsAnInvalidGuardNamingTheSpecAndField) {
+    GuardConfig config;
+    config.smoothing = 2.0;
+    try {
+        make_guarded_sensor("fixed:20k", config, clock, nullptr);
+        FAIL() << "expected core::ConfigError";
+    } catch (const core::ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()), "sensor fixed:20k: smoothing must be in (0, 1]");
+    }
 }
 
 TEST_F(SensorFactoryTest, RejectsAQdiscSpecWithoutAnInterface) {
@@ -102,13 +135,13 @@ TEST_F(SensorFactoryTest, RejectsAQdiscSpecWithoutAnInterface) {
 TEST_F(SensorFactoryTest, RejectsAnUnknownKindNamingTheSpec) {
     EXPECT_EQ(error_of("iwspy:wlan0"),
               "sensor iwspy:wlan0: unknown kind 'iwspy', expected one of fixed:BPS, trace:FILE, qdisc:IFACE, "
-              "nl80211:IFACE[:PEER_MAC], wireless:IFACE");
+              "nl80211:IFACE[:PEER_MAC], wireless:IFACE[:table=FILE]");
 }
 
 TEST_F(SensorFactoryTest, RejectsASpecWithoutAKind) {
     EXPECT_EQ(error_of("20000"),
               "sensor 20000: expected KIND:ARGUMENT, one of fixed:BPS, trace:FILE, qdisc:IFACE, "
-              "nl80211:IFACE[:PEER_MAC], wireless:IFACE");
+              "nl80211:IFACE[:PEER_MAC], wireless:IFACE[:table=FILE]");
     EXPECT_NE(error_of(""), "<no error>");
 }
 

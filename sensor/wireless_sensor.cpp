@@ -1,0 +1,84 @@
+#include "sensor/wireless_sensor.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "gateway/core/config_error.hpp"
+#include "sensor/proc_net_wireless.hpp"
+
+namespace tgw::sensor {
+
+namespace {
+
+RateReading failure(std::string error) {
+    RateReading reading;
+    reading.error = std::move(error);
+    return reading;
+}
+
+std::string number_text(double value) {
+    std::ostringstream out;
+    out << value;
+    return out.str();
+}
+
+}  // namespace
+
+WirelessSensor::WirelessSensor(std::string interface, LinkQualityTable table, std::string proc_path)
+    : interface_(std::move(interface)), table_(std::move(table)), proc_path_(std::move(proc_path)) {
+    if (interface_.empty())
+        throw core::ConfigError("no interface given (wireless:IFACE[:table=FILE])");
+    std::ifstream in(proc_path_);
+    if (!in)
+        throw core::ConfigError(interface_ + " is not a wireless interface: cannot read " + proc_path_ + " (" +
+                                std::strerror(errno) + "; no wireless extensions in this kernel)");
+    const WirelessTable listed = parse_proc_net_wireless(in);
+    if (!listed.ok)
+        throw core::ConfigError(proc_path_ + ": " + listed.error);
+    for (const WirelessStatus& status : listed.interfaces) {
+        if (status.interface == interface_)
+            return;
+    }
+    throw core::ConfigError(interface_ + " is not a wireless interface: " + proc_path_ + " does not list it");
+}
+
+RateReading WirelessSensor::read() {
+    try {
+        std::ifstream in(proc_path_);
+        if (!in)
+            return failure("cannot read " + proc_path_ + ": " + std::strerror(errno));
+        const WirelessTable listed = parse_proc_net_wireless(in);
+        if (!listed.ok)
+            return failure(proc_path_ + ": " + listed.error);
+        for (const WirelessStatus& status : listed.interfaces) {
+            if (status.interface != interface_)
+                continue;
+            std::string detail =
+                "quality " + number_text(status.link_quality) + ", signal " + number_text(status.level_dbm) + " dBm";
+            const auto rate = table_.rate_for(status.link_quality);
+            if (!rate) {
+                RateReading reading = failure("link quality " + number_text(status.link_quality) + " of " + interface_ +
+                                              " is below the table's lowest row");
+                reading.detail = std::move(detail);
+                return reading;
+            }
+            RateReading reading;
+            reading.ok = true;
+            reading.rate_bps = *rate;
+            reading.detail = std::move(detail);
+            return reading;
+        }
+        return failure(proc_path_ + " no longer lists " + interface_);
+    } catch (const std::exception& e) {  // allocation only; never let a poll throw
+        return failure(e.what());
+    }
+}
+
+std::string WirelessSensor::describe() const {
+    return "wireless:" + interface_ + (table_name_.empty() ? "" : ":table=" + table_name_);
+}
+
+}  // namespace tgw::sensor

@@ -9,20 +9,11 @@
 #include <utility>
 
 #include "gateway/core/config_error.hpp"
+#include "sensor/netlink_handles.hpp"
 
 namespace tgw::sensor {
 
 namespace {
-
-struct CacheFree {
-    void operator()(nl_cache* cache) const { nl_cache_free(cache); }
-};
-struct QdiscPut {
-    void operator()(rtnl_qdisc* qdisc) const { rtnl_qdisc_put(qdisc); }
-};
-struct LinkPut {
-    void operator()(rtnl_link* link) const { rtnl_link_put(link); }
-};
 
 KernelCountersReading failure(std::string error) {
     KernelCountersReading reading;
@@ -31,10 +22,6 @@ KernelCountersReading failure(std::string error) {
 }
 
 }  // namespace
-
-void LinkCounterReader::SocketCloser::operator()(nl_sock* socket) const {
-    nl_socket_free(socket);  // closes it too
-}
 
 LinkCounterReader::LinkCounterReader(std::string interface)
     : interface_(std::move(interface)), socket_(nl_socket_alloc()) {
@@ -55,7 +42,7 @@ KernelCountersReading LinkCounterReader::read() {
         rtnl_link* raw_link = nullptr;
         if (const int err = rtnl_link_get_kernel(socket_.get(), 0, interface_.c_str(), &raw_link); err < 0)
             return failure("no interface " + interface_ + ": " + nl_geterror(err));
-        const std::unique_ptr<rtnl_link, LinkPut> link(raw_link);
+        const RtnlLinkPtr link(raw_link);
         KernelCountersReading reading;
         reading.counters.tx_bytes = rtnl_link_get_stat(link.get(), RTNL_LINK_TX_BYTES);
         const int ifindex = rtnl_link_get_ifindex(link.get());
@@ -63,11 +50,9 @@ KernelCountersReading LinkCounterReader::read() {
         nl_cache* raw_cache = nullptr;
         if (const int err = rtnl_qdisc_alloc_cache(socket_.get(), &raw_cache); err < 0)
             return failure("cannot list the qdiscs of " + interface_ + ": " + nl_geterror(err));
-        const std::unique_ptr<nl_cache, CacheFree> qdiscs(raw_cache);
+        const NlCachePtr qdiscs(raw_cache);
         // No root qdisc (noqueue): nothing can queue or drop before the driver.
-        if (const std::unique_ptr<rtnl_qdisc, QdiscPut> root(
-                rtnl_qdisc_get_by_parent(qdiscs.get(), ifindex, TC_H_ROOT));
-            root) {
+        if (const RtnlQdiscPtr root(rtnl_qdisc_get_by_parent(qdiscs.get(), ifindex, TC_H_ROOT)); root) {
             reading.counters.drops = rtnl_tc_get_stat(TC_CAST(root.get()), RTNL_TC_DROPS);
             reading.counters.backlog_bytes = rtnl_tc_get_stat(TC_CAST(root.get()), RTNL_TC_BACKLOG);
         }

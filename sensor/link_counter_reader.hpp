@@ -1,10 +1,9 @@
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <string>
 
-struct nl_sock;
+#include "sensor/netlink_handles.hpp"
 
 namespace tgw::sensor {
 
@@ -38,12 +37,8 @@ class LinkCounterReader {
     const std::string& interface() const { return interface_; }
 
   private:
-    struct SocketCloser {
-        void operator()(nl_sock* socket) const;
-    };
-
     std::string interface_;
-    std::unique_ptr<nl_sock, SocketCloser> socket_;
+    NlSocketPtr socket_;
 };
 
 }  // namespace tgw::sensor

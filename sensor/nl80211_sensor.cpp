@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "gateway/core/config_error.hpp"
+#include "sensor/netlink_handles.hpp"
 
 namespace tgw::sensor {
 
@@ -47,10 +48,6 @@ struct Nl80211Sensor::Dump {
     bool finished = false;    ///< NLMSG_DONE seen
     int nl_error = 0;         ///< from libnl or the kernel, < 0 on failure
 };
-
-void Nl80211Sensor::SocketCloser::operator()(nl_sock* socket) const {
-    nl_socket_free(socket);  // closes it too
-}
 
 Nl80211Sensor::Nl80211Sensor(std::string interface, std::optional<MacAddress> peer)
     : interface_(std::move(interface)), peer_(peer) {

@@ -1,13 +1,11 @@
 #pragma once
 
-#include <memory>
 #include <optional>
 #include <string>
 
+#include "sensor/netlink_handles.hpp"
 #include "sensor/nl80211_station_parser.hpp"
 #include "sensor/rate_sensor.hpp"
-
-struct nl_sock;
 
 namespace tgw::sensor {
 
@@ -31,9 +29,6 @@ class Nl80211Sensor final : public RateSensor {
     std::string describe() const override;
 
   private:
-    struct SocketCloser {
-        void operator()(nl_sock* socket) const;
-    };
     struct Dump;
 
     /// Opens the generic netlink socket and resolves nl80211; "" or why not.
@@ -43,7 +38,7 @@ class Nl80211Sensor final : public RateSensor {
 
     std::string interface_;
     std::optional<MacAddress> peer_;
-    std::unique_ptr<nl_sock, SocketCloser> socket_;
+    NlSocketPtr socket_;
     int family_ = -1;
 };
 

@@ -13,23 +13,11 @@
 #include <utility>
 
 #include "gateway/core/config_error.hpp"
+#include "sensor/netlink_handles.hpp"
 
 namespace tgw::sensor {
 
 namespace {
-
-struct CacheFree {
-    void operator()(nl_cache* cache) const { nl_cache_free(cache); }
-};
-struct QdiscPut {
-    void operator()(rtnl_qdisc* qdisc) const { rtnl_qdisc_put(qdisc); }
-};
-struct LinkPut {
-    void operator()(rtnl_link* link) const { rtnl_link_put(link); }
-};
-using CachePtr = std::unique_ptr<nl_cache, CacheFree>;
-using QdiscPtr = std::unique_ptr<rtnl_qdisc, QdiscPut>;
-using LinkPtr = std::unique_ptr<rtnl_link, LinkPut>;
 
 RateReading failure(std::string error) {
     RateReading reading;
@@ -56,7 +44,7 @@ RateReading read_htb(nl_sock* socket, const std::string& interface, int ifindex,
     nl_cache* raw = nullptr;
     if (const int err = rtnl_class_alloc_cache(socket, ifindex, &raw); err < 0)
         return failure("cannot list the htb classes of " + interface + ": " + nl_geterror(err));
-    CachePtr classes(raw);
+    NlCachePtr classes(raw);
     std::uint64_t total_bytes_per_s = 0;
     std::string roots;
     for (nl_object* object = nl_cache_get_first(classes.get()); object != nullptr; object = nl_cache_get_next(object)) {
@@ -81,13 +69,13 @@ RateReading read_root_shaper(nl_sock* socket, const std::string& interface) {
     rtnl_link* raw_link = nullptr;
     if (const int err = rtnl_link_get_kernel(socket, 0, interface.c_str(), &raw_link); err < 0)
         return failure("no interface " + interface + ": " + nl_geterror(err));
-    const int ifindex = rtnl_link_get_ifindex(LinkPtr(raw_link).get());
+    const int ifindex = rtnl_link_get_ifindex(RtnlLinkPtr(raw_link).get());
 
     nl_cache* raw_cache = nullptr;
     if (const int err = rtnl_qdisc_alloc_cache(socket, &raw_cache); err < 0)
         return failure("cannot list the qdiscs of " + interface + ": " + nl_geterror(err));
-    CachePtr qdiscs(raw_cache);
-    QdiscPtr root(rtnl_qdisc_get_by_parent(qdiscs.get(), ifindex, TC_H_ROOT));
+    NlCachePtr qdiscs(raw_cache);
+    RtnlQdiscPtr root(rtnl_qdisc_get_by_parent(qdiscs.get(), ifindex, TC_H_ROOT));
     if (!root)
         return failure(interface + " has no root qdisc, so no shaper");
     const char* kind = rtnl_tc_get_kind(TC_CAST(root.get()));
@@ -112,10 +100,6 @@ RateReading read_root_shaper(nl_sock* socket, const std::string& interface) {
 }
 
 }  // namespace
-
-void QdiscSensor::SocketCloser::operator()(nl_sock* socket) const {
-    nl_socket_free(socket);  // closes it too
-}
 
 QdiscSensor::QdiscSensor(std::string interface) : interface_(std::move(interface)), socket_(nl_socket_alloc()) {
     if (interface_.empty())

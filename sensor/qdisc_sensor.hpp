@@ -1,11 +1,9 @@
 #pragma once
 
-#include <memory>
 #include <string>
 
+#include "sensor/netlink_handles.hpp"
 #include "sensor/rate_sensor.hpp"
-
-struct nl_sock;
 
 namespace tgw::sensor {
 
@@ -27,12 +25,8 @@ class QdiscSensor final : public RateSensor {
     std::string describe() const override;
 
   private:
-    struct SocketCloser {
-        void operator()(nl_sock* socket) const;
-    };
-
     std::string interface_;
-    std::unique_ptr<nl_sock, SocketCloser> socket_;
+    NlSocketPtr socket_;
 };
 
 }  // namespace tgw::sensor

@@ -1,16 +1,14 @@
 #include "sensor/rate_trace.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <optional>
 #include <sstream>
 
-#include "gateway/core/config_error.hpp"
 #include "sensor/bit_rate.hpp"
+#include "sensor/config_line_reader.hpp"
 
 namespace tgw::sensor {
 
@@ -29,25 +27,6 @@ std::optional<double> parse_seconds(std::string_view text) {
     if (text.empty() || ec != std::errc() || ptr != end || !std::isfinite(value))
         return std::nullopt;
     return value;
-}
-
-bool is_space(char c) {
-    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
-
-std::vector<std::string_view> split_fields(std::string_view line) {
-    std::vector<std::string_view> fields;
-    std::size_t i = 0;
-    while (i < line.size()) {
-        while (i < line.size() && is_space(line[i]))
-            ++i;
-        const std::size_t start = i;
-        while (i < line.size() && !is_space(line[i]))
-            ++i;
-        if (i > start)
-            fields.push_back(line.substr(start, i - start));
-    }
-    return fields;
 }
 
 std::string format_seconds(core::Duration d) {
@@ -69,55 +48,42 @@ double RateTrace::rate_at(core::Duration elapsed) const {
 
 RateTrace parse_rate_trace(std::istream& in, const std::string& file_name) {
     std::vector<RateTrace::Step> steps;
-    std::string line;
-    std::size_t line_number = 0;
-    while (std::getline(in, line)) {
-        ++line_number;
-        const auto fail = [&](const std::string& what) {
-            throw core::ConfigError(file_name + ":" + std::to_string(line_number) + ": " + what);
-        };
-        std::string_view content(line);
-        if (const auto hash = content.find('#'); hash != std::string_view::npos)
-            content = content.substr(0, hash);
-        const auto fields = split_fields(content);
-        if (fields.empty())
-            continue;
+    ConfigLineReader lines(in, file_name);
+    while (lines.next()) {
+        const auto& fields = lines.fields();
         if (fields.size() != 2)
-            fail("expected `seconds bits_per_second`, got " + std::to_string(fields.size()) + " field" +
-                 (fields.size() == 1 ? "" : "s"));
+            lines.fail("expected `seconds bits_per_second`, got " + std::to_string(fields.size()) + " field" +
+                       (fields.size() == 1 ? "" : "s"));
 
         const std::string time_text(fields[0]);
         const std::string rate_text(fields[1]);
         const auto seconds = parse_seconds(fields[0]);
         if (!seconds)
-            fail("time '" + time_text + "' is not a number of seconds");
+            lines.fail("time '" + time_text + "' is not a number of seconds");
         if (*seconds < 0.0)
-            fail("time " + time_text + " is negative");
+            lines.fail("time " + time_text + " is negative");
         if (*seconds > MAX_TRACE_SECONDS)
-            fail("time " + time_text + " is beyond " + std::to_string(static_cast<long long>(MAX_TRACE_SECONDS)) +
-                 " s");
+            lines.fail("time " + time_text + " is beyond " + std::to_string(static_cast<long long>(MAX_TRACE_SECONDS)) +
+                       " s");
         const auto rate = parse_bit_rate(rate_text);
         if (!rate)
-            fail("rate '" + rate_text + "' is not a number of bit/s");
+            lines.fail("rate '" + rate_text + "' is not a number of bit/s");
         if (*rate < 0.0)
-            fail("rate " + rate_text + " is negative");
+            lines.fail("rate " + rate_text + " is negative");
 
         const core::Duration at = core::from_seconds(*seconds);
         if (!steps.empty() && at <= steps.back().at)
-            fail("time " + time_text + " s is not after the previous step's " + format_seconds(steps.back().at) + " s");
+            lines.fail("time " + time_text + " s is not after the previous step's " + format_seconds(steps.back().at) +
+                       " s");
         steps.push_back({at, *rate});
     }
-    if (in.bad())
-        throw core::ConfigError(file_name + ": read error after line " + std::to_string(line_number));
     if (steps.empty())
-        throw core::ConfigError(file_name + ": no rate in the trace; expected lines of `seconds bits_per_second`");
+        lines.fail_file("no rate in the trace; expected lines of `seconds bits_per_second`");
     return RateTrace(std::move(steps));
 }
 
 RateTrace load_rate_trace(const std::string& path) {
-    std::ifstream in(path);
-    if (!in)
-        throw core::ConfigError(path + ": cannot open: " + std::strerror(errno));
+    std::ifstream in = open_config_file(path);
     return parse_rate_trace(in, path);
 }
 

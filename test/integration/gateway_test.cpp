@@ -127,6 +127,27 @@ class GatewayIntegrationTest : public ::testing::Test {
             << "the gateway's robot reader never matched the writer of " << topic;
     }
 
+    /// Makes a writer of `topic` on `robot` (the robot participant by default) and a base camp reader feeding
+    /// `wan`, then waits until the gateway bridges the two. The writer, or nullptr with the failure recorded.
+    template <typename PubSubType, typename Sample>
+    fdds::DataWriter* bridge(const std::string& topic, const fdds::DataWriterQos& qos, CollectingReader<Sample>& wan,
+                             TestParticipant* robot = nullptr) {
+        TestParticipant& publisher = robot ? *robot : *robot_;
+        auto& writer_matches = listener<MatchCounter>();
+        auto* writer = publisher.make_writer(topic, fdds::TypeSupport(new PubSubType()), qos, &writer_matches);
+        if (writer == nullptr) {
+            ADD_FAILURE() << "cannot create a robot writer of " << topic;
+            return nullptr;
+        }
+        if (basecamp_->make_reader(topic, fdds::TypeSupport(new PubSubType()), wan_reader_qos(*basecamp_), &wan) ==
+            nullptr) {
+            ADD_FAILURE() << "cannot create a base camp reader of " << topic;
+            return nullptr;
+        }
+        wait_for_bridge(topic, writer_matches, wan.matched);
+        return HasFatalFailure() ? nullptr : writer;
+    }
+
     void expect_balanced() const {
         const core::TopicCounters c = gateway_->total_counters();
         EXPECT_EQ(c.received, c.forwarded + c.queued + c.dropped_total())
@@ -150,15 +171,9 @@ class GatewayIntegrationTest : public ::testing::Test {
 TEST_F(GatewayIntegrationTest, ForwardsPaperMessagesWithPayloadAndSourceTimestamp) {
     start_gateway(config());
     const std::string topic = topic_prefix_ + "paper_A";
-    auto& writer_matches = listener<MatchCounter>();
-    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
-                                       robot_writer_qos(*robot_, 2s), &writer_matches);
-    ASSERT_NE(writer, nullptr);
     auto& wan = listener<CollectingReader<idl::PaperMessage>>();
-    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
-                                     wan_reader_qos(*basecamp_), &wan),
-              nullptr);
-    wait_for_bridge(topic, writer_matches, wan.matched);
+    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, 2s), wan);
+    ASSERT_NE(writer, nullptr);
 
     constexpr int N = 10;
     std::vector<eprosima::fastrtps::Time_t> stamps;
@@ -188,15 +203,9 @@ TEST_F(GatewayIntegrationTest, ForwardsPaperMessagesWithPayloadAndSourceTimestam
 TEST_F(GatewayIntegrationTest, KeepsTheInstancesOfAKeyedTopic) {
     start_gateway(config());
     const std::string topic = topic_prefix_ + "keyed";
-    auto& writer_matches = listener<MatchCounter>();
-    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::KeyedReadingPubSubType()),
-                                       robot_writer_qos(*robot_), &writer_matches);
-    ASSERT_NE(writer, nullptr);
     auto& wan = listener<CollectingReader<idl::KeyedReading>>();
-    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::KeyedReadingPubSubType()),
-                                     wan_reader_qos(*basecamp_), &wan),
-              nullptr);
-    wait_for_bridge(topic, writer_matches, wan.matched);
+    auto* writer = bridge<idl::KeyedReadingPubSubType>(topic, robot_writer_qos(*robot_), wan);
+    ASSERT_NE(writer, nullptr);
     ASSERT_TRUE(gateway_->find_topic(topic)->keyed);
 
     std::map<std::uint32_t, fdds::InstanceHandle_t> robot_handles;
@@ -231,14 +240,9 @@ TEST_F(GatewayIntegrationTest, KeepsTheInstancesOfAKeyedTopic) {
 TEST_F(GatewayIntegrationTest, CarriesATypeOnlyThePublisherKnows) {
     start_gateway(config());
     const std::string topic = topic_prefix_ + "opaque";
-    auto& writer_matches = listener<MatchCounter>();
-    auto* writer =
-        robot_->make_writer(topic, fdds::TypeSupport(new OpaqueBlobType()), robot_writer_qos(*robot_), &writer_matches);
-    ASSERT_NE(writer, nullptr);
     auto& wan = listener<CollectingReader<OpaqueBlob>>();
-    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new OpaqueBlobType()), wan_reader_qos(*basecamp_), &wan),
-              nullptr);
-    wait_for_bridge(topic, writer_matches, wan.matched);
+    auto* writer = bridge<OpaqueBlobType>(topic, robot_writer_qos(*robot_), wan);
+    ASSERT_NE(writer, nullptr);
     EXPECT_EQ(gateway_->find_topic(topic)->type_name, OpaqueBlobType::TYPE_NAME);
 
     OpaqueBlob blob;
@@ -256,15 +260,9 @@ TEST_F(GatewayIntegrationTest, CarriesATypeOnlyThePublisherKnows) {
 TEST_F(GatewayIntegrationTest, TakesTheTtlFromThePublishersLifespan) {
     start_gateway(config());
     const std::string topic = topic_prefix_ + "lifespan";
-    auto& writer_matches = listener<MatchCounter>();
-    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
-                                       robot_writer_qos(*robot_, 3s), &writer_matches);
-    ASSERT_NE(writer, nullptr);
     auto& wan = listener<CollectingReader<idl::PaperMessage>>();
-    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
-                                     wan_reader_qos(*basecamp_), &wan),
-              nullptr);
-    wait_for_bridge(topic, writer_matches, wan.matched);
+    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, 3s), wan);
+    ASSERT_NE(writer, nullptr);
 
     const auto bridged = gateway_->find_topic(topic);
     EXPECT_EQ(bridged->ttl.source, dds::TtlSource::publisher);
@@ -292,15 +290,9 @@ TEST_F(GatewayIntegrationTest, TakesTheTtlFromAnXmlProfileNamedAfterTheTopic) {
     GatewayConfig c = config();
     c.qos_file = xml;
     start_gateway(c);
-    auto& writer_matches = listener<MatchCounter>();
-    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
-                                       robot_writer_qos(*robot_, 3s), &writer_matches);
-    ASSERT_NE(writer, nullptr);
     auto& wan = listener<CollectingReader<idl::PaperMessage>>();
-    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
-                                     wan_reader_qos(*basecamp_), &wan),
-              nullptr);
-    wait_for_bridge(topic, writer_matches, wan.matched);
+    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, 3s), wan);
+    ASSERT_NE(writer, nullptr);
 
     const auto bridged = gateway_->find_topic(topic);
     EXPECT_EQ(bridged->ttl.source, dds::TtlSource::profile) << "the profile must win over the publisher's 3 s";
@@ -338,15 +330,9 @@ TEST_F(GatewayIntegrationTest, BridgesATopicThatAppearsAfterTheGatewayStarted) {
     TestParticipant late_robot(domains_.robot, TestParticipant::robot_qos());
     ASSERT_TRUE(late_robot.ok());
     const std::string later = topic_prefix_ + "later";
-    auto& writer_matches = listener<MatchCounter>();
-    auto* writer = late_robot.make_writer(later, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
-                                          robot_writer_qos(late_robot), &writer_matches);
-    ASSERT_NE(writer, nullptr);
     auto& wan = listener<CollectingReader<idl::PaperMessage>>();
-    ASSERT_NE(basecamp_->make_reader(later, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
-                                     wan_reader_qos(*basecamp_), &wan),
-              nullptr);
-    wait_for_bridge(later, writer_matches, wan.matched);
+    auto* writer = bridge<idl::PaperMessagePubSubType>(later, robot_writer_qos(late_robot), wan, &late_robot);
+    ASSERT_NE(writer, nullptr);
     idl::PaperMessage msg;
     msg.generated_ns(42);
     ASSERT_TRUE(writer->write(&msg));
@@ -357,15 +343,9 @@ TEST_F(GatewayIntegrationTest, BridgesATopicThatAppearsAfterTheGatewayStarted) {
 TEST_F(GatewayIntegrationTest, BridgesARos2TopicByItsDdsNames) {
     start_gateway(config());
     const std::string topic = "rt/chatter";  // the domain is unique to this test
-    auto& writer_matches = listener<MatchCounter>();
-    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new std_msgs::msg::dds_::String_PubSubType()),
-                                       robot_writer_qos(*robot_), &writer_matches);
-    ASSERT_NE(writer, nullptr);
     auto& wan = listener<CollectingReader<std_msgs::msg::dds_::String_>>();
-    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new std_msgs::msg::dds_::String_PubSubType()),
-                                     wan_reader_qos(*basecamp_), &wan),
-              nullptr);
-    wait_for_bridge(topic, writer_matches, wan.matched);
+    auto* writer = bridge<std_msgs::msg::dds_::String_PubSubType>(topic, robot_writer_qos(*robot_), wan);
+    ASSERT_NE(writer, nullptr);
     EXPECT_EQ(gateway_->find_topic(topic)->type_name, "std_msgs::msg::dds_::String_");
 
     std_msgs::msg::dds_::String_ hello;
@@ -451,15 +431,9 @@ TEST_F(GatewayIntegrationTest, EverySampleIsForwardedQueuedOrLogged) {
     c.scheduler.initial_rate_bps = 20000;
     start_gateway(c);
     const std::string topic = topic_prefix_ + "overload";
-    auto& writer_matches = listener<MatchCounter>();
-    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
-                                       robot_writer_qos(*robot_, 1s), &writer_matches);
-    ASSERT_NE(writer, nullptr);
     auto& wan = listener<CollectingReader<idl::PaperMessage>>();
-    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
-                                     wan_reader_qos(*basecamp_), &wan),
-              nullptr);
-    wait_for_bridge(topic, writer_matches, wan.matched);
+    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, 1s), wan);
+    ASSERT_NE(writer, nullptr);
 
     // 200 D-sized samples at once on a 20,000 bit/s link with a 1 s TTL: most cannot be sent.
     constexpr std::uint64_t N = 200;

@@ -1,68 +1,34 @@
 #include "sensor/link_counter_reader.hpp"
 
 #include <arpa/inet.h>
-#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <linux/if_ether.h>
 #include <linux/if_packet.h>
 #include <net/if.h>
-#include <sched.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <string>
 #include <vector>
 
 #include "gateway/core/config_error.hpp"
+#include "test/fakes/test_netns.hpp"
 
 namespace tgw::sensor {
 namespace {
 
 /// Like QdiscSensorTest: a namespace of its own per test (tgw-PID-counters-N) with a veth pair, a small tbf at
-/// the root of tgwa, entered on the test's thread; removed in TearDown even when the test fails.
+/// the root of tgwa, entered on the test's thread (test::TestNetns); removed even when the test fails.
 class LinkCounterReaderTest : public ::testing::Test {
   protected:
     void SetUp() override {
-        if (geteuid() != 0) {
-            GTEST_SKIP() << "needs root to create network namespaces";
-        }
-        if (!sh("ip netns list")) {
-            GTEST_SKIP() << "`ip netns` is not available";
-        }
-        static int counter = 0;
-        netns = "tgw-" + std::to_string(getpid()) + "-counters-" + std::to_string(++counter);
-        if (!sh("ip netns add " + netns)) {
-            GTEST_SKIP() << "cannot create a network namespace here";
-        }
-        created = true;
-        ASSERT_TRUE(in_netns("ip link add tgwa type veth peer name tgwb"));
-        ASSERT_TRUE(in_netns("ip link set tgwa up"));
-        ASSERT_TRUE(in_netns("ip link set tgwb up"));
         // 20 kbit/s with room for about three 1,000-byte frames: a burst of ten must queue and drop.
-        ASSERT_TRUE(in_netns("tc qdisc add dev tgwa root tbf rate 20kbit burst 1600 limit 3000"));
-
-        original = open("/proc/self/ns/net", O_RDONLY | O_CLOEXEC);
-        ASSERT_GE(original, 0);
-        const int target = open(("/run/netns/" + netns).c_str(), O_RDONLY | O_CLOEXEC);
-        ASSERT_GE(target, 0);
-        const int entered = setns(target, CLONE_NEWNET);
-        close(target);
-        ASSERT_EQ(entered, 0);
+        ASSERT_NO_FATAL_FAILURE(netns_.enter(
+            "counters", {"ip link add tgwa type veth peer name tgwb", "ip link set tgwa up", "ip link set tgwb up",
+                         "tc qdisc add dev tgwa root tbf rate 20kbit burst 1600 limit 3000"}));
     }
 
-    void TearDown() override {
-        if (original >= 0) {
-            EXPECT_EQ(setns(original, CLONE_NEWNET), 0);
-            close(original);
-        }
-        if (created) {
-            EXPECT_TRUE(sh("ip netns del " + netns));
-        }
-    }
-
-    static bool sh(const std::string& command) { return std::system((command + " >/dev/null 2>&1").c_str()) == 0; }
-    bool in_netns(const std::string& command) const { return sh("ip netns exec " + netns + " " + command); }
+    bool in_netns(const std::string& command) const { return netns_.run(command); }
 
     /// Sends `count` broadcast Ethernet frames of `size` bytes out of `interface` through its qdisc.
     static void send_frames(const std::string& interface, int count, std::size_t size) {
@@ -86,9 +52,7 @@ class LinkCounterReaderTest : public ::testing::Test {
         close(fd);
     }
 
-    std::string netns;
-    bool created = false;
-    int original = -1;
+    test::TestNetns netns_;
 };
 
 TEST_F(LinkCounterReaderTest, SeesTransmitDropsAndBacklogOfTheShaper) {

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "gateway/core/config_error.hpp"
+#include "test/fakes/config_error_of.hpp"
 
 namespace tgw::sensor {
 namespace {
@@ -15,13 +16,9 @@ class LinkQualityTableTest : public ::testing::Test {
         std::istringstream in(text);
         return parse_link_quality_table(in, "radio.table");
     }
+    /// The ConfigError message parse() throws, or "<no error>".
     static std::string error_of(const std::string& text) {
-        try {
-            parse(text);
-        } catch (const core::ConfigError& e) {
-            return e.what();
-        }
-        return "<no error>";
+        return test::config_error_of([&] { parse(text); });
     }
 };
 

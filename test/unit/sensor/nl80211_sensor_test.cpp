@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 
 #include "gateway/core/config_error.hpp"
+#include "test/fakes/config_error_of.hpp"
 #include "test/fakes/fake_clock.hpp"
 
 namespace tgw::sensor {
@@ -17,12 +19,7 @@ class Nl80211SensorTest : public ::testing::Test {
     /// The ConfigError message for `construct`, or "<no error>".
     template <typename F>
     static std::string error_of(F&& construct) {
-        try {
-            construct();
-        } catch (const core::ConfigError& e) {
-            return e.what();
-        }
-        return "<no error>";
+        return test::config_error_of(std::forward<F>(construct));
     }
 };
 

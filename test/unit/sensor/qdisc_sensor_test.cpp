@@ -1,67 +1,30 @@
 #include "sensor/qdisc_sensor.hpp"
 
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <sched.h>
-#include <unistd.h>
 
-#include <cstdlib>
 #include <string>
 
 #include "gateway/core/config_error.hpp"
 #include "test/fakes/fake_clock.hpp"
+#include "test/fakes/test_netns.hpp"
 
 namespace tgw::sensor {
 namespace {
 
 /// Each test builds its own network namespace with a veth pair (tgwa, tgwb), a tbf at the root of tgwa, and
-/// enters it on the test's thread so that the sensor's netlink socket sees it. The namespace is named after
-/// the process and the test, and is removed in TearDown even when the test fails.
+/// enters it on the test's thread so that the sensor's netlink socket sees it (test::TestNetns: named after the
+/// process and the test, removed even when the test fails).
 class QdiscSensorTest : public ::testing::Test {
   protected:
     void SetUp() override {
-        if (geteuid() != 0) {
-            GTEST_SKIP() << "needs root to create network namespaces";
-        }
-        if (!sh("ip netns list")) {
-            GTEST_SKIP() << "`ip netns` is not available";
-        }
-        static int counter = 0;
-        netns = "tgw-" + std::to_string(getpid()) + "-qdisc-" + std::to_string(++counter);
-        if (!sh("ip netns add " + netns)) {
-            GTEST_SKIP() << "cannot create a network namespace here";
-        }
-        created = true;
-        ASSERT_TRUE(in_netns("ip link add tgwa type veth peer name tgwb"));
-        ASSERT_TRUE(in_netns("ip link set tgwa up"));
-        ASSERT_TRUE(in_netns("ip link set tgwb up"));
-        ASSERT_TRUE(in_netns("tc qdisc add dev tgwa root tbf rate 20kbit burst 1600 latency 100ms"));
-
-        original = open("/proc/self/ns/net", O_RDONLY | O_CLOEXEC);
-        ASSERT_GE(original, 0);
-        const int target = open(("/run/netns/" + netns).c_str(), O_RDONLY | O_CLOEXEC);
-        ASSERT_GE(target, 0);
-        const int entered = setns(target, CLONE_NEWNET);
-        close(target);
-        ASSERT_EQ(entered, 0);
+        ASSERT_NO_FATAL_FAILURE(netns_.enter(
+            "qdisc", {"ip link add tgwa type veth peer name tgwb", "ip link set tgwa up", "ip link set tgwb up",
+                      "tc qdisc add dev tgwa root tbf rate 20kbit burst 1600 latency 100ms"}));
     }
 
-    void TearDown() override {
-        if (original >= 0) {
-            EXPECT_EQ(setns(original, CLONE_NEWNET), 0);
-            close(original);
-        }
-        if (created) {
-            EXPECT_TRUE(sh("ip netns del " + netns));
-        }
-    }
+    bool in_netns(const std::string& command) const { return netns_.run(command); }
 
-    static bool sh(const std::string& command) { return std::system((command + " >/dev/null 2>&1").c_str()) == 0; }
-    bool in_netns(const std::string& command) const { return sh("ip netns exec " + netns + " " + command); }
-
-    std::string netns;
-    bool created = false;
-    int original = -1;
+    test::TestNetns netns_;
 };
 
 TEST_F(QdiscSensorTest, ReadsTheRateOfTheRootTbf) {

@@ -129,6 +129,17 @@ void Gateway::observe_link_backlog(std::uint64_t bytes) {
     loop_->observe_link_backlog(8u * bytes);
 }
 
+void Gateway::apply_reading(const sensor::RateReading& reading) {
+    set_rate(reading.rate_bps);
+    if (reading.queued_bytes) {
+        observe_link_backlog(*reading.queued_bytes);
+    }
+}
+
+double Gateway::rate_bps() const {
+    return loop_->rate_bps();
+}
+
 void Gateway::set_rate(double rate_bps) {
     loop_->set_rate(rate_bps);
 }

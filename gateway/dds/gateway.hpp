@@ -19,6 +19,7 @@
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/topic_filter.hpp"
 #include "gateway/dds/ttl_resolver.hpp"
+#include "sensor/rate_sensor.hpp"
 
 namespace tgw::log {
 class RobotLog;
@@ -83,6 +84,10 @@ class Gateway {
     void set_rate(double rate_bps);
     /// What the rate sensor sees queued in the link now, in bytes.
     void observe_link_backlog(std::uint64_t bytes);
+    /// A good reading of the rate sensor: its rate, and its view of the link's queue where it has one.
+    void apply_reading(const sensor::RateReading& reading);
+    /// The rate the scheduler budgets with (before its budget fraction).
+    double rate_bps() const;
 
     std::vector<BridgedTopic> topics() const;
     std::optional<BridgedTopic> find_topic(const std::string& name) const;

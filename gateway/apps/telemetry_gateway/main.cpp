@@ -13,6 +13,7 @@
 #include "gateway/core/policy_kind.hpp"
 #include "gateway/dds/gateway.hpp"
 #include "gateway/dds/rate_poller.hpp"
+#include "sensor/guarded_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
 
 namespace {
@@ -78,6 +79,11 @@ int main(int argc, char** argv) {
     std::string policy_name = "ttl";
     double duration_s = 0.0;
     double default_ttl_s = 5.0;
+    // The scheduler's budget fraction is the margin; the rate follows a new reading within one poll.
+    tgw::sensor::GuardConfig guard;
+    guard.margin = 0.0;
+    guard.smoothing = 1.0;
+    double hold_s = tgw::core::to_seconds(guard.hold);
     bool arrival_clock = false;
     app.add_option("--robot-domain", config.robot_domain, "DDS domain of the robot's processes")->capture_default_str();
     app.add_option("--wan-domain", config.wan_domain, "DDS domain towards the base camp")->capture_default_str();
@@ -86,6 +92,12 @@ int main(int argc, char** argv) {
     app.add_option("--wan-interface", config.wan_interface, "interface name or IPv4 address to bind the WAN to");
     app.add_option("--wan-port", config.wan_port, "own WAN metatraffic port (default: Fast DDS's well-known port)");
     app.add_option("--sensor", sensor_spec, "link rate sensor: fixed:BPS, trace:FILE, ...")->capture_default_str();
+    app.add_option("--sensor-hold", hold_s, "seconds a failed sensor's last good rate still stands")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--sensor-floor", guard.floor_bps, "bit/s used once the hold is over, or before any good reading")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("--policy", policy_name, "ttl, edf, paper or fifo")->capture_default_str();
     app.add_option("--budget-fraction", config.scheduler.budget_fraction,
                    "share of the sensed rate the scheduler spends; the rest absorbs discovery traffic")
@@ -124,8 +136,17 @@ int main(int argc, char** argv) {
         config.scheduler.trust_source_clock = !arrival_clock;
         config.default_ttl = tgw::core::from_seconds(default_ttl_s);
 
+        guard.hold = tgw::core::from_seconds(hold_s);
         tgw::core::SystemClock clock;
-        const auto sensor = tgw::sensor::make_sensor(sensor_spec, clock);
+        std::unique_ptr<tgw::sensor::RateSensor> sensor;
+        try {
+            sensor = tgw::sensor::make_guarded_sensor(sensor_spec, guard, clock,
+                                                      [](tgw::sensor::SensorLogLevel, const std::string& message) {
+                                                          std::cerr << "telemetry-gateway: " << message << '\n';
+                                                      });
+        } catch (const ConfigError& e) {
+            throw ConfigError(std::string("--") + e.what());  // the message starts "sensor SPEC: "
+        }
         const tgw::sensor::RateReading first = sensor->read();
         if (first.ok) {
             config.scheduler.initial_rate_bps = first.rate_bps;
@@ -133,13 +154,7 @@ int main(int argc, char** argv) {
 
         tgw::dds::Gateway gateway(config, clock);
         tgw::dds::RatePoller poller(
-            *sensor,
-            [&gateway](const tgw::sensor::RateReading& reading) {
-                gateway.set_rate(reading.rate_bps);
-                if (reading.queued_bytes) {
-                    gateway.observe_link_backlog(*reading.queued_bytes);
-                }
-            },
+            *sensor, [&gateway](const tgw::sensor::RateReading& reading) { gateway.apply_reading(reading); },
             SENSOR_POLL_INTERVAL);
         poller.start();
         std::cerr << "telemetry-gateway: robot domain " << config.robot_domain << " -> WAN domain " << config.wan_domain

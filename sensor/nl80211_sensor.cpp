@@ -29,12 +29,6 @@ struct CbPut {
     void operator()(nl_cb* cb) const { nl_cb_put(cb); }
 };
 
-RateReading failure(std::string error) {
-    RateReading reading;
-    reading.error = std::move(error);
-    return reading;
-}
-
 /// nl80211 answers a station dump on a netdev without a wireless device with ENODEV (or EOPNOTSUPP).
 bool means_not_wireless(int nl_error) {
     return nl_error == -NLE_OBJ_NOTFOUND || nl_error == -NLE_NODEV || nl_error == -NLE_OPNOTSUPP;
@@ -138,25 +132,25 @@ RateReading Nl80211Sensor::read() {
         if (!socket_) {
             if (auto error = connect(); !error.empty()) {
                 socket_.reset();
-                return failure(error);
+                return failed_reading(error);
             }
         }
         const unsigned ifindex = if_nametoindex(interface_.c_str());
         if (ifindex == 0)
-            return failure("no interface " + interface_);
+            return failed_reading("no interface " + interface_);
         const Dump dump = dump_stations(static_cast<int>(ifindex));
         if (dump.nl_error < 0) {
             // A reply may still be on its way and would confuse the next dump: start afresh next time.
             socket_.reset();
             if (means_not_wireless(dump.nl_error))
-                return failure(interface_ + " is not a wireless interface now (" + nl_geterror(dump.nl_error) + ")");
-            return failure("cannot list the stations of " + interface_ + ": " + nl_geterror(dump.nl_error));
+                return failed_reading(interface_ + " is not a wireless interface now (" + nl_geterror(dump.nl_error) + ")");
+            return failed_reading("cannot list the stations of " + interface_ + ": " + nl_geterror(dump.nl_error));
         }
         if (!dump.parse_error.empty())
-            return failure("bad station message from nl80211 on " + interface_ + ": " + dump.parse_error);
+            return failed_reading("bad station message from nl80211 on " + interface_ + ": " + dump.parse_error);
         return station_reading(dump.stations, peer_, interface_);
     } catch (const std::exception& e) {  // allocation only; never let a poll throw
-        return failure(e.what());
+        return failed_reading(e.what());
     }
 }
 

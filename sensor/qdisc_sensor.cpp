@@ -19,12 +19,6 @@ namespace tgw::sensor {
 
 namespace {
 
-RateReading failure(std::string error) {
-    RateReading reading;
-    reading.error = std::move(error);
-    return reading;
-}
-
 RateReading success(double rate_bps, std::string detail) {
     RateReading reading;
     reading.ok = true;
@@ -43,7 +37,7 @@ std::string handle_text(std::uint32_t handle) {
 RateReading read_htb(nl_sock* socket, const std::string& interface, int ifindex, std::uint32_t qdisc_handle) {
     nl_cache* raw = nullptr;
     if (const int err = rtnl_class_alloc_cache(socket, ifindex, &raw); err < 0)
-        return failure("cannot list the htb classes of " + interface + ": " + nl_geterror(err));
+        return failed_reading("cannot list the htb classes of " + interface + ": " + nl_geterror(err));
     NlCachePtr classes(raw);
     std::uint64_t total_bytes_per_s = 0;
     std::string roots;
@@ -60,7 +54,7 @@ RateReading read_htb(nl_sock* socket, const std::string& interface, int ifindex,
         roots += (roots.empty() ? "" : ",") + handle_text(rtnl_tc_get_handle(TC_CAST(cls)));
     }
     if (roots.empty())
-        return failure("htb at the root of " + interface + " has no top-level class with a rate");
+        return failed_reading("htb at the root of " + interface + " has no top-level class with a rate");
     return success(8.0 * static_cast<double>(total_bytes_per_s), "htb class " + roots);
 }
 
@@ -68,28 +62,28 @@ RateReading read_htb(nl_sock* socket, const std::string& interface, int ifindex,
 RateReading read_root_shaper(nl_sock* socket, const std::string& interface) {
     rtnl_link* raw_link = nullptr;
     if (const int err = rtnl_link_get_kernel(socket, 0, interface.c_str(), &raw_link); err < 0)
-        return failure("no interface " + interface + ": " + nl_geterror(err));
+        return failed_reading("no interface " + interface + ": " + nl_geterror(err));
     const int ifindex = rtnl_link_get_ifindex(RtnlLinkPtr(raw_link).get());
 
     nl_cache* raw_cache = nullptr;
     if (const int err = rtnl_qdisc_alloc_cache(socket, &raw_cache); err < 0)
-        return failure("cannot list the qdiscs of " + interface + ": " + nl_geterror(err));
+        return failed_reading("cannot list the qdiscs of " + interface + ": " + nl_geterror(err));
     NlCachePtr qdiscs(raw_cache);
     RtnlQdiscPtr root(rtnl_qdisc_get_by_parent(qdiscs.get(), ifindex, TC_H_ROOT));
     if (!root)
-        return failure(interface + " has no root qdisc, so no shaper");
+        return failed_reading(interface + " has no root qdisc, so no shaper");
     const char* kind = rtnl_tc_get_kind(TC_CAST(root.get()));
     const std::string kind_name = kind ? kind : "";
     RateReading reading;
     if (kind_name == "tbf") {
         const int bytes_per_s = rtnl_qdisc_tbf_get_rate(root.get());
         if (bytes_per_s < 0)
-            return failure("tbf at the root of " + interface + " reports no rate");
+            return failed_reading("tbf at the root of " + interface + " reports no rate");
         reading = success(8.0 * bytes_per_s, "tbf");
     } else if (kind_name == "htb") {
         reading = read_htb(socket, interface, ifindex, rtnl_tc_get_handle(TC_CAST(root.get())));
     } else {
-        return failure("the root qdisc of " + interface + " is " + (kind_name.empty() ? "unnamed" : kind_name) +
+        return failed_reading("the root qdisc of " + interface + " is " + (kind_name.empty() ? "unnamed" : kind_name) +
                        ", not a shaper this sensor reads (tbf, htb)");
     }
     if (reading.ok) {
@@ -119,7 +113,7 @@ RateReading QdiscSensor::read() {
     try {
         return read_root_shaper(socket_.get(), interface_);
     } catch (const std::exception& e) {  // allocation only; never let a poll throw
-        return failure(e.what());
+        return failed_reading(e.what());
     }
 }
 

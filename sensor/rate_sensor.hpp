@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "gateway/core/clock.hpp"
 
@@ -19,6 +20,13 @@ struct RateReading {
     /// gateway did not schedule (discovery) or that the link did not carry as fast as the rate says.
     std::optional<std::uint64_t> queued_bytes;
 };
+
+/// A reading that failed, saying why.
+inline RateReading failed_reading(std::string error) {
+    RateReading reading;
+    reading.error = std::move(error);
+    return reading;
+}
 
 /// Measures the data rate the link to the base camp can carry now. Polled by the gateway and by tm-sense.
 class RateSensor {

@@ -13,12 +13,6 @@ namespace tgw::sensor {
 
 namespace {
 
-RateReading failure(std::string error) {
-    RateReading reading;
-    reading.error = std::move(error);
-    return reading;
-}
-
 std::string number_text(double value) {
     std::ostringstream out;
     out << value;
@@ -49,10 +43,10 @@ RateReading WirelessSensor::read() {
     try {
         std::ifstream in(proc_path_);
         if (!in)
-            return failure("cannot read " + proc_path_ + ": " + std::strerror(errno));
+            return failed_reading("cannot read " + proc_path_ + ": " + std::strerror(errno));
         const WirelessTable listed = parse_proc_net_wireless(in);
         if (!listed.ok)
-            return failure(proc_path_ + ": " + listed.error);
+            return failed_reading(proc_path_ + ": " + listed.error);
         for (const WirelessStatus& status : listed.interfaces) {
             if (status.interface != interface_)
                 continue;
@@ -60,7 +54,7 @@ RateReading WirelessSensor::read() {
                 "quality " + number_text(status.link_quality) + ", signal " + number_text(status.level_dbm) + " dBm";
             const auto rate = table_.rate_for(status.link_quality);
             if (!rate) {
-                RateReading reading = failure("link quality " + number_text(status.link_quality) + " of " + interface_ +
+                RateReading reading = failed_reading("link quality " + number_text(status.link_quality) + " of " + interface_ +
                                               " is below the table's lowest row");
                 reading.detail = std::move(detail);
                 return reading;
@@ -71,9 +65,9 @@ RateReading WirelessSensor::read() {
             reading.detail = std::move(detail);
             return reading;
         }
-        return failure(proc_path_ + " no longer lists " + interface_);
+        return failed_reading(proc_path_ + " no longer lists " + interface_);
     } catch (const std::exception& e) {  // allocation only; never let a poll throw
-        return failure(e.what());
+        return failed_reading(e.what());
     }
 }
 

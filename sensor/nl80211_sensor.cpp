@@ -143,7 +143,8 @@ RateReading Nl80211Sensor::read() {
             // A reply may still be on its way and would confuse the next dump: start afresh next time.
             socket_.reset();
             if (means_not_wireless(dump.nl_error))
-                return failed_reading(interface_ + " is not a wireless interface now (" + nl_geterror(dump.nl_error) + ")");
+                return failed_reading(interface_ + " is not a wireless interface now (" + nl_geterror(dump.nl_error) +
+                                      ")");
             return failed_reading("cannot list the stations of " + interface_ + ": " + nl_geterror(dump.nl_error));
         }
         if (!dump.parse_error.empty())

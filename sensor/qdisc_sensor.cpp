@@ -84,7 +84,7 @@ RateReading read_root_shaper(nl_sock* socket, const std::string& interface) {
         reading = read_htb(socket, interface, ifindex, rtnl_tc_get_handle(TC_CAST(root.get())));
     } else {
         return failed_reading("the root qdisc of " + interface + " is " + (kind_name.empty() ? "unnamed" : kind_name) +
-                       ", not a shaper this sensor reads (tbf, htb)");
+                              ", not a shaper this sensor reads (tbf, htb)");
     }
     if (reading.ok) {
         reading.queued_bytes = rtnl_tc_get_stat(TC_CAST(root.get()), RTNL_TC_BACKLOG);

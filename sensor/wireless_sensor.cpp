@@ -54,8 +54,8 @@ RateReading WirelessSensor::read() {
                 "quality " + number_text(status.link_quality) + ", signal " + number_text(status.level_dbm) + " dBm";
             const auto rate = table_.rate_for(status.link_quality);
             if (!rate) {
-                RateReading reading = failed_reading("link quality " + number_text(status.link_quality) + " of " + interface_ +
-                                              " is below the table's lowest row");
+                RateReading reading = failed_reading("link quality " + number_text(status.link_quality) + " of " +
+                                                     interface_ + " is below the table's lowest row");
                 reading.detail = std::move(detail);
                 return reading;
             }

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "gateway/core/config_error.hpp"
+#include "sensor/delivered_rate_check.hpp"
 #include "sensor/guarded_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
 
@@ -49,6 +50,9 @@ int main(int argc, char** argv) {
     app.add_option("--smoothing", guard_config.smoothing, "with --guard: weight of a rising reading, (0, 1]")
         ->capture_default_str();
     app.add_option("--margin", guard_config.margin, "with --guard: fraction taken off, [0, 1)")->capture_default_str();
+    std::string delivered_interface;
+    app.add_option("--delivered-check", delivered_interface,
+                   "compare the readings with what IFACE's qdisc really delivers, capping them as the gateway does");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -66,6 +70,19 @@ int main(int argc, char** argv) {
                                                       });
         } else {
             sensor = tgw::sensor::make_sensor(spec, clock);
+        }
+        if (!delivered_interface.empty()) {
+            tgw::sensor::DeliveredRateSources sources;
+            try {
+                sources = tgw::sensor::kernel_sources(delivered_interface, {});
+            } catch (const tgw::core::ConfigError& e) {
+                throw tgw::core::ConfigError(std::string("delivered-check: ") + e.what());
+            }
+            sensor = std::make_unique<tgw::sensor::DeliveredRateCheck>(
+                std::move(sensor), std::move(sources), tgw::sensor::DeliveredRateConfig{}, clock,
+                [](tgw::sensor::SensorLogLevel, const std::string& message) {
+                    std::cerr << "tm-sense: " << message << std::endl;
+                });
         }
     } catch (const tgw::core::ConfigError& e) {
         std::cerr << "tm-sense: --" << e.what() << "\n";  // the message starts "sensor SPEC: "

@@ -23,6 +23,26 @@ bool is_ipv4(const std::string& text) {
     return inet_pton(AF_INET, text.c_str(), &addr) == 1;
 }
 
+using IfaddrsPtr = std::unique_ptr<ifaddrs, void (*)(ifaddrs*)>;
+
+IfaddrsPtr list_interfaces(const std::string& name_or_address) {
+    ifaddrs* list = nullptr;
+    if (getifaddrs(&list) != 0) {
+        throw core::ConfigError("--wan-interface '" + name_or_address + "': cannot list network interfaces");
+    }
+    return IfaddrsPtr(list, freeifaddrs);
+}
+
+std::string ipv4_text(const sockaddr* address) {
+    char buf[INET_ADDRSTRLEN] = {};
+    inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in*>(address)->sin_addr, buf, sizeof buf);
+    return buf;
+}
+
+bool has_ipv4(const ifaddrs* it) {
+    return it->ifa_name != nullptr && it->ifa_addr != nullptr && it->ifa_addr->sa_family == AF_INET;
+}
+
 }  // namespace
 
 std::uint16_t metatraffic_unicast_port(int domain, int participant_id) {
@@ -60,26 +80,32 @@ std::string resolve_interface_address(const std::string& name_or_address) {
     if (is_ipv4(name_or_address)) {
         return name_or_address;
     }
-    ifaddrs* list = nullptr;
-    if (getifaddrs(&list) != 0) {
-        throw core::ConfigError("--wan-interface '" + name_or_address + "': cannot list network interfaces");
-    }
-    std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> guard(list, freeifaddrs);
+    const IfaddrsPtr list = list_interfaces(name_or_address);
     bool exists = false;
-    for (const ifaddrs* it = list; it != nullptr; it = it->ifa_next) {
+    for (const ifaddrs* it = list.get(); it != nullptr; it = it->ifa_next) {
         if (it->ifa_name == nullptr || name_or_address != it->ifa_name) {
             continue;
         }
         exists = true;
-        if (it->ifa_addr != nullptr && it->ifa_addr->sa_family == AF_INET) {
-            char buf[INET_ADDRSTRLEN] = {};
-            const auto* sin = reinterpret_cast<const sockaddr_in*>(it->ifa_addr);
-            inet_ntop(AF_INET, &sin->sin_addr, buf, sizeof buf);
-            return buf;
+        if (has_ipv4(it)) {
+            return ipv4_text(it->ifa_addr);
         }
     }
     throw core::ConfigError("--wan-interface '" + name_or_address + "': " +
                             (exists ? "the interface has no IPv4 address" : "no such interface or IPv4 address"));
+}
+
+std::string resolve_interface_name(const std::string& name_or_address) {
+    if (!is_ipv4(name_or_address)) {
+        return name_or_address;
+    }
+    const IfaddrsPtr list = list_interfaces(name_or_address);
+    for (const ifaddrs* it = list.get(); it != nullptr; it = it->ifa_next) {
+        if (has_ipv4(it) && ipv4_text(it->ifa_addr) == name_or_address) {
+            return it->ifa_name;
+        }
+    }
+    throw core::ConfigError("--wan-interface '" + name_or_address + "': no interface has this address");
 }
 
 }  // namespace tgw::dds

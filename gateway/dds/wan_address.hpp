@@ -23,4 +23,8 @@ WanPeer parse_wan_peer(const std::string& text, int domain);
 /// an interface name is looked up. Throws core::ConfigError naming the flag when neither works.
 std::string resolve_interface_address(const std::string& name_or_address);
 
+/// --wan-interface as an interface name: a name is returned as is, an address is looked up. Throws
+/// core::ConfigError naming the flag when no interface has the address.
+std::string resolve_interface_name(const std::string& name_or_address);
+
 }  // namespace tgw::dds

@@ -5,11 +5,9 @@
 set -euo pipefail
 BIN="${1:?usage: gateway_demo_test.sh BIN_DIR}"
 cd "$(dirname "$0")/../.."
-
-if [ "$(id -u)" -ne 0 ] || ! command -v ip >/dev/null; then
-    echo "SKIP: needs root and iproute2 for network namespaces"
-    exit 77
-fi
+# shellcheck source=test/system/system_test_lib.sh
+source test/system/system_test_lib.sh
+require_netns
 
 out="$(mktemp "${TMPDIR:-/tmp}/tgw-demo-test.XXXXXX")"
 trap 'rm -f "$out"' EXIT
@@ -25,15 +23,6 @@ control="$(table '-- control')"
 
 field() {  # $1: table, $2: topic, $3: column
     awk -v t="$2" -v c="$3" '$1 == t { print $c }' <<<"$1"
-}
-fail=0
-check() {  # $1: description, $2: awk condition on a and b
-    if awk -v a="$3" -v b="${4:-0}" "BEGIN { exit !($2) }"; then
-        echo "ok: $1"
-    else
-        echo "FAIL: $1 (a=$3 b=${4:-})"
-        fail=1
-    fi
 }
 a_received="$(field "$gateway" telemetry/A 4)"
 a_on_time="$(field "$gateway" telemetry/A 5)"

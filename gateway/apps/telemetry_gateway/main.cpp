@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <ctime>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,8 @@
 #include "gateway/core/policy_kind.hpp"
 #include "gateway/dds/gateway.hpp"
 #include "gateway/dds/rate_poller.hpp"
+#include "gateway/dds/wan_address.hpp"
+#include "sensor/delivered_rate_check.hpp"
 #include "sensor/guarded_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
 
@@ -85,6 +88,8 @@ int main(int argc, char** argv) {
     guard.smoothing = 1.0;
     double hold_s = tgw::core::to_seconds(guard.hold);
     bool arrival_clock = false;
+    bool delivered_check = false;
+    std::string delivered_interface;
     app.add_option("--robot-domain", config.robot_domain, "DDS domain of the robot's processes")->capture_default_str();
     app.add_option("--wan-domain", config.wan_domain, "DDS domain towards the base camp")->capture_default_str();
     app.add_option("--wan-peer", config.wan_peers,
@@ -98,6 +103,12 @@ int main(int argc, char** argv) {
     app.add_option("--sensor-floor", guard.floor_bps, "bit/s used once the hold is over, or before any good reading")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    auto* check = app.add_flag("--delivered-check", delivered_check,
+                               "cap the budget below the sensor's rate while the WAN interface's qdisc drops or "
+                               "queues (needs --wan-interface or --delivered-interface)");
+    app.add_option("--delivered-interface", delivered_interface,
+                   "interface whose counters the delivered-rate check reads (default: --wan-interface)")
+        ->needs(check);
     app.add_option("--policy", policy_name, "ttl, edf, paper or fifo")->capture_default_str();
     app.add_option("--budget-fraction", config.scheduler.budget_fraction,
                    "share of the sensed rate the scheduler spends; the rest absorbs discovery traffic")
@@ -138,14 +149,30 @@ int main(int argc, char** argv) {
 
         guard.hold = tgw::core::from_seconds(hold_s);
         tgw::core::SystemClock clock;
+        const tgw::sensor::SensorLog sensor_log = [](tgw::sensor::SensorLogLevel, const std::string& message) {
+            std::cerr << "telemetry-gateway: " << message << '\n';
+        };
         std::unique_ptr<tgw::sensor::RateSensor> sensor;
         try {
-            sensor = tgw::sensor::make_guarded_sensor(sensor_spec, guard, clock,
-                                                      [](tgw::sensor::SensorLogLevel, const std::string& message) {
-                                                          std::cerr << "telemetry-gateway: " << message << '\n';
-                                                      });
+            sensor = tgw::sensor::make_guarded_sensor(sensor_spec, guard, clock, sensor_log);
         } catch (const ConfigError& e) {
             throw ConfigError(std::string("--") + e.what());  // the message starts "sensor SPEC: "
+        }
+        if (delivered_check && delivered_interface.empty()) {
+            if (config.wan_interface.empty()) {
+                throw ConfigError(
+                    "--delivered-check: name the interface with --wan-interface or --delivered-interface");
+            }
+            delivered_interface = tgw::dds::resolve_interface_name(config.wan_interface);
+        }
+        // Checked before the participants start, so a wrong interface is a start-up error.
+        std::optional<tgw::sensor::DeliveredRateSources> delivered_sources;
+        if (delivered_check) {
+            try {
+                delivered_sources = tgw::sensor::kernel_sources(delivered_interface, {});
+            } catch (const ConfigError& e) {
+                throw ConfigError(std::string("--delivered-check: ") + e.what());
+            }
         }
         const tgw::sensor::RateReading first = sensor->read();
         if (first.ok) {
@@ -153,6 +180,12 @@ int main(int argc, char** argv) {
         }
 
         tgw::dds::Gateway gateway(config, clock);
+        if (delivered_sources) {
+            delivered_sources->sent_bytes = [&gateway] { return gateway.total_counters().forwarded_wire_bytes; };
+            sensor = std::make_unique<tgw::sensor::DeliveredRateCheck>(std::move(sensor), std::move(*delivered_sources),
+                                                                       tgw::sensor::DeliveredRateConfig{}, clock,
+                                                                       sensor_log);
+        }
         tgw::dds::RatePoller poller(
             *sensor, [&gateway](const tgw::sensor::RateReading& reading) { gateway.apply_reading(reading); },
             SENSOR_POLL_INTERVAL);

@@ -31,6 +31,8 @@ std::string DeliveredRateConfig::validate() const {
         return "min_cap_fraction must be in (0, 1]";
     if (!(min_utilisation >= 0.0 && min_utilisation <= 1.0))
         return "min_utilisation must be in [0, 1]";
+    if (delivered_window <= core::Duration::zero())
+        return "delivered_window must be above 0";
     return {};
 }
 
@@ -50,8 +52,10 @@ double DeliveredRateEstimator::update(const LinkCounters& counters, double claim
         return 0.0;
     if (!previous_ || any_went_back(counters, previous_->counters) || now <= previous_->at) {
         // A first sample, or counters that reset: only a baseline to measure the next interval from.
-        if (!previous_ || now > previous_->at)
+        if (!previous_ || now > previous_->at) {
             previous_ = Sample{now, counters};
+            window_start_ = previous_;
+        }
         return budget(claimed_bps);
     }
     const Sample before = *previous_;
@@ -60,7 +64,11 @@ double DeliveredRateEstimator::update(const LinkCounters& counters, double claim
     const double sent_bps = BITS_PER_BYTE *
                             static_cast<double>(counters.gateway_sent_bytes - before.counters.gateway_sent_bytes) /
                             interval_s;
-    delivered_bps_ = BITS_PER_BYTE * static_cast<double>(counters.tx_bytes - before.counters.tx_bytes) / interval_s;
+    if (now - window_start_->at >= config_.delivered_window) {
+        delivered_bps_ = BITS_PER_BYTE * static_cast<double>(counters.tx_bytes - window_start_->counters.tx_bytes) /
+                         core::to_seconds(now - window_start_->at);
+        window_start_ = previous_;
+    }
 
     const double effective_bps = budget(claimed_bps);
     const double drain_bytes = effective_bps / BITS_PER_BYTE * core::to_seconds(config_.max_queue_delay);
@@ -72,7 +80,9 @@ double DeliveredRateEstimator::update(const LinkCounters& counters, double claim
     if (dropped || (long_queue && growing)) {
         verdict_ = LinkVerdict::congested;
         if (!last_decrease_ || now - *last_decrease_ >= config_.decrease_interval) {
-            cap_bps_ = std::max(config_.decrease_factor * effective_bps, config_.min_cap_fraction * claimed_bps);
+            const double carried_bps = config_.decrease_factor * delivered_bps_.value_or(0.0);
+            cap_bps_ = std::min(effective_bps, std::max({config_.decrease_factor * effective_bps, carried_bps,
+                                                         config_.min_cap_fraction * claimed_bps}));
             last_decrease_ = now;
         }
     } else if (long_queue) {

@@ -34,6 +34,8 @@ struct DeliveredRateConfig {
     double min_cap_fraction = 0.1;
     /// Raise the cap only when the gateway sent at least this fraction of it: an idle link proves nothing.
     double min_utilisation = 0.5;
+    /// The delivered rate is measured over windows at least this long: shorter ones see a shaper's bursts.
+    core::Duration delivered_window = std::chrono::seconds(1);
 
     /// "" when usable, else what is wrong, naming the field.
     std::string validate() const;
@@ -49,7 +51,10 @@ enum class LinkVerdict {
 /// Closes the loop over a rate sensor: from periodic samples of the gateway's and the kernel's counters it
 /// decides whether the link delivers what the sensor claims and, when it does not, caps the budget below the
 /// claim (multiplicative decrease while drops or backlog persist, additive increase once they stop, the cap
-/// lifted once it reaches the claim). Pure logic on the injected clock; the counters come from the caller.
+/// lifted once it reaches the claim). A cut never goes below decrease_factor times what the link was last seen to
+/// deliver: a link that drops while it carries 20 kbit/s can carry about that much, and persistent congestion
+/// that someone else causes must not drive the budget to the floor. Pure logic on the injected clock; the
+/// counters come from the caller.
 class DeliveredRateEstimator {
   public:
     /// Throws core::ConfigError when `config` is invalid. `clock` must outlive the estimator.
@@ -62,7 +67,7 @@ class DeliveredRateEstimator {
 
     /// The cap over the sensor's reading; nullopt when the link delivers what the sensor says.
     std::optional<double> cap_bps() const { return cap_bps_; }
-    /// What the interface transmitted over the last interval, bit/s; nullopt before two samples.
+    /// What the interface transmitted over the last full delivered_window, bit/s; nullopt before one.
     std::optional<double> delivered_bps() const { return delivered_bps_; }
     LinkVerdict verdict() const { return verdict_; }
 
@@ -77,6 +82,7 @@ class DeliveredRateEstimator {
     DeliveredRateConfig config_;
     const core::Clock& clock_;
     std::optional<Sample> previous_;
+    std::optional<Sample> window_start_;
     std::optional<double> cap_bps_;
     std::optional<double> delivered_bps_;
     std::optional<core::SteadyTime> last_decrease_;

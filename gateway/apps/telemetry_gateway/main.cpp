@@ -103,6 +103,12 @@ int main(int argc, char** argv) {
     app.add_option("--sensor-floor", guard.floor_bps, "bit/s used once the hold is over, or before any good reading")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    app.add_option("--sensor-smoothing", guard.smoothing,
+                   "weight of a rising reading in the sensor's average, (0, 1]; 1 follows at once")
+        ->capture_default_str();
+    app.add_option("--sensor-margin", guard.margin,
+                   "fraction taken off the sensor's rate, [0, 1); the budget fraction is a margin already")
+        ->capture_default_str();
     auto* check = app.add_flag("--delivered-check", delivered_check,
                                "cap the budget below the sensor's rate while the WAN interface's qdisc drops or "
                                "queues (needs --wan-interface or --delivered-interface)");
@@ -148,6 +154,12 @@ int main(int argc, char** argv) {
         config.default_ttl = tgw::core::from_seconds(default_ttl_s);
 
         guard.hold = tgw::core::from_seconds(hold_s);
+        if (!(guard.smoothing > 0.0 && guard.smoothing <= 1.0)) {
+            throw ConfigError("--sensor-smoothing " + std::to_string(guard.smoothing) + ": must be in (0, 1]");
+        }
+        if (!(guard.margin >= 0.0 && guard.margin < 1.0)) {
+            throw ConfigError("--sensor-margin " + std::to_string(guard.margin) + ": must be in [0, 1)");
+        }
         tgw::core::SystemClock clock;
         const tgw::sensor::SensorLog sensor_log = [](tgw::sensor::SensorLogLevel, const std::string& message) {
             std::cerr << "telemetry-gateway: " << message << '\n';

@@ -90,6 +90,25 @@ TEST_F(DeliveredRateEstimatorTest, KeepsCuttingWhileDropsPersist) {
     EXPECT_DOUBLE_EQ(budget, 0.8 * 0.8 * 0.8 * CLAIM);
 }
 
+TEST_F(DeliveredRateEstimatorTest, PersistentCongestionStopsAtWhatTheLinkCarries) {
+    // Someone else keeps the link full: it carries 20,000 bit/s and drops every second, whatever the gateway does.
+    sut.update(counters, CLAIM);
+    double budget = CLAIM;
+    for (int i = 0; i < 10; ++i)
+        budget = step(2'500, 2'500, 4, 2'000);
+    EXPECT_DOUBLE_EQ(budget, 0.8 * 20'000.0);  // 32,000, 25,600, 20,480, 16,384, then 80 % of the 20,000 carried
+}
+
+TEST_F(DeliveredRateEstimatorTest, MeasuresTheDeliveredRateOverAWholeWindow) {
+    sut.update(counters, CLAIM);
+    // A shaper passes one 1,210 B frame in a 100 ms poll and nothing in the next nine: 9,680 bit/s, not 96,800.
+    step(1'210, 1'210, 0, 0, milliseconds(100));
+    EXPECT_FALSE(sut.delivered_bps());
+    for (int i = 0; i < 9; ++i)
+        step(0, 0, 0, 0, milliseconds(100));
+    EXPECT_NEAR(sut.delivered_bps().value(), 9'680.0, 1e-6);
+}
+
 TEST_F(DeliveredRateEstimatorTest, NeverCutsBelowTheMinimumFraction) {
     sut.update(counters, CLAIM);
     double budget = CLAIM;

@@ -97,8 +97,8 @@ void DeliveredRateCheck::note_cap(double claimed_bps) {
                                          bps_text(claimed_bps) + " (it drops or queues); budget capped at " +
                                          bps_text(*estimator_.cap_bps()));
     } else {
-        log(SensorLogLevel::info,
-            "delivered-rate check: the link carries the sensor's " + bps_text(claimed_bps) + " again; cap lifted");
+        log(SensorLogLevel::info, "delivered-rate check: no drops or long queue at up to the sensor's " +
+                                      bps_text(claimed_bps) + "; cap lifted");
     }
 }
 

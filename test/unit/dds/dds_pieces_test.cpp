@@ -77,6 +77,12 @@ TEST(WanAddressTest, InterfaceNameResolvesToItsAddress) {
     EXPECT_THROW(resolve_interface_address("no-such-if0"), core::ConfigError);
 }
 
+TEST(WanAddressTest, ResolvesAnInterfaceNameFromItsAddress) {
+    EXPECT_EQ(resolve_interface_name("lo"), "lo");
+    EXPECT_EQ(resolve_interface_name("127.0.0.1"), "lo");
+    EXPECT_THROW(resolve_interface_name("192.0.2.77"), core::ConfigError);  // TEST-NET-1: on no interface here
+}
+
 TEST(PassthroughTypeTest, SerializesThePayloadUntouched) {
     PassthroughType sut("any::Type", false);
     PassthroughData in;

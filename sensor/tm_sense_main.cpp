@@ -7,6 +7,7 @@
 #include <iostream>
 #include <thread>
 
+#include "gateway/apps/cli_checks.hpp"
 #include "gateway/core/config_error.hpp"
 #include "sensor/delivered_rate_check.hpp"
 #include "sensor/guarded_sensor.hpp"
@@ -36,8 +37,8 @@ int main(int argc, char** argv) {
     app.add_option("--sensor", spec,
                    "fixed:BPS, trace:FILE, qdisc:IFACE, nl80211:IFACE[:PEER_MAC], wireless:IFACE[:table=FILE]")
         ->required();
-    app.add_option("--interval", interval_ms, "milliseconds between readings")->check(CLI::PositiveNumber);
-    app.add_option("--count", count, "readings to print, 0 = until interrupted")->check(CLI::NonNegativeNumber);
+    app.add_option("--interval", interval_ms, "milliseconds between readings")->check(tgw::cli::positive());
+    app.add_option("--count", count, "readings to print, 0 = until interrupted")->check(tgw::cli::non_negative());
     // The guard the gateway can put around its sensor, to see what the budget would get.
     bool guard = false;
     tgw::sensor::GuardConfig guard_config;

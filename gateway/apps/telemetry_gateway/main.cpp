@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "gateway/apps/cli_checks.hpp"
 #include "gateway/core/config_error.hpp"
 #include "gateway/core/policy_kind.hpp"
 #include "gateway/dds/gateway.hpp"
@@ -98,10 +99,10 @@ int main(int argc, char** argv) {
     app.add_option("--wan-port", config.wan_port, "own WAN metatraffic port (default: Fast DDS's well-known port)");
     app.add_option("--sensor", sensor_spec, "link rate sensor: fixed:BPS, trace:FILE, ...")->capture_default_str();
     app.add_option("--sensor-hold", hold_s, "seconds a failed sensor's last good rate still stands")
-        ->check(CLI::NonNegativeNumber)
+        ->check(tgw::cli::non_negative())
         ->capture_default_str();
     app.add_option("--sensor-floor", guard.floor_bps, "bit/s used once the hold is over, or before any good reading")
-        ->check(CLI::PositiveNumber)
+        ->check(tgw::cli::positive())
         ->capture_default_str();
     app.add_option("--sensor-smoothing", guard.smoothing,
                    "weight of a rising reading in the sensor's average, (0, 1]; 1 follows at once")
@@ -118,16 +119,21 @@ int main(int argc, char** argv) {
     app.add_option("--policy", policy_name, "ttl, edf, paper or fifo")->capture_default_str();
     app.add_option("--budget-fraction", config.scheduler.budget_fraction,
                    "share of the sensed rate the scheduler spends; the rest absorbs discovery traffic")
-        ->check(CLI::Range(0.01, 1.0))
+        ->check(tgw::cli::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"))
+        ->capture_default_str();
+    double queue_mib = static_cast<double>(config.scheduler.memory_cap_bytes) / (1 << 20);
+    app.add_option("--queue-memory", queue_mib,
+                   "MiB the queue may hold (payloads and bookkeeping); past it the least urgent sample goes to the log")
+        ->check(tgw::cli::positive())
         ->capture_default_str();
     app.add_option("--qos", config.qos_file, "Fast DDS XML profiles (data_writer profiles named after topics)");
     app.add_option("--log", config.log_file, "on-robot SQLite log of samples not sent");
     app.add_option("--allow", config.allow, "bridge only topics matching this glob; repeatable");
     app.add_option("--deny", config.deny, "never bridge topics matching this glob; repeatable, wins over --allow");
     app.add_option("--duration", duration_s, "seconds to run (default: until SIGINT/SIGTERM)")
-        ->check(CLI::PositiveNumber);
+        ->check(tgw::cli::positive());
     app.add_option("--default-ttl", default_ttl_s, "TTL in seconds of topics with no profile or Lifespan")
-        ->check(CLI::PositiveNumber)
+        ->check(tgw::cli::positive())
         ->capture_default_str();
     auto* trust = app.add_flag("--trust-source-clock", "deadlines from the publisher's source timestamp (default)");
     app.add_flag("--arrival-clock", arrival_clock, "deadlines from the arrival at the gateway")->excludes(trust);
@@ -152,6 +158,7 @@ int main(int argc, char** argv) {
         config.scheduler.policy = *policy;
         config.scheduler.trust_source_clock = !arrival_clock;
         config.default_ttl = tgw::core::from_seconds(default_ttl_s);
+        config.scheduler.memory_cap_bytes = static_cast<std::size_t>(queue_mib * (1 << 20));
 
         guard.hold = tgw::core::from_seconds(hold_s);
         if (!(guard.smoothing > 0.0 && guard.smoothing <= 1.0)) {

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <string>
 
+#include "gateway/apps/cli_checks.hpp"
 #include "gateway/apps/tm_robot_sim/paper_publisher.hpp"
 #include "gateway/apps/tm_robot_sim/workload_file.hpp"
 #include "gateway/core/config_error.hpp"
@@ -30,15 +31,16 @@ int main(int argc, char** argv) {
     double linger_s = 1.0;
     double wait_match_s = 0.0;
     tgw::basecamp::PeerTransport transport;
-    app.add_option("--domain", domain, "DDS domain id to publish on")->check(CLI::Range(0, 232));
+    app.add_option("--domain", domain, "DDS domain id to publish on")
+        ->check(tgw::cli::number_in(0, 232, "a domain id from 0 to 232", "IN [0, 232]"));
     app.add_option("--workload", workload, "paper, or a file of lines 'TYPE TOPIC DATA_BYTES TTL_S [RATE_HZ]'");
-    app.add_option("--rate-hz", rate_hz, "publications per second of each stream")->check(CLI::PositiveNumber);
-    app.add_option("--duration", duration_s, "seconds of publishing")->check(CLI::PositiveNumber);
+    app.add_option("--rate-hz", rate_hz, "publications per second of each stream")->check(tgw::cli::positive());
+    app.add_option("--duration", duration_s, "seconds of publishing")->check(tgw::cli::positive());
     app.add_option("--linger", linger_s, "seconds to wait at the end for readers to acknowledge")
-        ->check(CLI::NonNegativeNumber);
+        ->check(tgw::cli::non_negative());
     app.add_option("--wait-match", wait_match_s,
                    "seconds to wait, before publishing, for every topic to have a subscriber (0: start at once)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(tgw::cli::non_negative());
     app.add_option("--peer", transport.peers,
                    "IPv4 address of the other end (repeatable): UDP unicast only, no multicast, no shared memory");
     app.add_option("--interface", transport.interface, "interface name or IPv4 address to bind every socket to");

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "gateway/apps/cli_checks.hpp"
 #include "gateway/core/config_error.hpp"
 #include "gateway/sim/result_table.hpp"
 #include "gateway/sim/simulation.hpp"
@@ -60,22 +61,22 @@ int main(int argc, char** argv) {
     app.add_option("--workload", workload, "the workload: paper")->check(CLI::IsMember({"paper"}));
     app.add_option("--rate", rates, "link rate in bit/s; repeatable or comma-separated")
         ->delimiter(',')
-        ->check(CLI::PositiveNumber);
+        ->check(tgw::cli::positive());
     app.add_option("--trace", trace_file, "link rate over time: lines of 'seconds bits_per_second'");
-    app.add_option("--duration", duration_s, "seconds of publishing")->check(CLI::PositiveNumber);
+    app.add_option("--duration", duration_s, "seconds of publishing")->check(tgw::cli::positive());
     app.add_option("--warmup", warmup_s, "seconds of publishing before the measured window (steady state)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(tgw::cli::non_negative());
     app.add_option("--link-queue-ms", link_queue_ms, "how long the shaper queues a packet before dropping it")
-        ->check(CLI::NonNegativeNumber);
+        ->check(tgw::cli::non_negative());
     app.add_option("--overhead-factor", overhead_factor,
                    "true wire cost over the gateway's wire model (1 = perfectly calibrated)")
-        ->check(CLI::PositiveNumber);
+        ->check(tgw::cli::positive());
     app.add_option("--paper-period", paper_period_s, "paper policy: the filter's period in seconds")
-        ->check(CLI::PositiveNumber);
+        ->check(tgw::cli::positive());
     app.add_option("--paper-overhead", paper_overhead, "paper policy: assumed overhead, 0.25 = 25 %")
-        ->check(CLI::NonNegativeNumber);
+        ->check(tgw::cli::non_negative());
     app.add_option("--budget-fraction", budget_fraction, "share of the sensed rate the scheduler spends")
-        ->check(CLI::Range(0.01, 1.0))
+        ->check(tgw::cli::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"))
         ->capture_default_str();
     app.add_flag("--summary", summary, "one Markdown row per rate: percent on time per type");
     try {

@@ -1,33 +1,43 @@
 #include "gateway/core/scheduler.hpp"
 
 #include <algorithm>
-#include <limits>
 #include <utility>
 
 namespace tgw::core {
 
-namespace {
-
-/// The shortest-TTL active topics, the first two, so that a candidate from the most urgent topic is checked
-/// against the next one.
-struct ProtectedTopics {
-    TopicId first_topic = std::numeric_limits<TopicId>::max();
-    Duration first_limit = Duration::max();
-    Duration second_limit = Duration::max();
-
-    void offer(TopicId topic, Duration limit) {
-        if (limit < first_limit) {
-            second_limit = first_limit;
-            first_limit = limit;
-            first_topic = topic;
-        } else if (limit < second_limit) {
-            second_limit = limit;
-        }
+void Scheduler::ProtectedTopics::offer(TopicId topic, Duration limit) {
+    if (limit < first_limit) {
+        second_topic = first_topic;
+        second_limit = first_limit;
+        first_topic = topic;
+        first_limit = limit;
+    } else if (limit < second_limit) {
+        second_topic = topic;
+        second_limit = limit;
     }
-    Duration limit_for(TopicId candidate) const { return candidate == first_topic ? second_limit : first_limit; }
-};
+}
 
-}  // namespace
+bool Scheduler::ProtectedTopics::update(TopicId topic, Duration limit) {
+    if (topic == first_topic) {
+        if (limit > second_limit)
+            return false;  // the new second is unknown
+        first_limit = limit;
+    } else if (topic == second_topic) {
+        if (limit < first_limit) {
+            second_topic = first_topic;
+            second_limit = first_limit;
+            first_topic = topic;
+            first_limit = limit;
+        } else if (limit <= second_limit) {
+            second_limit = limit;
+        } else {
+            return false;
+        }
+    } else {
+        offer(topic, limit);
+    }
+    return true;
+}
 
 Scheduler::Scheduler(const SchedulerConfig& config)
     : config_(config),
@@ -36,16 +46,52 @@ Scheduler::Scheduler(const SchedulerConfig& config)
 
 void Scheduler::set_rate(double sensed_rate_bps) {
     sensed_rate_bps_ = sensed_rate_bps;
-    budget_.set_rate(sensed_rate_bps * config_.budget_fraction);
+    const double budget_rate_bps = sensed_rate_bps * config_.budget_fraction;
+    if (budget_rate_bps != budget_.rate_bps()) {
+        budget_.set_rate(budget_rate_bps);
+        protect_valid_ = false;  // the limits are in wire time at the rate
+    }
 }
 
 TopicId Scheduler::add_topic(const TopicConfig& topic) {
-    topics_.push_back(TopicState{topic, {}, {}, 0, false});
+    topics_.push_back(TopicState{topic, {}, {}, 0, false, 0});
     return static_cast<TopicId>(topics_.size() - 1);
 }
 
 void Scheduler::set_ttl(TopicId topic, Duration ttl) {
     topics_[topic].config.ttl = ttl;
+    protect_valid_ = false;
+}
+
+bool Scheduler::active(TopicId topic, SteadyTime now) const {
+    const TopicState& t = topics_[topic];
+    return t.seen && now - t.last_arrival <= t.config.ttl;
+}
+
+Duration Scheduler::protect_limit(TopicId topic) const {
+    const TopicState& t = topics_[topic];
+    return t.config.ttl - budget_.transmit_time(t.last_wire_bits);
+}
+
+const Scheduler::ProtectedTopics& Scheduler::protected_topics(SteadyTime now) {
+    // Only a push (handled there), a TTL or a rate change can bring a topic in; the two fall out by going
+    // inactive. Time running backwards could make topics active again.
+    const bool still_valid = protect_valid_ && now >= protect_built_at_ &&
+                             (protect_.first_topic == ProtectedTopics::NONE || active(protect_.first_topic, now)) &&
+                             (protect_.second_topic == ProtectedTopics::NONE || active(protect_.second_topic, now));
+    if (!still_valid) {
+        protect_ = ProtectedTopics{};
+        ++protect_epoch_;
+        for (TopicId id = 0; id < topics_.size(); ++id) {
+            if (active(id, now)) {
+                protect_.offer(id, protect_limit(id));
+                topics_[id].protect_epoch = protect_epoch_;
+            }
+        }
+        protect_valid_ = true;
+        protect_built_at_ = now;
+    }
+    return protect_;
 }
 
 std::int64_t Scheduler::rank_of(TopicId topic) const {
@@ -72,9 +118,15 @@ void Scheduler::push(Sample&& sample, SteadyTime now, WallTime wall_now, SampleS
     }
     sample.deadline = origin + topic.config.ttl;
     const std::uint64_t wire_bits = config_.wire.wire_bits(sample.payload.size());
+    const bool same_limit = topic.protect_epoch == protect_epoch_ && topic.last_wire_bits == wire_bits;
     topic.last_arrival = now;
     topic.last_wire_bits = wire_bits;
     topic.seen = true;
+    // Offering a topic again with the limit it was last offered with changes nothing.
+    if (protect_valid_ && !same_limit) {
+        protect_valid_ = protect_.update(sample.topic, protect_limit(sample.topic));
+        topic.protect_epoch = protect_epoch_;
+    }
 
     if (config_.policy == PolicyKind::fifo) {
         forward(std::move(sample), wire_bits, sink);
@@ -143,39 +195,31 @@ void Scheduler::release_by_deadline(SteadyTime now, SampleSink& sink) {
     }
     // The link is non-preemptive: a sample on the wire holds it for its whole wire time. Protect the most
     // urgent active topic: nothing may occupy the link longer than that topic's TTL minus its own wire time.
-    ProtectedTopics protect;
-    for (TopicId id = 0; id < topics_.size(); ++id) {
-        const TopicState& t = topics_[id];
-        if (t.seen && now - t.last_arrival <= t.config.ttl) {
-            protect.offer(id, t.config.ttl - budget_.transmit_time(t.last_wire_bits));
-        }
-    }
+    const ProtectedTopics& protect = protected_topics(now);
 
     while (!queue_.empty() && budget_.can_send(now)) {
         const SteadyTime start = std::max(now, budget_.busy_until());
         bool sent = false;
-        for (auto it = queue_.by_urgency().begin(); it != queue_.by_urgency().end();) {
-            const DeadlineQueue::Slot slot = it->slot;
-            ++it;  // before take() invalidates the iterator
-            const Sample& sample = queue_.at(slot);
-            const std::uint64_t bits = config_.wire.wire_bits(sample.payload.size());
+        queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
+            const DeadlineQueue::Peek sample = queue_.at(slot);
+            const std::uint64_t bits = config_.wire.wire_bits(sample.payload_bytes);
             const Duration tx = budget_.transmit_time(bits);
             const bool blocks_urgent = tx > protect.limit_for(sample.topic);
             if (start + tx + config_.link_latency > sample.deadline) {
                 drop(take(slot), blocks_urgent ? DropReason::oversize : DropReason::doomed, sink);
-                continue;
+                return true;
             }
             if (blocks_urgent) {
                 // Wait for a faster link; give up once it could no longer make its deadline.
                 const SteadyTime give_up = sample.deadline - tx - config_.link_latency + Duration(1);
                 blocked_wakeup_ = blocked_wakeup_ ? std::min(*blocked_wakeup_, give_up) : give_up;
-                continue;
+                return true;
             }
             budget_.charge(now, bits);
             forward(take(slot), bits, sink);
             sent = true;
-            break;
-        }
+            return false;
+        });
         if (!sent) {
             break;
         }
@@ -195,14 +239,14 @@ void Scheduler::release_paper_period(SteadyTime now, SampleSink& sink) {
     // The paper spends the whole sensed rate; its only margin is the assumed overhead.
     double remaining_bits = sensed_rate_bps_ * to_seconds(config_.paper_period);
     std::vector<DeadlineQueue::Slot> marked;
-    for (const auto& key : queue_.by_urgency()) {
-        const double bits =
-            8.0 * static_cast<double>(queue_.at(key.slot).payload.size()) * (1.0 + config_.paper_overhead);
+    queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
+        const double bits = 8.0 * static_cast<double>(queue_.at(slot).payload_bytes) * (1.0 + config_.paper_overhead);
         if (bits <= remaining_bits) {
             remaining_bits -= bits;
-            marked.push_back(key.slot);
+            marked.push_back(slot);
         }
-    }
+        return true;
+    });
     for (DeadlineQueue::Slot slot : marked) {
         Sample sample = take(slot);
         const std::uint64_t bits = config_.wire.wire_bits(sample.payload.size());

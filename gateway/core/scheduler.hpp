@@ -96,8 +96,29 @@ class Scheduler {
         SteadyTime last_arrival{};
         std::uint64_t last_wire_bits = 0;
         bool seen = false;
+        /// protect_epoch_ when this topic's present limit was last offered to protect_.
+        std::uint64_t protect_epoch = 0;
     };
 
+    /// The two shortest-limit active topics (limit: TTL minus the topic's last wire time), so that a candidate
+    /// from the most urgent topic is checked against the next one. Kept between releases and brought up to
+    /// date on push; rebuilt over all topics only when one of the two goes inactive, the rate or a TTL changes.
+    struct ProtectedTopics {
+        static constexpr TopicId NONE = static_cast<TopicId>(-1);
+        TopicId first_topic = NONE;
+        TopicId second_topic = NONE;
+        Duration first_limit = Duration::max();
+        Duration second_limit = Duration::max();
+
+        void offer(TopicId topic, Duration limit);
+        /// False if the two can no longer be told without a rebuild.
+        bool update(TopicId topic, Duration limit);
+        Duration limit_for(TopicId candidate) const { return candidate == first_topic ? second_limit : first_limit; }
+    };
+
+    bool active(TopicId topic, SteadyTime now) const;
+    Duration protect_limit(TopicId topic) const;
+    const ProtectedTopics& protected_topics(SteadyTime now);
     std::int64_t rank_of(TopicId topic) const;
     Sample take(DeadlineQueue::Slot slot);
     void forward(Sample&& sample, std::uint64_t wire_bits, SampleSink& sink);
@@ -115,6 +136,10 @@ class Scheduler {
     std::uint64_t next_sequence_ = 0;
     SteadyTime next_paper_period_{};
     bool paper_started_ = false;
+    ProtectedTopics protect_;
+    bool protect_valid_ = false;
+    std::uint64_t protect_epoch_ = 0;
+    SteadyTime protect_built_at_{};
     /// When a sample held back by the non-preemptive rule must be looked at again; set by release().
     std::optional<SteadyTime> blocked_wakeup_;
 };

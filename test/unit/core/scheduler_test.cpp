@@ -215,6 +215,31 @@ TEST_F(SchedulerTest, LargeSamplesAreNotHeldBackOnceNoShortTtlTopicIsActive) {
     EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a, d}));
 }
 
+TEST_F(SchedulerTest, HoldsBackALargeSampleForATopicThatArrivedAfterTheLastRelease) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(d);
+    release();  // only D is active here
+    push(d, 6'000);
+    push(a);  // A becomes the topic to protect between two releases
+    run_for(seconds(1));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{d, a}));
+    EXPECT_EQ(sut->queued_samples(), 1u);
+}
+
+TEST_F(SchedulerTest, ProtectsByTheTtlATopicHasNow) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(c);
+    release();
+    clock.advance(seconds(1));
+    push(d, 8'000);  // about 6.5 s on the wire: longer than C's 5 s TTL
+    release();
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c}));
+
+    sut->set_ttl(c, seconds(30));
+    release();
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, d}));
+}
+
 TEST_F(SchedulerTest, TrafficChargedFromOutsideDelaysTheNextSample) {
     make_sut(PolicyKind::ttl, 10'000);
     sut->charge_link(clock.now(), 5'000);  // half a second of discovery traffic

@@ -1,5 +1,5 @@
 // tm-basecamp: the base camp's side of the link. record: every topic of a domain into SQLite; report: the
-// paper's metrics per topic from a recording.
+// paper's metrics per topic from a recording, and with the gateway's on-robot log where every missing sample went.
 #include <CLI/CLI.hpp>
 
 #include <atomic>
@@ -70,6 +70,18 @@ int main(int argc, char** argv) {
     report->add_option("FILE", in, "a recording made by 'tm-basecamp record'")->required()->check(CLI::ExistingFile);
     report->add_option("--ttl", ttls, "TOPIC=SECONDS: the TTL to judge a topic by (default: the writer's Lifespan)");
     report->add_option("--offered", offered, "TOPIC=N: how many samples the robot published on a topic");
+    std::string robot_log;
+    std::vector<std::string> forwarded;
+    long long since_ns = 0;
+    report
+        ->add_option("--robot-log", robot_log,
+                     "the gateway's on-robot log (telemetry-gateway --log): account for every sample not received")
+        ->check(CLI::ExistingFile);
+    report->add_option("--forwarded", forwarded,
+                       "TOPIC=N: how many samples the gateway wrote to the WAN (makes lost on the link exact)");
+    CLI::Option* since =
+        report->add_option("--since-ns", since_ns,
+                           "ignore samples (recording and log) with a source time before this, ns since the epoch");
 
     try {
         app.parse(argc, argv);
@@ -95,6 +107,12 @@ int main(int argc, char** argv) {
             tgw::basecamp::ReportOptions options;
             options.ttl_s = parse_assignments<double>(ttls, "--ttl");
             options.offered = parse_assignments<std::uint64_t>(offered, "--offered");
+            options.forwarded = parse_assignments<std::uint64_t>(forwarded, "--forwarded");
+            options.robot_log = robot_log;
+            if (since->count() > 0)
+                options.since_ns = since_ns;
+            if (!options.forwarded.empty() && robot_log.empty())
+                throw tgw::core::ConfigError("--forwarded: needs --robot-log");
             tgw::basecamp::print_report(std::cout, tgw::basecamp::read_report(in, options));
         }
     } catch (const tgw::core::ConfigError& e) {

@@ -2,6 +2,7 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -38,6 +39,7 @@ struct Accumulator {
     std::optional<std::int64_t> lifespan_ns;
     std::optional<std::uint32_t> max_sequence;
     bool all_paper = true;
+    std::vector<ReceivedSample> samples;
 };
 
 using Db = std::unique_ptr<sqlite3, int (*)(sqlite3*)>;
@@ -86,7 +88,8 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
 
     Stmt rows = prepare(db.get(), path,
                         "SELECT topic, type_name, source_ns, receive_ns, lifespan_ns, payload FROM samples "
-                        "ORDER BY id");
+                        "WHERE source_ns >= ?1 ORDER BY id");
+    sqlite3_bind_int64(rows.get(), 1, options.since_ns);
     std::map<std::string, std::vector<double>> transits;
     while (sqlite3_step(rows.get()) == SQLITE_ROW) {
         const std::string topic = reinterpret_cast<const char*>(sqlite3_column_text(rows.get(), 0));
@@ -101,15 +104,30 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
         const double transit_ms = static_cast<double>(receive_ns - source_ns) / 1e6;
         acc.transit_ms.add(transit_ms);
         transits[topic].push_back(transit_ms);
+        ReceivedSample received{std::nullopt, source_ns, transit_ms};
         if (type_name == PAPER_MESSAGE_TYPE) {
             const auto* payload = static_cast<const std::uint8_t*>(sqlite3_column_blob(rows.get(), 5));
             const auto seq =
                 paper_message_sequence(payload, static_cast<std::size_t>(sqlite3_column_bytes(rows.get(), 5)));
             if (seq && (!acc.max_sequence || *seq > *acc.max_sequence))
                 acc.max_sequence = seq;
+            received.sequence = seq;
         } else {
             acc.all_paper = false;
         }
+        if (!options.robot_log.empty())
+            acc.samples.push_back(received);
+    }
+
+    std::map<std::string, std::vector<LoggedSample>> logged;
+    if (!options.robot_log.empty()) {
+        for (LoggedSample& row : read_robot_log(options.robot_log, "--robot-log", options.since_ns)) {
+            std::string topic = row.topic;
+            logged[topic].push_back(std::move(row));
+            topics[topic];  // a topic of which nothing arrived is still reported
+        }
+        for (const auto& [topic, n] : options.offered)
+            topics[topic];
     }
 
     std::vector<TopicReport> reports;
@@ -132,17 +150,104 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
         if (const auto it = options.offered.find(topic); it != options.offered.end()) {
             r.offered = it->second;
             r.offered_from = "flag";
-        } else if (acc.all_paper && acc.max_sequence) {
-            r.offered = std::uint64_t{*acc.max_sequence} + 1;
-            r.offered_from = "sequence";
+        } else {
+            // The log's sequence numbers count too: samples after the last one received may have been dropped.
+            // Plain values rather than std::optional: GCC 12 sees the optional as maybe-uninitialized here.
+            bool have_max = acc.all_paper && acc.max_sequence.has_value();
+            std::uint32_t max_sequence = have_max ? *acc.max_sequence : 0;
+            bool log_all_paper = acc.all_paper;
+            for (const LoggedSample& row : logged[topic]) {
+                log_all_paper = log_all_paper && row.sequence.has_value();
+                if (row.sequence && (!have_max || *row.sequence > max_sequence)) {
+                    max_sequence = *row.sequence;
+                    have_max = true;
+                }
+            }
+            if (log_all_paper && have_max) {
+                r.offered = std::uint64_t{max_sequence} + 1;
+                r.offered_from = "sequence";
+            }
         }
         r.mean_ms = acc.transit_ms.mean;
         r.stddev_ms = acc.transit_ms.stddev();
         r.max_ms = acc.transit_ms.max;
+        if (!options.robot_log.empty()) {
+            std::optional<std::uint64_t> forwarded;
+            if (const auto it = options.forwarded.find(topic); it != options.forwarded.end())
+                forwarded = it->second;
+            r.accounting = account_topic(acc.samples, logged[topic], r.ttl_s, r.offered, forwarded);
+        }
         reports.push_back(r);
     }
     return reports;
 }
+
+namespace {
+
+std::string count_or_dash(const std::optional<std::uint64_t>& n) {
+    return n ? std::to_string(*n) : std::string("-");
+}
+
+void print_accounting(std::ostream& out, const std::vector<TopicReport>& reports) {
+    bool any = false;
+    for (const TopicReport& r : reports)
+        any = any || r.accounting.has_value();
+    if (!any)
+        return;
+    char line[320];
+    out << "\naccounting: where every published sample went (received; dropped by the gateway, by the reason in its "
+           "on-robot log; lost on the link)\n";
+    std::snprintf(line, sizeof(line), "%-20s %8s %8s %8s %8s", "topic", "offered", "received", "on_time", "late");
+    out << line;
+    for (auto name : core::DROP_REASON_NAMES)
+        out << ' ' << std::string(9 - std::min<std::size_t>(9, name.size()), ' ') << name;
+    std::snprintf(line, sizeof(line), " %9s %11s %8s\n", "lost_link", "unaccounted", "matched");
+    out << line;
+    bool inferred = false;
+    bool other = false;
+    std::uint64_t disagree = 0;
+    std::uint64_t duplicates = 0;
+    for (const TopicReport& r : reports) {
+        if (!r.accounting)
+            continue;
+        const DropAccounting& a = *r.accounting;
+        std::optional<std::uint64_t> late;
+        if (a.on_time)
+            late = a.received - *a.on_time;
+        std::snprintf(line, sizeof(line), "%-20s %8s %8llu %8s %8s", r.topic.c_str(), count_or_dash(a.offered).c_str(),
+                      static_cast<unsigned long long>(a.received), count_or_dash(a.on_time).c_str(),
+                      count_or_dash(late).c_str());
+        out << line;
+        for (std::uint64_t n : a.dropped) {
+            std::snprintf(line, sizeof(line), " %9llu", static_cast<unsigned long long>(n));
+            out << line;
+        }
+        const std::string lost =
+            a.lost_on_link ? std::to_string(*a.lost_on_link) + (a.lost_inferred ? "*" : "") : std::string("-");
+        const std::string unaccounted = a.unaccounted ? std::to_string(*a.unaccounted) : std::string("-");
+        std::snprintf(line, sizeof(line), " %9s %11s %8s\n", lost.c_str(), unaccounted.c_str(),
+                      a.by_sequence ? "sequence" : "time");
+        out << line;
+        inferred = inferred || (a.lost_on_link && a.lost_inferred);
+        other = other || a.dropped_other > 0;
+        disagree += a.logged_and_received;
+        duplicates += a.duplicates_received;
+    }
+    out << "offered = received + dropped by the gateway + lost_link + unaccounted; samples matched by PaperMessage "
+           "sequence number, else by source timestamp.\n";
+    if (inferred)
+        out << "*: inferred: neither received nor in the on-robot log. The gateway forwards, queues or logs every "
+               "sample it takes in, so these left the robot and were lost on the way (pass --forwarded TOPIC=N, "
+               "the gateway's count, to make it exact).\n";
+    if (other)
+        out << "some log rows have a reason this build does not know; they count as unaccounted.\n";
+    if (disagree > 0)
+        out << "in the on-robot log and received as well (counted as received): " << disagree << "\n";
+    if (duplicates > 0)
+        out << "recorded more than once (counted once): " << duplicates << "\n";
+}
+
+}  // namespace
 
 void print_report(std::ostream& out, const std::vector<TopicReport>& reports) {
     char line[320];
@@ -177,6 +282,7 @@ void print_report(std::ostream& out, const std::vector<TopicReport>& reports) {
     if (offered_from_sequence)
         out << ">=N: offered counted from PaperMessage sequence numbers (samples after the last one received are "
                "not seen); pass --offered TOPIC=N for the exact count.\n";
+    print_accounting(out, reports);
 }
 
 }  // namespace tgw::basecamp

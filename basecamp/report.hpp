@@ -1,11 +1,14 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
+
+#include "basecamp/drop_accounting.hpp"
 
 namespace tgw::basecamp {
 
@@ -22,21 +25,27 @@ struct TopicReport {
     double mean_ms = 0.0;                  ///< transmission time: receive minus source timestamp
     double stddev_ms = 0.0;                ///< sample standard deviation
     double max_ms = 0.0;
+    std::optional<DropAccounting> accounting;  ///< with --robot-log: where every sample not received went
 };
 
 struct ReportOptions {
-    std::map<std::string, double> ttl_s;           ///< --ttl TOPIC=S
-    std::map<std::string, std::uint64_t> offered;  ///< --offered TOPIC=N
+    std::map<std::string, double> ttl_s;             ///< --ttl TOPIC=S
+    std::map<std::string, std::uint64_t> offered;    ///< --offered TOPIC=N
+    std::string robot_log;                           ///< --robot-log FILE: the gateway's on-robot log
+    std::map<std::string, std::uint64_t> forwarded;  ///< --forwarded TOPIC=N: samples the gateway wrote to the WAN
+    std::int64_t since_ns =
+        std::numeric_limits<std::int64_t>::min();  ///< --since-ns: ignore samples with an earlier source time
 };
 
-/// Reads a recording made by `tm-basecamp record`. Throws core::ConfigError naming the file if it cannot.
+/// Reads a recording made by `tm-basecamp record` (and, with `robot_log`, the gateway's on-robot log). Throws
+/// core::ConfigError naming the file if it cannot.
 std::vector<TopicReport> read_report(const std::string& path, const ReportOptions& options);
 
 /// Sequence number of a serialized tgw::idl::PaperMessage (encapsulation, generated_ns, sequence, data),
 /// or nothing when the payload is too short or not CDR.
 std::optional<std::uint32_t> paper_message_sequence(const std::uint8_t* payload, std::size_t size);
 
-/// The per-topic table.
+/// The per-topic table, and the accounting table when the reports have one.
 void print_report(std::ostream& out, const std::vector<TopicReport>& reports);
 
 }  // namespace tgw::basecamp

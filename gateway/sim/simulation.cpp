@@ -81,7 +81,7 @@ SimulationResult run_simulation(const SimulationConfig& config) {
 
     SimulationResult result;
     result.per_stream.resize(config.workload.size());
-    SimulatedLink link(config.link, start, config.link_queue_limit);
+    SimulatedLink link(config.link, start, config.link_queue_limit, config.link_burst_bytes);
     SteadyTime now = start;
     SimulationSink sink(config, link, result.per_stream, now, start, wall_start);
 

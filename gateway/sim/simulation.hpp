@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "gateway/core/paper_workload.hpp"
@@ -17,8 +18,10 @@ struct SimulationConfig {
     /// Publishing before the measured window starts, so that queues are in their steady state (0: the
     /// paper's fresh start).
     core::Duration warmup = core::Duration::zero();
-    /// How long a packet may wait in the shaper's queue before it is dropped (tbf `latency`).
+    /// The shaper's queue depth (tbf `latency`): it holds link rate/8 * this + `link_burst_bytes` bytes.
     core::Duration link_queue_limit = std::chrono::seconds(1);
+    /// The shaper's token bucket (tbf `burst`), as scripts/testbed sets it.
+    std::uint64_t link_burst_bytes = 1600;
     /// The link as the gateway believes it: the wire model's cost times this (1.0 = perfectly calibrated).
     double true_overhead_factor = 1.0;
 };

@@ -1,6 +1,7 @@
 // tm-sim: the scheduling core alone, in simulated time, on the paper workload.
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
     double duration_s = 60.0;
     double warmup_s = 0.0;
     double link_queue_ms = 1000.0;
+    std::uint64_t link_burst_bytes = tgw::sim::SimulationConfig{}.link_burst_bytes;
     double overhead_factor = 1.0;
     double paper_period_s = 1.0;
     double paper_overhead = 0.0;
@@ -66,8 +68,12 @@ int main(int argc, char** argv) {
     app.add_option("--duration", duration_s, "seconds of publishing")->check(tgw::cli::positive());
     app.add_option("--warmup", warmup_s, "seconds of publishing before the measured window (steady state)")
         ->check(tgw::cli::non_negative());
-    app.add_option("--link-queue-ms", link_queue_ms, "how long the shaper queues a packet before dropping it")
+    app.add_option("--link-queue-ms", link_queue_ms,
+                   "the shaper's queue depth (tbf latency): it holds rate/8 * this + the burst in bytes")
         ->check(tgw::cli::non_negative());
+    app.add_option("--link-burst", link_burst_bytes, "the shaper's token bucket in bytes (tbf burst)")
+        ->check(tgw::cli::positive())
+        ->capture_default_str();
     app.add_option("--overhead-factor", overhead_factor,
                    "true wire cost over the gateway's wire model (1 = perfectly calibrated)")
         ->check(tgw::cli::positive());
@@ -113,6 +119,7 @@ int main(int argc, char** argv) {
                 config.duration = tgw::core::from_seconds(duration_s);
                 config.warmup = tgw::core::from_seconds(warmup_s);
                 config.link_queue_limit = tgw::core::from_seconds(link_queue_ms / 1000.0);
+                config.link_burst_bytes = link_burst_bytes;
                 config.true_overhead_factor = overhead_factor;
                 table.add(link_names[i], tgw::sim::run_simulation(config));
             }

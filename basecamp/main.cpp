@@ -12,6 +12,7 @@
 #include "basecamp/report.hpp"
 #include "basecamp/sample_store.hpp"
 #include "gateway/core/config_error.hpp"
+#include "gateway/dds/qos_file.hpp"
 
 namespace {
 
@@ -69,6 +70,10 @@ int main(int argc, char** argv) {
     std::vector<std::string> offered;
     report->add_option("FILE", in, "a recording made by 'tm-basecamp record'")->required()->check(CLI::ExistingFile);
     report->add_option("--ttl", ttls, "TOPIC=SECONDS: the TTL to judge a topic by (default: the writer's Lifespan)");
+    std::string qos_file;
+    report->add_option("--qos", qos_file,
+                       "Fast DDS XML: a data_writer profile named after a topic gives its TTL (after --ttl, before "
+                       "the writer's Lifespan)");
     report->add_option("--offered", offered, "TOPIC=N: how many samples the robot published on a topic");
     std::string robot_log;
     std::vector<std::string> forwarded;
@@ -106,6 +111,13 @@ int main(int argc, char** argv) {
         } else {
             tgw::basecamp::ReportOptions options;
             options.ttl_s = parse_assignments<double>(ttls, "--ttl");
+            if (!qos_file.empty()) {
+                tgw::dds::load_qos_file(qos_file);
+                options.profile_ttl_s = [](const std::string& topic) -> std::optional<double> {
+                    const auto lifespan = tgw::dds::writer_profile_lifespan(topic);
+                    return lifespan ? std::optional<double>(tgw::core::to_seconds(*lifespan)) : std::nullopt;
+                };
+            }
             options.offered = parse_assignments<std::uint64_t>(offered, "--offered");
             options.forwarded = parse_assignments<std::uint64_t>(forwarded, "--forwarded");
             options.robot_log = robot_log;

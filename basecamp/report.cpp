@@ -134,9 +134,14 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
     for (auto& [topic, acc] : topics) {
         TopicReport r = acc.report;
         r.topic = topic;
+        const std::optional<double> profile_ttl_s =
+            options.profile_ttl_s ? options.profile_ttl_s(topic) : std::optional<double>{};
         if (const auto it = options.ttl_s.find(topic); it != options.ttl_s.end()) {
             r.ttl_s = it->second;
             r.ttl_from = "flag";
+        } else if (profile_ttl_s) {
+            r.ttl_s = *profile_ttl_s;
+            r.ttl_from = "profile";
         } else if (acc.lifespan_ns) {
             r.ttl_s = static_cast<double>(*acc.lifespan_ns) / 1e9;
             r.ttl_from = "lifespan";

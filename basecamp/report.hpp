@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <map>
 #include <optional>
@@ -17,7 +18,7 @@ struct TopicReport {
     std::string topic;
     std::string type_name;
     std::optional<double> ttl_s;  ///< from --ttl, else the writer's declared Lifespan; empty if neither
-    std::string ttl_from;         ///< "flag", "lifespan" or "" when unknown
+    std::string ttl_from;         ///< "flag", "profile", "lifespan" or "" when unknown
     std::uint64_t received = 0;
     std::uint64_t on_time = 0;             ///< received with transmission time <= TTL
     std::optional<std::uint64_t> offered;  ///< samples published, when known
@@ -29,7 +30,10 @@ struct TopicReport {
 };
 
 struct ReportOptions {
-    std::map<std::string, double> ttl_s;             ///< --ttl TOPIC=S
+    std::map<std::string, double> ttl_s;  ///< --ttl TOPIC=S
+    /// --qos FILE: the TTL of a topic from its data_writer profile, consulted after --ttl and before the
+    /// writer's recorded Lifespan; empty without --qos.
+    std::function<std::optional<double>(const std::string& topic)> profile_ttl_s;
     std::map<std::string, std::uint64_t> offered;    ///< --offered TOPIC=N
     std::string robot_log;                           ///< --robot-log FILE: the gateway's on-robot log
     std::map<std::string, std::uint64_t> forwarded;  ///< --forwarded TOPIC=N: samples the gateway wrote to the WAN

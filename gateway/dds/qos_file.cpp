@@ -2,9 +2,12 @@
 
 #include <tinyxml2.h>
 
+#include <fastrtps/attributes/PublisherAttributes.h>
+#include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "gateway/core/config_error.hpp"
+#include "gateway/dds/dds_time.hpp"
 
 namespace tgw::dds {
 
@@ -26,6 +29,20 @@ void load_qos_file(const std::string& path) {
     if (fdds::DomainParticipantFactory::get_instance()->load_XML_profiles_file(path) != ReturnCode_t::RETCODE_OK) {
         throw core::ConfigError("--qos " + path + ": Fast DDS rejected the profiles (its log above names the element)");
     }
+}
+
+std::optional<core::Duration> writer_profile_lifespan(const std::string& topic) {
+    using eprosima::fastrtps::xmlparser::XMLP_ret;
+    using eprosima::fastrtps::xmlparser::XMLProfileManager;
+    eprosima::fastrtps::PublisherAttributes attributes;
+    if (XMLProfileManager::fillPublisherAttributes(topic, attributes, false) != XMLP_ret::XML_OK) {
+        return std::nullopt;
+    }
+    const std::optional<core::Duration> lifespan = to_duration(attributes.qos.m_lifespan.duration);
+    if (!lifespan || *lifespan <= core::Duration::zero()) {
+        return std::nullopt;
+    }
+    return lifespan;
 }
 
 std::optional<fdds::DomainParticipantQos> participant_profile(const std::string& name) {

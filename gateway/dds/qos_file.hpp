@@ -5,6 +5,8 @@
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
+#include "gateway/core/time.hpp"
+
 namespace tgw::dds {
 
 /// Participant profiles the gateway starts from when the --qos file defines them; transports, locators and
@@ -15,6 +17,10 @@ inline constexpr const char* WAN_PARTICIPANT_PROFILE = "tgw_wan_participant";
 /// Loads a Fast DDS XML profiles file into the process (DomainParticipantFactory::load_XML_profiles_file).
 /// Throws core::ConfigError naming the file, and the line for malformed XML, when it does not load.
 void load_qos_file(const std::string& path);
+
+/// The Lifespan of the data_writer profile named `topic` in the loaded files: the operator's TTL for the topic
+/// (DESIGN section 4). nullopt when there is no such profile or it sets no finite Lifespan. Needs no participant.
+std::optional<core::Duration> writer_profile_lifespan(const std::string& topic);
 
 /// The participant profile `name` from the loaded files, if there is one.
 std::optional<eprosima::fastdds::dds::DomainParticipantQos> participant_profile(const std::string& name);

@@ -58,6 +58,13 @@ TEST_F(QosFilesTest, PaperWorkloadProfilesCarryTheTtlsAsLifespan) {
     }
 }
 
+TEST_F(QosFilesTest, WriterProfileLifespanNeedsNoParticipant) {
+    dds::load_qos_file(std::string(TGW_QOS_DIR) + "/paper_workload.xml");
+    EXPECT_EQ(dds::writer_profile_lifespan("telemetry/A"), std::chrono::seconds(1));
+    EXPECT_EQ(dds::writer_profile_lifespan("telemetry/D"), std::chrono::seconds(20));
+    EXPECT_FALSE(dds::writer_profile_lifespan("no/such/topic"));
+}
+
 TEST_F(QosFilesTest, ParticipantProfilesExist) {
     dds::load_qos_file(std::string(TGW_QOS_DIR) + "/gateway_participants.xml");
     const auto wan = dds::participant_profile(dds::WAN_PARTICIPANT_PROFILE);

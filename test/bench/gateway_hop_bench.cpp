@@ -29,6 +29,7 @@
 #include "gateway/core/config_error.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway.hpp"
+#include "test/bench/bench_support.hpp"
 #include "test/integration/dds_test_support.hpp"
 
 namespace {
@@ -40,14 +41,14 @@ using tgw::test::fdds::DataWriter;
 using tgw::test::fdds::DataWriterQos;
 using tgw::test::fdds::DomainParticipantQos;
 namespace fdds = eprosima::fastdds::dds;
+using tgw::bench::BenchDomains;
+using tgw::bench::DIRECT_READER_PARTICIPANT_ID;
+using tgw::bench::loopback;
+using tgw::bench::PAPER_MESSAGE_FIXED_BYTES;
+using tgw::bench::percentile_us;
+using tgw::bench::PUBLISHER_PARTICIPANT_ID;
 
 constexpr auto MATCH_TIMEOUT = 10s;
-// Encapsulation (4) + generated_ns (8) + sequence_number (4) + sequence length (4): a PaperMessage's bytes
-// before its data.
-constexpr std::size_t PAPER_MESSAGE_FIXED_BYTES = 20;
-// The participant ids of the publisher and the direct reader, high enough to be free in this process.
-constexpr int PUBLISHER_PARTICIPANT_ID = 70;
-constexpr int DIRECT_READER_PARTICIPANT_ID = 71;
 
 struct Options {
     std::vector<std::size_t> sizes{32, 4096};
@@ -58,33 +59,6 @@ struct Options {
     bool direct_shm = false;
     bool reliable = false;
 };
-
-/// Domains and ports of this process: the pair 150..229 from the process id, away from the tests' 10..199 mostly.
-struct BenchDomains {
-    int robot = 0;
-    int wan = 0;
-    std::uint16_t wan_reader_port = 0;
-    std::uint16_t gateway_wan_port = 0;
-    std::uint16_t publisher_port = 0;
-
-    static BenchDomains for_this_process() {
-        BenchDomains d;
-        d.robot = 150 + static_cast<int>(::getpid() % 40) * 2;
-        d.wan = d.robot + 1;
-        d.wan_reader_port = tgw::dds::metatraffic_unicast_port(d.wan, 60);
-        d.gateway_wan_port = tgw::dds::metatraffic_unicast_port(d.wan, 61);
-        d.publisher_port = tgw::dds::metatraffic_unicast_port(d.robot, PUBLISHER_PARTICIPANT_ID);
-        return d;
-    }
-};
-
-eprosima::fastrtps::rtps::Locator_t loopback(std::uint16_t port) {
-    eprosima::fastrtps::rtps::Locator_t l;
-    l.kind = LOCATOR_KIND_UDPv4;
-    eprosima::fastrtps::rtps::IPLocator::setIPv4(l, "127.0.0.1");
-    l.port = port;
-    return l;
-}
 
 /// A robot process: shared memory and UDP on loopback, a fixed participant id so that UDP-only readers can
 /// name its discovery port.
@@ -162,15 +136,6 @@ class LatencyReader final : public fdds::DataReaderListener {
     mutable std::mutex mutex_;
     std::vector<std::int64_t> latencies_ns_;
 };
-
-double percentile_us(std::vector<std::int64_t> v, double q) {
-    if (v.empty()) {
-        return 0.0;
-    }
-    std::sort(v.begin(), v.end());
-    const auto rank = static_cast<std::size_t>(std::max(1.0, std::ceil(q * static_cast<double>(v.size()))));
-    return static_cast<double>(v[std::min(rank, v.size()) - 1]) / 1e3;
-}
 
 double us(tgw::core::Duration d) {
     return std::chrono::duration<double, std::micro>(d).count();

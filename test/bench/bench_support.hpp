@@ -1,0 +1,183 @@
+// Shared by throughput_bench and topic_scale_bench: the domains of this process, loopback locators, the robot
+// publisher's and the UDP-only direct reader's participant QoS, and a counting reader.
+#pragma once
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+
+#include "PaperWorkloadPubSubTypes.h"
+#include "gateway/core/clock.hpp"
+#include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/gateway.hpp"
+#include "test/integration/dds_test_support.hpp"
+
+namespace tgw::bench {
+
+namespace fdds = eprosima::fastdds::dds;
+
+/// Encapsulation (4) + generated_ns (8) + sequence_number (4) + sequence length (4): a PaperMessage's bytes
+/// before its data.
+constexpr std::size_t PAPER_MESSAGE_FIXED_BYTES = 20;
+constexpr int PUBLISHER_PARTICIPANT_ID = 70;
+constexpr int DIRECT_READER_PARTICIPANT_ID = 71;
+
+/// Domains and ports of this process: a pair in 200..229 from the process id.
+struct BenchDomains {
+    int robot = 0;
+    int wan = 0;
+    std::uint16_t wan_reader_port = 0;
+    std::uint16_t gateway_wan_port = 0;
+    std::uint16_t publisher_port = 0;
+
+    static BenchDomains for_this_process() {
+        BenchDomains d;
+        d.robot = 200 + static_cast<int>(::getpid() % 15) * 2;
+        d.wan = d.robot + 1;
+        d.wan_reader_port = tgw::dds::metatraffic_unicast_port(d.wan, 60);
+        d.gateway_wan_port = tgw::dds::metatraffic_unicast_port(d.wan, 61);
+        d.publisher_port = tgw::dds::metatraffic_unicast_port(d.robot, PUBLISHER_PARTICIPANT_ID);
+        return d;
+    }
+};
+
+inline eprosima::fastrtps::rtps::Locator_t loopback(std::uint16_t port) {
+    eprosima::fastrtps::rtps::Locator_t l;
+    l.kind = LOCATOR_KIND_UDPv4;
+    eprosima::fastrtps::rtps::IPLocator::setIPv4(l, "127.0.0.1");
+    l.port = port;
+    return l;
+}
+
+/// A robot process: shared memory and UDP on loopback, a fixed participant id. `udp_max_message_bytes` 0:
+/// Fast DDS's default (65500).
+inline fdds::DomainParticipantQos publisher_qos(std::uint32_t udp_max_message_bytes = 0) {
+    fdds::DomainParticipantQos qos;
+    qos.name("bench/publisher");
+    qos.wire_protocol().participant_id = PUBLISHER_PARTICIPANT_ID;
+    qos.transport().use_builtin_transports = false;
+    qos.transport().user_transports.push_back(
+        std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>());
+    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+    udp->interfaceWhiteList.push_back("127.0.0.1");
+    if (udp_max_message_bytes > 0) {
+        udp->maxMessageSize = udp_max_message_bytes;
+    }
+    qos.transport().user_transports.push_back(udp);
+    return qos;
+}
+
+/// A subscriber reaching the robot domain over UDP only, as a base-camp process would without the gateway.
+inline fdds::DomainParticipantQos direct_reader_qos(const BenchDomains& d) {
+    fdds::DomainParticipantQos qos;
+    qos.name("bench/direct");
+    qos.wire_protocol().participant_id = DIRECT_READER_PARTICIPANT_ID;
+    qos.transport().use_builtin_transports = false;
+    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+    udp->interfaceWhiteList.push_back("127.0.0.1");
+    qos.transport().user_transports.push_back(udp);
+    qos.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(
+        loopback(tgw::dds::metatraffic_unicast_port(d.robot, DIRECT_READER_PARTICIPANT_ID)));
+    qos.wire_protocol().builtin.initialPeersList.push_back(loopback(d.publisher_port));
+    return qos;
+}
+
+/// The gateway of the benches: budget unconstrained, the direct topics denied.
+inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d) {
+    tgw::dds::GatewayConfig config;
+    config.robot_domain = d.robot;
+    config.wan_domain = d.wan;
+    config.wan_peers = {"127.0.0.1:" + std::to_string(d.wan_reader_port)};
+    config.wan_interface = "127.0.0.1";
+    config.wan_port = d.gateway_wan_port;
+    config.deny = {"bench/direct/*"};
+    config.scheduler.initial_rate_bps = 1e10;  // 10 Gbit/s: every sample is released on arrival
+    config.default_ttl = std::chrono::seconds(5);
+    return config;
+}
+
+/// Counts the samples it takes and, optionally, keeps their one-way latencies (receive wall time minus
+/// source timestamp). Safe to share between readers.
+class CountingReader final : public fdds::DataReaderListener {
+  public:
+    explicit CountingReader(bool keep_latencies = false) : keep_latencies_(keep_latencies) {}
+
+    void on_data_available(fdds::DataReader* reader) override {
+        tgw::idl::PaperMessage data;
+        fdds::SampleInfo info;
+        while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
+            if (!info.valid_data) {
+                continue;
+            }
+            received_.fetch_add(1);
+            if (!keep_latencies_) {
+                continue;
+            }
+            const auto received = tgw::core::WallClock::now();
+            const auto source = tgw::dds::to_wall_time(info.source_timestamp);
+            if (source) {
+                std::lock_guard<std::mutex> lock(mutex_);
+                latencies_ns_.push_back(
+                    std::chrono::duration_cast<std::chrono::nanoseconds>(received - *source).count());
+            }
+        }
+    }
+    void on_subscription_matched(fdds::DataReader*, const fdds::SubscriptionMatchedStatus& info) override {
+        if (info.current_count_change > 0) {
+            matched.fetch_add(1);
+        }
+    }
+
+    std::uint64_t received() const { return received_.load(); }
+    std::vector<std::int64_t> latencies_ns() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return latencies_ns_;
+    }
+    void clear_latencies() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        latencies_ns_.clear();
+    }
+
+    std::atomic<int> matched{0};
+
+  private:
+    const bool keep_latencies_;
+    std::atomic<std::uint64_t> received_{0};
+    mutable std::mutex mutex_;
+    std::vector<std::int64_t> latencies_ns_;
+};
+
+/// Waits until `received` has not changed for `quiet`.
+template <typename F>
+void settle(F received, std::chrono::milliseconds quiet = std::chrono::milliseconds(200)) {
+    std::uint64_t seen = received();
+    while (true) {
+        std::this_thread::sleep_for(quiet);
+        const std::uint64_t now = received();
+        if (now == seen) {
+            return;
+        }
+        seen = now;
+    }
+}
+
+inline double percentile_us(std::vector<std::int64_t> v, double q) {
+    if (v.empty()) {
+        return 0.0;
+    }
+    std::sort(v.begin(), v.end());
+    const auto rank = static_cast<std::size_t>(std::max(1.0, std::ceil(q * static_cast<double>(v.size()))));
+    return static_cast<double>(v[std::min(rank, v.size()) - 1]) / 1e3;
+}
+
+}  // namespace tgw::bench

@@ -1,0 +1,269 @@
+// throughput_bench: the largest sample rate the gateway forwards without loss, against direct Fast DDS, in one
+// process on loopback, budget unconstrained (10 Gbit/s, default TTL policy).
+//
+// Method: for each size, the offered rate steps up geometrically (x1.5) from --start-rate. At each step the
+// robot publisher (shared memory and UDP) writes PaperMessage samples for --duration seconds, paced in 1 ms
+// batches, first on a topic read directly by a UDP-only reader in the robot domain, then on a topic the
+// Gateway bridges to a UDP-only reader in the WAN domain; after each burst the reader is let drain (200 ms
+// quiet). A path's figure is the highest offered rate at which its loss was below --max-loss. Both paths use
+// the same QoS: best effort, KEEP_LAST 100 at the writer, KEEP_LAST 1000 at the readers, data sharing off.
+// A path stops stepping after two lossy steps in a row, or once the publisher cannot write at the offered
+// rate (then the figure is a floor). Not run by ctest.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <string>
+
+#include "bench_support.hpp"
+#include "gateway/core/config_error.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+using tgw::bench::CountingReader;
+using tgw::test::TestParticipant;
+namespace fdds = eprosima::fastdds::dds;
+
+struct Options {
+    std::vector<std::size_t> sizes{64, 65536};
+    double duration_s = 1.0;
+    double start_rate = 1000;
+    double max_rate = 2e6;
+    double max_loss = 0.001;
+    bool verbose = false;
+    std::uint32_t direct_max_message_bytes = 0;
+};
+
+struct PathResult {
+    double best_rate = 0;  ///< samples/s offered at the last loss-free step
+    bool writer_bound = false;
+};
+
+class Bench {
+  public:
+    explicit Bench(const Options& options)
+        : options_(options), domains_(tgw::bench::BenchDomains::for_this_process()) {}
+
+    bool set_up() {
+        tgw::test::use_transports_in_process();
+        publisher_ = std::make_unique<TestParticipant>(domains_.robot,
+                                                       tgw::bench::publisher_qos(options_.direct_max_message_bytes));
+        direct_ = std::make_unique<TestParticipant>(domains_.robot, tgw::bench::direct_reader_qos(domains_));
+        basecamp_ = std::make_unique<TestParticipant>(
+            domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port));
+        if (!publisher_->ok() || !direct_->ok() || !basecamp_->ok()) {
+            std::fprintf(stderr, "throughput_bench: cannot create the participants\n");
+            return false;
+        }
+        gateway_ = std::make_unique<tgw::dds::Gateway>(tgw::bench::gateway_config(domains_), clock_);
+        return true;
+    }
+
+    bool run(std::size_t size) {
+        const std::string via_topic = "bench/gateway/tput/" + std::to_string(size);
+        const std::string direct_topic = "bench/direct/tput/" + std::to_string(size);
+        fdds::TypeSupport type(new tgw::idl::PaperMessagePubSubType());
+        CountingReader via_reader;
+        CountingReader direct_reader;
+        tgw::test::MatchCounter via_matches;
+        tgw::test::MatchCounter direct_matches;
+        fdds::DataWriter* via_writer = publisher_->make_writer(via_topic, type, writer_qos(), &via_matches);
+        fdds::DataWriter* direct_writer = publisher_->make_writer(direct_topic, type, writer_qos(), &direct_matches);
+        fdds::DataReader* via = basecamp_->make_reader(via_topic, type, reader_qos(), &via_reader);
+        fdds::DataReader* direct = direct_->make_reader(direct_topic, type, reader_qos(), &direct_reader);
+        if (via_writer == nullptr || direct_writer == nullptr || via == nullptr || direct == nullptr) {
+            std::fprintf(stderr, "throughput_bench: cannot create the endpoints for %zu bytes\n", size);
+            return false;
+        }
+        if (!gateway_->wait_for_topic(via_topic, 10s)) {
+            std::fprintf(stderr, "throughput_bench: %s was never bridged\n", via_topic.c_str());
+            return false;
+        }
+        const tgw::core::TopicId id = gateway_->find_topic(via_topic)->id;
+        if (!tgw::test::wait_until(
+                [&] {
+                    return via_matches.matched.load() > 0 && via_reader.matched.load() > 0 &&
+                           gateway_->wan_matched_readers(id) > 0 && direct_matches.matched.load() > 0 &&
+                           direct_reader.matched.load() > 0;
+                },
+                10s)) {
+            std::fprintf(stderr, "throughput_bench: the endpoints for %zu bytes never matched\n", size);
+            return false;
+        }
+        tgw::idl::PaperMessage message;
+        message.data().assign(
+            size > tgw::bench::PAPER_MESSAGE_FIXED_BYTES ? size - tgw::bench::PAPER_MESSAGE_FIXED_BYTES : 0, 0x5a);
+        PathResult direct_result;
+        PathResult via_result;
+        bool direct_done = false;
+        bool via_done = false;
+        int direct_lossy = 0;
+        int via_lossy = 0;
+        std::uint32_t sequence = 0;
+        for (double rate = options_.start_rate; rate <= options_.max_rate && !(direct_done && via_done); rate *= 1.5) {
+            for (bool through_gateway : {false, true}) {
+                bool& done = through_gateway ? via_done : direct_done;
+                if (done) {
+                    continue;
+                }
+                CountingReader& reader = through_gateway ? via_reader : direct_reader;
+                const std::uint64_t before = reader.received();
+                const tgw::core::TopicCounters gw_before = gateway_->counters(id);
+                const auto [sent, achieved] =
+                    burst(through_gateway ? via_writer : direct_writer, message, rate, sequence);
+                tgw::bench::settle([&] { return reader.received(); });
+                const std::uint64_t got = reader.received() - before;
+                const double loss = sent == 0 ? 1.0 : 1.0 - static_cast<double>(got) / static_cast<double>(sent);
+                PathResult& result = through_gateway ? via_result : direct_result;
+                int& lossy = through_gateway ? via_lossy : direct_lossy;
+                if (options_.verbose) {
+                    // Where a gateway-path sample was lost: before the gateway (robot side), in it, or after.
+                    const tgw::core::TopicCounters gw = gateway_->counters(id);
+                    std::fprintf(stderr,
+                                 "  %zu B %-7s offered %9.0f/s achieved %9.0f/s sent %8llu got %8llu "
+                                 "(gateway in %llu fwd %llu dropped %llu)\n",
+                                 size, through_gateway ? "gateway" : "direct", rate, achieved,
+                                 static_cast<unsigned long long>(sent), static_cast<unsigned long long>(got),
+                                 static_cast<unsigned long long>(gw.received - gw_before.received),
+                                 static_cast<unsigned long long>(gw.forwarded - gw_before.forwarded),
+                                 static_cast<unsigned long long>(gw.dropped_total() - gw_before.dropped_total()));
+                }
+                if (loss < options_.max_loss) {
+                    lossy = 0;
+                    if (achieved < 0.9 * rate) {
+                        result.writer_bound = true;
+                        done = true;
+                    } else {
+                        result.best_rate = rate;
+                    }
+                } else if (++lossy >= 2) {
+                    done = true;
+                }
+            }
+        }
+        const double mb = static_cast<double>(size) / 1e6;
+        std::printf("%8zu %12.0f%s %10.1f %12.0f%s %10.1f %7.2f\n", size, direct_result.best_rate,
+                    direct_result.writer_bound ? "+" : " ", direct_result.best_rate * mb, via_result.best_rate,
+                    via_result.writer_bound ? "+" : " ", via_result.best_rate * mb,
+                    direct_result.best_rate > 0 ? via_result.best_rate / direct_result.best_rate : 0.0);
+        std::fflush(stdout);
+        via->set_listener(nullptr);
+        direct->set_listener(nullptr);
+        via_writer->set_listener(nullptr);
+        direct_writer->set_listener(nullptr);
+        return true;
+    }
+
+    void tear_down() {
+        gateway_.reset();
+        basecamp_.reset();
+        direct_.reset();
+        publisher_.reset();
+    }
+
+  private:
+    /// Writes at `rate` samples/s for the duration, in 1 ms batches. Returns the samples written and the rate
+    /// achieved.
+    std::pair<std::uint64_t, double> burst(fdds::DataWriter* writer, tgw::idl::PaperMessage& message, double rate,
+                                           std::uint32_t& sequence) {
+        const auto start = std::chrono::steady_clock::now();
+        const auto end = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                     std::chrono::duration<double>(options_.duration_s));
+        std::uint64_t sent = 0;
+        auto next = start;
+        while (true) {
+            const auto now = std::chrono::steady_clock::now();
+            if (now >= end) {
+                break;
+            }
+            const double elapsed_s = std::chrono::duration<double>(now - start).count();
+            const auto due = static_cast<std::uint64_t>(rate * std::min(elapsed_s + 0.001, options_.duration_s));
+            while (sent < due) {
+                message.sequence_number(sequence++);
+                writer->write(&message);
+                ++sent;
+            }
+            next += 1ms;
+            std::this_thread::sleep_until(next);
+        }
+        const double took_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return {sent, static_cast<double>(sent) / std::max(took_s, options_.duration_s)};
+    }
+
+    fdds::DataWriterQos writer_qos() const {
+        fdds::DataWriterQos q = publisher_->default_writer_qos();
+        q.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+        q.history().depth = 100;
+        q.data_sharing().off();
+        return q;
+    }
+
+    fdds::DataReaderQos reader_qos() const {
+        fdds::DataReaderQos q = basecamp_->default_reader_qos();
+        q.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+        q.history().depth = 1000;
+        q.data_sharing().off();
+        return q;
+    }
+
+    Options options_;
+    tgw::bench::BenchDomains domains_;
+    tgw::core::SystemClock clock_;
+    std::unique_ptr<TestParticipant> publisher_;
+    std::unique_ptr<TestParticipant> direct_;
+    std::unique_ptr<TestParticipant> basecamp_;
+    std::unique_ptr<tgw::dds::Gateway> gateway_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"throughput_bench: highest loss-free sample rate via the gateway against direct Fast DDS, loopback"};
+    Options options;
+    app.add_option("--sizes", options.sizes, "serialized sample sizes in bytes")->capture_default_str();
+    app.add_option("--duration", options.duration_s, "seconds of writing per step and path")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--start-rate", options.start_rate, "first offered rate, samples/s")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--max-rate", options.max_rate, "highest offered rate, samples/s")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--max-loss", options.max_loss, "loss fraction still counted as lossless")->capture_default_str();
+    app.add_option("--direct-max-message", options.direct_max_message_bytes,
+                   "the publisher's UDP maxMessageSize (the direct path's datagrams); 1472 fragments as the "
+                   "gateway's WAN participant does; default 0: Fast DDS's 65500")
+        ->capture_default_str();
+    app.add_flag("--verbose", options.verbose, "print every step to stderr");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    }
+    Bench bench(options);
+    try {
+        if (!bench.set_up()) {
+            return 1;
+        }
+    } catch (const tgw::core::ConfigError& e) {
+        std::fprintf(stderr, "throughput_bench: %s\n", e.what());
+        return 1;
+    }
+    std::printf(
+        "throughput: highest offered rate with loss < %.2f %%, steps x1.5 of %.1f s, best effort, writer KEEP_LAST "
+        "100, readers KEEP_LAST 1000, direct reader UDP, budget 10 Gbit/s; '+': publisher-bound floor\n",
+        options.max_loss * 100, options.duration_s);
+    std::printf("%8s %13s %10s %13s %10s %7s\n", "bytes", "direct/s", "direct_MB/s", "via_gw/s", "via_MB/s", "ratio");
+    int rc = 0;
+    for (std::size_t size : options.sizes) {
+        if (!bench.run(size)) {
+            rc = 1;
+            break;
+        }
+    }
+    bench.tear_down();
+    return rc;
+}

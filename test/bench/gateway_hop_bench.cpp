@@ -47,6 +47,7 @@ using tgw::bench::loopback;
 using tgw::bench::PAPER_MESSAGE_FIXED_BYTES;
 using tgw::bench::percentile_us;
 using tgw::bench::PUBLISHER_PARTICIPANT_ID;
+using tgw::bench::publisher_qos;
 
 constexpr auto MATCH_TIMEOUT = 10s;
 
@@ -60,39 +61,15 @@ struct Options {
     bool reliable = false;
 };
 
-/// A robot process: shared memory and UDP on loopback, a fixed participant id so that UDP-only readers can
-/// name its discovery port.
-DomainParticipantQos publisher_qos() {
-    DomainParticipantQos qos;
-    qos.name("bench/publisher");
-    qos.wire_protocol().participant_id = PUBLISHER_PARTICIPANT_ID;
-    qos.transport().use_builtin_transports = false;
-    qos.transport().user_transports.push_back(
-        std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>());
-    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
-    udp->interfaceWhiteList.push_back("127.0.0.1");
-    qos.transport().user_transports.push_back(udp);
-    return qos;
-}
-
-/// A subscriber reaching the robot domain over UDP only, as a base-camp process would without the gateway.
+/// The direct reader: UDP only, as a base-camp process would read without the gateway, or with shared memory too,
+/// as the gateway's robot reader does.
 DomainParticipantQos direct_reader_qos(const BenchDomains& d, bool shm) {
-    if (shm) {
-        DomainParticipantQos qos = publisher_qos();
-        qos.name("bench/direct");
-        qos.wire_protocol().participant_id = DIRECT_READER_PARTICIPANT_ID;
-        return qos;
+    if (!shm) {
+        return tgw::bench::direct_reader_qos(d);
     }
-    DomainParticipantQos qos;
+    DomainParticipantQos qos = publisher_qos();
     qos.name("bench/direct");
     qos.wire_protocol().participant_id = DIRECT_READER_PARTICIPANT_ID;
-    qos.transport().use_builtin_transports = false;
-    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
-    udp->interfaceWhiteList.push_back("127.0.0.1");
-    qos.transport().user_transports.push_back(udp);
-    qos.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(
-        loopback(tgw::dds::metatraffic_unicast_port(d.robot, DIRECT_READER_PARTICIPANT_ID)));
-    qos.wire_protocol().builtin.initialPeersList.push_back(loopback(d.publisher_port));
     return qos;
 }
 
@@ -156,16 +133,7 @@ class Bench {
                          domains_.wan);
             return false;
         }
-        tgw::dds::GatewayConfig config;
-        config.robot_domain = domains_.robot;
-        config.wan_domain = domains_.wan;
-        config.wan_peers = {"127.0.0.1:" + std::to_string(domains_.wan_reader_port)};
-        config.wan_interface = "127.0.0.1";
-        config.wan_port = domains_.gateway_wan_port;
-        config.deny = {"bench/direct/*"};
-        config.scheduler.initial_rate_bps = 1e12;  // unconstrained: every sample is released on arrival
-        config.default_ttl = 5s;
-        gateway_ = std::make_unique<tgw::dds::Gateway>(config, clock_);
+        gateway_ = std::make_unique<tgw::dds::Gateway>(tgw::bench::gateway_config(domains_), clock_);
         return true;
     }
 
@@ -211,11 +179,11 @@ class Bench {
         };
         publish(0, options_.warmup);
         // Let the warm-up drain, then count only what follows.
-        settle(*via_reader, *direct_reader);
+        tgw::bench::settle([&] { return via_reader->received() + direct_reader->received(); });
         const auto before = gateway_->processing_latency();
         next = std::chrono::steady_clock::now();
         publish(options_.warmup, options_.warmup + options_.samples);
-        settle(*via_reader, *direct_reader);
+        tgw::bench::settle([&] { return via_reader->received() + direct_reader->received(); });
         const auto processing = gateway_->processing_latency().since(before);
 
         const auto via_ns = via_reader->latencies_ns();
@@ -283,19 +251,6 @@ class Bench {
             std::fprintf(stderr, "gateway_hop_bench: the endpoints of %s never matched\n", via_topic.c_str());
         }
         return matched;
-    }
-
-    /// Waits until neither reader has received anything for 200 ms.
-    static void settle(const LatencyReader& a, const LatencyReader& b) {
-        std::uint64_t seen = a.received() + b.received();
-        while (true) {
-            std::this_thread::sleep_for(200ms);
-            const std::uint64_t now = a.received() + b.received();
-            if (now == seen) {
-                return;
-            }
-            seen = now;
-        }
     }
 
     Options options_;

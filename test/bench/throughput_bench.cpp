@@ -14,8 +14,8 @@
 #include <cstdio>
 #include <string>
 
-#include "bench_support.hpp"
 #include "gateway/core/config_error.hpp"
+#include "test/bench/bench_support.hpp"
 
 namespace {
 

@@ -13,9 +13,23 @@ namespace tgw::core {
 /// within one frame (MAX_DATAGRAM_PAYLOAD_BYTES), so a larger sample goes as DATA_FRAG submessages, one per
 /// datagram, each paying the datagram's overhead, INFO_TS and a 36-byte DATA_FRAG header. Checked against
 /// captures of the paper's four types (238, 262, 462, 1210 bytes) and of 3,000- and 6,000-byte samples.
+/// A link fast enough not to care may allow larger datagrams (for_max_datagram); the kernel then splits
+/// each into IP fragments, one Ethernet frame each.
 struct WireModel {
     /// The UDP payload that fits an Ethernet frame of 1500 bytes of IP.
     static constexpr std::size_t MAX_DATAGRAM_PAYLOAD_BYTES = 1472;
+    /// The largest UDP payload Fast DDS sends (its default maxMessageSize).
+    static constexpr std::size_t MAX_UDP_PAYLOAD_BYTES = 65500;
+    /// The smallest datagram limit allowed: room for the headers and a useful fragment.
+    static constexpr std::size_t MIN_DATAGRAM_PAYLOAD_BYTES = 512;
+
+    /// The model for a WAN transport whose datagrams carry up to `max_datagram_bytes` of UDP payload, in
+    /// [MIN_DATAGRAM_PAYLOAD_BYTES, MAX_UDP_PAYLOAD_BYTES]: Fast DDS's fragment and whole-sample limits move
+    /// with it by the same headers as at 1472 bytes (derived, captured only at 1472).
+    static WireModel for_max_datagram(std::size_t max_datagram_bytes);
+
+    /// The WAN transport's datagram limit (its maxMessageSize).
+    std::size_t max_datagram_bytes = MAX_DATAGRAM_PAYLOAD_BYTES;
 
     std::size_t per_datagram_bytes = 138;
     std::size_t per_sample_bytes = 36;
@@ -35,7 +49,12 @@ struct WireModel {
 
     /// Bytes on the wire for one sample of `payload_bytes` serialized bytes sent alone.
     std::size_t wire_bytes(std::size_t payload_bytes) const;
+
     std::uint64_t wire_bits(std::size_t payload_bytes) const { return 8u * wire_bytes(payload_bytes); }
+
+  private:
+    /// One datagram with `submessage_bytes` after the per-datagram headers: whole frames, IP fragments included.
+    std::size_t datagram_wire_bytes(std::size_t submessage_bytes) const;
 };
 
 }  // namespace tgw::core

@@ -38,6 +38,12 @@ void GatewayConfig::validate() const {
         // One domain would make the gateway read its own WAN writers back.
         throw core::ConfigError("--wan-domain " + std::to_string(wan_domain) + ": must differ from --robot-domain");
     }
+    const std::size_t datagram = scheduler.wire.max_datagram_bytes;
+    if (datagram < core::WireModel::MIN_DATAGRAM_PAYLOAD_BYTES || datagram > core::WireModel::MAX_UDP_PAYLOAD_BYTES) {
+        throw core::ConfigError("--wan-max-datagram " + std::to_string(datagram) + ": expected " +
+                                std::to_string(core::WireModel::MIN_DATAGRAM_PAYLOAD_BYTES) + " to " +
+                                std::to_string(core::WireModel::MAX_UDP_PAYLOAD_BYTES) + " bytes");
+    }
     if (default_ttl <= core::Duration::zero()) {
         throw core::ConfigError("--default-ttl: must be positive");
     }
@@ -80,6 +86,7 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     wan.listen_port = config_.wan_port;
     wan.lease_duration = config_.wan_lease;
     wan.announcement_period = config_.wan_announcement_period;
+    wan.max_datagram_bytes = config_.scheduler.wire.max_datagram_bytes;
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
 
     directory_ = std::make_unique<TopicDirectory>();

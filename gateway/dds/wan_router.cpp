@@ -61,9 +61,9 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     qos.transport().use_builtin_transports = false;
     qos.transport().user_transports.clear();
     auto udp = std::make_shared<UDPv4TransportDescriptor>();
-    // One RTPS message per Ethernet frame: larger samples go as DATA_FRAG, which the wire model counts,
-    // instead of IP fragments of one 64 kB datagram, all lost when one frame is.
-    udp->maxMessageSize = core::WireModel::MAX_DATAGRAM_PAYLOAD_BYTES;
+    // By default one RTPS message per Ethernet frame: larger samples go as DATA_FRAG, which the wire model
+    // counts and a reliable writer can repair one by one, instead of IP fragments of one 64 kB datagram.
+    udp->maxMessageSize = static_cast<std::uint32_t>(config.max_datagram_bytes);
     if (!config.interface_address.empty()) {
         udp->interfaceWhiteList.push_back(config.interface_address);
     }

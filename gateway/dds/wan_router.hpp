@@ -16,6 +16,7 @@
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 
 #include "gateway/core/sample.hpp"
+#include "gateway/core/wire_model.hpp"
 #include "gateway/dds/wan_address.hpp"
 
 namespace tgw::dds {
@@ -33,6 +34,9 @@ struct WanConfig {
     /// 20 s / 3 s put 5,300 bit/s on the link with one idle peer (DESIGN section 4); these cut that ~7x.
     std::chrono::seconds lease_duration{120};
     std::chrono::seconds announcement_period{20};
+    /// The UDP transport's maxMessageSize: larger samples go as DATA_FRAG. One Ethernet frame by default;
+    /// the scheduler's WireModel must be made for the same size.
+    std::size_t max_datagram_bytes = core::WireModel::MAX_DATAGRAM_PAYLOAD_BYTES;
 };
 
 /// Outcome of one write, counted by the caller; nothing on this path throws.

@@ -7,11 +7,13 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <thread>
 
 #include "KeyedReadingPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
 #include "RosStringPubSubTypes.h"
 #include "gateway/core/clock.hpp"
+#include "gateway/core/wire_model.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway.hpp"
 #include "test/integration/dds_test_support.hpp"
@@ -199,6 +201,47 @@ TEST_F(GatewayIntegrationTest, ForwardsPaperMessagesWithPayloadAndSourceTimestam
     EXPECT_EQ(gateway_->counters(bridged->id).forwarded, static_cast<std::uint64_t>(N));
     expect_balanced();
 }
+
+/// Large samples cross intact whatever the WAN's datagram limit: as DATA_FRAGs of one Ethernet frame each by
+/// default, or in one datagram with --wan-max-datagram 65500.
+class LargeSampleTest : public GatewayIntegrationTest, public ::testing::WithParamInterface<std::size_t> {};
+
+TEST_P(LargeSampleTest, ArrivesIntact) {
+    GatewayConfig c = config();
+    c.scheduler.wire = core::WireModel::for_max_datagram(GetParam());
+    start_gateway(c);
+    const std::string topic = topic_prefix_ + "large";
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_), wan);
+    ASSERT_NE(writer, nullptr);
+
+    constexpr int N = 5;
+    constexpr std::size_t BYTES = 60'000;
+    for (int i = 0; i < N; ++i) {
+        idl::PaperMessage msg;
+        msg.sequence_number(static_cast<std::uint32_t>(i));
+        std::vector<std::uint8_t> data(BYTES);
+        for (std::size_t j = 0; j < BYTES; ++j) {
+            data[j] = static_cast<std::uint8_t>(i + j * 7);
+        }
+        msg.data(std::move(data));
+        ASSERT_TRUE(writer->write(&msg));
+        std::this_thread::sleep_for(20ms);  // one sample at a time in the base camp's socket buffer
+    }
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= N; })) << "got " << wan.count() << " of " << N;
+    for (const auto& got : wan.received()) {
+        const auto i = got.data.sequence_number();
+        ASSERT_EQ(got.data.data().size(), BYTES);
+        for (std::size_t j = 0; j < BYTES; j += 997) {
+            ASSERT_EQ(got.data.data()[j], static_cast<std::uint8_t>(i + j * 7)) << "sample " << i << " byte " << j;
+        }
+    }
+    expect_balanced();
+}
+
+INSTANTIATE_TEST_SUITE_P(WanMaxDatagram, LargeSampleTest,
+                         ::testing::Values(core::WireModel::MAX_DATAGRAM_PAYLOAD_BYTES,
+                                           core::WireModel::MAX_UDP_PAYLOAD_BYTES));
 
 TEST_F(GatewayIntegrationTest, KeepsTheInstancesOfAKeyedTopic) {
     start_gateway(config());

@@ -97,6 +97,11 @@ int main(int argc, char** argv) {
                    "base-camp participant, IPv4[:PORT] (default port: participant 0's); repeatable");
     app.add_option("--wan-interface", config.wan_interface, "interface name or IPv4 address to bind the WAN to");
     app.add_option("--wan-port", config.wan_port, "own WAN metatraffic port (default: Fast DDS's well-known port)");
+    std::size_t max_datagram = config.scheduler.wire.max_datagram_bytes;
+    app.add_option("--wan-max-datagram", max_datagram,
+                   "largest UDP payload on the WAN, bytes; larger samples are fragmented. The default fits one "
+                   "Ethernet frame; up to 65500 on a fast link saves the fragments' headers and syscalls")
+        ->capture_default_str();
     app.add_option("--sensor", sensor_spec, "link rate sensor: fixed:BPS, trace:FILE, ...")->capture_default_str();
     app.add_option("--sensor-hold", hold_s, "seconds a failed sensor's last good rate still stands")
         ->check(tgw::cli::non_negative())
@@ -159,6 +164,7 @@ int main(int argc, char** argv) {
         config.scheduler.trust_source_clock = !arrival_clock;
         config.default_ttl = tgw::core::from_seconds(default_ttl_s);
         config.scheduler.memory_cap_bytes = static_cast<std::size_t>(queue_mib * (1 << 20));
+        config.scheduler.wire = tgw::core::WireModel::for_max_datagram(max_datagram);
 
         guard.hold = tgw::core::from_seconds(hold_s);
         if (!(guard.smoothing > 0.0 && guard.smoothing <= 1.0)) {

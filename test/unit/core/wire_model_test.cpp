@@ -31,5 +31,25 @@ TEST_F(WireModelTest, LargeSampleFragmentsAndPaysHeadersPerFragment) {
     EXPECT_EQ(sut.wire_bytes(6'020), 4 * 1482u + 1022u);
 }
 
+TEST(WireModelForMaxDatagram, AtOneFrameIsTheCapturedModel) {
+    const WireModel captured;
+    const WireModel derived = WireModel::for_max_datagram(WireModel::MAX_DATAGRAM_PAYLOAD_BYTES);
+    for (std::size_t payload : {0u, 61u, 1'308u, 1'309u, 3'020u, 6'020u, 65'536u}) {
+        EXPECT_EQ(derived.wire_bytes(payload), captured.wire_bytes(payload)) << payload << " bytes";
+    }
+}
+
+TEST(WireModelForMaxDatagram, LargeDatagramPaysIpFragmentHeadersInsteadOfRtpsFragments) {
+    const WireModel sut = WireModel::for_max_datagram(WireModel::MAX_UDP_PAYLOAD_BYTES);
+    // 3,020 bytes in one DATA: 138 + 36 + 3,020 = 3,194 bytes, 3,160 of IP payload, so 3 frames: 2 more
+    // Ethernet and IP headers of 34 bytes.
+    EXPECT_EQ(sut.wire_bytes(3'020), 3'194u + 2 * 34u);
+    // A sample that fits one frame costs what it always did.
+    EXPECT_EQ(sut.wire_bytes(paper_message_serialized_bytes(1016)), 1210u);
+    // 64 KiB: two DATA_FRAGs (65,324 + 212 bytes) instead of 51.
+    EXPECT_LT(sut.wire_bytes(65'536), WireModel{}.wire_bytes(65'536));
+    EXPECT_EQ(sut.max_unfragmented_bytes, 65'336u);
+}
+
 }  // namespace
 }  // namespace tgw::core

@@ -92,8 +92,9 @@ inline fdds::DomainParticipantQos direct_reader_qos(const BenchDomains& d) {
     return qos;
 }
 
-/// The gateway of the benches: budget unconstrained, the direct topics denied.
-inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d) {
+/// The gateway of the benches: budget unconstrained, the direct topics denied. `wan_max_datagram_bytes` 0:
+/// the gateway's default (one Ethernet frame).
+inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, std::size_t wan_max_datagram_bytes = 0) {
     tgw::dds::GatewayConfig config;
     config.robot_domain = d.robot;
     config.wan_domain = d.wan;
@@ -103,6 +104,9 @@ inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d) {
     config.deny = {"bench/direct/*"};
     config.scheduler.initial_rate_bps = 1e10;  // 10 Gbit/s: every sample is released on arrival
     config.default_ttl = std::chrono::seconds(5);
+    if (wan_max_datagram_bytes > 0) {
+        config.scheduler.wire = tgw::core::WireModel::for_max_datagram(wan_max_datagram_bytes);
+    }
     return config;
 }
 

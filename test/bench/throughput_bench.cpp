@@ -8,10 +8,13 @@
 // quiet). A path's figure is the highest offered rate at which its loss was below --max-loss. Both paths use
 // the same QoS: best effort, KEEP_LAST 100 at the writer, KEEP_LAST 1000 at the readers, data sharing off.
 // A path stops stepping after two lossy steps in a row, or once the publisher cannot write at the offered
-// rate (then the figure is a floor). Not run by ctest.
+// rate (then the figure is a floor). Then --bisect steps halve (geometrically) the gap between each path's
+// last loss-free and first lossy rate. Not run by ctest.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "gateway/core/config_error.hpp"
@@ -32,6 +35,8 @@ struct Options {
     double max_loss = 0.001;
     bool verbose = false;
     std::uint32_t direct_max_message_bytes = 0;
+    int bisect_steps = 3;
+    std::size_t wan_max_datagram_bytes = tgw::core::WireModel::MAX_UDP_PAYLOAD_BYTES;
 };
 
 struct PathResult {
@@ -55,7 +60,8 @@ class Bench {
             std::fprintf(stderr, "throughput_bench: cannot create the participants\n");
             return false;
         }
-        gateway_ = std::make_unique<tgw::dds::Gateway>(tgw::bench::gateway_config(domains_), clock_);
+        gateway_ = std::make_unique<tgw::dds::Gateway>(
+            tgw::bench::gateway_config(domains_, options_.wan_max_datagram_bytes), clock_);
         return true;
     }
 
@@ -93,54 +99,35 @@ class Bench {
         tgw::idl::PaperMessage message;
         message.data().assign(
             size > tgw::bench::PAPER_MESSAGE_FIXED_BYTES ? size - tgw::bench::PAPER_MESSAGE_FIXED_BYTES : 0, 0x5a);
-        PathResult direct_result;
-        PathResult via_result;
-        bool direct_done = false;
-        bool via_done = false;
-        int direct_lossy = 0;
-        int via_lossy = 0;
-        std::uint32_t sequence = 0;
-        for (double rate = options_.start_rate; rate <= options_.max_rate && !(direct_done && via_done); rate *= 1.5) {
-            for (bool through_gateway : {false, true}) {
-                bool& done = through_gateway ? via_done : direct_done;
-                if (done) {
-                    continue;
-                }
-                CountingReader& reader = through_gateway ? via_reader : direct_reader;
-                const std::uint64_t before = reader.received();
-                const tgw::core::TopicCounters gw_before = gateway_->counters(id);
-                const auto [sent, achieved] =
-                    burst(through_gateway ? via_writer : direct_writer, message, rate, sequence);
-                tgw::bench::settle([&] { return reader.received(); });
-                const std::uint64_t got = reader.received() - before;
-                const double loss = sent == 0 ? 1.0 : 1.0 - static_cast<double>(got) / static_cast<double>(sent);
-                PathResult& result = through_gateway ? via_result : direct_result;
-                int& lossy = through_gateway ? via_lossy : direct_lossy;
-                if (options_.verbose) {
-                    // Where a gateway-path sample was lost: before the gateway (robot side), in it, or after.
-                    const tgw::core::TopicCounters gw = gateway_->counters(id);
-                    std::fprintf(stderr,
-                                 "  %zu B %-7s offered %9.0f/s achieved %9.0f/s sent %8llu got %8llu "
-                                 "(gateway in %llu fwd %llu dropped %llu)\n",
-                                 size, through_gateway ? "gateway" : "direct", rate, achieved,
-                                 static_cast<unsigned long long>(sent), static_cast<unsigned long long>(got),
-                                 static_cast<unsigned long long>(gw.received - gw_before.received),
-                                 static_cast<unsigned long long>(gw.forwarded - gw_before.forwarded),
-                                 static_cast<unsigned long long>(gw.dropped_total() - gw_before.dropped_total()));
-                }
-                if (loss < options_.max_loss) {
-                    lossy = 0;
-                    if (achieved < 0.9 * rate) {
-                        result.writer_bound = true;
-                        done = true;
-                    } else {
-                        result.best_rate = rate;
-                    }
-                } else if (++lossy >= 2) {
-                    done = true;
+        Path direct_path{"direct", direct_writer, direct_reader, std::nullopt};
+        Path via_path{"gateway", via_writer, via_reader, id};
+        // Ramp: both paths step up together, so that the machine's noise falls on both alike.
+        for (double rate = options_.start_rate; rate <= options_.max_rate && !(direct_path.done && via_path.done);
+             rate *= RAMP_FACTOR) {
+            for (Path* path : {&direct_path, &via_path}) {
+                if (!path->done) {
+                    ramp_step(*path, message, rate);
                 }
             }
         }
+        // Bisection: between the last loss-free rate and the first lossy one, the ramp's x1.5 steps would
+        // quantise the ratio to powers of 1.5.
+        for (int i = 0; i < options_.bisect_steps; ++i) {
+            for (Path* path : {&direct_path, &via_path}) {
+                if (path->writer_bound || path->best_rate <= 0 || path->first_lossy_rate <= 0) {
+                    continue;
+                }
+                const double rate = std::sqrt(path->best_rate * path->first_lossy_rate);
+                const Step step = measure(*path, message, rate);
+                if (step.loss < options_.max_loss && step.achieved >= WRITER_BOUND_FRACTION * rate) {
+                    path->best_rate = rate;
+                } else {
+                    path->first_lossy_rate = rate;
+                }
+            }
+        }
+        const PathResult direct_result{direct_path.best_rate, direct_path.writer_bound};
+        const PathResult via_result{via_path.best_rate, via_path.writer_bound};
         const double mb = static_cast<double>(size) / 1e6;
         std::printf("%8zu %12.0f%s %10.1f %12.0f%s %10.1f %7.2f\n", size, direct_result.best_rate,
                     direct_result.writer_bound ? "+" : " ", direct_result.best_rate * mb, via_result.best_rate,
@@ -162,6 +149,82 @@ class Bench {
     }
 
   private:
+    static constexpr double RAMP_FACTOR = 1.5;
+    /// A step whose publisher achieved less than this fraction of the offered rate measures the publisher.
+    static constexpr double WRITER_BOUND_FRACTION = 0.9;
+
+    /// One path under test and where its search stands.
+    struct Path {
+        const char* name;
+        fdds::DataWriter* writer;
+        CountingReader& reader;
+        std::optional<tgw::core::TopicId> gateway_topic;  ///< set for the path through the gateway
+        double best_rate = 0;                             ///< the highest loss-free rate so far
+        double first_lossy_rate = 0;                      ///< the lowest lossy rate above best_rate, 0 while none
+        int lossy_in_a_row = 0;
+        bool writer_bound = false;
+        bool done = false;
+    };
+
+    struct Step {
+        double loss = 1.0;
+        double achieved = 0;
+    };
+
+    /// Offers `rate` on the path for the duration and counts what arrived once the reader has drained.
+    Step measure(Path& path, tgw::idl::PaperMessage& message, double rate) {
+        const std::uint64_t before = path.reader.received();
+        tgw::core::TopicCounters gw_before;
+        if (path.gateway_topic) {
+            gw_before = gateway_->counters(*path.gateway_topic);
+        }
+        const auto [sent, achieved] = burst(path.writer, message, rate, sequence_);
+        tgw::bench::settle([&] { return path.reader.received(); });
+        const std::uint64_t got = path.reader.received() - before;
+        Step step;
+        step.loss = sent == 0 ? 1.0 : 1.0 - static_cast<double>(got) / static_cast<double>(sent);
+        step.achieved = achieved;
+        if (options_.verbose) {
+            // Where a gateway-path sample was lost: before the gateway (robot side), in it, or after.
+            tgw::core::TopicCounters gw;
+            if (path.gateway_topic) {
+                gw = gateway_->counters(*path.gateway_topic);
+            }
+            std::fprintf(stderr,
+                         "  %-7s offered %9.0f/s achieved %9.0f/s sent %8llu got %8llu "
+                         "(gateway in %llu fwd %llu dropped %llu)\n",
+                         path.name, rate, achieved, static_cast<unsigned long long>(sent),
+                         static_cast<unsigned long long>(got),
+                         static_cast<unsigned long long>(gw.received - gw_before.received),
+                         static_cast<unsigned long long>(gw.forwarded - gw_before.forwarded),
+                         static_cast<unsigned long long>(gw.dropped_total() - gw_before.dropped_total()));
+        }
+        return step;
+    }
+
+    /// One ramp step: a path stops after two lossy steps in a row, or once its publisher cannot keep up
+    /// (then best_rate is a floor).
+    void ramp_step(Path& path, tgw::idl::PaperMessage& message, double rate) {
+        const Step step = measure(path, message, rate);
+        if (step.loss < options_.max_loss) {
+            path.lossy_in_a_row = 0;
+            if (step.achieved < WRITER_BOUND_FRACTION * rate) {
+                path.writer_bound = true;
+                path.done = true;
+            } else {
+                path.best_rate = rate;
+                path.first_lossy_rate = 0;
+            }
+            return;
+        }
+        if (path.first_lossy_rate <= 0) {
+            path.first_lossy_rate = rate;
+        }
+        if (++path.lossy_in_a_row >= 2) {
+            path.done = true;
+        }
+    }
+
     /// Writes at `rate` samples/s for the duration, in 1 ms batches. Returns the samples written and the rate
     /// achieved.
     std::pair<std::uint64_t, double> burst(fdds::DataWriter* writer, tgw::idl::PaperMessage& message, double rate,
@@ -215,6 +278,7 @@ class Bench {
     std::unique_ptr<TestParticipant> direct_;
     std::unique_ptr<TestParticipant> basecamp_;
     std::unique_ptr<tgw::dds::Gateway> gateway_;
+    std::uint32_t sequence_ = 0;
 };
 
 }  // namespace
@@ -237,6 +301,13 @@ int main(int argc, char** argv) {
                    "the publisher's UDP maxMessageSize (the direct path's datagrams); 1472 fragments as the "
                    "gateway's WAN participant does; default 0: Fast DDS's 65500")
         ->capture_default_str();
+    app.add_option("--bisect", options.bisect_steps,
+                   "bisection steps between the last loss-free and the first lossy ramp rate")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--wan-max-datagram", options.wan_max_datagram_bytes,
+                   "the gateway's --wan-max-datagram; the default is Fast DDS's, as the direct path has it")
+        ->capture_default_str();
     app.add_flag("--verbose", options.verbose, "print every step to stderr");
     try {
         app.parse(argc, argv);
@@ -253,9 +324,12 @@ int main(int argc, char** argv) {
         return 1;
     }
     std::printf(
-        "throughput: highest offered rate with loss < %.2f %%, steps x1.5 of %.1f s, best effort, writer KEEP_LAST "
-        "100, readers KEEP_LAST 1000, direct reader UDP, budget 10 Gbit/s; '+': publisher-bound floor\n",
-        options.max_loss * 100, options.duration_s);
+        "throughput: highest offered rate with loss < %.2f %%, steps x1.5 of %.1f s then %d bisections, best effort, "
+        "writer KEEP_LAST 100, readers KEEP_LAST 1000, direct reader UDP, budget 10 Gbit/s, largest datagram: direct "
+        "%s B, via the gateway %zu B; '+': publisher-bound floor\n",
+        options.max_loss * 100, options.duration_s, options.bisect_steps,
+        options.direct_max_message_bytes > 0 ? std::to_string(options.direct_max_message_bytes).c_str() : "65500",
+        options.wan_max_datagram_bytes);
     std::printf("%8s %13s %10s %13s %10s %7s\n", "bytes", "direct/s", "direct_MB/s", "via_gw/s", "via_MB/s", "ratio");
     int rc = 0;
     for (std::size_t size : options.sizes) {

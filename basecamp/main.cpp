@@ -63,6 +63,12 @@ int main(int argc, char** argv) {
     record->add_option("--out", out, "the SQLite file to write (WAL mode)")->required();
     record->add_option("--duration", duration_s, "seconds to record; until SIGINT/SIGTERM without it")
         ->check(CLI::PositiveNumber);
+    double report_period_s = 1.0;
+    record
+        ->add_option("--report-period", report_period_s,
+                     "seconds between receiver reports to each gateway (tgw/receiver_report); 0: none")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
 
     CLI::App* report = app.add_subcommand("report", "print received, on time and transmission time per topic");
     std::string in;
@@ -97,7 +103,7 @@ int main(int argc, char** argv) {
     try {
         if (record->parsed()) {
             tgw::basecamp::SampleStore store(out, "--out");
-            tgw::basecamp::Recorder recorder(domain, transport, store);
+            tgw::basecamp::Recorder recorder(domain, transport, store, tgw::core::from_seconds(report_period_s));
             std::signal(SIGINT, on_signal);
             std::signal(SIGTERM, on_signal);
             const auto duration = duration_s > 0 ? tgw::core::from_seconds(duration_s) : tgw::core::Duration::max() / 2;
@@ -106,6 +112,10 @@ int main(int argc, char** argv) {
             std::cout << "tm-basecamp record: domain " << domain << " -> " << out << "\n";
             for (const auto& [topic, count] : recorder.received())
                 std::cout << "  " << topic << ": " << count << " samples\n";
+            for (const auto& [gateway, totals] : recorder.delivery())
+                std::cout << "  from participant " << tgw::basecamp::prefix_text(gateway) << ": "
+                          << totals.received_samples << " received, " << totals.lost_samples
+                          << " lost on the way (gaps in the writers' sequence numbers)\n";
             std::cout << "  rows written: " << store.rows_written() << ", write errors: " << store.write_errors()
                       << "\n";
         } else {

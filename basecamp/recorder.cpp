@@ -1,6 +1,8 @@
 #include "basecamp/recorder.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <iterator>
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
@@ -12,9 +14,11 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include "basecamp/receiver_reporter.hpp"
 #include "gateway/core/config_error.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_type.hpp"
+#include "gateway/dds/receiver_report_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -23,8 +27,12 @@ namespace fdds = eprosima::fastdds::dds;
 /// The reader of one topic and its listener: takes every sample and hands it to the store.
 class Recorder::TopicReader final : public fdds::DataReaderListener {
   public:
-    TopicReader(const dds::DiscoveredPublisher& publisher, SampleStore& store)
-        : topic_(publisher.topic), type_name_(publisher.type_name), keyed_(publisher.keyed), store_(store) {
+    TopicReader(const dds::DiscoveredPublisher& publisher, SampleStore& store, DeliveryTally& tally)
+        : topic_(publisher.topic),
+          type_name_(publisher.type_name),
+          keyed_(publisher.keyed),
+          store_(store),
+          tally_(tally) {
         if (publisher.lifespan)
             lifespan_ns_ = publisher.lifespan->count();
     }
@@ -35,6 +43,7 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
         while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
             if (!info.valid_data)
                 continue;
+            tally_.add(writer_guid(info), info.sample_identity.sequence_number().to64long(), data.payload.size());
             const std::int64_t now_ns = core::to_ns(core::WallClock::now());
             SampleRecord record;
             record.topic = topic_;
@@ -57,14 +66,25 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
     std::atomic<std::uint64_t> received{0};
 
   private:
+    static WriterGuid writer_guid(const fdds::SampleInfo& info) {
+        const auto& guid = info.sample_identity.writer_guid();
+        WriterGuid out;
+        std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), out.begin());
+        std::copy(std::begin(guid.entityId.value), std::end(guid.entityId.value),
+                  out.begin() + sizeof(guid.guidPrefix.value));
+        return out;
+    }
+
     std::string topic_;
     std::string type_name_;
     bool keyed_;
     std::optional<std::int64_t> lifespan_ns_;
     SampleStore& store_;
+    DeliveryTally& tally_;
 };
 
-Recorder::Recorder(int domain, const PeerTransport& transport, SampleStore& store) : store_(store) {
+Recorder::Recorder(int domain, const PeerTransport& transport, SampleStore& store, core::Duration report_period)
+    : store_(store), report_period_(report_period) {
     discovery_ = std::make_unique<dds::Discovery>([this](dds::DiscoveredPublisher&& publisher) {
         // Discovery thread: entities are created by run(), never here.
         {
@@ -80,9 +100,12 @@ Recorder::Recorder(int domain, const PeerTransport& transport, SampleStore& stor
     participant_ = factory->create_participant(domain, qos, discovery_.get(), fdds::StatusMask::none());
     if (participant_ == nullptr)
         throw core::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));
+    discovery_->ignore_participant(participant_->guid().guidPrefix);
     subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (subscriber_ == nullptr)
         throw core::ConfigError("cannot create a DDS subscriber");
+    if (report_period_ > core::Duration::zero())
+        reporter_ = std::make_unique<ReceiverReporter>(participant_);
 }
 
 Recorder::~Recorder() {
@@ -94,7 +117,8 @@ Recorder::~Recorder() {
 }
 
 void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
-    if (readers_.count(publisher.topic) != 0)
+    // Other receivers' reports are for their gateways, not a recording.
+    if (readers_.count(publisher.topic) != 0 || publisher.topic == dds::RECEIVER_REPORT_TOPIC)
         return;
     if (participant_->find_type(publisher.type_name).empty()) {
         fdds::TypeSupport type(new dds::PassthroughType(publisher.type_name, publisher.keyed));
@@ -124,7 +148,7 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
     // Cyclone DDS 0.10 refuses readers that expect inline QoS (DESIGN section 7).
     qos.expects_inline_qos(false);
 
-    auto reader = std::make_unique<TopicReader>(publisher, store_);
+    auto reader = std::make_unique<TopicReader>(publisher, store_, tally_);
     if (subscriber_->create_datareader(topic, qos, reader.get()) == nullptr) {
         std::fprintf(stderr, "tm-basecamp: cannot create a reader for '%s'\n", publisher.topic.c_str());
         return;
@@ -143,9 +167,16 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
 
 void Recorder::run(core::Duration duration, const std::atomic<bool>& stop) {
     const auto end = core::SteadyClock::now() + duration;
+    auto next_report = core::SteadyClock::now() + report_period_;
     std::unique_lock<std::mutex> lock(mutex_);
     while (!stop.load() && core::SteadyClock::now() < end) {
         discovered_cv_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !discovered_.empty(); });
+        if (reporter_ && core::SteadyClock::now() >= next_report) {
+            next_report += report_period_;
+            lock.unlock();
+            reporter_->publish(tally_.totals());
+            lock.lock();
+        }
         while (!discovered_.empty()) {
             const dds::DiscoveredPublisher publisher = std::move(discovered_.front());
             discovered_.pop_front();

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <string>
 
+#include "basecamp/delivery_tally.hpp"
 #include "basecamp/peer_transport.hpp"
 #include "basecamp/sample_store.hpp"
 #include "gateway/core/time.hpp"
@@ -22,12 +23,17 @@ class DataReader;
 
 namespace tgw::basecamp {
 
+class ReceiverReporter;
+
 /// Subscribes to every topic that appears on a domain, whatever its type (tgw::dds::PassthroughType), and
-/// writes each received sample to a SampleStore.
+/// writes each received sample to a SampleStore. Every `report_period` it tells each sending gateway what
+/// arrived and what was lost on the way (ReceiverReporter, DeliveryTally).
 class Recorder {
   public:
-    /// Creates the participant. Throws core::ConfigError when DDS refuses it.
-    Recorder(int domain, const PeerTransport& transport, SampleStore& store);
+    /// Creates the participant. `report_period` zero: no receiver reports. Throws core::ConfigError when DDS
+    /// refuses it.
+    Recorder(int domain, const PeerTransport& transport, SampleStore& store,
+             core::Duration report_period = std::chrono::seconds(1));
     ~Recorder();
     Recorder(const Recorder&) = delete;
     Recorder& operator=(const Recorder&) = delete;
@@ -37,6 +43,8 @@ class Recorder {
 
     /// Samples received so far, per topic.
     std::map<std::string, std::uint64_t> received() const;
+    /// Received and lost samples so far, per sending participant.
+    std::map<ParticipantPrefix, DeliveryTotals> delivery() const { return tally_.totals(); }
 
   private:
     class TopicReader;
@@ -44,10 +52,13 @@ class Recorder {
     void subscribe(const dds::DiscoveredPublisher& publisher);
 
     SampleStore& store_;
+    DeliveryTally tally_;
+    core::Duration report_period_;
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
     std::map<std::string, std::unique_ptr<TopicReader>> readers_;
+    std::unique_ptr<ReceiverReporter> reporter_;
 
     mutable std::mutex mutex_;
     std::condition_variable discovered_cv_;

@@ -1,5 +1,7 @@
 #include "gateway/dds/gateway.hpp"
 
+#include "gateway/dds/receiver_report_topic.hpp"
+
 #include <algorithm>
 #include <iostream>
 #include <utility>
@@ -8,6 +10,7 @@
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway_sink.hpp"
 #include "gateway/dds/qos_file.hpp"
+#include "gateway/dds/receiver_report_topic.hpp"
 #include "gateway/dds/robot_participant.hpp"
 #include "gateway/dds/topic_bridge.hpp"
 #include "gateway/dds/topic_directory.hpp"
@@ -93,6 +96,19 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     sink_ = std::make_unique<GatewaySink>(*wan_, log_.get(), *directory_, clock_);
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
     loop_->start();
+    if (config_.receiver_reports) {
+        // After the loop: each report is compared with what the loop had forwarded when it came.
+        reports_ = std::make_unique<ReceiverReportReader>(wan_->guid_prefix(),
+                                                          [this] { return loop_->total_counters().forwarded; });
+        if (!wan_->subscribe_receiver_reports(reports_.get())) {
+            throw core::ConfigError("--receiver-reports: cannot subscribe to the base camp's reports");
+        }
+        // The report reader's announcement crosses the link once per peer, as a writer's does.
+        loop_->charge_link(8u *
+                           config_.scheduler.wire.announcement_bytes(std::string(RECEIVER_REPORT_TOPIC).size(),
+                                                                     std::string("tgw::idl::ReceiverReport").size()) *
+                           std::max<std::size_t>(1, config_.wan_peers.size()));
+    }
 
     discovery_ = std::make_unique<Discovery>([this](DiscoveredPublisher&& pub) { on_publisher(std::move(pub)); });
     discovery_->ignore_participant(wan_->guid_prefix());
@@ -293,6 +309,10 @@ std::optional<core::Duration> Gateway::wan_writer_lifespan(core::TopicId id) con
 
 std::uint64_t Gateway::wan_write_failures() const {
     return sink_->wan_write_failures();
+}
+
+std::optional<ReceiverReportTotals> Gateway::receiver_report() const {
+    return reports_ ? reports_->latest() : std::nullopt;
 }
 
 std::uint64_t Gateway::logged() const {

@@ -17,6 +17,7 @@
 #include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/scheduler.hpp"
 #include "gateway/dds/discovery.hpp"
+#include "gateway/dds/receiver_report_reader.hpp"
 #include "gateway/dds/topic_filter.hpp"
 #include "gateway/dds/ttl_resolver.hpp"
 #include "sensor/rate_sensor.hpp"
@@ -49,6 +50,8 @@ struct GatewayConfig {
     core::SchedulerConfig scheduler;
     std::chrono::seconds wan_lease{120};
     std::chrono::seconds wan_announcement_period{20};
+    /// Read the base camp's receiver reports (tgw/receiver_report), see receiver_report().
+    bool receiver_reports = false;
 
     /// Throws core::ConfigError naming the flag at fault. Checks what needs no file or network.
     void validate() const;
@@ -102,6 +105,9 @@ class Gateway {
     std::int32_t wan_matched_readers(core::TopicId id) const;
     std::optional<core::Duration> wan_writer_lifespan(core::TopicId id) const;
     std::uint64_t wan_write_failures() const;
+    /// The base camp's latest receiver report about this gateway; nullopt before one, or without
+    /// GatewayConfig::receiver_reports.
+    std::optional<ReceiverReportTotals> receiver_report() const;
     /// Samples handed to the on-robot log.
     std::uint64_t logged() const;
     /// The gateway's own processing time of every sample forwarded so far: from its arrival in the scheduler
@@ -121,6 +127,7 @@ class Gateway {
     TopicFilter filter_;
 
     std::unique_ptr<log::RobotLog> log_;
+    std::unique_ptr<ReceiverReportReader> reports_;  ///< before wan_: its reader's listener outlives it
     std::unique_ptr<WanRouter> wan_;
     std::unique_ptr<TopicDirectory> directory_;
     std::unique_ptr<GatewaySink> sink_;

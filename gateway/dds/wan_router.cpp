@@ -7,12 +7,17 @@
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
+#include "ReceiverReportPubSubTypes.h"
 #include "gateway/core/config_error.hpp"
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_type.hpp"
+#include "gateway/dds/receiver_report_topic.hpp"
 
 namespace tgw::dds {
 
@@ -197,6 +202,34 @@ WriteResult WanRouter::write(core::Sample&& sample) {
         return WriteResult::failed;
     }
     return WriteResult::ok;
+}
+
+bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {
+    fdds::TypeSupport type(new idl::ReceiverReportPubSubType());
+    if (participant_->register_type(type) != ReturnCode_t::RETCODE_OK) {
+        std::cerr << "telemetry-gateway: cannot register the receiver report type\n";
+        return false;
+    }
+    fdds::Topic* topic =
+        participant_->create_topic(RECEIVER_REPORT_TOPIC, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+    fdds::Subscriber* subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    if (topic == nullptr || subscriber == nullptr) {
+        std::cerr << "telemetry-gateway: cannot subscribe to " << RECEIVER_REPORT_TOPIC << '\n';
+        return false;
+    }
+    fdds::DataReaderQos qos = subscriber->get_default_datareader_qos();
+    // Best effort and the latest per receiver: every report carries all the counts.
+    qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+    qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
+    qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+    qos.history().depth = 1;
+    qos.data_sharing().off();
+    qos.expects_inline_qos(false);
+    if (subscriber->create_datareader(topic, qos, listener) == nullptr) {
+        std::cerr << "telemetry-gateway: cannot create the reader of " << RECEIVER_REPORT_TOPIC << '\n';
+        return false;
+    }
+    return true;
 }
 
 std::optional<core::Duration> WanRouter::writer_lifespan(core::TopicId id) const {

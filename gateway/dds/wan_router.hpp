@@ -14,6 +14,7 @@
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
 
 #include "gateway/core/sample.hpp"
 #include "gateway/core/wire_model.hpp"
@@ -45,7 +46,8 @@ enum class WriteResult { ok, unknown_topic, failed };
 /// The gateway's participant on the WAN domain: UDPv4 unicast only (no multicast, no shared memory), bound to
 /// one interface, announcing itself to the configured peers' exact ports, with long announcement periods.
 /// One DataWriter per bridged topic, with the robot topic's name and type name, Lifespan = the topic's TTL,
-/// best-effort unless the topic's data_writer profile says otherwise. It only writes.
+/// best-effort unless the topic's data_writer profile says otherwise. It reads one topic only: the base
+/// camp's receiver reports, when asked to.
 class WanRouter {
   public:
     /// Throws core::ConfigError when the participant cannot be created. `base`: starting QoS (an XML
@@ -66,6 +68,10 @@ class WanRouter {
 
     /// Writes with the sample's source timestamp and instance; takes the payload. Never throws.
     WriteResult write(core::Sample&& sample);
+
+    /// Creates a reader of dds::RECEIVER_REPORT_TOPIC for `listener`, which must outlive the router. False
+    /// (after logging it) when Fast DDS refuses.
+    bool subscribe_receiver_reports(eprosima::fastdds::dds::DataReaderListener* listener);
 
     /// The Lifespan QoS of the topic's writer, or nullopt if there is no writer.
     std::optional<core::Duration> writer_lifespan(core::TopicId id) const;

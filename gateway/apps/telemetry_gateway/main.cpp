@@ -19,6 +19,7 @@
 #include "sensor/delivered_rate_check.hpp"
 #include "sensor/guarded_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
+#include "sensor/receiver_report_source.hpp"
 
 namespace {
 
@@ -118,6 +119,9 @@ int main(int argc, char** argv) {
     auto* check = app.add_flag("--delivered-check", delivered_check,
                                "cap the budget below the sensor's rate while the WAN interface's qdisc drops or "
                                "queues (needs --wan-interface or --delivered-interface)");
+    app.add_flag("--receiver-reports", config.receiver_reports,
+                 "cap the budget also while the base camp's receiver (tm-basecamp record) reports samples lost on the "
+                 "way; alone, without --delivered-check, the reports are the check's only counters");
     app.add_option("--delivered-interface", delivered_interface,
                    "interface whose counters the delivered-rate check reads (default: --wan-interface)")
         ->needs(check);
@@ -205,6 +209,28 @@ int main(int argc, char** argv) {
         }
 
         tgw::dds::Gateway gateway(config, clock);
+        if (config.receiver_reports) {
+            if (!delivered_sources) {
+                delivered_sources.emplace();
+            }
+            const tgw::core::WireModel wire = config.scheduler.wire;
+            delivered_sources->kernel = tgw::sensor::with_receiver_reports(
+                std::move(delivered_sources->kernel), [&gateway, wire]() -> std::optional<tgw::sensor::ReceiverCounts> {
+                    const auto report = gateway.receiver_report();
+                    if (!report) {
+                        return std::nullopt;
+                    }
+                    // Bytes on the wire of what arrived, as if each sample went in a datagram of its own; what
+                    // is in flight at the mean size of what was forwarded.
+                    const tgw::core::TopicCounters sent = gateway.total_counters();
+                    const std::uint64_t mean_wire_bytes =
+                        sent.forwarded == 0 ? 0 : sent.forwarded_wire_bytes / sent.forwarded;
+                    return tgw::sensor::ReceiverCounts{
+                        report->received_bytes +
+                            report->received_samples * (wire.per_datagram_bytes + wire.per_sample_bytes),
+                        report->lost_samples, report->in_flight_samples * mean_wire_bytes};
+                });
+        }
         if (delivered_sources) {
             delivered_sources->sent_bytes = [&gateway] { return gateway.total_counters().forwarded_wire_bytes; };
             sensor = std::make_unique<tgw::sensor::DeliveredRateCheck>(std::move(sensor), std::move(*delivered_sources),

@@ -18,3 +18,26 @@ check() {
         fail=1
     fi
 }
+
+# read_demo_result FILE TOPIC: from scripts/demo's output, sets offered, received and on_time (tm-basecamp
+# report's row of TOPIC) and long_pct and dropped (the "shaper while publishing" line). Exits 1 without them.
+read_demo_result() {
+    local row queue
+    # tm-basecamp report's row: topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms
+    row="$(awk -v t="$2" '$1 == t && NF == 9 { print; exit }' "$1")"
+    # "shaper while publishing: queue mean M B (T ms at R bit/s), max X B, over 250 ms in P % of N samples; D packets dropped"
+    queue="$(grep '^shaper while publishing:' "$1" || true)"
+    [ -n "$row" ] && [ -n "$queue" ] || { echo "FAIL: no report or queue line in the demo's output"; exit 1; }
+    read -r _ _ offered received on_time _ <<<"$row"
+    long_pct="$(sed -E 's/.*over 250 ms in ([0-9]+) %.*/\1/' <<<"$queue")"
+    dropped="$(sed -E 's/.*; ([0-9]+) packets dropped.*/\1/' <<<"$queue")"
+}
+
+# run_demo NAME DEMO_ARGS...: runs scripts/demo with the programs of $BIN into a temporary file (removed at exit),
+# shown as it goes; sets out to the file.
+run_demo() {
+    out="$(mktemp "${TMPDIR:-/tmp}/tgw-$1.XXXXXX")"
+    shift
+    trap 'rm -f "$out"' EXIT
+    TGW_BIN="$BIN" scripts/demo --no-build "$@" | tee "$out"
+}

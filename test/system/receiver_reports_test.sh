@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# System test: the bottleneck is past the robot (scripts/testbed --routed: a 20,000 bit/s tbf on a router's way
+# out to the base camp), where the robot's own counters see nothing, and the rate sensor reads 30 % high
+# (fixed:26000). The base camp's receiver reports (tm-basecamp record) show the gateway the queue and the losses;
+# with --receiver-reports it keeps the router's queue short and A on time. Needs root; skipped (77) otherwise.
+#   receiver_reports_test.sh BIN_DIR
+set -euo pipefail
+BIN="${1:?usage: receiver_reports_test.sh BIN_DIR}"
+cd "$(dirname "$0")/../.."
+# shellcheck source=test/system/system_test_lib.sh
+source test/system/system_test_lib.sh
+require_netns
+
+run_demo receiver-reports-test --routed --rate 20000 --duration 20 --sensor fixed:26000 --receiver-reports --no-control
+read_demo_result "$out" telemetry/A
+
+check "the router's queue stands over 250 ms in at most 10 % of samples" "a <= 10" "$long_pct"
+check "the router dropped at most 2 packets while the robot published" "a <= 2" "$dropped"
+check "A on time for 95 % of what was published" "a >= 0.95 * b" "$on_time" "$offered"
+exit "$fail"

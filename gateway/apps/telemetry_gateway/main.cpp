@@ -51,6 +51,14 @@ void print_summary(const tgw::dds::Gateway& gateway) {
         "p99 %.1f us, max %.1f us\n",
         static_cast<unsigned long long>(latency.count), us(latency.median()), us(latency.percentile(0.99)),
         us(latency.max));
+    if (const auto report = gateway.receiver_report()) {
+        std::printf(
+            "base camp's last receiver report (of %llu): %llu samples received, %llu lost on the way, %llu in "
+            "flight\n",
+            static_cast<unsigned long long>(report->reports), static_cast<unsigned long long>(report->received_samples),
+            static_cast<unsigned long long>(report->lost_samples),
+            static_cast<unsigned long long>(report->in_flight_samples));
+    }
 }
 
 /// Blocks until SIGINT or SIGTERM, or `duration_s` (when positive) has passed.
@@ -119,9 +127,10 @@ int main(int argc, char** argv) {
     auto* check = app.add_flag("--delivered-check", delivered_check,
                                "cap the budget below the sensor's rate while the WAN interface's qdisc drops or "
                                "queues (needs --wan-interface or --delivered-interface)");
-    app.add_flag("--receiver-reports", config.receiver_reports,
-                 "cap the budget also while the base camp's receiver (tm-basecamp record) reports samples lost on the "
-                 "way; alone, without --delivered-check, the reports are the check's only counters");
+    app.add_flag(
+        "--receiver-reports", config.receiver_reports,
+        "cap the budget also while the base camp's receiver (tm-basecamp record) reports samples queued or lost on the "
+        "way; alone, without --delivered-check, the reports are the check's only counters");
     app.add_option("--delivered-interface", delivered_interface,
                    "interface whose counters the delivered-rate check reads (default: --wan-interface)")
         ->needs(check);

@@ -36,12 +36,8 @@ struct Options {
     bool verbose = false;
     std::uint32_t direct_max_message_bytes = 0;
     int bisect_steps = 3;
+    int repeat = 1;
     std::size_t wan_max_datagram_bytes = tgw::core::WireModel::MAX_UDP_PAYLOAD_BYTES;
-};
-
-struct PathResult {
-    double best_rate = 0;  ///< samples/s offered at the last loss-free step
-    bool writer_bound = false;
 };
 
 class Bench {
@@ -99,41 +95,17 @@ class Bench {
         tgw::idl::PaperMessage message;
         message.data().assign(
             size > tgw::bench::PAPER_MESSAGE_FIXED_BYTES ? size - tgw::bench::PAPER_MESSAGE_FIXED_BYTES : 0, 0x5a);
-        Path direct_path{"direct", direct_writer, direct_reader, std::nullopt};
-        Path via_path{"gateway", via_writer, via_reader, id};
-        // Ramp: both paths step up together, so that the machine's noise falls on both alike.
-        for (double rate = options_.start_rate; rate <= options_.max_rate && !(direct_path.done && via_path.done);
-             rate *= RAMP_FACTOR) {
-            for (Path* path : {&direct_path, &via_path}) {
-                if (!path->done) {
-                    ramp_step(*path, message, rate);
-                }
-            }
+        for (int run = 1; run <= options_.repeat; ++run) {
+            Path direct_path{"direct", direct_writer, direct_reader, std::nullopt};
+            Path via_path{"gateway", via_writer, via_reader, id};
+            search(direct_path, via_path, message);
+            const double mb = static_cast<double>(size) / 1e6;
+            std::printf("%8zu %4d %12.0f%s %10.1f %12.0f%s %10.1f %7.2f\n", size, run, direct_path.best_rate,
+                        direct_path.writer_bound ? "+" : " ", direct_path.best_rate * mb, via_path.best_rate,
+                        via_path.writer_bound ? "+" : " ", via_path.best_rate * mb,
+                        direct_path.best_rate > 0 ? via_path.best_rate / direct_path.best_rate : 0.0);
+            std::fflush(stdout);
         }
-        // Bisection: between the last loss-free rate and the first lossy one, the ramp's x1.5 steps would
-        // quantise the ratio to powers of 1.5.
-        for (int i = 0; i < options_.bisect_steps; ++i) {
-            for (Path* path : {&direct_path, &via_path}) {
-                if (path->writer_bound || path->best_rate <= 0 || path->first_lossy_rate <= 0) {
-                    continue;
-                }
-                const double rate = std::sqrt(path->best_rate * path->first_lossy_rate);
-                const Step step = measure(*path, message, rate);
-                if (step.loss < options_.max_loss && step.achieved >= WRITER_BOUND_FRACTION * rate) {
-                    path->best_rate = rate;
-                } else {
-                    path->first_lossy_rate = rate;
-                }
-            }
-        }
-        const PathResult direct_result{direct_path.best_rate, direct_path.writer_bound};
-        const PathResult via_result{via_path.best_rate, via_path.writer_bound};
-        const double mb = static_cast<double>(size) / 1e6;
-        std::printf("%8zu %12.0f%s %10.1f %12.0f%s %10.1f %7.2f\n", size, direct_result.best_rate,
-                    direct_result.writer_bound ? "+" : " ", direct_result.best_rate * mb, via_result.best_rate,
-                    via_result.writer_bound ? "+" : " ", via_result.best_rate * mb,
-                    direct_result.best_rate > 0 ? via_result.best_rate / direct_result.best_rate : 0.0);
-        std::fflush(stdout);
         via->set_listener(nullptr);
         direct->set_listener(nullptr);
         via_writer->set_listener(nullptr);
@@ -200,6 +172,35 @@ class Bench {
                          static_cast<unsigned long long>(gw.dropped_total() - gw_before.dropped_total()));
         }
         return step;
+    }
+
+    /// Both paths' highest loss-free rates: a ramp, then bisection.
+    void search(Path& direct_path, Path& via_path, tgw::idl::PaperMessage& message) {
+        // Ramp: both paths step up together, so that the machine's noise falls on both alike.
+        for (double rate = options_.start_rate; rate <= options_.max_rate && !(direct_path.done && via_path.done);
+             rate *= RAMP_FACTOR) {
+            for (Path* path : {&direct_path, &via_path}) {
+                if (!path->done) {
+                    ramp_step(*path, message, rate);
+                }
+            }
+        }
+        // Bisection: between the last loss-free rate and the first lossy one, the ramp's x1.5 steps would
+        // quantise the ratio to powers of 1.5.
+        for (int i = 0; i < options_.bisect_steps; ++i) {
+            for (Path* path : {&direct_path, &via_path}) {
+                if (path->writer_bound || path->best_rate <= 0 || path->first_lossy_rate <= 0) {
+                    continue;
+                }
+                const double rate = std::sqrt(path->best_rate * path->first_lossy_rate);
+                const Step step = measure(*path, message, rate);
+                if (step.loss < options_.max_loss && step.achieved >= WRITER_BOUND_FRACTION * rate) {
+                    path->best_rate = rate;
+                } else {
+                    path->first_lossy_rate = rate;
+                }
+            }
+        }
     }
 
     /// One ramp step: a path stops after two lossy steps in a row, or once its publisher cannot keep up
@@ -305,6 +306,9 @@ int main(int argc, char** argv) {
                    "bisection steps between the last loss-free and the first lossy ramp rate")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    app.add_option("--repeat", options.repeat, "searches per size, a row each: the figure is noisy near the threshold")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("--wan-max-datagram", options.wan_max_datagram_bytes,
                    "the gateway's --wan-max-datagram; the default is Fast DDS's, as the direct path has it")
         ->capture_default_str();
@@ -330,7 +334,8 @@ int main(int argc, char** argv) {
         options.max_loss * 100, options.duration_s, options.bisect_steps,
         options.direct_max_message_bytes > 0 ? std::to_string(options.direct_max_message_bytes).c_str() : "65500",
         options.wan_max_datagram_bytes);
-    std::printf("%8s %13s %10s %13s %10s %7s\n", "bytes", "direct/s", "direct_MB/s", "via_gw/s", "via_MB/s", "ratio");
+    std::printf("%8s %4s %13s %10s %13s %10s %7s\n", "bytes", "run", "direct/s", "direct_MB/s", "via_gw/s", "via_MB/s",
+                "ratio");
     int rc = 0;
     for (std::size_t size : options.sizes) {
         if (!bench.run(size)) {

@@ -1,7 +1,5 @@
 #include "gateway/dds/gateway.hpp"
 
-#include "gateway/dds/receiver_report_topic.hpp"
-
 #include <algorithm>
 #include <iostream>
 #include <utility>

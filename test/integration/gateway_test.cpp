@@ -291,6 +291,7 @@ TEST_F(GatewayIntegrationTest, FollowsTheBaseCampsReceiverReportsAboutItself) {
     EXPECT_EQ(report.received_samples, static_cast<std::uint64_t>(N));
     EXPECT_EQ(report.received_bytes, bytes);
     EXPECT_EQ(report.lost_samples, 0u);
+    EXPECT_EQ(report.in_flight_samples, 0u);  // all forwarded samples arrived
     EXPECT_GE(report.reports, 1u);
 }
 

@@ -1,5 +1,6 @@
-// Shared by throughput_bench and topic_scale_bench: the domains of this process, loopback locators, the robot
-// publisher's and the UDP-only direct reader's participant QoS, and a counting reader.
+// Shared by the DDS benches (gateway_hop_bench, throughput_bench, topic_scale_bench): the domains of this
+// process, loopback locators, the robot publisher's and the UDP-only direct reader's participant QoS, and a
+// counting reader.
 #pragma once
 
 #include <unistd.h>

@@ -26,19 +26,16 @@
 
 #include "PaperWorkloadPubSubTypes.h"
 #include "gateway/core/clock.hpp"
-#include "gateway/core/config_error.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway.hpp"
 #include "test/bench/bench_support.hpp"
+#include "test/bench/side_by_side.hpp"
 #include "test/integration/dds_test_support.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
-using tgw::test::TestParticipant;
-using tgw::test::fdds::DataReaderQos;
 using tgw::test::fdds::DataWriter;
-using tgw::test::fdds::DataWriterQos;
 using tgw::test::fdds::DomainParticipantQos;
 namespace fdds = eprosima::fastdds::dds;
 using tgw::bench::BenchDomains;
@@ -123,18 +120,9 @@ class Bench {
     explicit Bench(const Options& options) : options_(options), domains_(BenchDomains::for_this_process()) {}
 
     bool set_up() {
-        tgw::test::use_transports_in_process();
-        publisher_ = std::make_unique<TestParticipant>(domains_.robot, publisher_qos());
-        direct_ = std::make_unique<TestParticipant>(domains_.robot, direct_reader_qos(domains_, options_.direct_shm));
-        basecamp_ = std::make_unique<TestParticipant>(
-            domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port));
-        if (!publisher_->ok() || !direct_->ok() || !basecamp_->ok()) {
-            std::fprintf(stderr, "gateway_hop_bench: cannot create the participants (domains %d, %d)\n", domains_.robot,
-                         domains_.wan);
-            return false;
-        }
-        gateway_ = std::make_unique<tgw::dds::Gateway>(tgw::bench::gateway_config(domains_), clock_);
-        return true;
+        return side_.set_up("gateway_hop_bench", domains_, publisher_qos(),
+                            direct_reader_qos(domains_, options_.direct_shm), tgw::bench::gateway_config(domains_),
+                            clock_);
     }
 
     /// One row: `size` bytes of serialized payload, the samples of both paths interleaved.
@@ -142,25 +130,17 @@ class Bench {
         const std::string suffix = std::to_string(size) + "/" + std::to_string(run);
         const std::string via_topic = "bench/gateway/" + suffix;
         const std::string direct_topic = "bench/direct/" + suffix;
-        fdds::TypeSupport type(new tgw::idl::PaperMessagePubSubType());
-
         auto via_reader = std::make_unique<LatencyReader>(options_.warmup);
         auto direct_reader = std::make_unique<LatencyReader>(options_.warmup);
-        tgw::test::MatchCounter via_matches;
-        tgw::test::MatchCounter direct_matches;
-        DataWriter* via_writer = publisher_->make_writer(via_topic, type, writer_qos(), &via_matches);
-        DataWriter* direct_writer = publisher_->make_writer(direct_topic, type, writer_qos(), &direct_matches);
-        fdds::DataReader* via = basecamp_->make_reader(via_topic, type, reader_qos(false), via_reader.get());
         // The direct reader is what the gateway's robot reader is: reliable when the publisher is.
-        fdds::DataReader* direct =
-            direct_->make_reader(direct_topic, type, reader_qos(options_.reliable), direct_reader.get());
-        if (via_writer == nullptr || direct_writer == nullptr || via == nullptr || direct == nullptr) {
-            std::fprintf(stderr, "gateway_hop_bench: cannot create the endpoints of %s\n", suffix.c_str());
+        const auto pair = side_.open_pair(
+            "gateway_hop_bench", via_topic, direct_topic, side_.writer_qos(options_.reliable), side_.reader_qos(false),
+            side_.reader_qos(options_.reliable), *via_reader, *direct_reader, MATCH_TIMEOUT);
+        if (!pair) {
             return false;
         }
-        if (!wait_for_matches(via_topic, via_matches, *via_reader, direct_matches, *direct_reader)) {
-            return false;
-        }
+        DataWriter* const via_writer = pair->via_writer;
+        DataWriter* const direct_writer = pair->direct_writer;
 
         tgw::idl::PaperMessage message;
         message.data().assign(size > PAPER_MESSAGE_FIXED_BYTES ? size - PAPER_MESSAGE_FIXED_BYTES : 0, 0x5a);
@@ -180,11 +160,11 @@ class Bench {
         publish(0, options_.warmup);
         // Let the warm-up drain, then count only what follows.
         tgw::bench::settle([&] { return via_reader->received() + direct_reader->received(); });
-        const auto before = gateway_->processing_latency();
+        const auto before = side_.gateway().processing_latency();
         next = std::chrono::steady_clock::now();
         publish(options_.warmup, options_.warmup + options_.samples);
         tgw::bench::settle([&] { return via_reader->received() + direct_reader->received(); });
-        const auto processing = gateway_->processing_latency().since(before);
+        const auto processing = side_.gateway().processing_latency().since(before);
 
         const auto via_ns = via_reader->latencies_ns();
         const auto direct_ns = direct_reader->latencies_ns();
@@ -198,68 +178,16 @@ class Bench {
             static_cast<std::size_t>(options_.samples) - std::min<std::size_t>(options_.samples, via_ns.size()),
             static_cast<std::size_t>(options_.samples) - std::min<std::size_t>(options_.samples, direct_ns.size()));
         std::fflush(stdout);
-        // The readers' listeners die with this scope: detach them first.
-        via->set_listener(nullptr);
-        direct->set_listener(nullptr);
-        via_writer->set_listener(nullptr);
-        direct_writer->set_listener(nullptr);
         return true;
     }
 
-    void tear_down() {
-        gateway_.reset();
-        basecamp_.reset();
-        direct_.reset();
-        publisher_.reset();
-    }
+    void tear_down() { side_.tear_down(); }
 
   private:
-    DataWriterQos writer_qos() const {
-        DataWriterQos q = publisher_->default_writer_qos();
-        q.reliability().kind = options_.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
-        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-        q.history().depth = 100;
-        q.data_sharing().off();
-        return q;
-    }
-
-    DataReaderQos reader_qos(bool reliable) const {
-        DataReaderQos q = basecamp_->default_reader_qos();
-        q.reliability().kind = reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
-        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-        q.history().depth = 1000;
-        q.data_sharing().off();
-        return q;
-    }
-
-    bool wait_for_matches(const std::string& via_topic, const tgw::test::MatchCounter& via_matches,
-                          const LatencyReader& via_reader, const tgw::test::MatchCounter& direct_matches,
-                          const LatencyReader& direct_reader) {
-        if (!gateway_->wait_for_topic(via_topic, MATCH_TIMEOUT)) {
-            std::fprintf(stderr, "gateway_hop_bench: %s was never bridged\n", via_topic.c_str());
-            return false;
-        }
-        const tgw::core::TopicId id = gateway_->find_topic(via_topic)->id;
-        const bool matched = tgw::test::wait_until(
-            [&] {
-                return via_matches.matched.load() > 0 && via_reader.matched.load() > 0 &&
-                       gateway_->wan_matched_readers(id) > 0 && gateway_->robot_matched_writers(id) > 0 &&
-                       direct_matches.matched.load() > 0 && direct_reader.matched.load() > 0;
-            },
-            MATCH_TIMEOUT);
-        if (!matched) {
-            std::fprintf(stderr, "gateway_hop_bench: the endpoints of %s never matched\n", via_topic.c_str());
-        }
-        return matched;
-    }
-
     Options options_;
     BenchDomains domains_;
     tgw::core::SystemClock clock_;
-    std::unique_ptr<TestParticipant> publisher_;
-    std::unique_ptr<TestParticipant> direct_;
-    std::unique_ptr<TestParticipant> basecamp_;
-    std::unique_ptr<tgw::dds::Gateway> gateway_;
+    tgw::bench::SideBySide side_;
 };
 
 }  // namespace
@@ -288,12 +216,7 @@ int main(int argc, char** argv) {
     }
 
     Bench bench(options);
-    try {
-        if (!bench.set_up()) {
-            return 1;
-        }
-    } catch (const tgw::core::ConfigError& e) {
-        std::fprintf(stderr, "gateway_hop_bench: %s\n", e.what());
+    if (!bench.set_up()) {
         return 1;
     }
     std::printf(

@@ -17,14 +17,13 @@
 #include <optional>
 #include <string>
 
-#include "gateway/core/config_error.hpp"
 #include "test/bench/bench_support.hpp"
+#include "test/bench/side_by_side.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 using tgw::bench::CountingReader;
-using tgw::test::TestParticipant;
 namespace fdds = eprosima::fastdds::dds;
 
 struct Options {
@@ -46,58 +45,27 @@ class Bench {
         : options_(options), domains_(tgw::bench::BenchDomains::for_this_process()) {}
 
     bool set_up() {
-        tgw::test::use_transports_in_process();
-        publisher_ = std::make_unique<TestParticipant>(domains_.robot,
-                                                       tgw::bench::publisher_qos(options_.direct_max_message_bytes));
-        direct_ = std::make_unique<TestParticipant>(domains_.robot, tgw::bench::direct_reader_qos(domains_));
-        basecamp_ = std::make_unique<TestParticipant>(
-            domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port));
-        if (!publisher_->ok() || !direct_->ok() || !basecamp_->ok()) {
-            std::fprintf(stderr, "throughput_bench: cannot create the participants\n");
-            return false;
-        }
-        gateway_ = std::make_unique<tgw::dds::Gateway>(
-            tgw::bench::gateway_config(domains_, options_.wan_max_datagram_bytes), clock_);
-        return true;
+        return side_.set_up("throughput_bench", domains_, tgw::bench::publisher_qos(options_.direct_max_message_bytes),
+                            tgw::bench::direct_reader_qos(domains_),
+                            tgw::bench::gateway_config(domains_, options_.wan_max_datagram_bytes), clock_);
     }
 
     bool run(std::size_t size) {
-        const std::string via_topic = "bench/gateway/tput/" + std::to_string(size);
-        const std::string direct_topic = "bench/direct/tput/" + std::to_string(size);
-        fdds::TypeSupport type(new tgw::idl::PaperMessagePubSubType());
         CountingReader via_reader;
         CountingReader direct_reader;
-        tgw::test::MatchCounter via_matches;
-        tgw::test::MatchCounter direct_matches;
-        fdds::DataWriter* via_writer = publisher_->make_writer(via_topic, type, writer_qos(), &via_matches);
-        fdds::DataWriter* direct_writer = publisher_->make_writer(direct_topic, type, writer_qos(), &direct_matches);
-        fdds::DataReader* via = basecamp_->make_reader(via_topic, type, reader_qos(), &via_reader);
-        fdds::DataReader* direct = direct_->make_reader(direct_topic, type, reader_qos(), &direct_reader);
-        if (via_writer == nullptr || direct_writer == nullptr || via == nullptr || direct == nullptr) {
-            std::fprintf(stderr, "throughput_bench: cannot create the endpoints for %zu bytes\n", size);
-            return false;
-        }
-        if (!gateway_->wait_for_topic(via_topic, 10s)) {
-            std::fprintf(stderr, "throughput_bench: %s was never bridged\n", via_topic.c_str());
-            return false;
-        }
-        const tgw::core::TopicId id = gateway_->find_topic(via_topic)->id;
-        if (!tgw::test::wait_until(
-                [&] {
-                    return via_matches.matched.load() > 0 && via_reader.matched.load() > 0 &&
-                           gateway_->wan_matched_readers(id) > 0 && direct_matches.matched.load() > 0 &&
-                           direct_reader.matched.load() > 0;
-                },
-                10s)) {
-            std::fprintf(stderr, "throughput_bench: the endpoints for %zu bytes never matched\n", size);
+        const auto pair =
+            side_.open_pair("throughput_bench", "bench/gateway/tput/" + std::to_string(size),
+                            "bench/direct/tput/" + std::to_string(size), side_.writer_qos(false),
+                            side_.reader_qos(false), side_.reader_qos(false), via_reader, direct_reader, 10s);
+        if (!pair) {
             return false;
         }
         tgw::idl::PaperMessage message;
         message.data().assign(
             size > tgw::bench::PAPER_MESSAGE_FIXED_BYTES ? size - tgw::bench::PAPER_MESSAGE_FIXED_BYTES : 0, 0x5a);
         for (int run = 1; run <= options_.repeat; ++run) {
-            Path direct_path{"direct", direct_writer, direct_reader, std::nullopt};
-            Path via_path{"gateway", via_writer, via_reader, id};
+            Path direct_path{"direct", pair->direct_writer, direct_reader, std::nullopt};
+            Path via_path{"gateway", pair->via_writer, via_reader, pair->id};
             search(direct_path, via_path, message);
             const double mb = static_cast<double>(size) / 1e6;
             std::printf("%8zu %4d %12.0f%s %10.1f %12.0f%s %10.1f %7.2f\n", size, run, direct_path.best_rate,
@@ -106,19 +74,10 @@ class Bench {
                         direct_path.best_rate > 0 ? via_path.best_rate / direct_path.best_rate : 0.0);
             std::fflush(stdout);
         }
-        via->set_listener(nullptr);
-        direct->set_listener(nullptr);
-        via_writer->set_listener(nullptr);
-        direct_writer->set_listener(nullptr);
         return true;
     }
 
-    void tear_down() {
-        gateway_.reset();
-        basecamp_.reset();
-        direct_.reset();
-        publisher_.reset();
-    }
+    void tear_down() { side_.tear_down(); }
 
   private:
     static constexpr double RAMP_FACTOR = 1.5;
@@ -148,7 +107,7 @@ class Bench {
         const std::uint64_t before = path.reader.received();
         tgw::core::TopicCounters gw_before;
         if (path.gateway_topic) {
-            gw_before = gateway_->counters(*path.gateway_topic);
+            gw_before = side_.gateway().counters(*path.gateway_topic);
         }
         const auto [sent, achieved] = burst(path.writer, message, rate, sequence_);
         tgw::bench::settle([&] { return path.reader.received(); });
@@ -160,7 +119,7 @@ class Bench {
             // Where a gateway-path sample was lost: before the gateway (robot side), in it, or after.
             tgw::core::TopicCounters gw;
             if (path.gateway_topic) {
-                gw = gateway_->counters(*path.gateway_topic);
+                gw = side_.gateway().counters(*path.gateway_topic);
             }
             std::fprintf(stderr,
                          "  %-7s offered %9.0f/s achieved %9.0f/s sent %8llu got %8llu "
@@ -254,31 +213,10 @@ class Bench {
         return {sent, static_cast<double>(sent) / std::max(took_s, options_.duration_s)};
     }
 
-    fdds::DataWriterQos writer_qos() const {
-        fdds::DataWriterQos q = publisher_->default_writer_qos();
-        q.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
-        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-        q.history().depth = 100;
-        q.data_sharing().off();
-        return q;
-    }
-
-    fdds::DataReaderQos reader_qos() const {
-        fdds::DataReaderQos q = basecamp_->default_reader_qos();
-        q.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
-        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-        q.history().depth = 1000;
-        q.data_sharing().off();
-        return q;
-    }
-
     Options options_;
     tgw::bench::BenchDomains domains_;
     tgw::core::SystemClock clock_;
-    std::unique_ptr<TestParticipant> publisher_;
-    std::unique_ptr<TestParticipant> direct_;
-    std::unique_ptr<TestParticipant> basecamp_;
-    std::unique_ptr<tgw::dds::Gateway> gateway_;
+    tgw::bench::SideBySide side_;
     std::uint32_t sequence_ = 0;
 };
 
@@ -319,12 +257,7 @@ int main(int argc, char** argv) {
         return app.exit(e) == 0 ? 0 : 2;
     }
     Bench bench(options);
-    try {
-        if (!bench.set_up()) {
-            return 1;
-        }
-    } catch (const tgw::core::ConfigError& e) {
-        std::fprintf(stderr, "throughput_bench: %s\n", e.what());
+    if (!bench.set_up()) {
         return 1;
     }
     std::printf(

@@ -1,5 +1,7 @@
 #include "gateway/dds/robot_participant.hpp"
 
+#include <cstdint>
+#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -23,18 +25,38 @@ namespace {
 // Room for bursts between two listener calls; the bridge takes every sample as it arrives.
 constexpr std::int32_t READER_HISTORY_DEPTH = 1000;
 
+// The kernel caps SO_RCVBUF at this without a word.
+constexpr const char* RMEM_MAX_PATH = "/proc/sys/net/core/rmem_max";
+
+/// Says so when the kernel will give the robot sockets less receive buffer than asked for.
+void warn_if_capped(std::uint32_t requested_bytes) {
+    std::ifstream file(RMEM_MAX_PATH);
+    std::uint64_t rmem_max = 0;
+    if (file >> rmem_max && rmem_max < requested_bytes) {
+        std::cerr << "telemetry-gateway: " << RMEM_MAX_PATH << " is " << rmem_max
+                  << " bytes, so the robot receive buffer gets that, not --robot-receive-buffer " << requested_bytes
+                  << "; raise it (sysctl -w net.core.rmem_max=" << requested_bytes << ") for room for bursts\n";
+    }
+}
+
 }  // namespace
 
 RobotParticipant::RobotParticipant(int domain, fdds::DomainParticipantListener* listener,
-                                   const std::vector<std::string>& interfaces,
+                                   const RobotTransport& transport,
                                    const std::optional<fdds::DomainParticipantQos>& base) {
     fdds::DomainParticipantQos qos =
         base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
     qos.name("telemetry-gateway/robot");
     qos.transport().use_builtin_transports = false;
-    qos.transport().user_transports.push_back(std::make_shared<SharedMemTransportDescriptor>());
+    if (transport.shm) {
+        qos.transport().user_transports.push_back(std::make_shared<SharedMemTransportDescriptor>());
+    }
     auto udp = std::make_shared<UDPv4TransportDescriptor>();
-    udp->interfaceWhiteList = interfaces;
+    udp->interfaceWhiteList = transport.interfaces;
+    if (transport.receive_buffer_bytes > 0) {
+        udp->receiveBufferSize = transport.receive_buffer_bytes;
+        warn_if_capped(transport.receive_buffer_bytes);
+    }
     qos.transport().user_transports.push_back(udp);
 
     participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(

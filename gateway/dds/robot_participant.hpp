@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -17,16 +18,26 @@
 
 namespace tgw::dds {
 
-/// The gateway's participant on the robot domain. It stays on this host: shared memory and UDP bound to
-/// the loopback interface (or the addresses given). It discovers every publisher (its listener) and holds
-/// the type-agnostic readers; it writes nothing.
+/// How the robot participant listens.
+struct RobotTransport {
+    std::vector<std::string> interfaces;  ///< UDP addresses (or interface names); empty: every interface
+    /// Also offer Fast DDS shared memory, which reaches a same-host process whatever its addresses. A Fast DDS
+    /// 2.9 writer sends to every locator of a reader it can reach, so a publisher with both transports (Fast
+    /// DDS's default) then sends each sample twice, and the gateway receives and discards the second copy.
+    bool shm = true;
+    std::uint32_t receive_buffer_bytes = 0;  ///< SO_RCVBUF of the UDP sockets; 0: the system's default
+};
+
+/// The gateway's participant on the robot domain. It stays on this host: shared memory and UDP bound to the
+/// loopback interface (or the addresses given). It discovers every publisher (its listener)
+/// and holds the type-agnostic readers; it writes nothing.
 class RobotParticipant {
   public:
     /// Throws core::ConfigError if the participant cannot be created. `listener` must outlive this object
     /// and receives discovery callbacks from the moment the participant exists. `base` is the starting QoS
     /// (an XML participant profile, or the default); transports and name are set here.
     RobotParticipant(int domain, eprosima::fastdds::dds::DomainParticipantListener* listener,
-                     const std::vector<std::string>& interfaces,
+                     const RobotTransport& transport,
                      const std::optional<eprosima::fastdds::dds::DomainParticipantQos>& base);
     ~RobotParticipant();
 

@@ -25,10 +25,10 @@ bool is_ipv4(const std::string& text) {
 
 using IfaddrsPtr = std::unique_ptr<ifaddrs, void (*)(ifaddrs*)>;
 
-IfaddrsPtr list_interfaces(const std::string& name_or_address) {
+IfaddrsPtr list_interfaces(const std::string& name_or_address, const std::string& flag = "--wan-interface") {
     ifaddrs* list = nullptr;
     if (getifaddrs(&list) != 0) {
-        throw core::ConfigError("--wan-interface '" + name_or_address + "': cannot list network interfaces");
+        throw core::ConfigError(flag + " '" + name_or_address + "': cannot list network interfaces");
     }
     return IfaddrsPtr(list, freeifaddrs);
 }
@@ -76,11 +76,11 @@ WanPeer parse_wan_peer(const std::string& text, int domain) {
     return peer;
 }
 
-std::string resolve_interface_address(const std::string& name_or_address) {
+std::string resolve_interface_address(const std::string& name_or_address, const std::string& flag) {
     if (is_ipv4(name_or_address)) {
         return name_or_address;
     }
-    const IfaddrsPtr list = list_interfaces(name_or_address);
+    const IfaddrsPtr list = list_interfaces(name_or_address, flag);
     bool exists = false;
     for (const ifaddrs* it = list.get(); it != nullptr; it = it->ifa_next) {
         if (it->ifa_name == nullptr || name_or_address != it->ifa_name) {
@@ -91,7 +91,7 @@ std::string resolve_interface_address(const std::string& name_or_address) {
             return ipv4_text(it->ifa_addr);
         }
     }
-    throw core::ConfigError("--wan-interface '" + name_or_address + "': " +
+    throw core::ConfigError(flag + " '" + name_or_address + "': " +
                             (exists ? "the interface has no IPv4 address" : "no such interface or IPv4 address"));
 }
 

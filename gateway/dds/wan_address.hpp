@@ -19,9 +19,10 @@ std::uint16_t metatraffic_unicast_port(int domain, int participant_id);
 /// core::ConfigError naming the flag and value.
 WanPeer parse_wan_peer(const std::string& text, int domain);
 
-/// --wan-interface as the IPv4 address to bind to: an address is returned as is (after checking its syntax),
-/// an interface name is looked up. Throws core::ConfigError naming the flag when neither works.
-std::string resolve_interface_address(const std::string& name_or_address);
+/// --wan-interface (or another `flag`) as the IPv4 address to bind to: an address is returned as is (after
+/// checking its syntax), an interface name is looked up. Throws core::ConfigError naming the flag when neither
+/// works.
+std::string resolve_interface_address(const std::string& name_or_address, const std::string& flag = "--wan-interface");
 
 /// --wan-interface as an interface name: a name is returned as is, an address is looked up. Throws
 /// core::ConfigError naming the flag when no interface has the address.

@@ -78,6 +78,21 @@ inline fdds::DomainParticipantQos publisher_qos(std::uint32_t udp_max_message_by
     return qos;
 }
 
+/// `qos` with SO_RCVBUF of `bytes` on its UDP transports; 0 leaves the system's default.
+inline fdds::DomainParticipantQos with_receive_buffer(fdds::DomainParticipantQos qos, std::uint32_t bytes) {
+    if (bytes == 0) {
+        return qos;
+    }
+    for (auto& transport : qos.transport().user_transports) {
+        if (auto udp = std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(transport)) {
+            auto resized = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(*udp);
+            resized->receiveBufferSize = bytes;
+            transport = resized;
+        }
+    }
+    return qos;
+}
+
 /// A subscriber reaching the robot domain over UDP only, as a base-camp process would without the gateway.
 inline fdds::DomainParticipantQos direct_reader_qos(const BenchDomains& d) {
     fdds::DomainParticipantQos qos;
@@ -94,9 +109,12 @@ inline fdds::DomainParticipantQos direct_reader_qos(const BenchDomains& d) {
 }
 
 /// The gateway of the benches: budget unconstrained, the direct topics denied. `wan_max_datagram_bytes` 0:
-/// the gateway's default (one Ethernet frame).
-inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, std::size_t wan_max_datagram_bytes = 0) {
+/// the gateway's default (one Ethernet frame). `robot_udp_only`: the gateway's --robot-udp-only (the
+/// publisher's UDP is on loopback, so it reaches the gateway either way).
+inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, std::size_t wan_max_datagram_bytes = 0,
+                                              bool robot_udp_only = false) {
     tgw::dds::GatewayConfig config;
+    config.robot_shm = !robot_udp_only;
     config.robot_domain = d.robot;
     config.wan_domain = d.wan;
     config.wan_peers = {"127.0.0.1:" + std::to_string(d.wan_reader_port)};

@@ -15,16 +15,19 @@ namespace tgw::bench {
 /// The participants of both paths and the gateway between them.
 class SideBySide {
   public:
-    /// Creates the participants, then the gateway. False, after saying why (prefixed by `bench`), when DDS or
-    /// the gateway's configuration refuses.
+    /// Creates the participants, then the gateway. Both readers' participants get `reader_receive_buffer_bytes`
+    /// of SO_RCVBUF (0: the system's default). False, after saying why (prefixed by `bench`), when DDS or the
+    /// gateway's configuration refuses.
     bool set_up(const char* bench, const BenchDomains& d, const fdds::DomainParticipantQos& publisher_qos,
                 const fdds::DomainParticipantQos& direct_qos, const tgw::dds::GatewayConfig& gateway_config,
-                const core::Clock& clock) {
+                const core::Clock& clock, std::uint32_t reader_receive_buffer_bytes = 0) {
         tgw::test::use_transports_in_process();
         publisher_ = std::make_unique<tgw::test::TestParticipant>(d.robot, publisher_qos);
-        direct_ = std::make_unique<tgw::test::TestParticipant>(d.robot, direct_qos);
+        direct_ = std::make_unique<tgw::test::TestParticipant>(
+            d.robot, with_receive_buffer(direct_qos, reader_receive_buffer_bytes));
         basecamp_ = std::make_unique<tgw::test::TestParticipant>(
-            d.wan, tgw::test::TestParticipant::wan_qos(d.wan_reader_port, d.gateway_wan_port));
+            d.wan, with_receive_buffer(tgw::test::TestParticipant::wan_qos(d.wan_reader_port, d.gateway_wan_port),
+                                       reader_receive_buffer_bytes));
         if (!publisher_->ok() || !direct_->ok() || !basecamp_->ok()) {
             std::fprintf(stderr, "%s: cannot create the participants (domains %d, %d)\n", bench, d.robot, d.wan);
             return false;

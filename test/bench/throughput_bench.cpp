@@ -37,6 +37,8 @@ struct Options {
     int bisect_steps = 3;
     int repeat = 1;
     std::size_t wan_max_datagram_bytes = tgw::core::WireModel::MAX_UDP_PAYLOAD_BYTES;
+    bool robot_udp_only = false;
+    std::uint32_t reader_receive_buffer_bytes = 0;
 };
 
 class Bench {
@@ -45,9 +47,11 @@ class Bench {
         : options_(options), domains_(tgw::bench::BenchDomains::for_this_process()) {}
 
     bool set_up() {
-        return side_.set_up("throughput_bench", domains_, tgw::bench::publisher_qos(options_.direct_max_message_bytes),
-                            tgw::bench::direct_reader_qos(domains_),
-                            tgw::bench::gateway_config(domains_, options_.wan_max_datagram_bytes), clock_);
+        return side_.set_up(
+            "throughput_bench", domains_, tgw::bench::publisher_qos(options_.direct_max_message_bytes),
+            tgw::bench::direct_reader_qos(domains_),
+            tgw::bench::gateway_config(domains_, options_.wan_max_datagram_bytes, options_.robot_udp_only), clock_,
+            options_.reader_receive_buffer_bytes);
     }
 
     bool run(std::size_t size) {
@@ -250,6 +254,13 @@ int main(int argc, char** argv) {
     app.add_option("--wan-max-datagram", options.wan_max_datagram_bytes,
                    "the gateway's --wan-max-datagram; the default is Fast DDS's, as the direct path has it")
         ->capture_default_str();
+    app.add_flag("--robot-udp-only", options.robot_udp_only,
+                 "the gateway's --robot-udp-only: the publisher (shared memory and UDP) then sends each sample once, "
+                 "over UDP, instead of once each way");
+    app.add_option("--reader-receive-buffer", options.reader_receive_buffer_bytes,
+                   "SO_RCVBUF of both readers' participants, bytes; 0: the system's default (the gateway's robot side "
+                   "has its own, --robot-receive-buffer)")
+        ->capture_default_str();
     app.add_flag("--verbose", options.verbose, "print every step to stderr");
     try {
         app.parse(argc, argv);
@@ -262,9 +273,10 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "throughput: highest offered rate with loss < %.2f %%, steps x1.5 of %.1f s then %d bisections, best effort, "
-        "writer KEEP_LAST 100, readers KEEP_LAST 1000, direct reader UDP, budget 10 Gbit/s, largest datagram: direct "
-        "%s B, via the gateway %zu B; '+': publisher-bound floor\n",
+        "writer KEEP_LAST 100, readers KEEP_LAST 1000, direct reader UDP, gateway's robot side %s, budget 10 Gbit/s, "
+        "largest datagram: direct %s B, via the gateway %zu B; '+': publisher-bound floor\n",
         options.max_loss * 100, options.duration_s, options.bisect_steps,
+        options.robot_udp_only ? "UDP only" : "shared memory and UDP",
         options.direct_max_message_bytes > 0 ? std::to_string(options.direct_max_message_bytes).c_str() : "65500",
         options.wan_max_datagram_bytes);
     std::printf("%8s %4s %13s %10s %13s %10s %7s\n", "bytes", "run", "direct/s", "direct_MB/s", "via_gw/s", "via_MB/s",

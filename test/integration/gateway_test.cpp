@@ -6,10 +6,16 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
+
+#include <fastdds/rtps/reader/ReaderDiscoveryInfo.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 
 #include "KeyedReadingPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
@@ -246,6 +252,81 @@ TEST_P(LargeSampleTest, ArrivesIntact) {
 INSTANTIATE_TEST_SUITE_P(WanMaxDatagram, LargeSampleTest,
                          ::testing::Values(core::WireModel::MAX_DATAGRAM_PAYLOAD_BYTES,
                                            core::WireModel::MAX_UDP_PAYLOAD_BYTES));
+
+/// Records the locator kinds each discovered reader offers, by topic.
+class ReaderLocatorWatcher final : public fdds::DomainParticipantListener {
+  public:
+    void on_subscriber_discovery(fdds::DomainParticipant*,
+                                 eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) override {
+        if (info.status != eprosima::fastrtps::rtps::ReaderDiscoveryInfo::DISCOVERED_READER) {
+            return;
+        }
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto& kinds = kinds_[info.info.topicName().to_string()];
+        for (const auto& locator : info.info.remote_locators().unicast) {
+            kinds.insert(locator.kind);
+        }
+    }
+
+    std::optional<std::set<std::int32_t>> kinds(const std::string& topic) const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        const auto it = kinds_.find(topic);
+        return it == kinds_.end() ? std::nullopt : std::optional<std::set<std::int32_t>>(it->second);
+    }
+
+  private:
+    mutable std::mutex mutex_;
+    std::map<std::string, std::set<std::int32_t>> kinds_;
+};
+
+/// The gateway's robot readers offer shared memory and UDP by default, which reach a robot process with
+/// Fast DDS's default transports whatever its addresses. With --robot-udp-only they offer UDP alone, so that a
+/// publisher with both transports sends each sample once, not once each way; a process on the loopback
+/// interface still reaches them.
+class RobotTransportTest : public GatewayIntegrationTest, public ::testing::WithParamInterface<bool> {
+  protected:
+    /// Fast DDS's defaults, its UDP on loopback only.
+    static fdds::DomainParticipantQos loopback_robot_qos() {
+        fdds::DomainParticipantQos qos;
+        qos.transport().use_builtin_transports = false;
+        qos.transport().user_transports.push_back(
+            std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>());
+        auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+        udp->interfaceWhiteList.push_back("127.0.0.1");
+        qos.transport().user_transports.push_back(udp);
+        return qos;
+    }
+};
+
+TEST_P(RobotTransportTest, OffersSharedMemoryUnlessUdpOnly) {
+    const bool shm = GetParam();
+    ReaderLocatorWatcher watcher;
+    TestParticipant robot(domains_.robot, shm ? TestParticipant::robot_qos() : loopback_robot_qos(), &watcher);
+    ASSERT_TRUE(robot.ok());
+    GatewayConfig c = config();
+    c.robot_shm = shm;
+    start_gateway(c);
+    const std::string topic = topic_prefix_ + (shm ? "shm_and_udp" : "udp_only");
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(robot), wan, &robot);
+    ASSERT_NE(writer, nullptr);
+
+    const auto kinds = watcher.kinds(topic);
+    ASSERT_TRUE(kinds) << "the gateway's reader of " << topic << " was never discovered";
+    EXPECT_EQ(kinds->count(LOCATOR_KIND_UDPv4), 1u);
+    EXPECT_EQ(kinds->count(LOCATOR_KIND_SHM), shm ? 1u : 0u);
+
+    idl::PaperMessage msg;
+    msg.data(std::vector<std::uint8_t>(64, 0x5a));
+    ASSERT_TRUE(writer->write(&msg));
+    EXPECT_TRUE(wait_until([&] { return wan.count() >= 1; })) << "the sample never arrived";
+    gateway_.reset();  // before `robot`, whose writer the gateway's reader matched
+}
+
+INSTANTIATE_TEST_SUITE_P(RobotShm, RobotTransportTest, ::testing::Bool(),
+                         [](const ::testing::TestParamInfo<bool>& info) {
+                             return info.param ? std::string("SharedMemoryAndUdp") : std::string("UdpOnly");
+                         });
 
 TEST_F(GatewayIntegrationTest, FollowsTheBaseCampsReceiverReportsAboutItself) {
     GatewayConfig c = config();

@@ -81,7 +81,9 @@ void DeliveredRateCheck::note_counter_failure(const std::string& error) {
     if (error == counter_failure_)
         return;
     if (!counter_failure_.empty() && error.empty())
-        log(SensorLogLevel::info, "delivered-rate check: link counters readable again");
+        // Names what ended: the kernel's counters, or the wait for the base camp's first receiver report.
+        log(SensorLogLevel::info,
+            "delivered-rate check: over: " + counter_failure_ + "; checking the sensor's rate again");
     if (!error.empty())
         log(SensorLogLevel::warning, "delivered-rate check: " + error + " (passing the sensor's rate through)");
     counter_failure_ = error;

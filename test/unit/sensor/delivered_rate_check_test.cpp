@@ -129,7 +129,8 @@ TEST_F(DeliveredRateCheckTest, FailingCountersPassTheRateThroughAndAreLoggedOnce
     second(0, 0, 0, 0);
     ASSERT_EQ(messages.size(), 3u);  // cap, failure start, failure end
     EXPECT_NE(messages[1].second.find("no interface veth-x"), std::string::npos);
-    EXPECT_NE(messages[2].second.find("readable again"), std::string::npos);
+    EXPECT_NE(messages[2].second.find("over: no interface veth-x"), std::string::npos);
+    EXPECT_NE(messages[2].second.find("checking the sensor's rate again"), std::string::npos);
 }
 
 TEST_F(DeliveredRateCheckTest, AFailedSensorReadingIsPassedOnUntouched) {

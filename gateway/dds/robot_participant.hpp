@@ -20,7 +20,7 @@ namespace tgw::dds {
 
 /// How the robot participant listens.
 struct RobotTransport {
-    std::vector<std::string> interfaces;  ///< UDP addresses (or interface names); empty: every interface
+    std::vector<std::string> interfaces;  ///< IPv4 addresses the UDP transport uses; empty: every interface
     /// Also offer Fast DDS shared memory, which reaches a same-host process whatever its addresses. A Fast DDS
     /// 2.9 writer sends to every locator of a reader it can reach, so a publisher with both transports (Fast
     /// DDS's default) then sends each sample twice, and the gateway receives and discards the second copy.
@@ -29,8 +29,8 @@ struct RobotTransport {
 };
 
 /// The gateway's participant on the robot domain. It stays on this host: shared memory and UDP bound to the
-/// loopback interface (or the addresses given). It discovers every publisher (its listener)
-/// and holds the type-agnostic readers; it writes nothing.
+/// loopback interface (or the addresses given). It discovers every publisher (its listener) and holds the
+/// type-agnostic readers; it writes nothing.
 class RobotParticipant {
   public:
     /// Throws core::ConfigError if the participant cannot be created. `listener` must outlive this object

@@ -311,8 +311,9 @@ TEST_P(RobotTransportTest, OffersSharedMemoryUnlessUdpOnly) {
     auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(robot), wan, &robot);
     ASSERT_NE(writer, nullptr);
 
+    ASSERT_TRUE(wait_until([&] { return watcher.kinds(topic).has_value(); }, MATCH_TIMEOUT))
+        << "the gateway's reader of " << topic << " was never discovered";
     const auto kinds = watcher.kinds(topic);
-    ASSERT_TRUE(kinds) << "the gateway's reader of " << topic << " was never discovered";
     EXPECT_EQ(kinds->count(LOCATOR_KIND_UDPv4), 1u);
     EXPECT_EQ(kinds->count(LOCATOR_KIND_SHM), shm ? 1u : 0u);
 

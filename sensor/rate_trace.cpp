@@ -6,6 +6,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include "sensor/bit_rate.hpp"
 #include "sensor/config_line_reader.hpp"
@@ -36,15 +37,6 @@ std::string format_seconds(core::Duration d) {
 }
 
 }  // namespace
-
-double RateTrace::rate_at(core::Duration elapsed) const {
-    // The first step whose time is after `elapsed`; the one before it is in force.
-    const auto after = std::upper_bound(steps_.begin(), steps_.end(), elapsed,
-                                        [](core::Duration t, const Step& step) { return t < step.at; });
-    if (after == steps_.begin())
-        return steps_.front().rate_bps;
-    return std::prev(after)->rate_bps;
-}
 
 RateTrace parse_rate_trace(std::istream& in, const std::string& file_name) {
     std::vector<RateTrace::Step> steps;

@@ -33,12 +33,7 @@ std::vector<PolicyKind> parse_policies(const std::vector<std::string>& names) {
 }
 
 tgw::sim::RateProfile load_trace_profile(const std::string& file) {
-    const tgw::sensor::RateTrace trace = tgw::sensor::load_rate_trace(file);
-    std::vector<tgw::sim::RateProfile::Step> steps;
-    for (const auto& step : trace.steps()) {
-        steps.push_back({step.at, step.rate_bps});
-    }
-    return tgw::sim::RateProfile(std::move(steps));
+    return tgw::sim::RateProfile(tgw::sensor::load_rate_trace(file));
 }
 
 }  // namespace

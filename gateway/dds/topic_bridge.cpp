@@ -17,7 +17,9 @@ TopicBridge::TopicBridge(core::TopicId topic, bool keyed, core::ForwardingLoop& 
     : topic_(topic), keyed_(keyed), loop_(loop), clock_(clock) {}
 
 void TopicBridge::on_data_available(fdds::DataReader* reader) {
-    // Locals, not members: Fast DDS may call this from the SHM and the UDP receive threads at once.
+    // Fast DDS may call this from the SHM and the UDP receive threads at once: samples go to the loop in the
+    // order they were taken.
+    std::lock_guard<std::mutex> lock(take_order_);
     PassthroughData data;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {

@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <mutex>
 
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 
@@ -35,6 +36,9 @@ class TopicBridge final : public eprosima::fastdds::dds::DataReaderListener {
     const core::Clock& clock_;
     std::atomic<std::int32_t> matched_{0};
     std::atomic<std::uint64_t> stamped_on_arrival_{0};
+    /// Held from take to submit: the SHM and UDP receive threads both call on_data_available, and without it
+    /// one could submit a later sample before the other submits the earlier one it took.
+    std::mutex take_order_;
 };
 
 }  // namespace tgw::dds

@@ -63,6 +63,8 @@ struct GatewayConfig {
     std::chrono::seconds wan_announcement_period{20};
     /// Read the base camp's receiver reports (tgw/receiver_report), see receiver_report().
     bool receiver_reports = false;
+    /// WanConfig::async_send: Fast DDS's send thread packs queued samples into shared datagrams.
+    bool wan_async_send = false;
 
     /// Throws core::ConfigError naming the flag at fault. Checks what needs no file or network.
     void validate() const;

@@ -38,6 +38,10 @@ struct WanConfig {
     /// The UDP transport's maxMessageSize: larger samples go as DATA_FRAG. One Ethernet frame by default;
     /// the scheduler's WireModel must be made for the same size.
     std::size_t max_datagram_bytes = core::WireModel::MAX_DATAGRAM_PAYLOAD_BYTES;
+    /// Writers hand samples to Fast DDS's send thread (asynchronous publish mode), which packs the samples
+    /// that queue up into shared datagrams: more samples per second on a fast link, for a thread hand-off on
+    /// every sample (measured: +30 us median one-way, p99 about 3.5 ms on loopback).
+    bool async_send = false;
 };
 
 /// Outcome of one write, counted by the caller; nothing on this path throws.
@@ -87,6 +91,10 @@ class WanRouter {
 
     Entry* entry(core::TopicId id) const;
 
+    /// History depth of an async_send writer: unsent samples it can hold.
+    static constexpr std::int32_t ASYNC_SEND_DEPTH = 1000;
+
+    const bool async_send_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
     mutable std::mutex mutex_;

@@ -12,10 +12,12 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <CLI/CLI.hpp>
 
 #include "PaperWorkloadPubSubTypes.h"
 #include "gateway/core/clock.hpp"
@@ -108,13 +110,33 @@ inline fdds::DomainParticipantQos direct_reader_qos(const BenchDomains& d) {
     return qos;
 }
 
-/// The gateway of the benches: budget unconstrained, the direct topics denied. `wan_max_datagram_bytes` 0:
-/// the gateway's default (one Ethernet frame). `robot_udp_only`: the gateway's --robot-udp-only (the
-/// publisher's UDP is on loopback, so it reaches the gateway either way).
-inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, std::size_t wan_max_datagram_bytes = 0,
-                                              bool robot_udp_only = false) {
+/// The gateway flags a side-by-side bench can set.
+struct GatewayOptions {
+    std::size_t wan_max_datagram_bytes = 0;  ///< 0: the gateway's default (one Ethernet frame)
+    /// --robot-udp-only: the publisher's UDP is on loopback, so it reaches the gateway either way.
+    bool robot_udp_only = false;
+    bool wan_async_send = false;
+
+    /// Adds --robot-udp-only and --wan-async-send to a bench's command line.
+    void add_flags(CLI::App& app) {
+        app.add_flag("--robot-udp-only", robot_udp_only,
+                     "the gateway's --robot-udp-only: the publisher (shared memory and UDP) then sends each sample "
+                     "once, over UDP, instead of once each way");
+        app.add_flag("--wan-async-send", wan_async_send,
+                     "the gateway's --wan-async-send: Fast DDS's send thread packs queued samples into shared "
+                     "datagrams");
+    }
+
+    /// What the bench's header line says of the gateway.
+    std::string describe() const {
+        return std::string("gateway's robot side ") + (robot_udp_only ? "UDP only" : "shared memory and UDP") +
+               ", WAN send " + (wan_async_send ? "asynchronous" : "synchronous");
+    }
+};
+
+/// The gateway of the benches: budget unconstrained, the direct topics denied.
+inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, const GatewayOptions& options = {}) {
     tgw::dds::GatewayConfig config;
-    config.robot_shm = !robot_udp_only;
     config.robot_domain = d.robot;
     config.wan_domain = d.wan;
     config.wan_peers = {"127.0.0.1:" + std::to_string(d.wan_reader_port)};
@@ -123,9 +145,11 @@ inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, std::size_t
     config.deny = {"bench/direct/*"};
     config.scheduler.initial_rate_bps = 1e10;  // 10 Gbit/s: every sample is released on arrival
     config.default_ttl = std::chrono::seconds(5);
-    if (wan_max_datagram_bytes > 0) {
-        config.scheduler.wire = tgw::core::WireModel::for_max_datagram(wan_max_datagram_bytes);
+    if (options.wan_max_datagram_bytes > 0) {
+        config.scheduler.wire = tgw::core::WireModel::for_max_datagram(options.wan_max_datagram_bytes);
     }
+    config.robot_shm = !options.robot_udp_only;
+    config.wan_async_send = options.wan_async_send;
     return config;
 }
 

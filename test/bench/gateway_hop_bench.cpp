@@ -56,7 +56,7 @@ struct Options {
     int repeat = 1;
     bool direct_shm = false;
     bool reliable = false;
-    bool robot_udp_only = false;
+    tgw::bench::GatewayOptions gateway;
 };
 
 /// The direct reader: UDP only, as a base-camp process would read without the gateway, or with shared memory too,
@@ -123,7 +123,7 @@ class Bench {
     bool set_up() {
         return side_.set_up("gateway_hop_bench", domains_, publisher_qos(),
                             direct_reader_qos(domains_, options_.direct_shm),
-                            tgw::bench::gateway_config(domains_, 0, options_.robot_udp_only), clock_);
+                            tgw::bench::gateway_config(domains_, options_.gateway), clock_);
     }
 
     /// One row: `size` bytes of serialized payload, the samples of both paths interleaved.
@@ -208,9 +208,7 @@ int main(int argc, char** argv) {
     app.add_flag("--direct-shm", options.direct_shm,
                  "the direct reader uses shared memory, as the gateway's robot reader does (default: UDP, as a "
                  "base-camp reader would)");
-    app.add_flag("--robot-udp-only", options.robot_udp_only,
-                 "the gateway's --robot-udp-only: the publisher (shared memory and UDP) then sends each sample once, "
-                 "over UDP, instead of once each way");
+    options.gateway.add_flags(app);
     app.add_flag("--reliable", options.reliable,
                  "reliable publisher (the gateway's robot reader and the direct reader follow; default: best effort)");
     try {
@@ -224,10 +222,10 @@ int main(int argc, char** argv) {
         return 1;
     }
     std::printf(
-        "gateway hop: %d samples per path, one every %d us per path, %s publisher, direct reader on %s, gateway's "
-        "robot side %s, loopback, budget unconstrained; times in us\n",
+        "gateway hop: %d samples per path, one every %d us per path, %s publisher, direct reader on %s, %s, "
+        "loopback, budget unconstrained; times in us\n",
         options.samples, 2 * options.period_us, options.reliable ? "reliable" : "best-effort",
-        options.direct_shm ? "shared memory" : "UDP", options.robot_udp_only ? "UDP only" : "shared memory and UDP");
+        options.direct_shm ? "shared memory" : "UDP", options.gateway.describe().c_str());
     std::printf("%6s %4s %8s %8s %8s %9s %9s %9s %9s %9s %7s %7s %7s\n", "bytes", "run", "proc50", "proc90", "proc99",
                 "direct50", "direct99", "via_gw50", "via_gw99", "added50", "ratio", "lost_gw", "lost_dir");
     int rc = 0;

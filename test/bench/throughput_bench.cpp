@@ -36,8 +36,7 @@ struct Options {
     std::uint32_t direct_max_message_bytes = 0;
     int bisect_steps = 3;
     int repeat = 1;
-    std::size_t wan_max_datagram_bytes = tgw::core::WireModel::MAX_UDP_PAYLOAD_BYTES;
-    bool robot_udp_only = false;
+    tgw::bench::GatewayOptions gateway{tgw::core::WireModel::MAX_UDP_PAYLOAD_BYTES};
     std::uint32_t reader_receive_buffer_bytes = 0;
 };
 
@@ -47,11 +46,10 @@ class Bench {
         : options_(options), domains_(tgw::bench::BenchDomains::for_this_process()) {}
 
     bool set_up() {
-        return side_.set_up(
-            "throughput_bench", domains_, tgw::bench::publisher_qos(options_.direct_max_message_bytes),
-            tgw::bench::direct_reader_qos(domains_),
-            tgw::bench::gateway_config(domains_, options_.wan_max_datagram_bytes, options_.robot_udp_only), clock_,
-            options_.reader_receive_buffer_bytes);
+        return side_.set_up("throughput_bench", domains_, tgw::bench::publisher_qos(options_.direct_max_message_bytes),
+                            tgw::bench::direct_reader_qos(domains_),
+                            tgw::bench::gateway_config(domains_, options_.gateway), clock_,
+                            options_.reader_receive_buffer_bytes);
     }
 
     bool run(std::size_t size) {
@@ -251,12 +249,10 @@ int main(int argc, char** argv) {
     app.add_option("--repeat", options.repeat, "searches per size, a row each: the figure is noisy near the threshold")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    app.add_option("--wan-max-datagram", options.wan_max_datagram_bytes,
+    app.add_option("--wan-max-datagram", options.gateway.wan_max_datagram_bytes,
                    "the gateway's --wan-max-datagram; the default is Fast DDS's, as the direct path has it")
         ->capture_default_str();
-    app.add_flag("--robot-udp-only", options.robot_udp_only,
-                 "the gateway's --robot-udp-only: the publisher (shared memory and UDP) then sends each sample once, "
-                 "over UDP, instead of once each way");
+    options.gateway.add_flags(app);
     app.add_option("--reader-receive-buffer", options.reader_receive_buffer_bytes,
                    "SO_RCVBUF of both readers' participants, bytes; 0: the system's default (the gateway's robot side "
                    "has its own, --robot-receive-buffer)")
@@ -273,12 +269,11 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "throughput: highest offered rate with loss < %.2f %%, steps x1.5 of %.1f s then %d bisections, best effort, "
-        "writer KEEP_LAST 100, readers KEEP_LAST 1000, direct reader UDP, gateway's robot side %s, budget 10 Gbit/s, "
+        "writer KEEP_LAST 100, readers KEEP_LAST 1000, direct reader UDP, %s, budget 10 Gbit/s, "
         "largest datagram: direct %s B, via the gateway %zu B; '+': publisher-bound floor\n",
-        options.max_loss * 100, options.duration_s, options.bisect_steps,
-        options.robot_udp_only ? "UDP only" : "shared memory and UDP",
+        options.max_loss * 100, options.duration_s, options.bisect_steps, options.gateway.describe().c_str(),
         options.direct_max_message_bytes > 0 ? std::to_string(options.direct_max_message_bytes).c_str() : "65500",
-        options.wan_max_datagram_bytes);
+        options.gateway.wan_max_datagram_bytes);
     std::printf("%8s %4s %13s %10s %13s %10s %7s\n", "bytes", "run", "direct/s", "direct_MB/s", "via_gw/s", "via_MB/s",
                 "ratio");
     int rc = 0;

@@ -329,6 +329,33 @@ INSTANTIATE_TEST_SUITE_P(RobotShm, RobotTransportTest, ::testing::Bool(),
                              return info.param ? std::string("SharedMemoryAndUdp") : std::string("UdpOnly");
                          });
 
+/// With --wan-async-send, Fast DDS's send thread packs queued samples into shared datagrams: a burst arrives
+/// whole and in order.
+TEST_F(GatewayIntegrationTest, AsyncSendDeliversABurstWholeAndInOrder) {
+    GatewayConfig c = config();
+    c.wan_async_send = true;
+    start_gateway(c);
+    const std::string topic = topic_prefix_ + "burst";
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_), wan);
+    ASSERT_NE(writer, nullptr);
+
+    constexpr int N = 500;
+    idl::PaperMessage msg;
+    msg.data(std::vector<std::uint8_t>(41, 0x41));
+    for (int i = 0; i < N; ++i) {
+        msg.sequence_number(static_cast<std::uint32_t>(i));
+        ASSERT_TRUE(writer->write(&msg));
+    }
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= N; })) << "got " << wan.count() << " of " << N;
+    const auto got = wan.received();
+    for (int i = 0; i < N; ++i) {
+        ASSERT_EQ(got[i].data.sequence_number(), static_cast<std::uint32_t>(i));
+    }
+    EXPECT_EQ(gateway_->wan_write_failures(), 0u);
+    expect_balanced();
+}
+
 TEST_F(GatewayIntegrationTest, FollowsTheBaseCampsReceiverReportsAboutItself) {
     GatewayConfig c = config();
     c.receiver_reports = true;

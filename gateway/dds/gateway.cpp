@@ -45,11 +45,11 @@ void GatewayConfig::validate() const {
                                 std::to_string(core::WireModel::MIN_DATAGRAM_PAYLOAD_BYTES) + " to " +
                                 std::to_string(core::WireModel::MAX_UDP_PAYLOAD_BYTES) + " bytes");
     }
-    if (robot_receive_buffer_bytes < MIN_ROBOT_RECEIVE_BUFFER_BYTES ||
-        robot_receive_buffer_bytes > MAX_ROBOT_RECEIVE_BUFFER_BYTES) {
-        throw core::ConfigError("--robot-receive-buffer " + std::to_string(robot_receive_buffer_bytes) + ": expected " +
-                                std::to_string(MIN_ROBOT_RECEIVE_BUFFER_BYTES) + " to " +
-                                std::to_string(MAX_ROBOT_RECEIVE_BUFFER_BYTES) + " bytes");
+    if (robot.receive_buffer_bytes < RobotTransport::MIN_RECEIVE_BUFFER_BYTES ||
+        robot.receive_buffer_bytes > RobotTransport::MAX_RECEIVE_BUFFER_BYTES) {
+        throw core::ConfigError("--robot-receive-buffer " + std::to_string(robot.receive_buffer_bytes) + ": expected " +
+                                std::to_string(RobotTransport::MIN_RECEIVE_BUFFER_BYTES) + " to " +
+                                std::to_string(RobotTransport::MAX_RECEIVE_BUFFER_BYTES) + " bytes");
     }
     if (default_ttl <= core::Duration::zero()) {
         throw core::ConfigError("--default-ttl: must be positive");
@@ -119,12 +119,10 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     discovery_->ignore_participant(wan_->guid_prefix());
     worker_ = std::thread([this] { run_worker(); });
     try {
-        RobotTransport transport;
-        for (const std::string& interface : config_.robot_interfaces) {
-            transport.interfaces.push_back(resolve_interface_address(interface, "--robot-interface"));
+        RobotTransport transport = config_.robot;
+        for (std::string& interface : transport.interfaces) {
+            interface = resolve_interface_address(interface, "--robot-interface");
         }
-        transport.shm = config_.robot_shm;
-        transport.receive_buffer_bytes = config_.robot_receive_buffer_bytes;
         robot_ = std::make_unique<RobotParticipant>(config_.robot_domain, discovery_.get(), transport,
                                                     participant_profile(ROBOT_PARTICIPANT_PROFILE));
         discovery_->ignore_participant(robot_->guid_prefix());

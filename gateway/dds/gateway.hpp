@@ -18,6 +18,7 @@
 #include "gateway/core/scheduler.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/receiver_report_reader.hpp"
+#include "gateway/dds/robot_transport.hpp"
 #include "gateway/dds/topic_filter.hpp"
 #include "gateway/dds/ttl_resolver.hpp"
 #include "sensor/rate_sensor.hpp"
@@ -36,23 +37,12 @@ class WanRouter;
 
 /// Everything the telemetry-gateway program's flags set (DESIGN section 6).
 struct GatewayConfig {
-    static constexpr std::uint32_t DEFAULT_ROBOT_RECEIVE_BUFFER_BYTES = 4u << 20;
-    /// Fast DDS refuses a receive buffer smaller than its largest message (65500 B).
-    static constexpr std::uint32_t MIN_ROBOT_RECEIVE_BUFFER_BYTES = 1u << 16;
-    static constexpr std::uint32_t MAX_ROBOT_RECEIVE_BUFFER_BYTES = 1u << 30;
-
     int robot_domain = 0;
     int wan_domain = 1;
     std::vector<std::string> wan_peers;  ///< ADDR or ADDR:PORT, see parse_wan_peer
     std::string wan_interface;           ///< interface name or IPv4 address; empty: every interface
     std::uint16_t wan_port = 0;          ///< own metatraffic port on the WAN; 0: Fast DDS's well-known port
-    std::vector<std::string> robot_interfaces{"127.0.0.1"};  ///< the robot participant's UDP addresses
-    /// Offer Fast DDS shared memory on the robot domain as well as UDP: the only way to reach a robot process
-    /// whose addresses are not among robot_interfaces. Its cost: a Fast DDS publisher with both transports
-    /// sends every sample twice, once each way (RobotTransport).
-    bool robot_shm = true;
-    /// SO_RCVBUF of the robot participant's UDP sockets: room for a burst while the forwarding thread is busy.
-    std::uint32_t robot_receive_buffer_bytes = DEFAULT_ROBOT_RECEIVE_BUFFER_BYTES;
+    RobotTransport robot;
     std::string qos_file;            ///< Fast DDS XML; empty: none
     std::string log_file;            ///< on-robot SQLite log; empty: none
     std::vector<std::string> allow;  ///< topic globs; empty: all

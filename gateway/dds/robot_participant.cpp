@@ -53,10 +53,8 @@ RobotParticipant::RobotParticipant(int domain, fdds::DomainParticipantListener* 
     }
     auto udp = std::make_shared<UDPv4TransportDescriptor>();
     udp->interfaceWhiteList = transport.interfaces;
-    if (transport.receive_buffer_bytes > 0) {
-        udp->receiveBufferSize = transport.receive_buffer_bytes;
-        warn_if_capped(transport.receive_buffer_bytes);
-    }
+    udp->receiveBufferSize = transport.receive_buffer_bytes;
+    warn_if_capped(transport.receive_buffer_bytes);
     qos.transport().user_transports.push_back(udp);
 
     participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(

@@ -1,6 +1,5 @@
 #pragma once
 
-#include <cstdint>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -15,18 +14,9 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 
 #include "gateway/dds/discovery.hpp"
+#include "gateway/dds/robot_transport.hpp"
 
 namespace tgw::dds {
-
-/// How the robot participant listens.
-struct RobotTransport {
-    std::vector<std::string> interfaces;  ///< IPv4 addresses the UDP transport uses; empty: every interface
-    /// Also offer Fast DDS shared memory, which reaches a same-host process whatever its addresses. A Fast DDS
-    /// 2.9 writer sends to every locator of a reader it can reach, so a publisher with both transports (Fast
-    /// DDS's default) then sends each sample twice, and the gateway receives and discards the second copy.
-    bool shm = true;
-    std::uint32_t receive_buffer_bytes = 0;  ///< SO_RCVBUF of the UDP sockets; 0: the system's default
-};
 
 /// The gateway's participant on the robot domain. It stays on this host: shared memory and UDP bound to the
 /// loopback interface (or the addresses given). It discovers every publisher (its listener) and holds the
@@ -35,7 +25,8 @@ class RobotParticipant {
   public:
     /// Throws core::ConfigError if the participant cannot be created. `listener` must outlive this object
     /// and receives discovery callbacks from the moment the participant exists. `base` is the starting QoS
-    /// (an XML participant profile, or the default); transports and name are set here.
+    /// (an XML participant profile, or the default); transports and name are set here. `transport.interfaces`
+    /// must be addresses.
     RobotParticipant(int domain, eprosima::fastdds::dds::DomainParticipantListener* listener,
                      const RobotTransport& transport,
                      const std::optional<eprosima::fastdds::dds::DomainParticipantQos>& base);

@@ -148,7 +148,7 @@ inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, const Gatew
     if (options.wan_max_datagram_bytes > 0) {
         config.scheduler.wire = tgw::core::WireModel::for_max_datagram(options.wan_max_datagram_bytes);
     }
-    config.robot_shm = !options.robot_udp_only;
+    config.robot.shm = !options.robot_udp_only;
     config.wan_async_send = options.wan_async_send;
     return config;
 }

@@ -6,11 +6,15 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <mutex>
+#include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include <fastdds/rtps/reader/ReaderDiscoveryInfo.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
 #include <fastrtps/utils/IPLocator.h>
@@ -239,6 +243,32 @@ class PublisherWatcher final : public fdds::DomainParticipantListener {
   private:
     mutable std::mutex mutex_;
     std::vector<Seen> seen_;
+};
+
+/// Records the locator kinds each discovered reader offers, by topic.
+class ReaderLocatorWatcher final : public fdds::DomainParticipantListener {
+  public:
+    void on_subscriber_discovery(fdds::DomainParticipant*,
+                                 eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) override {
+        if (info.status != eprosima::fastrtps::rtps::ReaderDiscoveryInfo::DISCOVERED_READER) {
+            return;
+        }
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto& kinds = kinds_[info.info.topicName().to_string()];
+        for (const auto& locator : info.info.remote_locators().unicast) {
+            kinds.insert(locator.kind);
+        }
+    }
+
+    std::optional<std::set<std::int32_t>> kinds(const std::string& topic) const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        const auto it = kinds_.find(topic);
+        return it == kinds_.end() ? std::nullopt : std::optional<std::set<std::int32_t>>(it->second);
+    }
+
+  private:
+    mutable std::mutex mutex_;
+    std::map<std::string, std::set<std::int32_t>> kinds_;
 };
 
 }  // namespace tgw::test

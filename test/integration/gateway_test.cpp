@@ -8,13 +8,11 @@
 #include <iterator>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <set>
 #include <string>
 #include <thread>
 
-#include <fastdds/rtps/reader/ReaderDiscoveryInfo.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 
 #include "KeyedReadingPubSubTypes.h"
@@ -253,32 +251,6 @@ INSTANTIATE_TEST_SUITE_P(WanMaxDatagram, LargeSampleTest,
                          ::testing::Values(core::WireModel::MAX_DATAGRAM_PAYLOAD_BYTES,
                                            core::WireModel::MAX_UDP_PAYLOAD_BYTES));
 
-/// Records the locator kinds each discovered reader offers, by topic.
-class ReaderLocatorWatcher final : public fdds::DomainParticipantListener {
-  public:
-    void on_subscriber_discovery(fdds::DomainParticipant*,
-                                 eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) override {
-        if (info.status != eprosima::fastrtps::rtps::ReaderDiscoveryInfo::DISCOVERED_READER) {
-            return;
-        }
-        std::lock_guard<std::mutex> lock(mutex_);
-        auto& kinds = kinds_[info.info.topicName().to_string()];
-        for (const auto& locator : info.info.remote_locators().unicast) {
-            kinds.insert(locator.kind);
-        }
-    }
-
-    std::optional<std::set<std::int32_t>> kinds(const std::string& topic) const {
-        std::lock_guard<std::mutex> lock(mutex_);
-        const auto it = kinds_.find(topic);
-        return it == kinds_.end() ? std::nullopt : std::optional<std::set<std::int32_t>>(it->second);
-    }
-
-  private:
-    mutable std::mutex mutex_;
-    std::map<std::string, std::set<std::int32_t>> kinds_;
-};
-
 /// The gateway's robot readers offer shared memory and UDP by default, which reach a robot process with
 /// Fast DDS's default transports whatever its addresses. With --robot-udp-only they offer UDP alone, so that a
 /// publisher with both transports sends each sample once, not once each way; a process on the loopback
@@ -304,7 +276,7 @@ TEST_P(RobotTransportTest, OffersSharedMemoryUnlessUdpOnly) {
     TestParticipant robot(domains_.robot, shm ? TestParticipant::robot_qos() : loopback_robot_qos(), &watcher);
     ASSERT_TRUE(robot.ok());
     GatewayConfig c = config();
-    c.robot_shm = shm;
+    c.robot.shm = shm;
     start_gateway(c);
     const std::string topic = topic_prefix_ + (shm ? "shm_and_udp" : "udp_only");
     auto& wan = listener<CollectingReader<idl::PaperMessage>>();

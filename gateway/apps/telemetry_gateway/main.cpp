@@ -115,14 +115,14 @@ int main(int argc, char** argv) {
                  "hand WAN samples to Fast DDS's send thread, which packs those that queue up into shared "
                  "datagrams: more samples per second on a fast link, for tens of microseconds more per sample");
     bool robot_udp_only = false;
-    app.add_option("--robot-interface", config.robot_interfaces,
+    app.add_option("--robot-interface", config.robot.interfaces,
                    "IPv4 address or interface the robot domain's UDP uses; repeatable")
         ->capture_default_str();
     app.add_flag("--robot-udp-only", robot_udp_only,
                  "no shared memory on the robot domain: Fast DDS publishers with both transports send every sample "
                  "both ways, so this halves their sends, but reaches only processes that announce an address of "
                  "--robot-interface");
-    app.add_option("--robot-receive-buffer", config.robot_receive_buffer_bytes,
+    app.add_option("--robot-receive-buffer", config.robot.receive_buffer_bytes,
                    "bytes of UDP receive buffer for the robot domain: room for bursts (capped by "
                    "net.core.rmem_max)")
         ->capture_default_str();
@@ -193,7 +193,7 @@ int main(int argc, char** argv) {
         config.default_ttl = tgw::core::from_seconds(default_ttl_s);
         config.scheduler.memory_cap_bytes = static_cast<std::size_t>(queue_mib * (1 << 20));
         config.scheduler.wire = tgw::core::WireModel::for_max_datagram(max_datagram);
-        config.robot_shm = !robot_udp_only;
+        config.robot.shm = !robot_udp_only;
 
         guard.hold = tgw::core::from_seconds(hold_s);
         if (!(guard.smoothing > 0.0 && guard.smoothing <= 1.0)) {

@@ -51,6 +51,10 @@ void GatewayConfig::validate() const {
                                 std::to_string(RobotTransport::MIN_RECEIVE_BUFFER_BYTES) + " to " +
                                 std::to_string(RobotTransport::MAX_RECEIVE_BUFFER_BYTES) + " bytes");
     }
+    if (wan_coalesce_window < std::chrono::microseconds::zero() || wan_coalesce_window > MAX_COALESCE_WINDOW) {
+        throw core::ConfigError("--wan-coalesce-us " + std::to_string(wan_coalesce_window.count()) +
+                                ": expected 0 to " + std::to_string(MAX_COALESCE_WINDOW.count()) + " microseconds");
+    }
     if (default_ttl <= core::Duration::zero()) {
         throw core::ConfigError("--default-ttl: must be positive");
     }
@@ -95,6 +99,7 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     wan.announcement_period = config_.wan_announcement_period;
     wan.max_datagram_bytes = config_.scheduler.wire.max_datagram_bytes;
     wan.async_send = config_.wan_async_send;
+    wan.coalesce_window = config_.wan_coalesce_window;
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
 
     directory_ = std::make_unique<TopicDirectory>();
@@ -318,6 +323,10 @@ std::optional<core::Duration> Gateway::wan_writer_lifespan(core::TopicId id) con
 
 std::uint64_t Gateway::wan_write_failures() const {
     return sink_->wan_write_failures();
+}
+
+DatagramCoalescer::Counts Gateway::wan_datagrams() const {
+    return wan_->coalescer().counts();
 }
 
 std::optional<ReceiverReportTotals> Gateway::receiver_report() const {

@@ -16,6 +16,7 @@
 #include "gateway/core/forwarding_loop.hpp"
 #include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/scheduler.hpp"
+#include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/receiver_report_reader.hpp"
 #include "gateway/dds/robot_transport.hpp"
@@ -55,6 +56,9 @@ struct GatewayConfig {
     bool receiver_reports = false;
     /// WanConfig::async_send: Fast DDS's send thread packs queued samples into shared datagrams.
     bool wan_async_send = false;
+    /// WanConfig::coalesce_window: how long a WAN sample may wait to share a datagram; 0: never.
+    std::chrono::microseconds wan_coalesce_window = DatagramCoalescer::DEFAULT_WINDOW;
+    static constexpr std::chrono::microseconds MAX_COALESCE_WINDOW{100'000};
 
     /// Throws core::ConfigError naming the flag at fault. Checks what needs no file or network.
     void validate() const;
@@ -108,6 +112,8 @@ class Gateway {
     std::int32_t wan_matched_readers(core::TopicId id) const;
     std::optional<core::Duration> wan_writer_lifespan(core::TopicId id) const;
     std::uint64_t wan_write_failures() const;
+    /// The WAN samples' RTPS messages and the datagrams that carried them.
+    DatagramCoalescer::Counts wan_datagrams() const;
     /// The base camp's latest receiver report about this gateway; nullopt before one, or without
     /// GatewayConfig::receiver_reports.
     std::optional<ReceiverReportTotals> receiver_report() const;

@@ -15,6 +15,7 @@
 #include "ReceiverReportPubSubTypes.h"
 #include "gateway/core/config_error.hpp"
 #include "gateway/core/wire_model.hpp"
+#include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
@@ -58,7 +59,8 @@ Locator_t udp_locator(const std::string& address, std::uint16_t port) {
 }  // namespace
 
 WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainParticipantQos>& base)
-    : async_send_(config.async_send) {
+    : async_send_(config.async_send),
+      coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_)) {
     fdds::DomainParticipantQos qos =
         base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
     qos.name("telemetry-gateway/wan");
@@ -73,7 +75,7 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     if (!config.interface_address.empty()) {
         udp->interfaceWhiteList.push_back(config.interface_address);
     }
-    qos.transport().user_transports.push_back(udp);
+    qos.transport().user_transports.push_back(std::make_shared<CoalescingTransportDescriptor>(udp, coalescer_));
 
     // An explicit metatraffic unicast locator and no multicast one: Fast DDS then opens no multicast
     // listener and announces only to the initial peers. Port 0 means the participant id's well-known port.
@@ -103,9 +105,12 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
         throw core::ConfigError("--wan-domain " + std::to_string(config.domain) + ": cannot create a publisher");
     }
+    coalescer_->start();
 }
 
 WanRouter::~WanRouter() {
+    // Sends what waits while the transport's channels still exist.
+    coalescer_->stop();
     if (participant_ != nullptr) {
         participant_->delete_contained_entities();
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
@@ -209,7 +214,10 @@ WriteResult WanRouter::write(core::Sample&& sample) {
         }
         handle = data.key.isDefined() ? data.key : PassthroughType::UNKNOWN_INSTANCE;
     }
-    const ReturnCode_t rc = e->writer->write_w_timestamp(&data, handle, to_dds_time(sample.source_time));
+    const ReturnCode_t rc = [&] {
+        const DatagramCoalescer::DeferScope may_wait;
+        return e->writer->write_w_timestamp(&data, handle, to_dds_time(sample.source_time));
+    }();
     if (rc != ReturnCode_t::RETCODE_OK) {
         write_failures_.fetch_add(1, std::memory_order_relaxed);
         if (!e->failure_reported) {

@@ -116,9 +116,14 @@ struct GatewayOptions {
     /// --robot-udp-only: the publisher's UDP is on loopback, so it reaches the gateway either way.
     bool robot_udp_only = false;
     bool wan_async_send = false;
+    std::int64_t wan_coalesce_us = tgw::dds::DatagramCoalescer::DEFAULT_WINDOW.count();
 
-    /// Adds --robot-udp-only and --wan-async-send to a bench's command line.
+    /// Adds --robot-udp-only, --wan-async-send and --wan-coalesce-us to a bench's command line.
     void add_flags(CLI::App& app) {
+        app.add_option("--wan-coalesce-us", wan_coalesce_us,
+                       "the gateway's --wan-coalesce-us: how long a WAN sample that follows closely may wait to "
+                       "share a datagram; 0: never")
+            ->capture_default_str();
         app.add_flag("--robot-udp-only", robot_udp_only,
                      "the gateway's --robot-udp-only: the publisher (shared memory and UDP) then sends each sample "
                      "once, over UDP, instead of once each way");
@@ -130,7 +135,8 @@ struct GatewayOptions {
     /// What the bench's header line says of the gateway.
     std::string describe() const {
         return std::string("gateway's robot side ") + (robot_udp_only ? "UDP only" : "shared memory and UDP") +
-               ", WAN send " + (wan_async_send ? "asynchronous" : "synchronous");
+               ", WAN send " + (wan_async_send ? "asynchronous" : "synchronous") + ", coalescing " +
+               (wan_coalesce_us > 0 ? std::to_string(wan_coalesce_us) + " us" : "off");
     }
 };
 
@@ -150,6 +156,7 @@ inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, const Gatew
     }
     config.robot.shm = !options.robot_udp_only;
     config.wan_async_send = options.wan_async_send;
+    config.wan_coalesce_window = std::chrono::microseconds(options.wan_coalesce_us);
     return config;
 }
 

@@ -51,6 +51,16 @@ void print_summary(const tgw::dds::Gateway& gateway) {
         "p99 %.1f us, max %.1f us\n",
         static_cast<unsigned long long>(latency.count), us(latency.median()), us(latency.percentile(0.99)),
         us(latency.max));
+    const auto datagrams = gateway.wan_datagrams();
+    std::printf(
+        "WAN datagrams: %llu samples' messages in %llu datagrams (%.2f per datagram)",
+        static_cast<unsigned long long>(datagrams.messages), static_cast<unsigned long long>(datagrams.datagrams),
+        datagrams.datagrams == 0 ? 0.0
+                                 : static_cast<double>(datagrams.messages) / static_cast<double>(datagrams.datagrams));
+    if (datagrams.failed_datagrams > 0) {
+        std::printf(", %llu failed after waiting", static_cast<unsigned long long>(datagrams.failed_datagrams));
+    }
+    std::printf("\n");
     if (const auto report = gateway.receiver_report()) {
         std::printf(
             "base camp's last receiver report (of %llu): %llu samples received, %llu lost on the way, %llu in "
@@ -114,6 +124,11 @@ int main(int argc, char** argv) {
     app.add_flag("--wan-async-send", config.wan_async_send,
                  "hand WAN samples to Fast DDS's send thread, which packs those that queue up into shared "
                  "datagrams: more samples per second on a fast link, for tens of microseconds more per sample");
+    auto coalesce_us = static_cast<std::int64_t>(config.wan_coalesce_window.count());
+    app.add_option("--wan-coalesce-us", coalesce_us,
+                   "a WAN sample that follows the previous datagram within this many microseconds waits as long "
+                   "to share a datagram with the next ones; a sample that comes alone goes at once; 0: never")
+        ->capture_default_str();
     bool robot_udp_only = false;
     app.add_option("--robot-interface", config.robot.interfaces,
                    "IPv4 address or interface the robot domain's UDP uses; repeatable")
@@ -194,6 +209,7 @@ int main(int argc, char** argv) {
         config.scheduler.memory_cap_bytes = static_cast<std::size_t>(queue_mib * (1 << 20));
         config.scheduler.wire = tgw::core::WireModel::for_max_datagram(max_datagram);
         config.robot.shm = !robot_udp_only;
+        config.wan_coalesce_window = std::chrono::microseconds(coalesce_us);
 
         guard.hold = tgw::core::from_seconds(hold_s);
         if (!(guard.smoothing > 0.0 && guard.smoothing <= 1.0)) {

@@ -1,6 +1,7 @@
 /* Cyclone DDS publisher for the cross-vendor test: writes samples 0..COUNT-1 of tgw_xv::Blob or
  * tgw_xv::KeyedBlob over and over, with a known source timestamp, until SECONDS have passed. Repeating makes
- * the test independent of when the gateway's reader and writer match. */
+ * the test independent of when the gateway's reader and writer match. PAUSE_MS (default 20) between samples;
+ * 0 writes each round as one burst, whose samples the gateway packs into shared WAN datagrams. */
 #include <dds/dds.h>
 
 #include "CrossVendor.h"
@@ -8,8 +9,9 @@
 
 int main(int argc, char** argv) {
     xv_args args;
-    if (!xv_parse_args(argc, argv, &args)) {
-        fprintf(stderr, "usage: xv_pub DOMAIN TOPIC blob|keyed COUNT INSTANCES SECONDS\n");
+    const int pause_ms = argc == 8 ? atoi(argv[7]) : 20;
+    if (!xv_parse_args(argc == 8 ? 7 : argc, argv, &args) || pause_ms < 0) {
+        fprintf(stderr, "usage: xv_pub DOMAIN TOPIC blob|keyed COUNT INSTANCES SECONDS [PAUSE_MS]\n");
         return 2;
     }
     const dds_entity_t participant = dds_create_participant((dds_domainid_t)args.domain, NULL, NULL);
@@ -64,7 +66,8 @@ int main(int argc, char** argv) {
             }
             if (rc == DDS_RETCODE_OK)
                 ++written;
-            dds_sleepfor(DDS_MSECS(20));
+            if (pause_ms > 0)
+                dds_sleepfor(DDS_MSECS(pause_ms));
         }
         dds_sleepfor(DDS_MSECS(200));
     }

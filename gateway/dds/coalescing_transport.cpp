@@ -1,0 +1,80 @@
+#include "gateway/dds/coalescing_transport.hpp"
+
+#include <fastdds/rtps/network/SenderResource.h>
+#include <fastdds/rtps/common/LocatorsIterator.hpp>
+
+namespace tgw::dds {
+
+namespace rtps = eprosima::fastrtps::rtps;
+
+namespace {
+
+// What a send of a datagram that waited may block for when the socket buffer is full: Fast DDS's default
+// max_blocking_time of a write.
+constexpr std::chrono::milliseconds SEND_TIMEOUT{100};
+
+/// Walks a DatagramDestination's locators for SenderResource::send.
+class LocatorVectorIterator final : public eprosima::fastdds::rtps::LocatorsIterator {
+  public:
+    explicit LocatorVectorIterator(std::vector<rtps::Locator_t>::const_iterator it) : it_(it) {}
+
+    LocatorsIterator& operator++() override {
+        ++it_;
+        return *this;
+    }
+    bool operator==(const LocatorsIterator& other) const override {
+        return it_ == static_cast<const LocatorVectorIterator&>(other).it_;
+    }
+    bool operator!=(const LocatorsIterator& other) const override { return !(*this == other); }
+    const rtps::Locator_t& operator*() const override { return *it_; }
+
+  private:
+    std::vector<rtps::Locator_t>::const_iterator it_;
+};
+
+}  // namespace
+
+CoalescingTransportDescriptor::CoalescingTransportDescriptor(
+    std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> low_level,
+    std::shared_ptr<DatagramCoalescer> coalescer_in)
+    : ChainingTransportDescriptor(std::move(low_level)), coalescer(std::move(coalescer_in)) {}
+
+eprosima::fastdds::rtps::TransportInterface* CoalescingTransportDescriptor::create_transport() const {
+    return new CoalescingTransport(*this);
+}
+
+CoalescingTransport::CoalescingTransport(const CoalescingTransportDescriptor& descriptor)
+    : ChainingTransport(descriptor), descriptor_(descriptor), coalescer_(descriptor.coalescer) {}
+
+bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const rtps::octet* send_buffer,
+                               std::uint32_t send_buffer_size, rtps::LocatorsIterator* destination_locators_begin,
+                               rtps::LocatorsIterator* destination_locators_end,
+                               const std::chrono::steady_clock::time_point& timeout) {
+    // Every datagram, sent now or after waiting, gets SEND_TIMEOUT: the coalescer keeps no per-message timeout.
+    (void)timeout;
+    // Reused per thread: a send must not allocate.
+    thread_local DatagramDestination destination;
+    destination.channel = low_sender_resource;
+    destination.locators.clear();
+    for (rtps::LocatorsIterator& it = *destination_locators_begin; it != *destination_locators_end; ++it) {
+        destination.locators.push_back(*it);
+    }
+    return coalescer_->send(*this, destination, send_buffer, send_buffer_size);
+}
+
+void CoalescingTransport::receive(eprosima::fastdds::rtps::TransportReceiverInterface* next_receiver,
+                                  const rtps::octet* receive_buffer, std::uint32_t receive_buffer_size,
+                                  const rtps::Locator_t& local_locator, const rtps::Locator_t& remote_locator) {
+    next_receiver->OnDataReceived(receive_buffer, receive_buffer_size, local_locator, remote_locator);
+}
+
+bool CoalescingTransport::send_datagram(const DatagramDestination& destination, const std::uint8_t* bytes,
+                                        std::size_t size) {
+    auto* channel = static_cast<rtps::SenderResource*>(const_cast<void*>(destination.channel));
+    LocatorVectorIterator begin(destination.locators.begin());
+    LocatorVectorIterator end(destination.locators.end());
+    return channel->send(bytes, static_cast<std::uint32_t>(size), &begin, &end,
+                         std::chrono::steady_clock::now() + SEND_TIMEOUT);
+}
+
+}  // namespace tgw::dds

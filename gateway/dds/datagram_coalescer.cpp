@@ -1,0 +1,175 @@
+#include "gateway/dds/datagram_coalescer.hpp"
+
+#include <atomic>
+#include <optional>
+
+namespace tgw::dds {
+
+namespace {
+// Every scope gets its own number, so that the messages of one write (a sample's fragments) are told apart
+// from those of the next write.
+std::atomic<std::uint64_t> last_scope{0};
+thread_local std::uint64_t current_scope = 0;  // 0: none
+}  // namespace
+
+DatagramCoalescer::DeferScope::DeferScope() : outer_(current_scope) {
+    current_scope = last_scope.fetch_add(1, std::memory_order_relaxed) + 1;
+}
+
+DatagramCoalescer::DeferScope::~DeferScope() {
+    current_scope = outer_;
+}
+
+std::uint64_t DatagramCoalescer::DeferScope::current() {
+    return current_scope;
+}
+
+DatagramCoalescer::DatagramCoalescer(std::chrono::microseconds window, std::size_t max_datagram_bytes,
+                                     const core::Clock& clock)
+    : window_(window), max_datagram_bytes_(max_datagram_bytes), clock_(clock) {}
+
+DatagramCoalescer::~DatagramCoalescer() {
+    stop();
+}
+
+void DatagramCoalescer::start() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!thread_.joinable() && !stopping_) {
+        thread_ = std::thread([this] { run(); });
+    }
+}
+
+void DatagramCoalescer::stop() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (stopped_) {
+            return;
+        }
+        stopping_ = true;
+    }
+    wake_.notify_all();
+    if (thread_.joinable()) {
+        thread_.join();
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    const core::SteadyTime now = clock_.now();
+    for (auto& batch : batches_) {
+        flush_nts(*batch, now);
+    }
+    stopped_ = true;
+}
+
+DatagramCoalescer::Batch* DatagramCoalescer::find_nts(const DatagramSender& sender,
+                                                      const DatagramDestination& destination) {
+    for (auto& batch : batches_) {
+        if (batch->sender == &sender && batch->destination == destination) {
+            return batch.get();
+        }
+    }
+    return nullptr;
+}
+
+DatagramCoalescer::Batch& DatagramCoalescer::batch_for_nts(DatagramSender& sender,
+                                                           const DatagramDestination& destination) {
+    if (Batch* batch = find_nts(sender, destination)) {
+        return *batch;
+    }
+    auto batch = std::make_unique<Batch>(max_datagram_bytes_);
+    batch->sender = &sender;
+    batch->destination = destination;
+    // Never sent to: the first message goes at once.
+    batch->last_sent = clock_.now() - window_;
+    batches_.push_back(std::move(batch));
+    return *batches_.back();
+}
+
+bool DatagramCoalescer::send_now_nts(Batch& batch, const std::uint8_t* bytes, std::size_t size, core::SteadyTime now) {
+    batch.last_sent = now;
+    ++counts_.datagrams;
+    return batch.sender->send_datagram(batch.destination, bytes, size);
+}
+
+void DatagramCoalescer::flush_nts(Batch& batch, core::SteadyTime now) {
+    if (batch.datagram.empty()) {
+        return;
+    }
+    if (!send_now_nts(batch, batch.datagram.data(), batch.datagram.size(), now)) {
+        ++counts_.failed_datagrams;
+    }
+    batch.datagram.clear();
+}
+
+bool DatagramCoalescer::send(DatagramSender& sender, const DatagramDestination& destination,
+                             const std::uint8_t* message, std::size_t size) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const std::uint64_t scope = DeferScope::current();
+    const bool deferrable = scope != 0 && !stopping_ && window_.count() > 0;
+    if (!deferrable) {
+        // What waits for this destination was written first: it goes first.
+        if (Batch* batch = find_nts(sender, destination)) {
+            flush_nts(*batch, clock_.now());
+        }
+        return sender.send_datagram(destination, message, size);
+    }
+    Batch& batch = batch_for_nts(sender, destination);
+    const core::SteadyTime now = clock_.now();
+    ++counts_.messages;
+    // A sample that comes alone goes at once, all its fragments.
+    if (batch.datagram.empty() && (now - batch.last_sent >= window_ || batch.sent_at_once_scope == scope)) {
+        batch.sent_at_once_scope = scope;
+        return send_now_nts(batch, message, size, now);
+    }
+    if (!batch.datagram.append(message, size)) {
+        flush_nts(batch, now);
+        if (!batch.datagram.append(message, size)) {
+            return send_now_nts(batch, message, size, now);  // larger than a datagram: Fast DDS's size rules
+        }
+    }
+    if (batch.datagram.messages() == 1) {
+        batch.deadline = now + window_;
+        kicked_ = true;
+        lock.unlock();
+        wake_.notify_one();
+    }
+    return true;
+}
+
+void DatagramCoalescer::flush_due() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    flush_due_nts(clock_.now());
+}
+
+void DatagramCoalescer::flush_due_nts(core::SteadyTime now) {
+    for (auto& batch : batches_) {
+        if (!batch->datagram.empty() && batch->deadline <= now) {
+            flush_nts(*batch, now);
+        }
+    }
+}
+
+void DatagramCoalescer::run() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stopping_) {
+        std::optional<core::SteadyTime> next;
+        for (const auto& batch : batches_) {
+            if (!batch->datagram.empty() && (!next || batch->deadline < *next)) {
+                next = batch->deadline;
+            }
+        }
+        // The clock is injected, but waiting needs real time.
+        if (next) {
+            wake_.wait_for(lock, *next - clock_.now(), [this] { return stopping_ || kicked_; });
+        } else {
+            wake_.wait(lock, [this] { return stopping_ || kicked_; });
+        }
+        kicked_ = false;
+        flush_due_nts(clock_.now());
+    }
+}
+
+DatagramCoalescer::Counts DatagramCoalescer::counts() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return counts_;
+}
+
+}  // namespace tgw::dds

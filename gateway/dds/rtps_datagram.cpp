@@ -1,0 +1,155 @@
+#include "gateway/dds/rtps_datagram.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+namespace tgw::dds {
+
+namespace {
+
+// RTPS 2.x submessage ids (DDSI-RTPS 9.4.5.1.1) this class must understand.
+constexpr std::uint8_t PAD = 0x01;
+constexpr std::uint8_t INFO_TS = 0x09;
+constexpr std::uint8_t INFO_SRC = 0x0c;
+constexpr std::uint8_t INFO_REPLY_IP4 = 0x0d;
+constexpr std::uint8_t INFO_DST = 0x0e;
+constexpr std::uint8_t INFO_REPLY = 0x0f;
+// eProsima's vendor-specific network-statistics submessage (Fast DDS with FASTDDS_STATISTICS).
+constexpr std::uint8_t FASTDDS_STATISTICS = 0x80;
+constexpr std::uint8_t VENDOR_EPROSIMA[2] = {0x01, 0x0f};
+constexpr std::size_t VENDOR_OFFSET = 6;
+
+constexpr std::uint8_t FLAG_LITTLE_ENDIAN = 0x01;
+constexpr std::uint8_t FLAG_INVALIDATE = 0x02;  ///< INFO_TS: no timestamp follows
+constexpr std::size_t SUBMESSAGE_HEADER_BYTES = 4;
+constexpr std::size_t GUID_PREFIX_BYTES = 12;
+
+constexpr bool is_info(std::uint8_t id) {
+    return id == PAD || id == INFO_TS || id == INFO_SRC || id == INFO_REPLY_IP4 || id == INFO_DST || id == INFO_REPLY;
+}
+
+std::uint16_t octets_to_next_header(const std::uint8_t* submessage) {
+    const auto lo = static_cast<std::uint16_t>(submessage[2]);
+    const auto hi = static_cast<std::uint16_t>(submessage[3]);
+    return (submessage[1] & FLAG_LITTLE_ENDIAN) != 0 ? static_cast<std::uint16_t>(lo | (hi << 8))
+                                                     : static_cast<std::uint16_t>((lo << 8) | hi);
+}
+
+bool is_zero(const std::uint8_t* bytes, std::size_t size) {
+    return std::all_of(bytes, bytes + size, [](std::uint8_t b) { return b == 0; });
+}
+
+}  // namespace
+
+RtpsDatagram::RtpsDatagram(std::size_t max_bytes) : max_bytes_(max_bytes) {
+    bytes_.reserve(max_bytes);
+}
+
+void RtpsDatagram::clear() {
+    bytes_.clear();
+    messages_ = 0;
+    closed_ = false;
+    destination_in_force_ = false;
+    timestamp_in_force_ = false;
+    trailer_bytes_ = 0;
+}
+
+RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::size_t size) {
+    if (size < HEADER_BYTES || std::memcmp(message, "RTPS", 4) != 0) {
+        return Shape{};
+    }
+    const bool eprosima = std::memcmp(message + VENDOR_OFFSET, VENDOR_EPROSIMA, 2) == 0;
+    Shape shape;
+    shape.mergeable = true;
+    bool leading_info = true;  // still in the run of INFO_* submessages the message starts with
+    std::size_t pos = HEADER_BYTES;
+    while (pos < size) {
+        if (size - pos < SUBMESSAGE_HEADER_BYTES) {
+            return Shape{};
+        }
+        const std::uint8_t* sub = message + pos;
+        const std::uint8_t id = sub[0];
+        const std::size_t length = octets_to_next_header(sub);
+        const std::size_t body = pos + SUBMESSAGE_HEADER_BYTES;
+        if (body + length > size) {
+            return Shape{};
+        }
+        if (length == 0 && id != INFO_TS && id != PAD) {
+            // Runs to the end of the message: nothing can follow it.
+            shape.mergeable = false;
+        }
+        if (id == INFO_DST) {
+            if (length < GUID_PREFIX_BYTES) {
+                return Shape{};
+            }
+            // An INFO_DST to GUIDPREFIX_UNKNOWN leaves a Fast DDS receiver's destination as it was.
+            if (!is_zero(message + body, GUID_PREFIX_BYTES)) {
+                shape.destination_in_force = true;
+                shape.sets_destination = shape.sets_destination || pos == HEADER_BYTES;
+            }
+        } else if (id == INFO_TS) {
+            shape.timestamp_in_force = (sub[1] & FLAG_INVALIDATE) == 0;
+            shape.sets_timestamp_first = shape.sets_timestamp_first || leading_info;
+        } else if (id == INFO_SRC || id == INFO_REPLY || id == INFO_REPLY_IP4) {
+            shape.mergeable = false;
+        }
+        leading_info = leading_info && is_info(id);
+        // Receivers step to the next 4-byte boundary.
+        const std::size_t next = body + ((length + 3) & ~std::size_t{3});
+        if (eprosima && id == FASTDDS_STATISTICS) {
+            if (next != size) {
+                shape.mergeable = false;  // not where the receiver expects it
+            }
+            shape.trailer_bytes = SUBMESSAGE_HEADER_BYTES + length;
+        }
+        pos = next;
+    }
+    if (pos != size) {
+        shape.mergeable = false;  // the last submessage is not padded to 4 bytes
+    }
+    shape.well_formed = true;
+    return shape;
+}
+
+bool RtpsDatagram::append(const std::uint8_t* message, std::size_t size) {
+    const Shape shape = shape_of(message, size);
+    if (empty()) {
+        if (size > max_bytes_) {
+            return false;
+        }
+        bytes_.assign(message, message + size);
+        messages_ = 1;
+        closed_ = !shape.well_formed || !shape.mergeable;
+        destination_in_force_ = shape.destination_in_force;
+        timestamp_in_force_ = shape.timestamp_in_force;
+        trailer_bytes_ = shape.trailer_bytes;
+        return true;
+    }
+    if (closed_ || !shape.well_formed || std::memcmp(message, bytes_.data(), HEADER_BYTES) != 0 ||
+        (destination_in_force_ && !shape.sets_destination)) {
+        return false;
+    }
+    const bool invalidate_timestamp = timestamp_in_force_ && !shape.sets_timestamp_first;
+    const std::size_t kept = bytes_.size() - trailer_bytes_;
+    const std::size_t added = (invalidate_timestamp ? SUBMESSAGE_HEADER_BYTES : 0) + size - HEADER_BYTES;
+    if (kept + added > max_bytes_) {
+        return false;
+    }
+    bytes_.resize(kept);
+    if (invalidate_timestamp) {
+        const std::uint8_t info_ts[SUBMESSAGE_HEADER_BYTES] = {INFO_TS, FLAG_LITTLE_ENDIAN | FLAG_INVALIDATE, 0, 0};
+        bytes_.insert(bytes_.end(), info_ts, info_ts + SUBMESSAGE_HEADER_BYTES);
+    }
+    bytes_.insert(bytes_.end(), message + HEADER_BYTES, message + size);
+    ++messages_;
+    // Alone, the message starts from a reset receiver; appended, from the state in force. It sets the
+    // destination again whenever one is in force (checked above), and the timestamp is set or invalidated, so
+    // the state after it is its own.
+    closed_ = !shape.mergeable;
+    destination_in_force_ = shape.destination_in_force;
+    timestamp_in_force_ = shape.timestamp_in_force;
+    trailer_bytes_ = shape.trailer_bytes;
+    return true;
+}
+
+}  // namespace tgw::dds

@@ -1,0 +1,63 @@
+// One UDP datagram built from several whole RTPS messages of one participant. Pure bytes: no Fast DDS header.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace tgw::dds {
+
+/// Packs RTPS messages that one participant sends to the same destinations into one datagram: the first message
+/// whole, each later one without its 20-byte header, as if one writer had put all their submessages in one
+/// message. A receiver then reads every sample from one socket read.
+///
+/// Receivers keep per-message state across submessages (destination participant, source timestamp), so a message
+/// is appended only when it reads the same alone and appended: it must set the destination again when one is in
+/// force (Fast DDS 2.9 ignores an INFO_DST to GUIDPREFIX_UNKNOWN, so the destination cannot be reset), and a
+/// timestamp in force is invalidated (INFO_TS with the I flag, 4 bytes) before a message that sets none. A
+/// message whose state changes are not tracked (INFO_SRC, INFO_REPLY), whose last submessage runs to the end,
+/// or that does not end on a 4-byte boundary closes the datagram.
+///
+/// Fast DDS built with statistics (as Debian's is) ends every message with its network-statistics submessage,
+/// which its sending transport fills in and its receiver expects last, once. Only the last message's is kept.
+class RtpsDatagram {
+  public:
+    static constexpr std::size_t HEADER_BYTES = 20;
+
+    explicit RtpsDatagram(std::size_t max_bytes);
+
+    /// Appends `message` if it can share the datagram and fits in max_bytes; false leaves the datagram as it was.
+    /// An empty datagram takes any message of at most max_bytes, well-formed or not (then it is closed).
+    bool append(const std::uint8_t* message, std::size_t size);
+
+    void clear();
+    bool empty() const { return messages_ == 0; }
+    const std::uint8_t* data() const { return bytes_.data(); }
+    std::size_t size() const { return bytes_.size(); }
+    /// How many messages were appended since the last clear().
+    std::size_t messages() const { return messages_; }
+    std::size_t max_bytes() const { return max_bytes_; }
+
+  private:
+    /// What a receiver's state is after a run of submessages, and whether more may follow.
+    struct Shape {
+        bool well_formed = false;
+        bool mergeable = false;             ///< nothing untracked, no run-to-end submessage, 4-byte aligned
+        bool sets_destination = false;      ///< the first submessage is an INFO_DST to a participant
+        bool sets_timestamp_first = false;  ///< an INFO_TS comes before the first submessage that is not INFO_*
+        bool destination_in_force = false;  ///< at the end
+        bool timestamp_in_force = false;    ///< at the end
+        std::size_t trailer_bytes = 0;      ///< the statistics submessage it ends with, header included
+    };
+    static Shape shape_of(const std::uint8_t* message, std::size_t size);
+
+    std::size_t max_bytes_;
+    std::vector<std::uint8_t> bytes_;
+    std::size_t messages_ = 0;
+    bool closed_ = false;
+    bool destination_in_force_ = false;
+    bool timestamp_in_force_ = false;
+    std::size_t trailer_bytes_ = 0;
+};
+
+}  // namespace tgw::dds

@@ -1,0 +1,61 @@
+// RTPS messages and submessages as bytes, shaped as Fast DDS 2.9 writes them, for tests of what shares a datagram.
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <vector>
+
+namespace tgw::test::rtps {
+
+using Bytes = std::vector<std::uint8_t>;
+
+/// A submessage: id, flags, octetsToNextHeader in the endianness the flags' E bit gives, and `body`.
+inline Bytes submessage(std::uint8_t id, std::uint8_t flags, const Bytes& body) {
+    const auto length = static_cast<std::uint16_t>(body.size());
+    Bytes out{id, flags};
+    if ((flags & 0x01) != 0) {
+        out.push_back(static_cast<std::uint8_t>(length & 0xff));
+        out.push_back(static_cast<std::uint8_t>(length >> 8));
+    } else {
+        out.push_back(static_cast<std::uint8_t>(length >> 8));
+        out.push_back(static_cast<std::uint8_t>(length & 0xff));
+    }
+    out.insert(out.end(), body.begin(), body.end());
+    return out;
+}
+
+/// INFO_TS with a timestamp whose bytes are all `stamp`.
+inline Bytes info_ts(std::uint8_t stamp) {
+    return submessage(0x09, 0x01, Bytes(8, stamp));
+}
+
+/// INFO_DST to the participant whose GUID prefix bytes are all `prefix` (0: GUIDPREFIX_UNKNOWN).
+inline Bytes info_dst(std::uint8_t prefix) {
+    return submessage(0x0e, 0x01, Bytes(12, prefix));
+}
+
+inline Bytes info_src() {
+    return submessage(0x0c, 0x01, Bytes(20, 0x07));
+}
+
+/// A DATA submessage with `body_bytes` of body (a multiple of 4, as Fast DDS pads it).
+inline Bytes data(std::size_t body_bytes) {
+    return submessage(0x15, 0x05, Bytes(body_bytes, 0x5a));
+}
+
+/// Fast DDS's network-statistics submessage (id 0x80, big-endian, 56 bytes), which its transport fills in.
+inline Bytes statistics(std::uint8_t fill) {
+    return submessage(0x80, 0x00, Bytes(56, fill));
+}
+
+/// A message of the eProsima participant whose GUID prefix bytes are all `participant`.
+inline Bytes message(std::initializer_list<Bytes> submessages, std::uint8_t participant = 0x01) {
+    Bytes out{'R', 'T', 'P', 'S', 2, 3, 0x01, 0x0f};
+    out.insert(out.end(), 12, participant);
+    for (const Bytes& s : submessages) {
+        out.insert(out.end(), s.begin(), s.end());
+    }
+    return out;
+}
+
+}  // namespace tgw::test::rtps

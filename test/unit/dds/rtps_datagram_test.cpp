@@ -1,0 +1,149 @@
+// RtpsDatagram: which RTPS messages may share a datagram, and the bytes that result.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "gateway/dds/rtps_datagram.hpp"
+#include "test/unit/dds/rtps_bytes.hpp"
+
+namespace tgw::dds {
+namespace {
+
+using test::rtps::Bytes;
+using test::rtps::data;
+using test::rtps::info_dst;
+using test::rtps::info_src;
+using test::rtps::info_ts;
+using test::rtps::message;
+using test::rtps::statistics;
+
+constexpr std::size_t MAX_BYTES = 1472;
+
+std::vector<std::uint8_t> contents(const RtpsDatagram& d) {
+    return {d.data(), d.data() + d.size()};
+}
+
+bool append(RtpsDatagram& d, const Bytes& m) {
+    return d.append(m.data(), m.size());
+}
+
+/// The submessages of `m`, without its header.
+Bytes body(const Bytes& m) {
+    return {m.begin() + RtpsDatagram::HEADER_BYTES, m.end()};
+}
+
+Bytes concat(std::initializer_list<Bytes> parts) {
+    Bytes out;
+    for (const Bytes& p : parts) {
+        out.insert(out.end(), p.begin(), p.end());
+    }
+    return out;
+}
+
+class RtpsDatagramTest : public ::testing::Test {
+  protected:
+    RtpsDatagram sut{MAX_BYTES};
+};
+
+TEST_F(RtpsDatagramTest, TakesTheFirstMessageWhole) {
+    const Bytes m = message({info_ts(1), data(40)});
+    ASSERT_TRUE(append(sut, m));
+    EXPECT_EQ(contents(sut), m);
+    EXPECT_EQ(sut.messages(), 1u);
+}
+
+TEST_F(RtpsDatagramTest, AppendsLaterMessagesWithoutTheirHeader) {
+    const Bytes first = message({info_ts(1), data(40)});
+    const Bytes second = message({info_ts(2), data(44)});
+    ASSERT_TRUE(append(sut, first));
+    ASSERT_TRUE(append(sut, second));
+    EXPECT_EQ(contents(sut), concat({first, body(second)}));
+    EXPECT_EQ(sut.messages(), 2u);
+}
+
+TEST_F(RtpsDatagramTest, KeepsOnlyTheLastMessagesStatisticsSubmessage) {
+    const Bytes first = message({info_ts(1), data(40), statistics(0x11)});
+    const Bytes second = message({info_ts(2), data(40), statistics(0x22)});
+    ASSERT_TRUE(append(sut, first));
+    ASSERT_TRUE(append(sut, second));
+    EXPECT_EQ(contents(sut), message({info_ts(1), data(40), info_ts(2), data(40), statistics(0x22)}));
+}
+
+TEST_F(RtpsDatagramTest, RefusesAMessageOfAnotherParticipant) {
+    ASSERT_TRUE(append(sut, message({info_ts(1), data(40)})));
+    EXPECT_FALSE(append(sut, message({info_ts(2), data(40)}, 0x02)));
+    EXPECT_EQ(sut.messages(), 1u);
+}
+
+TEST_F(RtpsDatagramTest, RefusesAMessageThatWouldNotFit) {
+    const Bytes big = message({info_ts(1), data(1000)});
+    ASSERT_TRUE(append(sut, big));
+    EXPECT_FALSE(append(sut, message({info_ts(2), data(600)})));
+    EXPECT_TRUE(append(sut, message({info_ts(2), data(400)})));
+}
+
+TEST_F(RtpsDatagramTest, CountsTheStatisticsSubmessageItDropsWhenCheckingTheSize) {
+    // 20 + 12 + 1308 + 60 = 1400 bytes, then a second of 20 + 12 + 44 + 60 - 20 = 116 bytes (1516 > 1472)
+    // that fits because the first one's 60-byte statistics submessage goes.
+    ASSERT_TRUE(append(sut, message({info_ts(1), data(1304), statistics(1)})));
+    ASSERT_EQ(sut.size(), 1400u);
+    EXPECT_TRUE(append(sut, message({info_ts(2), data(40), statistics(2)})));
+    EXPECT_EQ(sut.size(), 1456u);
+}
+
+TEST_F(RtpsDatagramTest, AppendsAMessageThatSetsTheDestinationInForceAgain) {
+    ASSERT_TRUE(append(sut, message({info_dst(0x33), info_ts(1), data(40)})));
+    EXPECT_TRUE(append(sut, message({info_dst(0x44), info_ts(2), data(40)})));
+}
+
+TEST_F(RtpsDatagramTest, RefusesAMessageForEveryoneAfterOneForOneParticipant) {
+    // Fast DDS keeps a destination in force for the rest of the datagram: the second sample would reach only
+    // the first one's participant.
+    ASSERT_TRUE(append(sut, message({info_dst(0x33), info_ts(1), data(40)})));
+    EXPECT_FALSE(append(sut, message({info_ts(2), data(40)})));
+}
+
+TEST_F(RtpsDatagramTest, InvalidatesATimestampInForceBeforeAMessageWithoutOne) {
+    const Bytes first = message({info_ts(1), data(40)});
+    const Bytes second = message({data(40)});
+    ASSERT_TRUE(append(sut, first));
+    ASSERT_TRUE(append(sut, second));
+    const Bytes invalidate = {0x09, 0x03, 0x00, 0x00};
+    EXPECT_EQ(contents(sut), concat({first, invalidate, body(second)}));
+}
+
+TEST_F(RtpsDatagramTest, ClosesAfterASubmessageThatRunsToTheEndOfItsMessage) {
+    Bytes last = data(40);
+    last[2] = last[3] = 0;  // octetsToNextHeader 0: up to the end of the message
+    ASSERT_TRUE(append(sut, message({info_ts(1), last})));
+    EXPECT_FALSE(append(sut, message({info_ts(2), data(40)})));
+}
+
+TEST_F(RtpsDatagramTest, ClosesAfterAStateItDoesNotTrack) {
+    ASSERT_TRUE(append(sut, message({info_src(), info_ts(1), data(40)})));
+    EXPECT_FALSE(append(sut, message({info_ts(2), data(40)})));
+}
+
+TEST_F(RtpsDatagramTest, RefusesAMalformedMessageButSendsOneAlone) {
+    Bytes truncated = message({info_ts(1), data(40)});
+    truncated.resize(truncated.size() - 8);
+    ASSERT_TRUE(append(sut, message({info_ts(1), data(40)})));
+    EXPECT_FALSE(append(sut, truncated));
+
+    sut.clear();
+    EXPECT_TRUE(append(sut, truncated));
+    EXPECT_FALSE(append(sut, message({info_ts(2), data(40)})));
+}
+
+TEST_F(RtpsDatagramTest, ClearStartsOver) {
+    ASSERT_TRUE(append(sut, message({info_dst(0x33), info_ts(1), data(40)})));
+    sut.clear();
+    EXPECT_TRUE(sut.empty());
+    ASSERT_TRUE(append(sut, message({info_ts(1), data(40)})));
+    EXPECT_TRUE(append(sut, message({info_ts(2), data(40)})));
+}
+
+}  // namespace
+}  // namespace tgw::dds

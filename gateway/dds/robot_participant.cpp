@@ -56,6 +56,13 @@ RobotParticipant::RobotParticipant(int domain, fdds::DomainParticipantListener* 
     udp->receiveBufferSize = transport.receive_buffer_bytes;
     warn_if_capped(transport.receive_buffer_bytes);
     qos.transport().user_transports.push_back(udp);
+    if (transport.shm && !transport.shm_samples && qos.wire_protocol().default_unicast_locator_list.empty()) {
+        // The readers' locators: UDP alone, on every address of `interfaces` (Fast DDS expands the any-address
+        // and picks the port). Discovery keeps its shared-memory locators.
+        eprosima::fastrtps::rtps::Locator_t udp_any;
+        udp_any.kind = LOCATOR_KIND_UDPv4;
+        qos.wire_protocol().default_unicast_locator_list.push_back(udp_any);
+    }
 
     participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
         static_cast<fdds::DomainId_t>(domain), qos, listener, fdds::StatusMask::none());

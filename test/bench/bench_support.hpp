@@ -115,18 +115,23 @@ struct GatewayOptions {
     std::size_t wan_max_datagram_bytes = 0;  ///< 0: the gateway's default (one Ethernet frame)
     /// --robot-udp-only: the publisher's UDP is on loopback, so it reaches the gateway either way.
     bool robot_udp_only = false;
+    bool robot_shm_samples = false;
     bool wan_async_send = false;
     std::int64_t wan_coalesce_us = tgw::dds::DatagramCoalescer::DEFAULT_WINDOW.count();
 
-    /// Adds --robot-udp-only, --wan-async-send and --wan-coalesce-us to a bench's command line.
+    /// Adds the flags above, as the gateway names them, to a bench's command line.
     void add_flags(CLI::App& app) {
         app.add_option("--wan-coalesce-us", wan_coalesce_us,
                        "the gateway's --wan-coalesce-us: how long a WAN sample that follows closely may wait to "
                        "share a datagram; 0: never")
             ->capture_default_str();
-        app.add_flag("--robot-udp-only", robot_udp_only,
-                     "the gateway's --robot-udp-only: the publisher (shared memory and UDP) then sends each sample "
-                     "once, over UDP, instead of once each way");
+        auto* udp_only = app.add_flag("--robot-udp-only", robot_udp_only,
+                                      "the gateway's --robot-udp-only: no shared memory on its robot side, not even "
+                                      "for discovery");
+        app.add_flag("--robot-shm-samples", robot_shm_samples,
+                     "the gateway's --robot-shm-samples: its readers offer shared memory too, so the publisher (shared "
+                     "memory and UDP) sends each sample both ways")
+            ->excludes(udp_only);
         app.add_flag("--wan-async-send", wan_async_send,
                      "the gateway's --wan-async-send: Fast DDS's send thread packs queued samples into shared "
                      "datagrams");
@@ -134,7 +139,10 @@ struct GatewayOptions {
 
     /// What the bench's header line says of the gateway.
     std::string describe() const {
-        return std::string("gateway's robot side ") + (robot_udp_only ? "UDP only" : "shared memory and UDP") +
+        return std::string("gateway's robot side ") +
+               (robot_udp_only      ? "UDP only"
+                : robot_shm_samples ? "samples over shared memory and UDP"
+                                    : "samples over UDP") +
                ", WAN send " + (wan_async_send ? "asynchronous" : "synchronous") + ", coalescing " +
                (wan_coalesce_us > 0 ? std::to_string(wan_coalesce_us) + " us" : "off");
     }
@@ -155,6 +163,7 @@ inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, const Gatew
         config.scheduler.wire = tgw::core::WireModel::for_max_datagram(options.wan_max_datagram_bytes);
     }
     config.robot.shm = !options.robot_udp_only;
+    config.robot.shm_samples = options.robot_shm_samples;
     config.wan_async_send = options.wan_async_send;
     config.wan_coalesce_window = std::chrono::microseconds(options.wan_coalesce_us);
     return config;

@@ -273,11 +273,14 @@ INSTANTIATE_TEST_SUITE_P(WanMaxDatagram, LargeSampleTest,
                          ::testing::Values(core::WireModel::MAX_DATAGRAM_PAYLOAD_BYTES,
                                            core::WireModel::MAX_UDP_PAYLOAD_BYTES));
 
-/// The gateway's robot readers offer shared memory and UDP by default, which reach a robot process with
-/// Fast DDS's default transports whatever its addresses. With --robot-udp-only they offer UDP alone, so that a
-/// publisher with both transports sends each sample once, not once each way; a process on the loopback
-/// interface still reaches them.
-class RobotTransportTest : public GatewayIntegrationTest, public ::testing::WithParamInterface<bool> {
+/// How the gateway's robot side may listen (RobotTransport).
+enum class RobotMode { shm_samples, shm_discovery, udp_only };
+
+/// By default the gateway's robot participant discovers over shared memory and UDP, which reach a robot process
+/// with Fast DDS's default transports whatever its addresses, but its readers offer UDP alone, so that such a
+/// publisher sends each sample once, not once each way. --robot-shm-samples makes the readers offer shared
+/// memory too; --robot-udp-only drops shared memory, even for discovery. A publisher's sample arrives in each.
+class RobotTransportTest : public GatewayIntegrationTest, public ::testing::WithParamInterface<RobotMode> {
   protected:
     /// Fast DDS's defaults, its UDP on loopback only.
     static fdds::DomainParticipantQos loopback_robot_qos() {
@@ -292,15 +295,17 @@ class RobotTransportTest : public GatewayIntegrationTest, public ::testing::With
     }
 };
 
-TEST_P(RobotTransportTest, OffersSharedMemoryUnlessUdpOnly) {
-    const bool shm = GetParam();
+TEST_P(RobotTransportTest, ReadersOfferSharedMemoryOnlyWhenAskedTo) {
+    const RobotMode mode = GetParam();
     ReaderLocatorWatcher watcher;
-    TestParticipant robot(domains_.robot, shm ? TestParticipant::robot_qos() : loopback_robot_qos(), &watcher);
+    TestParticipant robot(domains_.robot,
+                          mode == RobotMode::udp_only ? loopback_robot_qos() : TestParticipant::robot_qos(), &watcher);
     ASSERT_TRUE(robot.ok());
     GatewayConfig c = config();
-    c.robot.shm = shm;
+    c.robot.shm = mode != RobotMode::udp_only;
+    c.robot.shm_samples = mode == RobotMode::shm_samples;
     start_gateway(c);
-    const std::string topic = topic_prefix_ + (shm ? "shm_and_udp" : "udp_only");
+    const std::string topic = topic_prefix_ + "robot_transport";
     auto& wan = listener<CollectingReader<idl::PaperMessage>>();
     auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(robot), wan, &robot);
     ASSERT_NE(writer, nullptr);
@@ -309,7 +314,7 @@ TEST_P(RobotTransportTest, OffersSharedMemoryUnlessUdpOnly) {
         << "the gateway's reader of " << topic << " was never discovered";
     const auto kinds = watcher.kinds(topic);
     EXPECT_EQ(kinds->count(LOCATOR_KIND_UDPv4), 1u);
-    EXPECT_EQ(kinds->count(LOCATOR_KIND_SHM), shm ? 1u : 0u);
+    EXPECT_EQ(kinds->count(LOCATOR_KIND_SHM), mode == RobotMode::shm_samples ? 1u : 0u);
 
     idl::PaperMessage msg;
     msg.data(std::vector<std::uint8_t>(64, 0x5a));
@@ -318,9 +323,18 @@ TEST_P(RobotTransportTest, OffersSharedMemoryUnlessUdpOnly) {
     gateway_.reset();  // before `robot`, whose writer the gateway's reader matched
 }
 
-INSTANTIATE_TEST_SUITE_P(RobotShm, RobotTransportTest, ::testing::Bool(),
-                         [](const ::testing::TestParamInfo<bool>& info) {
-                             return info.param ? std::string("SharedMemoryAndUdp") : std::string("UdpOnly");
+INSTANTIATE_TEST_SUITE_P(RobotShm, RobotTransportTest,
+                         ::testing::Values(RobotMode::shm_samples, RobotMode::shm_discovery, RobotMode::udp_only),
+                         [](const ::testing::TestParamInfo<RobotMode>& info) {
+                             switch (info.param) {
+                                 case RobotMode::shm_samples:
+                                     return std::string("SamplesOverSharedMemoryAndUdp");
+                                 case RobotMode::shm_discovery:
+                                     return std::string("SamplesOverUdp");
+                                 case RobotMode::udp_only:
+                                     break;
+                             }
+                             return std::string("UdpOnly");
                          });
 
 /// With --wan-async-send, Fast DDS's send thread packs queued samples into shared datagrams: a burst arrives

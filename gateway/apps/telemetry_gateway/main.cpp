@@ -133,10 +133,13 @@ int main(int argc, char** argv) {
     app.add_option("--robot-interface", config.robot.interfaces,
                    "IPv4 address or interface the robot domain's UDP uses; repeatable")
         ->capture_default_str();
-    app.add_flag("--robot-udp-only", robot_udp_only,
-                 "no shared memory on the robot domain: Fast DDS publishers with both transports send every sample "
-                 "both ways, so this halves their sends, but reaches only processes that announce an address of "
-                 "--robot-interface");
+    auto* udp_only = app.add_flag("--robot-udp-only", robot_udp_only,
+                                  "no shared memory on the robot domain, not even for discovery: finds only "
+                                  "processes whose UDP discovery reaches an address of --robot-interface");
+    app.add_flag("--robot-shm-samples", config.robot.shm_samples,
+                 "take samples over shared memory too, for publishers that have nothing else; a Fast DDS "
+                 "publisher with both transports then sends every sample both ways")
+        ->excludes(udp_only);
     app.add_option("--robot-receive-buffer", config.robot.receive_buffer_bytes,
                    "bytes of UDP receive buffer for the robot domain: room for bursts (capped by "
                    "net.core.rmem_max)")

@@ -98,7 +98,6 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     wan.lease_duration = config_.wan_lease;
     wan.announcement_period = config_.wan_announcement_period;
     wan.max_datagram_bytes = config_.scheduler.wire.max_datagram_bytes;
-    wan.async_send = config_.wan_async_send;
     wan.coalesce_window = config_.wan_coalesce_window;
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
 

@@ -54,8 +54,6 @@ struct GatewayConfig {
     std::chrono::seconds wan_announcement_period{20};
     /// Read the base camp's receiver reports (tgw/receiver_report), see receiver_report().
     bool receiver_reports = false;
-    /// WanConfig::async_send: Fast DDS's send thread packs queued samples into shared datagrams.
-    bool wan_async_send = false;
     /// WanConfig::coalesce_window: how long a WAN sample may wait to share a datagram; 0: never.
     std::chrono::microseconds wan_coalesce_window = DatagramCoalescer::DEFAULT_WINDOW;
     static constexpr std::chrono::microseconds MAX_COALESCE_WINDOW{100'000};

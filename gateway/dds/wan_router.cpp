@@ -59,8 +59,7 @@ Locator_t udp_locator(const std::string& address, std::uint16_t port) {
 }  // namespace
 
 WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainParticipantQos>& base)
-    : async_send_(config.async_send),
-      coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_)) {
+    : coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_)) {
     fdds::DomainParticipantQos qos =
         base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
     qos.name("telemetry-gateway/wan");
@@ -158,22 +157,6 @@ bool WanRouter::add_topic(core::TopicId id, const std::string& topic, const std:
         qos.history().depth = 1;
     }
     qos.lifespan().duration = to_dds_duration(ttl);
-    if (async_send_) {
-        qos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
-        // Samples wait in the history until the send thread takes them: room for a burst, so that none is
-        // replaced unsent.
-        if (qos.history().kind == fdds::KEEP_LAST_HISTORY_QOS && qos.history().depth < ASYNC_SEND_DEPTH) {
-            qos.history().depth = ASYNC_SEND_DEPTH;
-        }
-        auto& limits = qos.resource_limits();
-        if (limits.max_samples_per_instance != fdds::LENGTH_UNLIMITED &&
-            limits.max_samples_per_instance < qos.history().depth) {
-            limits.max_samples_per_instance = qos.history().depth;
-        }
-        if (limits.max_samples != fdds::LENGTH_UNLIMITED && limits.max_samples < limits.max_samples_per_instance) {
-            limits.max_samples = limits.max_samples_per_instance;
-        }
-    }
     qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
     qos.data_sharing().off();
 

@@ -40,10 +40,6 @@ struct WanConfig {
     /// The UDP transport's maxMessageSize: larger samples go as DATA_FRAG. One Ethernet frame by default;
     /// the scheduler's WireModel must be made for the same size.
     std::size_t max_datagram_bytes = core::WireModel::MAX_DATAGRAM_PAYLOAD_BYTES;
-    /// Writers hand samples to Fast DDS's send thread (asynchronous publish mode), which packs the samples
-    /// that queue up into shared datagrams: more samples per second on a fast link, for a thread hand-off on
-    /// every sample (measured: +30 us median one-way, p99 about 3.5 ms on loopback).
-    bool async_send = false;
     /// A sample written within this long of the previous datagram to the same destination waits, at most this
     /// long, to share a datagram with those that follow (DatagramCoalescer); one that comes alone goes at once.
     /// 0: one datagram per sample.
@@ -99,10 +95,6 @@ class WanRouter {
 
     Entry* entry(core::TopicId id) const;
 
-    /// History depth of an async_send writer: unsent samples it can hold.
-    static constexpr std::int32_t ASYNC_SEND_DEPTH = 1000;
-
-    const bool async_send_;
     core::SystemClock clock_;  // datagrams wait in real time, whatever clock the scheduler runs on
     std::shared_ptr<DatagramCoalescer> coalescer_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;

@@ -116,7 +116,6 @@ struct GatewayOptions {
     /// --robot-udp-only: the publisher's UDP is on loopback, so it reaches the gateway either way.
     bool robot_udp_only = false;
     bool robot_shm_samples = false;
-    bool wan_async_send = false;
     std::int64_t wan_coalesce_us = tgw::dds::DatagramCoalescer::DEFAULT_WINDOW.count();
 
     /// Adds the flags above, as the gateway names them, to a bench's command line.
@@ -132,9 +131,6 @@ struct GatewayOptions {
                      "the gateway's --robot-shm-samples: its readers offer shared memory too, so the publisher (shared "
                      "memory and UDP) sends each sample both ways")
             ->excludes(udp_only);
-        app.add_flag("--wan-async-send", wan_async_send,
-                     "the gateway's --wan-async-send: Fast DDS's send thread packs queued samples into shared "
-                     "datagrams");
     }
 
     /// What the bench's header line says of the gateway.
@@ -143,8 +139,8 @@ struct GatewayOptions {
                (robot_udp_only      ? "UDP only"
                 : robot_shm_samples ? "samples over shared memory and UDP"
                                     : "samples over UDP") +
-               ", WAN send " + (wan_async_send ? "asynchronous" : "synchronous") + ", coalescing " +
-               (wan_coalesce_us > 0 ? std::to_string(wan_coalesce_us) + " us" : "off");
+               ", WAN coalescing " +
+               (wan_coalesce_us > 0 ? "within " + std::to_string(wan_coalesce_us) + " us" : std::string("off"));
     }
 };
 
@@ -164,7 +160,6 @@ inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, const Gatew
     }
     config.robot.shm = !options.robot_udp_only;
     config.robot.shm_samples = options.robot_shm_samples;
-    config.wan_async_send = options.wan_async_send;
     config.wan_coalesce_window = std::chrono::microseconds(options.wan_coalesce_us);
     return config;
 }

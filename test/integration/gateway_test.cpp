@@ -337,19 +337,6 @@ INSTANTIATE_TEST_SUITE_P(RobotShm, RobotTransportTest,
                              return std::string("UdpOnly");
                          });
 
-/// With --wan-async-send, Fast DDS's send thread packs queued samples into shared datagrams: a burst arrives
-/// whole and in order.
-TEST_F(GatewayIntegrationTest, AsyncSendDeliversABurstWholeAndInOrder) {
-    GatewayConfig c = config();
-    c.wan_async_send = true;
-    start_gateway(c);
-    const std::string topic = topic_prefix_ + "burst";
-    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
-    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_), wan);
-    ASSERT_NE(writer, nullptr);
-    expect_burst_whole_and_in_order(*writer, wan);
-}
-
 /// By default a burst's samples share datagrams on the WAN (DatagramCoalescer): Fast DDS's receiver reads
 /// every sample of them, in order.
 TEST_F(GatewayIntegrationTest, CoalescedBurstArrivesWholeAndInOrderInFewerDatagrams) {

@@ -121,9 +121,6 @@ int main(int argc, char** argv) {
                    "largest UDP payload on the WAN, bytes; larger samples are fragmented. The default fits one "
                    "Ethernet frame; up to 65500 on a fast link saves the fragments' headers and syscalls")
         ->capture_default_str();
-    app.add_flag("--wan-async-send", config.wan_async_send,
-                 "hand WAN samples to Fast DDS's send thread, which packs those that queue up into shared "
-                 "datagrams: more samples per second on a fast link, for tens of microseconds more per sample");
     auto coalesce_us = static_cast<std::int64_t>(config.wan_coalesce_window.count());
     app.add_option("--wan-coalesce-us", coalesce_us,
                    "a WAN sample that follows the previous datagram within this many microseconds waits as long "

@@ -103,8 +103,7 @@ bool DatagramCoalescer::send(DatagramSender& sender, const DatagramDestination& 
                              const std::uint8_t* message, std::size_t size) {
     std::unique_lock<std::mutex> lock(mutex_);
     const std::uint64_t scope = DeferScope::current();
-    const bool deferrable = scope != 0 && !stopping_ && window_.count() > 0;
-    if (!deferrable) {
+    if (scope == 0 || stopping_) {
         // What waits for this destination was written first: it goes first.
         if (Batch* batch = find_nts(sender, destination)) {
             flush_nts(*batch, clock_.now());
@@ -115,7 +114,8 @@ bool DatagramCoalescer::send(DatagramSender& sender, const DatagramDestination& 
     const core::SteadyTime now = clock_.now();
     ++counts_.messages;
     // A sample that comes alone goes at once, all its fragments.
-    if (batch.datagram.empty() && (now - batch.last_sent >= window_ || batch.sent_at_once_scope == scope)) {
+    if (batch.datagram.empty() &&
+        (now - batch.last_sent >= window_ || batch.sent_at_once_scope == scope || window_.count() == 0)) {
         batch.sent_at_once_scope = scope;
         return send_now_nts(batch, message, size, now);
     }

@@ -30,6 +30,8 @@ struct Options {
     int timeout_s = 60;
     std::size_t size = 64;
     bool wan_readers = true;
+    tgw::bench::GatewayOptions gateway;
+    std::uint32_t reader_receive_buffer_bytes = 0;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -40,13 +42,16 @@ int run(const Options& options) {
     const auto domains = tgw::bench::BenchDomains::for_this_process();
     tgw::test::use_transports_in_process();
     TestParticipant publisher(domains.robot, tgw::bench::publisher_qos());
-    TestParticipant basecamp(domains.wan, TestParticipant::wan_qos(domains.wan_reader_port, domains.gateway_wan_port));
+    TestParticipant basecamp(
+        domains.wan,
+        tgw::bench::with_receive_buffer(TestParticipant::wan_qos(domains.wan_reader_port, domains.gateway_wan_port),
+                                        options.reader_receive_buffer_bytes));
     if (!publisher.ok() || !basecamp.ok()) {
         std::fprintf(stderr, "topic_scale_bench: cannot create the participants\n");
         return 1;
     }
     tgw::core::SystemClock clock;
-    tgw::dds::Gateway gateway(tgw::bench::gateway_config(domains), clock);
+    tgw::dds::Gateway gateway(tgw::bench::gateway_config(domains, options.gateway), clock);
 
     fdds::TypeSupport type(new tgw::idl::PaperMessagePubSubType());
     fdds::DataWriterQos wq = publisher.default_writer_qos();
@@ -116,6 +121,8 @@ int run(const Options& options) {
         options.size > tgw::bench::PAPER_MESSAGE_FIXED_BYTES ? options.size - tgw::bench::PAPER_MESSAGE_FIXED_BYTES : 0,
         0x5a);
     const double total_rate = options.hz * options.topics;
+    const tgw::core::TopicCounters gateway_before = gateway.total_counters();
+    const auto datagrams_before = gateway.wan_datagrams();
     const auto write_start = std::chrono::steady_clock::now();
     auto next = write_start;
     std::uint64_t sent = 0;
@@ -143,6 +150,14 @@ int run(const Options& options) {
                 sent > 0 ? static_cast<double>(got) / static_cast<double>(sent) : 0.0,
                 tgw::bench::percentile_us(latencies, 0.5), tgw::bench::percentile_us(latencies, 0.99),
                 tgw::bench::percentile_us(latencies, 1.0));
+    // Where a loss happened: before the gateway, in it, or after it.
+    const tgw::core::TopicCounters in_gateway = gateway.total_counters();
+    const auto datagrams = gateway.wan_datagrams();
+    std::printf("gateway: %llu received, %llu forwarded, in %llu WAN datagrams (%llu failed)\n",
+                static_cast<unsigned long long>(in_gateway.received - gateway_before.received),
+                static_cast<unsigned long long>(in_gateway.forwarded - gateway_before.forwarded),
+                static_cast<unsigned long long>(datagrams.datagrams - datagrams_before.datagrams),
+                static_cast<unsigned long long>(datagrams.failed_datagrams - datagrams_before.failed_datagrams));
     std::fflush(stdout);
     for (auto* r : readers) {
         r->set_listener(nullptr);
@@ -163,6 +178,10 @@ int main(int argc, char** argv) {
     app.add_option("--size", options.size, "serialized sample size in bytes")->capture_default_str();
     app.add_option("--timeout", options.timeout_s, "seconds to wait for bridging and matching")->capture_default_str();
     app.add_flag("!--no-wan-readers", options.wan_readers, "measure bridging only");
+    app.add_option("--reader-receive-buffer", options.reader_receive_buffer_bytes,
+                   "SO_RCVBUF of the base camp's participant, bytes; 0: the system's default")
+        ->capture_default_str();
+    options.gateway.add_flags(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

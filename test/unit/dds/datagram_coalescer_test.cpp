@@ -180,6 +180,8 @@ TEST_F(DatagramCoalescerTest, SendsEverythingAtOnceWithAZeroWindow) {
         write_sample(off, sender, i, base_camp);
     }
     EXPECT_EQ(sender.sent().size(), 3u);
+    EXPECT_EQ(off.counts().messages, 3u);
+    EXPECT_EQ(off.counts().datagrams, 3u);
 }
 
 TEST_F(DatagramCoalescerTest, StopSendsWhatWaitsAndThenEverythingGoesAtOnce) {

@@ -110,7 +110,22 @@ int run(const Options& options) {
     for (int i = 0; i < options.topics; ++i) {
         readers.push_back(basecamp.make_reader(topic_name(i), type, rq, &listener));
     }
-    const bool matched = tgw::test::wait_until([&] { return listener.matched.load() >= options.topics; }, timeout);
+    // Both ends: a reader matches when it learns of the writer, the gateway's WAN writer when it learns of the
+    // reader, and the writer sends to no one until then (best effort: those samples are lost for good).
+    const bool matched = tgw::test::wait_until(
+        [&] {
+            if (listener.matched.load() < options.topics) {
+                return false;
+            }
+            for (int i = 0; i < options.topics; ++i) {
+                const auto topic = gateway.find_topic(topic_name(i));
+                if (!topic || gateway.wan_matched_readers(topic->id) == 0) {
+                    return false;
+                }
+            }
+            return true;
+        },
+        timeout);
     std::printf("%-34s %10.3f%s\n", "WAN readers created and matched", seconds_since(readers_start),
                 matched ? "" : "  TIMEOUT");
     std::printf("%-34s %10.3f\n", "  (since first create_datawriter)", seconds_since(start));

@@ -113,9 +113,8 @@ bool DatagramCoalescer::send(DatagramSender& sender, const DatagramDestination& 
     Batch& batch = batch_for_nts(sender, destination);
     const core::SteadyTime now = clock_.now();
     ++counts_.messages;
-    // A sample that comes alone goes at once, all its fragments.
-    if (batch.datagram.empty() &&
-        (now - batch.last_sent >= window_ || batch.sent_at_once_scope == scope || window_.count() == 0)) {
+    // A sample that comes alone goes at once, all its fragments; with a zero window every sample does.
+    if (batch.datagram.empty() && (now - batch.last_sent >= window_ || batch.sent_at_once_scope == scope)) {
         batch.sent_at_once_scope = scope;
         return send_now_nts(batch, message, size, now);
     }

@@ -91,7 +91,6 @@ class DatagramCoalescer {
         std::uint64_t failed_datagrams = 0;
     };
     Counts counts() const;
-    std::chrono::microseconds window() const { return window_; }
 
   private:
     struct Batch {

@@ -36,7 +36,6 @@ class RtpsDatagram {
     std::size_t size() const { return bytes_.size(); }
     /// How many messages were appended since the last clear().
     std::size_t messages() const { return messages_; }
-    std::size_t max_bytes() const { return max_bytes_; }
 
   private:
     /// What a receiver's state is after a run of submessages, and whether more may follow.

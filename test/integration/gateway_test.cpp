@@ -158,28 +158,6 @@ class GatewayIntegrationTest : public ::testing::Test {
         return HasFatalFailure() ? nullptr : writer;
     }
 
-    static constexpr int BURST_SAMPLES = 500;
-
-    /// Writes BURST_SAMPLES samples of 41 bytes as fast as `writer` takes them; all must reach `wan`, in order,
-    /// with nothing failed or lost on the way.
-    void expect_burst_whole_and_in_order(fdds::DataWriter& writer, const CollectingReader<idl::PaperMessage>& wan) {
-        idl::PaperMessage msg;
-        msg.data(std::vector<std::uint8_t>(41, 0x41));
-        for (int i = 0; i < BURST_SAMPLES; ++i) {
-            msg.sequence_number(static_cast<std::uint32_t>(i));
-            ASSERT_TRUE(writer.write(&msg));
-        }
-        ASSERT_TRUE(wait_until([&] { return wan.count() >= BURST_SAMPLES; }))
-            << "got " << wan.count() << " of " << BURST_SAMPLES;
-        const auto got = wan.received();
-        for (int i = 0; i < BURST_SAMPLES; ++i) {
-            ASSERT_EQ(got[i].data.sequence_number(), static_cast<std::uint32_t>(i));
-            ASSERT_EQ(got[i].data.data().size(), 41u);
-        }
-        EXPECT_EQ(gateway_->wan_write_failures(), 0u);
-        expect_balanced();
-    }
-
     void expect_balanced() const {
         const core::TopicCounters c = gateway_->total_counters();
         EXPECT_EQ(c.received, c.forwarded + c.queued + c.dropped_total())
@@ -346,11 +324,26 @@ TEST_F(GatewayIntegrationTest, CoalescedBurstArrivesWholeAndInOrderInFewerDatagr
     auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_), wan);
     ASSERT_NE(writer, nullptr);
     const auto before = gateway_->wan_datagrams();
-    expect_burst_whole_and_in_order(*writer, wan);
+
+    constexpr int N = 500;
+    idl::PaperMessage msg;
+    msg.data(std::vector<std::uint8_t>(41, 0x41));
+    for (int i = 0; i < N; ++i) {
+        msg.sequence_number(static_cast<std::uint32_t>(i));
+        ASSERT_TRUE(writer->write(&msg));
+    }
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= N; })) << "got " << wan.count() << " of " << N;
+    const auto got = wan.received();
+    for (int i = 0; i < N; ++i) {
+        ASSERT_EQ(got[i].data.sequence_number(), static_cast<std::uint32_t>(i));
+        ASSERT_EQ(got[i].data.data().size(), 41u);
+    }
     const auto after = gateway_->wan_datagrams();
-    EXPECT_EQ(after.messages - before.messages, static_cast<std::uint64_t>(BURST_SAMPLES));
+    EXPECT_EQ(after.messages - before.messages, static_cast<std::uint64_t>(N));
     EXPECT_LT(after.datagrams - before.datagrams, after.messages - before.messages);
     EXPECT_EQ(after.failed_datagrams, 0u);
+    EXPECT_EQ(gateway_->wan_write_failures(), 0u);
+    expect_balanced();
 }
 
 TEST_F(GatewayIntegrationTest, FollowsTheBaseCampsReceiverReportsAboutItself) {

@@ -136,7 +136,8 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
     fdds::DataReaderQos qos = subscriber_->get_default_datareader_qos();
     // Match the writer as it is: a reliable writer gets a reliable reader, so the link carries what it would
     // carry for any base-camp subscriber. The reader keeps late samples: they are what the report measures.
-    qos.reliability().kind = publisher.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+    qos.reliability().kind =
+        publisher.qos.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
     qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
     qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
     qos.history().depth = 1000;
@@ -159,7 +160,7 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
     if (publisher.lifespan)
         record.lifespan_ns = publisher.lifespan->count();
     record.keyed = publisher.keyed;
-    record.reliable = publisher.reliable;
+    record.reliable = publisher.qos.reliable;
     record.discovered_ns = core::to_ns(core::WallClock::now());
     store_.add_topic(std::move(record));
     readers_.emplace(publisher.topic, std::move(reader));

@@ -146,6 +146,8 @@ void DeadlineQueue::push(Sample&& sample, std::int64_t rank) {
     r.arrival = sample.arrival.time_since_epoch().count();
     r.source_time = sample.source_time.time_since_epoch().count();
     r.sequence = sample.sequence;
+    r.output.route = sample.route;
+    r.output.kind = sample.kind;
     r.lane_and_flags = lane_id | (sample.key.valid ? KEY_VALID : 0u);
     memory_bytes_ += r.payload.size() + BOOKKEEPING_BYTES;
     ++size_;
@@ -222,6 +224,8 @@ Sample DeadlineQueue::take(Slot slot) {
     sample.arrival = SteadyTime(SteadyTime::duration(r.arrival));
     sample.deadline = SteadyTime(SteadyTime::duration(r.deadline));
     sample.sequence = r.sequence;
+    sample.route = r.output.route;
+    sample.kind = r.output.kind;
     memory_bytes_ -= sample.payload.size() + BOOKKEEPING_BYTES;
     --size_;
 

@@ -44,8 +44,13 @@ class DeadlineQueue {
         SteadyTime::rep arrival = 0;
         WallTime::rep source_time = 0;
         std::uint64_t sequence = 0;
-        /// While the slot is free: the next free slot.
-        Slot next_free = 0;
+        union {
+            Slot next_free;  ///< while the slot is free: the next free slot
+            struct {
+                std::uint16_t route;
+                SampleKind kind;
+            } output;  ///< while it holds a sample: Sample::route and Sample::kind
+        };
         /// The lane in the low bits, flags in the top two.
         std::uint32_t lane_and_flags = 0;
     };

@@ -17,11 +17,19 @@ struct InstanceKey {
     bool valid = false;
 };
 
+/// What a sample says about its instance. The core schedules each kind alike; a dispose or unregister carries
+/// no payload (DDS instance lifecycle, passed through to the base camp).
+enum class SampleKind : std::uint8_t { data, dispose, unregister };
+
 /// One sample on its way from the robot domain to the WAN, as the core sees it: opaque bytes with times.
 struct Sample {
     TopicId topic = 0;
     std::vector<std::uint8_t> payload;  ///< serialized data as received, encapsulation header included
     InstanceKey key;
+    /// Which of the topic's outputs carries it (in the gateway: the WAN writer of the QoS its publisher
+    /// offered); opaque to the core.
+    std::uint16_t route = 0;
+    SampleKind kind = SampleKind::data;
     WallTime source_time;        ///< the publisher's source timestamp
     SteadyTime arrival;          ///< set by the scheduler on push
     SteadyTime deadline;         ///< set by the scheduler on push: source (or arrival) time + the topic's TTL

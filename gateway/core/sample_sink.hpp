@@ -10,8 +10,9 @@ namespace tgw::core {
 class SampleSink {
   public:
     virtual ~SampleSink() = default;
-    /// The budget admitted the sample: write it to the WAN now.
-    virtual void forward(Sample&& sample) = 0;
+    /// The budget admitted the sample: write it to the WAN now. False when it could not be written: the sink
+    /// has then kept it as DropReason::write_failed itself, and it does not count as forwarded.
+    virtual bool forward(Sample&& sample) = 0;
     /// The sample will not be sent: keep it, with the reason.
     virtual void drop(Sample&& sample, DropReason reason) = 0;
 };

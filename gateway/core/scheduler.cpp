@@ -165,10 +165,14 @@ Sample Scheduler::take(DeadlineQueue::Slot slot) {
 
 void Scheduler::forward(Sample&& sample, std::uint64_t wire_bits, SampleSink& sink) {
     TopicCounters& c = topics_[sample.topic].counters;
+    const std::size_t payload_bytes = sample.payload.size();
+    if (!sink.forward(std::move(sample))) {
+        ++c.dropped_for(DropReason::write_failed);
+        return;
+    }
     ++c.forwarded;
-    c.forwarded_payload_bytes += sample.payload.size();
+    c.forwarded_payload_bytes += payload_bytes;
     c.forwarded_wire_bytes += wire_bits / 8;
-    sink.forward(std::move(sample));
 }
 
 void Scheduler::drop(Sample&& sample, DropReason reason, SampleSink& sink) {

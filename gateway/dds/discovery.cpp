@@ -48,8 +48,12 @@ void Discovery::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant
     pub.keyed = data.topicKind() == eprosima::fastrtps::rtps::WITH_KEY ||
                 data.guid().entityId.value[3] == ENTITY_KIND_WRITER_WITH_KEY;
     pub.lifespan = to_duration(data.m_qos.m_lifespan.duration);
-    pub.reliable = data.m_qos.m_reliability.kind == eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
-    pub.transient_local = data.m_qos.m_durability.kind != eprosima::fastdds::dds::VOLATILE_DURABILITY_QOS;
+    // Fast DDS puts its vendor id in the first two bytes of its GUID prefixes.
+    const auto& prefix = data.guid().guidPrefix.value;
+    const bool fast_dds = prefix[0] == eprosima::fastrtps::rtps::c_VendorId_eProsima[0] &&
+                          prefix[1] == eprosima::fastrtps::rtps::c_VendorId_eProsima[1];
+    pub.qos = OfferedQos::from_writer(data.m_qos, fast_dds && pub.keyed);
+    pub.writer = data.guid();
     on_publisher_(std::move(pub));
 }
 

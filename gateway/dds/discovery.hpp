@@ -6,10 +6,12 @@
 #include <string>
 #include <vector>
 
+#include <fastdds/rtps/common/Guid.h>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/rtps/common/GuidPrefix_t.hpp>
 
 #include "gateway/core/time.hpp"
+#include "gateway/dds/offered_qos.hpp"
 
 namespace tgw::dds {
 
@@ -19,8 +21,8 @@ struct DiscoveredPublisher {
     std::string type_name;
     bool keyed = false;
     std::optional<core::Duration> lifespan;  ///< nullopt when the writer's Lifespan is infinite
-    bool reliable = false;
-    bool transient_local = false;  ///< durability TRANSIENT_LOCAL or stronger
+    OfferedQos qos;
+    eprosima::fastrtps::rtps::GUID_t writer;
 };
 
 /// The robot participant's listener: turns every publisher discovered on the robot domain, whenever it

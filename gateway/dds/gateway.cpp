@@ -71,9 +71,13 @@ void GatewayConfig::validate() const {
 }
 
 struct Gateway::Bridge {
+    struct Lane {
+        std::unique_ptr<TopicBridge> listener;
+        eprosima::fastdds::dds::DataReader* reader = nullptr;
+    };
     BridgedTopic info;
-    std::unique_ptr<TopicBridge> listener;
-    eprosima::fastdds::dds::DataReader* reader = nullptr;
+    LaneAssignment writers;
+    std::vector<Lane> lanes;  // by lane index, as info.lanes
 };
 
 Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
@@ -105,6 +109,13 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     sink_ = std::make_unique<GatewaySink>(*wan_, log_.get(), *directory_, clock_);
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
     loop_->start();
+    wan_->on_latched_resend([this](const std::vector<std::size_t>& payload_bytes) {
+        std::uint64_t bits = 0;
+        for (const std::size_t bytes : payload_bytes) {
+            bits += config_.scheduler.wire.wire_bits(bytes);
+        }
+        post([this, bits] { loop_->charge_link(bits); });
+    });
     if (config_.receiver_reports) {
         // After the loop: each report is compared with what the loop had forwarded when it came.
         reports_ = std::make_unique<ReceiverReportReader>(wan_->guid_prefix(),
@@ -119,7 +130,8 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
                            std::max<std::size_t>(1, config_.wan_peers.size()));
     }
 
-    discovery_ = std::make_unique<Discovery>([this](DiscoveredPublisher&& pub) { on_publisher(std::move(pub)); });
+    discovery_ = std::make_unique<Discovery>(
+        [this](DiscoveredPublisher&& pub) { post([this, pub = std::move(pub)] { bridge_nts(pub); }); });
     discovery_->ignore_participant(wan_->guid_prefix());
     worker_ = std::thread([this] { run_worker(); });
     try {
@@ -150,8 +162,10 @@ void Gateway::stop() {
     if (robot_) {
         std::lock_guard<std::mutex> bridges_lock(bridges_mutex_);
         for (auto& [name, bridge] : bridges_) {
-            robot_->delete_reader(bridge->reader);
-            bridge->reader = nullptr;
+            for (Bridge::Lane& lane : bridge->lanes) {
+                robot_->delete_reader(lane.reader);
+                lane.reader = nullptr;
+            }
         }
     }
     robot_.reset();
@@ -180,10 +194,10 @@ void Gateway::set_rate(double rate_bps) {
     loop_->set_rate(rate_bps);
 }
 
-void Gateway::on_publisher(DiscoveredPublisher&& pub) {
+void Gateway::post(std::function<void()> task) {
     {
         std::lock_guard<std::mutex> lock(events_mutex_);
-        events_.push_back(std::move(pub));
+        events_.push_back(std::move(task));
     }
     events_changed_.notify_one();
 }
@@ -206,27 +220,35 @@ void Gateway::run_worker() {
         if (worker_stopping_) {
             return;
         }
-        DiscoveredPublisher pub = std::move(events_.front());
+        std::function<void()> task = std::move(events_.front());
         events_.pop_front();
         lock.unlock();
-        bridge_nts(pub);
+        task();
         lock.lock();
     }
 }
 
 void Gateway::bridge_nts(const DiscoveredPublisher& pub) {
-    if (!filter_.admits(pub.topic)) {
-        return;
-    }
-    {
-        std::lock_guard<std::mutex> lock(bridges_mutex_);
-        if (bridges_.count(pub.topic) != 0) {
-            return;  // a further publisher on a bridged topic: the reader matches it already
-        }
-    }
     // The robot participant exists once discovery reports anything; stop() joins this thread before
     // resetting it.
-    if (!robot_) {
+    if (!filter_.admits(pub.topic) || !robot_) {
+        return;
+    }
+    Bridge* bridge = nullptr;
+    {
+        std::lock_guard<std::mutex> lock(bridges_mutex_);
+        const auto it = bridges_.find(pub.topic);
+        bridge = it == bridges_.end() ? nullptr : it->second.get();
+    }
+    if (bridge != nullptr) {
+        const auto& lanes = bridge->info.lanes;
+        const auto same = std::find(lanes.begin(), lanes.end(), pub.qos);
+        if (same != lanes.end()) {
+            // A further publisher with the same offer: the lane's reader matches it already.
+            bridge->writers.assign(pub.writer, static_cast<std::uint16_t>(same - lanes.begin()));
+        } else if (add_lane_nts(*bridge, pub)) {
+            bridges_changed_.notify_all();
+        }
         return;
     }
 
@@ -234,37 +256,62 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub) {
     if (auto profile = wan_->writer_profile(pub.topic)) {
         profile_lifespan = to_duration(profile->lifespan().duration);
     }
-    const ResolvedTtl ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
-
-    auto bridge = std::make_unique<Bridge>();
-    bridge->info.name = pub.topic;
-    bridge->info.type_name = pub.type_name;
-    bridge->info.keyed = pub.keyed;
-    bridge->info.ttl = ttl;
-    bridge->info.id = loop_->add_topic(core::TopicConfig{pub.topic, ttl.ttl});
-    directory_->add(bridge->info.id, {pub.topic, pub.type_name});
-
-    // The WAN writer first, so that nothing the reader takes finds no writer.
-    if (!wan_->add_topic(bridge->info.id, pub.topic, pub.type_name, pub.keyed, ttl.ttl)) {
-        return;
-    }
-    // The new writer's SEDP announcement goes to every peer over the same slow link as the samples.
-    const std::size_t announcement = config_.scheduler.wire.announcement_bytes(pub.topic.size(), pub.type_name.size());
-    loop_->charge_link(8u * announcement * std::max<std::size_t>(1, config_.wan_peers.size()));
-    bridge->listener = std::make_unique<TopicBridge>(bridge->info.id, pub.keyed, *loop_, clock_);
-    bridge->reader = robot_->create_reader(pub, bridge->listener.get());
-    if (bridge->reader == nullptr) {
+    auto created = std::make_unique<Bridge>();
+    created->info.name = pub.topic;
+    created->info.type_name = pub.type_name;
+    created->info.keyed = pub.keyed;
+    created->info.ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
+    created->info.id = loop_->add_topic(core::TopicConfig{pub.topic, created->info.ttl.ttl});
+    directory_->add(created->info.id, {pub.topic, pub.type_name});
+    if (!add_lane_nts(*created, pub)) {
         return;
     }
     {
         std::lock_guard<std::mutex> lock(bridges_mutex_);
-        if (by_id_.size() <= bridge->info.id) {
-            by_id_.resize(bridge->info.id + 1);
+        if (by_id_.size() <= created->info.id) {
+            by_id_.resize(created->info.id + 1);
         }
-        by_id_[bridge->info.id] = bridge->info;
-        bridges_.emplace(pub.topic, std::move(bridge));
+        by_id_[created->info.id] = created->info;
+        bridges_.emplace(pub.topic, std::move(created));
     }
     bridges_changed_.notify_all();
+}
+
+bool Gateway::add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub) {
+    const auto index = static_cast<std::uint16_t>(bridge.lanes.size());
+    // The WAN writer first, so that nothing the reader takes finds no writer.
+    // Lifespan = TTL, so that base-camp readers drop what is stale themselves; but what a latched publisher
+    // keeps forever (ROS 2's /tf_static, /robot_description) stays for late joiners past the TTL.
+    std::optional<core::Duration> lifespan = bridge.info.ttl.ttl;
+    if (pub.qos.transient_local && !pub.lifespan) {
+        lifespan.reset();
+    }
+    if (!wan_->add_lane(bridge.info.id, index, bridge.info.name, bridge.info.type_name, bridge.info.keyed, lifespan,
+                        pub.qos)) {
+        return false;
+    }
+    // The new writer's SEDP announcement goes to every peer over the same slow link as the samples.
+    const std::size_t announcement =
+        config_.scheduler.wire.announcement_bytes(bridge.info.name.size(), bridge.info.type_name.size());
+    loop_->charge_link(8u * announcement * std::max<std::size_t>(1, config_.wan_peers.size()));
+
+    Bridge::Lane lane;
+    lane.listener =
+        std::make_unique<TopicBridge>(bridge.info.id, index, bridge.info.keyed, bridge.writers, *loop_, clock_);
+    lane.reader =
+        robot_->create_reader(bridge.info.name, bridge.info.type_name, bridge.info.keyed, pub.qos, lane.listener.get());
+    if (lane.reader == nullptr) {
+        return false;
+    }
+    // After the reader exists: until now the writer's samples came through the lane that had them, if any.
+    bridge.writers.assign(pub.writer, index);
+    std::lock_guard<std::mutex> lock(bridges_mutex_);
+    bridge.lanes.push_back(std::move(lane));
+    bridge.info.lanes.push_back(pub.qos);
+    if (bridge.info.id < by_id_.size()) {
+        by_id_[bridge.info.id].lanes = bridge.info.lanes;
+    }
+    return true;
 }
 
 std::vector<BridgedTopic> Gateway::topics() const {
@@ -306,7 +353,11 @@ std::int32_t Gateway::robot_matched_writers(core::TopicId id) const {
     std::lock_guard<std::mutex> lock(bridges_mutex_);
     for (const auto& [name, bridge] : bridges_) {
         if (bridge->info.id == id) {
-            return bridge->listener->matched_writers();
+            std::int32_t matched = 0;
+            for (const Bridge::Lane& lane : bridge->lanes) {
+                matched += lane.listener->matched_writers();
+            }
+            return matched;
         }
     }
     return 0;
@@ -316,8 +367,8 @@ std::int32_t Gateway::wan_matched_readers(core::TopicId id) const {
     return wan_->matched_readers(id);
 }
 
-std::optional<core::Duration> Gateway::wan_writer_lifespan(core::TopicId id) const {
-    return wan_->writer_lifespan(id);
+std::optional<core::Duration> Gateway::wan_writer_lifespan(core::TopicId id, std::uint16_t lane) const {
+    return wan_->writer_lifespan(id, lane);
 }
 
 std::uint64_t Gateway::wan_write_failures() const {

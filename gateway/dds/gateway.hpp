@@ -4,6 +4,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -18,6 +19,7 @@
 #include "gateway/core/scheduler.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/discovery.hpp"
+#include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/receiver_report_reader.hpp"
 #include "gateway/dds/robot_transport.hpp"
 #include "gateway/dds/topic_filter.hpp"
@@ -69,12 +71,15 @@ struct BridgedTopic {
     std::string type_name;
     bool keyed = false;
     ResolvedTtl ttl;
+    /// The QoS offers of its publishers, one lane each (a robot reader and a WAN writer), by lane index.
+    std::vector<OfferedQos> lanes;
 };
 
 /// The whole gateway in one object (main stays thin; integration tests create it in-process): the on-robot
 /// log, the WAN participant, the ForwardingLoop with its sink, and the robot participant whose discovery
-/// creates, for each admitted topic, a WAN writer and a type-agnostic reader. Entities are created in a
-/// worker thread of its own, never in Fast DDS's discovery callback.
+/// creates, for each admitted topic, a lane per QoS its publishers offer: a type-agnostic reader that asks for
+/// that QoS and a WAN writer that offers it. Entities are created in a worker thread of its own, never in
+/// Fast DDS's callbacks.
 class Gateway {
   public:
     /// Starts everything. Throws core::ConfigError (bad flag, file, or a participant that cannot be created).
@@ -108,7 +113,7 @@ class Gateway {
 
     std::int32_t robot_matched_writers(core::TopicId id) const;
     std::int32_t wan_matched_readers(core::TopicId id) const;
-    std::optional<core::Duration> wan_writer_lifespan(core::TopicId id) const;
+    std::optional<core::Duration> wan_writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
     std::uint64_t wan_write_failures() const;
     /// The WAN samples' RTPS messages and the datagrams that carried them.
     DatagramCoalescer::Counts wan_datagrams() const;
@@ -124,9 +129,12 @@ class Gateway {
   private:
     struct Bridge;
 
-    void on_publisher(DiscoveredPublisher&& pub);
+    /// Runs `task` in the worker thread, after those posted before it.
+    void post(std::function<void()> task);
     void run_worker();
     void bridge_nts(const DiscoveredPublisher& pub);  // the worker thread only
+    /// Creates lane `index` of `bridge` for publishers offering `offer`; false if Fast DDS refused.
+    bool add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub);  // the worker thread only
     void stop_worker();
 
     GatewayConfig config_;
@@ -148,7 +156,7 @@ class Gateway {
 
     std::mutex events_mutex_;
     std::condition_variable events_changed_;
-    std::deque<DiscoveredPublisher> events_;
+    std::deque<std::function<void()>> events_;
     bool worker_stopping_ = false;
     std::thread worker_;
 

@@ -7,13 +7,15 @@ namespace tgw::dds {
 GatewaySink::GatewaySink(WanRouter& wan, log::RobotLog* log, const TopicDirectory& topics, const core::Clock& clock)
     : wan_(wan), log_(log), topics_(topics), clock_(clock) {}
 
-void GatewaySink::forward(core::Sample&& sample) {
-    const core::SteadyTime arrival = sample.arrival;
-    if (wan_.write(std::move(sample)) != WriteResult::ok) {
+bool GatewaySink::forward(core::Sample&& sample) {
+    if (wan_.write(sample) != WriteResult::ok) {
+        // The payload is still ours: keep it, so that a refused write is never silently lost.
         wan_write_failures_.fetch_add(1, std::memory_order_relaxed);
-        return;
+        drop(std::move(sample), core::DropReason::write_failed);
+        return false;
     }
-    processing_latency_.record(clock_.now() - arrival);
+    processing_latency_.record(clock_.now() - sample.arrival);
+    return true;
 }
 
 void GatewaySink::drop(core::Sample&& sample, core::DropReason reason) {

@@ -20,7 +20,7 @@ class GatewaySink final : public core::SampleSink {
     /// `log` may be null (no --log): dropped samples are then only counted.
     GatewaySink(WanRouter& wan, log::RobotLog* log, const TopicDirectory& topics, const core::Clock& clock);
 
-    void forward(core::Sample&& sample) override;
+    bool forward(core::Sample&& sample) override;
     void drop(core::Sample&& sample, core::DropReason reason) override;
 
     std::uint64_t wan_write_failures() const { return wan_write_failures_.load(); }

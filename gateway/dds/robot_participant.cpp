@@ -24,6 +24,8 @@ namespace {
 
 // Room for bursts between two listener calls; the bridge takes every sample as it arrives.
 constexpr std::int32_t READER_HISTORY_DEPTH = 1000;
+// Fast DDS sizes a keyed KEEP_LAST history as depth x max_instances, so "unlimited" (-1) is not an option.
+constexpr std::int32_t MAX_INSTANCES = 65536;
 
 // The kernel caps SO_RCVBUF at this without a word.
 constexpr const char* RMEM_MAX_PATH = "/proc/sys/net/core/rmem_max";
@@ -70,8 +72,7 @@ RobotParticipant::RobotParticipant(int domain, fdds::DomainParticipantListener* 
         throw core::ConfigError("--robot-domain " + std::to_string(domain) +
                                 ": cannot create the robot participant (see the Fast DDS log)");
     }
-    subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-    if (subscriber_ == nullptr) {
+    if (subscriber_nts(OfferedQos{}) == nullptr) {
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
         throw core::ConfigError("--robot-domain " + std::to_string(domain) + ": cannot create a subscriber");
     }
@@ -85,41 +86,63 @@ RobotParticipant::~RobotParticipant() {
     }
 }
 
-fdds::DataReader* RobotParticipant::create_reader(const DiscoveredPublisher& pub, fdds::DataReaderListener* listener) {
+fdds::Subscriber* RobotParticipant::subscriber_nts(const OfferedQos& offer) {
+    auto it = subscribers_.find(offer.partitions);
+    if (it != subscribers_.end()) {
+        return it->second;
+    }
+    fdds::SubscriberQos qos = participant_->get_default_subscriber_qos();
+    qos.partition() = offer.partition_policy();
+    fdds::Subscriber* subscriber = participant_->create_subscriber(qos);
+    if (subscriber != nullptr) {
+        subscribers_.emplace(offer.partitions, subscriber);
+    }
+    return subscriber;
+}
+
+fdds::DataReader* RobotParticipant::create_reader(const std::string& topic_name, const std::string& type_name,
+                                                  bool keyed, const OfferedQos& offer,
+                                                  fdds::DataReaderListener* listener) {
     std::lock_guard<std::mutex> lock(mutex_);
-    fdds::TypeSupport type = participant_->find_type(pub.type_name);
+    fdds::TypeSupport type = participant_->find_type(type_name);
     if (type.empty()) {
-        type = fdds::TypeSupport(new PassthroughType(pub.type_name, pub.keyed));
-        if (participant_->register_type(type, pub.type_name) != ReturnCode_t::RETCODE_OK) {
-            std::cerr << "telemetry-gateway: cannot register type " << pub.type_name << " for " << pub.topic << '\n';
+        type = fdds::TypeSupport(new PassthroughType(type_name, keyed));
+        if (participant_->register_type(type, type_name) != ReturnCode_t::RETCODE_OK) {
+            std::cerr << "telemetry-gateway: cannot register type " << type_name << " for " << topic_name << '\n';
             return nullptr;
         }
     }
-    fdds::Topic* topic = participant_->create_topic(pub.topic, pub.type_name, fdds::TOPIC_QOS_DEFAULT);
+    // A topic's lanes share one Topic object.
+    auto* topic = dynamic_cast<fdds::Topic*>(participant_->lookup_topicdescription(topic_name));
     if (topic == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create robot topic " << pub.topic << '\n';
+        topic = participant_->create_topic(topic_name, type_name, fdds::TOPIC_QOS_DEFAULT);
+    }
+    fdds::Subscriber* subscriber = subscriber_nts(offer);
+    if (topic == nullptr || subscriber == nullptr) {
+        std::cerr << "telemetry-gateway: cannot create robot topic " << topic_name << '\n';
         return nullptr;
     }
 
-    fdds::DataReaderQos qos = subscriber_->get_default_datareader_qos();
-    // Never stronger than the publisher's, or they would not match. expects_inline_qos stays false: Cyclone
-    // refuses readers that set it (DESIGN section 7); the instance comes from SampleInfo.
-    qos.reliability().kind = pub.reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
-    qos.durability().kind = pub.transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+    fdds::DataReaderQos qos = subscriber->get_default_datareader_qos();
+    // expects_inline_qos only for keyed Fast DDS writers (OfferedQos::needs_inline_key_hash); the instance
+    // comes from SampleInfo.
+    offer.apply_to_robot_reader(qos);
     qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
     qos.history().depth = READER_HISTORY_DEPTH;
     qos.resource_limits().max_samples_per_instance = READER_HISTORY_DEPTH;
     qos.resource_limits().max_samples = fdds::LENGTH_UNLIMITED;
-    qos.resource_limits().max_instances = fdds::LENGTH_UNLIMITED;
+    qos.resource_limits().max_instances = MAX_INSTANCES;
     qos.resource_limits().allocated_samples = 16;
     qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
     qos.data_sharing().off();
 
-    fdds::DataReader* reader = subscriber_->create_datareader(topic, qos, listener, fdds::StatusMask::all());
+    fdds::DataReader* reader = subscriber->create_datareader(topic, qos, listener, fdds::StatusMask::all());
     if (reader == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create a reader for " << pub.topic << '\n';
-        participant_->delete_topic(topic);
+        std::cerr << "telemetry-gateway: cannot create a reader for " << topic_name << " (" << offer.describe()
+                  << ")\n";
+        return nullptr;
     }
+    ++readers_of_topic_[topic_name];
     return reader;
 }
 
@@ -130,9 +153,13 @@ void RobotParticipant::delete_reader(fdds::DataReader* reader) {
     }
     reader->set_listener(nullptr);
     auto* topic = const_cast<fdds::TopicDescription*>(reader->get_topicdescription());
-    subscriber_->delete_datareader(reader);
-    if (auto* t = dynamic_cast<fdds::Topic*>(topic)) {
-        participant_->delete_topic(t);
+    const_cast<fdds::Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
+    // The topic goes with its last lane's reader.
+    if (--readers_of_topic_[topic->get_name()] == 0) {
+        readers_of_topic_.erase(topic->get_name());
+        if (auto* t = dynamic_cast<fdds::Topic*>(topic)) {
+            participant_->delete_topic(t);
+        }
     }
 }
 

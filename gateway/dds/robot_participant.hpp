@@ -13,7 +13,7 @@
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 
-#include "gateway/dds/discovery.hpp"
+#include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/robot_transport.hpp"
 
 namespace tgw::dds {
@@ -35,19 +35,24 @@ class RobotParticipant {
     RobotParticipant(const RobotParticipant&) = delete;
     RobotParticipant& operator=(const RobotParticipant&) = delete;
 
-    /// A passthrough reader that matches `pub` (same topic, type name, keyed-ness; reliability and
-    /// durability no stronger than the publisher's). Returns nullptr on failure, after logging it.
-    eprosima::fastdds::dds::DataReader* create_reader(const DiscoveredPublisher& pub,
+    /// A passthrough reader of `topic` that matches every publisher offering `offer` (OfferedQos), in its
+    /// partitions. Returns nullptr on failure, after logging it.
+    eprosima::fastdds::dds::DataReader* create_reader(const std::string& topic, const std::string& type_name,
+                                                      bool keyed, const OfferedQos& offer,
                                                       eprosima::fastdds::dds::DataReaderListener* listener);
 
-    /// Detaches the listener and deletes the reader and its topic.
+    /// Detaches the listener and deletes the reader (its topic goes with the topic's last reader).
     void delete_reader(eprosima::fastdds::dds::DataReader* reader);
 
     eprosima::fastrtps::rtps::GuidPrefix_t guid_prefix() const;
 
   private:
+    /// Partitions are a subscriber's QoS in Fast DDS 2.9: one subscriber per partition set, made on demand.
+    eprosima::fastdds::dds::Subscriber* subscriber_nts(const OfferedQos& offer);
+
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
-    eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+    std::map<std::vector<std::string>, eprosima::fastdds::dds::Subscriber*> subscribers_;
+    std::map<std::string, int> readers_of_topic_;
     std::mutex mutex_;
 };
 

@@ -13,8 +13,21 @@ namespace tgw::dds {
 
 namespace fdds = eprosima::fastdds::dds;
 
-TopicBridge::TopicBridge(core::TopicId topic, bool keyed, core::ForwardingLoop& loop, const core::Clock& clock)
-    : topic_(topic), keyed_(keyed), loop_(loop), clock_(clock) {}
+namespace {
+
+core::SampleKind kind_of(const fdds::SampleInfo& info) {
+    if (info.valid_data) {
+        return core::SampleKind::data;
+    }
+    return info.instance_state == fdds::NOT_ALIVE_DISPOSED_INSTANCE_STATE ? core::SampleKind::dispose
+                                                                          : core::SampleKind::unregister;
+}
+
+}  // namespace
+
+TopicBridge::TopicBridge(core::TopicId topic, std::uint16_t lane, bool keyed, const LaneAssignment& lanes,
+                         core::ForwardingLoop& loop, const core::Clock& clock)
+    : topic_(topic), lane_(lane), keyed_(keyed), lanes_(lanes), loop_(loop), clock_(clock) {}
 
 void TopicBridge::on_data_available(fdds::DataReader* reader) {
     // Fast DDS may call this from the SHM and the UDP receive threads at once: samples go to the loop in the
@@ -23,12 +36,19 @@ void TopicBridge::on_data_available(fdds::DataReader* reader) {
     PassthroughData data;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
-        if (!info.valid_data) {
-            continue;  // dispose or unregister: no payload to carry
+        if (!lanes_.carries(info.publication_handle, lane_)) {
+            continue;  // the writer's own lane carries it
         }
         core::Sample sample;
+        sample.kind = kind_of(info);
+        if (sample.kind != core::SampleKind::data && !keyed_) {
+            continue;  // an unkeyed topic's one instance: nothing for the base camp to learn
+        }
         sample.topic = topic_;
-        sample.payload = std::move(data.payload);
+        sample.route = lane_;
+        if (sample.kind == core::SampleKind::data) {
+            sample.payload = std::move(data.payload);
+        }
         data.payload = {};
         if (keyed_ && info.instance_handle.isDefined() && info.instance_handle != PassthroughType::UNKNOWN_INSTANCE) {
             const eprosima::fastrtps::rtps::octet* hash = info.instance_handle.value;

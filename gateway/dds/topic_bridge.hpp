@@ -8,16 +8,20 @@
 
 #include "gateway/core/clock.hpp"
 #include "gateway/core/forwarding_loop.hpp"
+#include "gateway/dds/lane_assignment.hpp"
 
 namespace tgw::dds {
 
-/// The listener of one topic's type-agnostic reader on the robot domain: every sample it takes becomes a
-/// core::Sample (payload as received, instance from SampleInfo, the publisher's source timestamp) and goes
-/// to the ForwardingLoop in the same thread. The payload is copied once, from Fast DDS's cache into the
-/// sample's own buffer, and moved from there on.
+/// The listener of one lane's type-agnostic reader on the robot domain: every sample it takes from a writer of
+/// its lane (LaneAssignment) becomes a core::Sample (payload as received, instance from SampleInfo, the
+/// publisher's source timestamp) and goes to the ForwardingLoop in the same thread. Disposes and unregisters
+/// go the same way, without payload. The payload is copied once, from Fast DDS's cache into the sample's own
+/// buffer, and moved from there on.
 class TopicBridge final : public eprosima::fastdds::dds::DataReaderListener {
   public:
-    TopicBridge(core::TopicId topic, bool keyed, core::ForwardingLoop& loop, const core::Clock& clock);
+    /// `lanes` must outlive the bridge.
+    TopicBridge(core::TopicId topic, std::uint16_t lane, bool keyed, const LaneAssignment& lanes,
+                core::ForwardingLoop& loop, const core::Clock& clock);
 
     void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
     void on_subscription_matched(eprosima::fastdds::dds::DataReader* reader,
@@ -31,7 +35,9 @@ class TopicBridge final : public eprosima::fastdds::dds::DataReaderListener {
 
   private:
     const core::TopicId topic_;
+    const std::uint16_t lane_;
     const bool keyed_;
+    const LaneAssignment& lanes_;
     core::ForwardingLoop& loop_;
     const core::Clock& clock_;
     std::atomic<std::int32_t> matched_{0};

@@ -28,20 +28,56 @@ using eprosima::fastrtps::rtps::IPLocator;
 using eprosima::fastrtps::rtps::Locator_t;
 using eprosima::fastrtps::types::ReturnCode_t;
 
-class WanRouter::WriterListener final : public fdds::DataWriterListener {
-  public:
-    void on_publication_matched(fdds::DataWriter* /*writer*/, const fdds::PublicationMatchedStatus& info) override {
-        matched.store(info.current_count);
-    }
-    std::atomic<std::int32_t> matched{0};
-};
+namespace {
 
-struct WanRouter::Entry {
+// A reliable lane keeps what a base-camp reader may still ask to be repaired: KEEP_LAST per instance, and
+// Lifespan = TTL removes what is stale, so a repair of a sample past its deadline is never sent.
+constexpr std::int32_t RELIABLE_HISTORY_DEPTH = 64;
+// Fast DDS sizes a keyed KEEP_LAST history as depth x max_instances, so "unlimited" (-1) is not an option.
+constexpr std::int32_t MAX_INSTANCES = 65536;
+
+}  // namespace
+
+struct WanRouter::Lane {
     std::string topic;
     bool keyed = false;
+    bool latched = false;
     fdds::DataWriter* writer = nullptr;
-    WriterListener listener;
+    std::unique_ptr<WriterListener> listener;
     bool failure_reported = false;
+    /// A latched lane's last sample per instance, by payload size: what a late joiner will be sent.
+    std::mutex latched_mutex;
+    std::map<fdds::InstanceHandle_t, std::size_t> latched_bytes;
+};
+
+class WanRouter::WriterListener final : public fdds::DataWriterListener {
+  public:
+    WriterListener(Lane& lane, std::shared_ptr<ResendCallback> on_resend)
+        : lane_(lane), on_resend_(std::move(on_resend)) {}
+
+    void on_publication_matched(fdds::DataWriter* /*writer*/, const fdds::PublicationMatchedStatus& info) override {
+        matched.store(info.current_count);
+        if (!lane_.latched || info.current_count_change <= 0 || !*on_resend_) {
+            return;
+        }
+        // The writer sends its history to the new reader now, outside the scheduler: charge it to the budget.
+        std::vector<std::size_t> sizes;
+        {
+            std::lock_guard<std::mutex> lock(lane_.latched_mutex);
+            for (const auto& [instance, bytes] : lane_.latched_bytes) {
+                sizes.push_back(bytes);
+            }
+        }
+        if (!sizes.empty()) {
+            (*on_resend_)(sizes);
+        }
+    }
+
+    std::atomic<std::int32_t> matched{0};
+
+  private:
+    Lane& lane_;
+    std::shared_ptr<ResendCallback> on_resend_;
 };
 
 namespace {
@@ -59,7 +95,8 @@ Locator_t udp_locator(const std::string& address, std::uint16_t port) {
 }  // namespace
 
 WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainParticipantQos>& base)
-    : coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_)) {
+    : coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_)),
+      on_resend_(std::make_shared<ResendCallback>()) {
     fdds::DomainParticipantQos qos =
         base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
     qos.name("telemetry-gateway/wan");
@@ -99,7 +136,7 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
         throw core::ConfigError("--wan-domain " + std::to_string(config.domain) +
                                 ": cannot create the WAN participant (check --wan-interface and --wan-peer)");
     }
-    publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    publisher_ = publisher_nts(OfferedQos{});
     if (publisher_ == nullptr) {
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
         throw core::ConfigError("--wan-domain " + std::to_string(config.domain) + ": cannot create a publisher");
@@ -111,6 +148,7 @@ WanRouter::~WanRouter() {
     // Sends what waits while the transport's channels still exist.
     coalescer_->stop();
     if (participant_ != nullptr) {
+        *on_resend_ = nullptr;
         participant_->delete_contained_entities();
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
     }
@@ -124,12 +162,34 @@ std::optional<fdds::DataWriterQos> WanRouter::writer_profile(const std::string& 
     return qos;
 }
 
-bool WanRouter::add_topic(core::TopicId id, const std::string& topic, const std::string& type_name, bool keyed,
-                          core::Duration ttl) {
-    auto entry = std::make_unique<Entry>();
-    entry->topic = topic;
-    entry->keyed = keyed;
+void WanRouter::on_latched_resend(ResendCallback callback) {
+    *on_resend_ = std::move(callback);
+}
 
+fdds::Publisher* WanRouter::publisher_nts(const OfferedQos& offer) {
+    const auto it = publishers_.find(offer.partitions);
+    if (it != publishers_.end()) {
+        return it->second;
+    }
+    fdds::PublisherQos qos = participant_->get_default_publisher_qos();
+    qos.partition() = offer.partition_policy();
+    fdds::Publisher* publisher = participant_->create_publisher(qos);
+    if (publisher != nullptr) {
+        publishers_.emplace(offer.partitions, publisher);
+    }
+    return publisher;
+}
+
+bool WanRouter::add_lane(core::TopicId id, std::uint16_t lane_index, const std::string& topic,
+                         const std::string& type_name, bool keyed, std::optional<core::Duration> lifespan,
+                         const OfferedQos& offer) {
+    auto lane = std::make_unique<Lane>();
+    lane->topic = topic;
+    lane->keyed = keyed;
+    lane->latched = offer.transient_local;
+    lane->listener = std::make_unique<WriterListener>(*lane, on_resend_);
+
+    std::lock_guard<std::mutex> lock(mutex_);
     fdds::TypeSupport type = participant_->find_type(type_name);
     if (type.empty()) {
         type = fdds::TypeSupport(new PassthroughType(type_name, keyed));
@@ -138,55 +198,65 @@ bool WanRouter::add_topic(core::TopicId id, const std::string& topic, const std:
             return false;
         }
     }
-    fdds::Topic* wan_topic = participant_->create_topic(topic, type_name, fdds::TOPIC_QOS_DEFAULT);
+    // A topic's lanes share one Topic object.
+    auto* wan_topic = dynamic_cast<fdds::Topic*>(participant_->lookup_topicdescription(topic));
     if (wan_topic == nullptr) {
+        wan_topic = participant_->create_topic(topic, type_name, fdds::TOPIC_QOS_DEFAULT);
+    }
+    fdds::Publisher* publisher = publisher_nts(offer);
+    if (wan_topic == nullptr || publisher == nullptr) {
         std::cerr << "telemetry-gateway: cannot create WAN topic " << topic << '\n';
         return false;
     }
 
-    fdds::DataWriterQos qos;
-    if (auto profile = writer_profile(topic)) {
-        qos = *profile;
-    } else {
-        qos = publisher_->get_default_datawriter_qos();
-        // Best effort by default: no HEARTBEAT/ACKNACK on a slow link; the scheduler already decided what
-        // is worth sending, and a late retransmission would be stale.
+    // A data_writer profile named after the topic is the starting point (its Lifespan already made the TTL);
+    // what decides matching is the publishers' offer, except that a profile may ask for best effort.
+    const std::optional<fdds::DataWriterQos> profile = writer_profile(topic);
+    fdds::DataWriterQos qos = profile.value_or(publisher->get_default_datawriter_qos());
+    offer.apply_to_wan_writer(qos);
+    if (profile && profile->reliability().kind == fdds::BEST_EFFORT_RELIABILITY_QOS) {
+        // The operator's word (a writer's default is reliable, so this was asked for): no HEARTBEAT or
+        // ACKNACK on the link for this topic, at the price of reliable base-camp readers not matching.
         qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
-        qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
-        qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-        qos.history().depth = 1;
     }
-    qos.lifespan().duration = to_dds_duration(ttl);
+    qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+    qos.history().depth = offer.reliable && !offer.transient_local ? RELIABLE_HISTORY_DEPTH : 1;
+    qos.resource_limits().max_samples = fdds::LENGTH_UNLIMITED;
+    qos.resource_limits().max_instances = MAX_INSTANCES;
+    qos.resource_limits().max_samples_per_instance = qos.history().depth;
+    qos.lifespan().duration = lifespan ? to_dds_duration(*lifespan) : eprosima::fastrtps::c_TimeInfinite;
     qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
     qos.data_sharing().off();
 
-    entry->writer = publisher_->create_datawriter(wan_topic, qos, &entry->listener, fdds::StatusMask::all());
-    if (entry->writer == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create the WAN writer for " << topic << '\n';
-        participant_->delete_topic(wan_topic);
+    lane->writer = publisher->create_datawriter(wan_topic, qos, lane->listener.get(), fdds::StatusMask::all());
+    if (lane->writer == nullptr) {
+        std::cerr << "telemetry-gateway: cannot create the WAN writer for " << topic << " (" << offer.describe()
+                  << ")\n";
         return false;
     }
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (entries_.size() <= id) {
-        entries_.resize(id + 1);
+    if (lanes_.size() <= id) {
+        lanes_.resize(id + 1);
     }
-    entries_[id] = std::move(entry);
+    if (lanes_[id].size() <= lane_index) {
+        lanes_[id].resize(lane_index + 1);
+    }
+    lanes_[id][lane_index] = std::move(lane);
     return true;
 }
 
-WanRouter::Entry* WanRouter::entry(core::TopicId id) const {
+WanRouter::Lane* WanRouter::lane(core::TopicId id, std::uint16_t lane_index) const {
     std::lock_guard<std::mutex> lock(mutex_);
-    return id < entries_.size() ? entries_[id].get() : nullptr;
+    return id < lanes_.size() && lane_index < lanes_[id].size() ? lanes_[id][lane_index].get() : nullptr;
 }
 
-WriteResult WanRouter::write(core::Sample&& sample) {
-    Entry* e = entry(sample.topic);
+WriteResult WanRouter::write(core::Sample& sample) {
+    Lane* e = lane(sample.topic, sample.route);
     if (e == nullptr) {
         write_failures_.fetch_add(1, std::memory_order_relaxed);
         return WriteResult::unknown_topic;
     }
     PassthroughData data;
-    // The sample is done with once written: its buffer moves, and Fast DDS copies it once into the change.
+    // Borrowed for the write, which copies it once into the change, and handed back after.
     data.payload = std::move(sample.payload);
     fdds::InstanceHandle_t handle = fdds::HANDLE_NIL;
     if (e->keyed) {
@@ -197,10 +267,20 @@ WriteResult WanRouter::write(core::Sample&& sample) {
         }
         handle = data.key.isDefined() ? data.key : PassthroughType::UNKNOWN_INSTANCE;
     }
+    const auto stamp = to_dds_time(sample.source_time);
     const ReturnCode_t rc = [&] {
         const DatagramCoalescer::DeferScope may_wait;
-        return e->writer->write_w_timestamp(&data, handle, to_dds_time(sample.source_time));
+        switch (sample.kind) {
+            case core::SampleKind::dispose:
+                return e->writer->dispose_w_timestamp(&data, handle, stamp);
+            case core::SampleKind::unregister:
+                return e->writer->unregister_instance_w_timestamp(&data, handle, stamp);
+            case core::SampleKind::data:
+                break;
+        }
+        return e->writer->write_w_timestamp(&data, handle, stamp);
     }();
+    sample.payload = std::move(data.payload);
     if (rc != ReturnCode_t::RETCODE_OK) {
         write_failures_.fetch_add(1, std::memory_order_relaxed);
         if (!e->failure_reported) {
@@ -208,6 +288,14 @@ WriteResult WanRouter::write(core::Sample&& sample) {
             std::cerr << "telemetry-gateway: WAN write failed on " << e->topic << " (code " << rc() << ")\n";
         }
         return WriteResult::failed;
+    }
+    if (e->latched) {
+        std::lock_guard<std::mutex> lock(e->latched_mutex);
+        if (sample.kind == core::SampleKind::data) {
+            e->latched_bytes[handle] = sample.payload.size();
+        } else {
+            e->latched_bytes.erase(handle);
+        }
     }
     return WriteResult::ok;
 }
@@ -240,8 +328,8 @@ bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {
     return true;
 }
 
-std::optional<core::Duration> WanRouter::writer_lifespan(core::TopicId id) const {
-    Entry* e = entry(id);
+std::optional<core::Duration> WanRouter::writer_lifespan(core::TopicId id, std::uint16_t lane_index) const {
+    Lane* e = lane(id, lane_index);
     if (e == nullptr) {
         return std::nullopt;
     }
@@ -249,8 +337,14 @@ std::optional<core::Duration> WanRouter::writer_lifespan(core::TopicId id) const
 }
 
 std::int32_t WanRouter::matched_readers(core::TopicId id) const {
-    Entry* e = entry(id);
-    return e == nullptr ? 0 : e->listener.matched.load();
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::int32_t matched = 0;
+    if (id < lanes_.size()) {
+        for (const auto& lane : lanes_[id]) {
+            matched += lane ? lane->listener->matched.load() : 0;
+        }
+    }
+    return matched;
 }
 
 eprosima::fastrtps::rtps::GuidPrefix_t WanRouter::guid_prefix() const {

@@ -2,6 +2,8 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -20,6 +22,7 @@
 #include "gateway/core/sample.hpp"
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
+#include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/wan_address.hpp"
 
 namespace tgw::dds {
@@ -51,9 +54,10 @@ enum class WriteResult { ok, unknown_topic, failed };
 
 /// The gateway's participant on the WAN domain: UDPv4 unicast only (no multicast, no shared memory), bound to
 /// one interface, announcing itself to the configured peers' exact ports, with long announcement periods.
-/// One DataWriter per bridged topic, with the robot topic's name and type name, Lifespan = the topic's TTL,
-/// best-effort unless the topic's data_writer profile says otherwise. It reads one topic only: the base
-/// camp's receiver reports, when asked to.
+/// One DataWriter per lane of a bridged topic (one per QoS its robot publishers offer, OfferedQos), with the
+/// robot topic's name and type name, offering what the publishers offered, in their partitions, and the
+/// Lifespan the gateway chose. A transient-local ("latched") lane keeps the last sample of each instance for
+/// readers that join later. It reads one topic only: the base camp's receiver reports, when asked to.
 class WanRouter {
   public:
     /// Throws core::ConfigError when the participant cannot be created. `base`: starting QoS (an XML
@@ -68,20 +72,27 @@ class WanRouter {
     /// The data_writer profile named after `topic` in the loaded XML files, if there is one.
     std::optional<eprosima::fastdds::dds::DataWriterQos> writer_profile(const std::string& topic) const;
 
-    /// Creates the topic's writer. False (after logging it) when Fast DDS refuses.
-    bool add_topic(core::TopicId id, const std::string& topic, const std::string& type_name, bool keyed,
-                   core::Duration ttl);
+    /// Called, from Fast DDS's threads, with the payload bytes of the samples a latched lane's writer will
+    /// send again to a reader that matched it just now: the caller charges them to the link budget.
+    using ResendCallback = std::function<void(const std::vector<std::size_t>& payload_bytes)>;
+    void on_latched_resend(ResendCallback callback);
 
-    /// Writes with the sample's source timestamp and instance; takes the payload. Never throws.
-    WriteResult write(core::Sample&& sample);
+    /// Creates the writer of lane `lane` of the topic, with Lifespan `lifespan` (nullopt: infinite). False
+    /// (after logging it) when Fast DDS refuses.
+    bool add_lane(core::TopicId id, std::uint16_t lane, const std::string& topic, const std::string& type_name,
+                  bool keyed, std::optional<core::Duration> lifespan, const OfferedQos& offer);
+
+    /// Writes (or disposes, or unregisters) with the sample's source timestamp and instance, through the
+    /// writer of its lane. The sample keeps its payload, so a refused write can still be logged. Never throws.
+    WriteResult write(core::Sample& sample);
 
     /// Creates a reader of dds::RECEIVER_REPORT_TOPIC for `listener`, which must outlive the router. False
     /// (after logging it) when Fast DDS refuses.
     bool subscribe_receiver_reports(eprosima::fastdds::dds::DataReaderListener* listener);
 
-    /// The Lifespan QoS of the topic's writer, or nullopt if there is no writer.
-    std::optional<core::Duration> writer_lifespan(core::TopicId id) const;
-    /// Base-camp readers currently matched with the topic's writer.
+    /// The Lifespan QoS of the writer of the topic's lane, or nullopt if there is no writer or it is infinite.
+    std::optional<core::Duration> writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
+    /// Base-camp readers currently matched with the topic's writers, all lanes together.
     std::int32_t matched_readers(core::TopicId id) const;
     std::uint64_t write_failures() const { return write_failures_.load(); }
     /// How the samples' datagrams were packed.
@@ -91,16 +102,20 @@ class WanRouter {
 
   private:
     class WriterListener;
-    struct Entry;
+    struct Lane;
 
-    Entry* entry(core::TopicId id) const;
+    Lane* lane(core::TopicId id, std::uint16_t lane) const;
+    /// One publisher per partition set (a publisher's QoS in Fast DDS 2.9), made on demand.
+    eprosima::fastdds::dds::Publisher* publisher_nts(const OfferedQos& offer);
 
     core::SystemClock clock_;  // datagrams wait in real time, whatever clock the scheduler runs on
     std::shared_ptr<DatagramCoalescer> coalescer_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
-    eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
+    eprosima::fastdds::dds::Publisher* publisher_ = nullptr;  ///< the default partition's
     mutable std::mutex mutex_;
-    std::vector<std::unique_ptr<Entry>> entries_;  // indexed by TopicId
+    std::map<std::vector<std::string>, eprosima::fastdds::dds::Publisher*> publishers_;
+    std::vector<std::vector<std::unique_ptr<Lane>>> lanes_;  // [TopicId][lane]
+    std::shared_ptr<ResendCallback> on_resend_;
     std::atomic<std::uint64_t> write_failures_{0};
 };
 

@@ -19,18 +19,19 @@ class SimulationSink final : public core::SampleSink {
                    const SteadyTime& now, SteadyTime start, core::WallTime wall_start)
         : config_(config), link_(link), stats_(stats), now_(now), start_(start), wall_start_(wall_start) {}
 
-    void forward(core::Sample&& sample) override {
+    bool forward(core::Sample&& sample) override {
         const double bits =
             config_.true_overhead_factor * static_cast<double>(config_.scheduler.wire.wire_bits(sample.payload.size()));
         const auto arrived = link_.send(now_, static_cast<std::uint64_t>(std::llround(bits)));
         if (!measured(sample))
-            return;
+            return true;
         DeliveryStats& stats = stats_[sample.topic];
         if (!arrived) {
             ++stats.lost_on_link;
-            return;
+            return true;
         }
         stats.record_delivery(*arrived - generated_at(sample), config_.workload[sample.topic].ttl);
+        return true;
     }
     void drop(core::Sample&& sample, core::DropReason reason) override {
         if (measured(sample))

@@ -25,7 +25,10 @@ constexpr std::size_t PAYLOAD_BYTES = 32;
 
 class NullSink final : public SampleSink {
   public:
-    void forward(Sample&& s) override { benchmark::DoNotOptimize(s); }
+    bool forward(Sample&& s) override {
+        benchmark::DoNotOptimize(s);
+        return true;
+    }
     void drop(Sample&& s, DropReason) override { benchmark::DoNotOptimize(s); }
 };
 

@@ -20,10 +20,20 @@ class RecordingSink final : public core::SampleSink {
         core::DropReason reason;
     };
 
-    void forward(core::Sample&& sample) override {
+    bool forward(core::Sample&& sample) override {
         std::lock_guard<std::mutex> lock(mutex_);
-        forwarded_.push_back(std::move(sample));
+        if (refuse_writes_) {
+            dropped_.push_back(Dropped{std::move(sample), core::DropReason::write_failed});
+        } else {
+            forwarded_.push_back(std::move(sample));
+        }
         changed_.notify_all();
+        return !refuse_writes_;
+    }
+    /// From now on, every forward fails as a refused WAN write does.
+    void refuse_writes() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        refuse_writes_ = true;
     }
     void drop(core::Sample&& sample, core::DropReason reason) override {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -63,6 +73,7 @@ class RecordingSink final : public core::SampleSink {
     mutable std::condition_variable changed_;
     std::vector<core::Sample> forwarded_;
     std::vector<Dropped> dropped_;
+    bool refuse_writes_ = false;
 };
 
 }  // namespace tgw::test

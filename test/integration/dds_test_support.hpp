@@ -126,18 +126,40 @@ class TestParticipant {
         return qos;
     }
 
+    /// A writer in the default partition, or in `partitions` (through a publisher of its own).
     fdds::DataWriter* make_writer(const std::string& topic_name, fdds::TypeSupport type, fdds::DataWriterQos qos,
-                                  fdds::DataWriterListener* listener = nullptr) {
+                                  fdds::DataWriterListener* listener = nullptr,
+                                  const std::vector<std::string>& partitions = {}) {
         fdds::Topic* topic = topic_for(topic_name, type);
-        return topic == nullptr ? nullptr
-                                : publisher_->create_datawriter(topic, qos, listener, fdds::StatusMask::all());
+        fdds::Publisher* publisher = publisher_;
+        if (!partitions.empty()) {
+            fdds::PublisherQos pq = participant_->get_default_publisher_qos();
+            for (const std::string& p : partitions) {
+                pq.partition().push_back(p.c_str());
+            }
+            publisher = participant_->create_publisher(pq);
+        }
+        return topic == nullptr || publisher == nullptr
+                   ? nullptr
+                   : publisher->create_datawriter(topic, qos, listener, fdds::StatusMask::all());
     }
 
+    /// A reader in the default partition, or in `partitions` (through a subscriber of its own).
     fdds::DataReader* make_reader(const std::string& topic_name, fdds::TypeSupport type, fdds::DataReaderQos qos,
-                                  fdds::DataReaderListener* listener = nullptr) {
+                                  fdds::DataReaderListener* listener = nullptr,
+                                  const std::vector<std::string>& partitions = {}) {
         fdds::Topic* topic = topic_for(topic_name, type);
-        return topic == nullptr ? nullptr
-                                : subscriber_->create_datareader(topic, qos, listener, fdds::StatusMask::all());
+        fdds::Subscriber* subscriber = subscriber_;
+        if (!partitions.empty()) {
+            fdds::SubscriberQos sq = participant_->get_default_subscriber_qos();
+            for (const std::string& p : partitions) {
+                sq.partition().push_back(p.c_str());
+            }
+            subscriber = participant_->create_subscriber(sq);
+        }
+        return topic == nullptr || subscriber == nullptr
+                   ? nullptr
+                   : subscriber->create_datareader(topic, qos, listener, fdds::StatusMask::all());
     }
 
     fdds::DataWriterQos default_writer_qos() const { return publisher_->get_default_datawriter_qos(); }
@@ -183,9 +205,11 @@ class CollectingReader final : public fdds::DataReaderListener {
         T data;
         fdds::SampleInfo info;
         while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
+            std::lock_guard<std::mutex> lock(mutex_);
             if (info.valid_data) {
-                std::lock_guard<std::mutex> lock(mutex_);
                 received_.push_back({data, info});
+            } else if (info.instance_state == fdds::NOT_ALIVE_DISPOSED_INSTANCE_STATE) {
+                disposed_.insert(info.instance_handle);
             }
         }
     }
@@ -201,12 +225,18 @@ class CollectingReader final : public fdds::DataReaderListener {
         std::lock_guard<std::mutex> lock(mutex_);
         return received_;
     }
+    /// Instances that arrived disposed.
+    std::set<fdds::InstanceHandle_t> disposed() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return disposed_;
+    }
 
     std::atomic<int> matched{0};
 
   private:
     mutable std::mutex mutex_;
     std::vector<Received> received_;
+    std::set<fdds::InstanceHandle_t> disposed_;
 };
 
 /// Records the WAN writers the base camp discovers, with their Lifespan.
@@ -219,7 +249,9 @@ class PublisherWatcher final : public fdds::DomainParticipantListener {
         }
         std::lock_guard<std::mutex> lock(mutex_);
         seen_.push_back({info.info.topicName().to_string(), info.info.typeName().to_string(),
-                         info.info.m_qos.m_lifespan.duration, info.info.m_qos.m_reliability.kind});
+                         info.info.m_qos.m_lifespan.duration, info.info.m_qos.m_reliability.kind,
+                         info.info.m_qos.m_durability.kind, info.info.m_qos.m_ownership.kind,
+                         info.info.m_qos.m_ownershipStrength.value, info.info.m_qos.m_partition.names()});
     }
 
     struct Seen {
@@ -227,6 +259,10 @@ class PublisherWatcher final : public fdds::DomainParticipantListener {
         std::string type_name;
         eprosima::fastrtps::Duration_t lifespan;
         fdds::ReliabilityQosPolicyKind reliability;
+        fdds::DurabilityQosPolicyKind durability;
+        fdds::OwnershipQosPolicyKind ownership;
+        std::uint32_t ownership_strength;
+        std::vector<std::string> partitions;
     };
 
     bool find(const std::string& topic, Seen& out) const {

@@ -75,9 +75,9 @@ int main(int argc, char** argv) {
     const dds_topic_descriptor_t* desc = args.keyed ? &tgw_xv_KeyedBlob_desc : &tgw_xv_Blob_desc;
     const dds_entity_t topic = dds_create_topic(participant, desc, args.topic, NULL, NULL);
     dds_qos_t* qos = dds_create_qos();
-    /* Best effort, the DDS default for readers: it matches the gateway's WAN writers whatever their
-     * reliability. The publisher repeats its samples, so a lost one comes again. */
-    dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
+    /* Reliable, as ROS 2 and ddsperf readers are: it matches only because the gateway's WAN writer offers what
+     * the (reliable) Cyclone publisher offered. */
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
     dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
     const dds_entity_t reader = dds_create_reader(participant, topic, qos, NULL);
     dds_delete_qos(qos);

@@ -333,14 +333,15 @@ TEST_F(DropAccountingTest, PrintsTheAccountingTable) {
         std::vector<std::string> f;
         for (std::string x; fields >> x;)
             f.push_back(x);
-        if (f.size() == 13 && f[0] == "telemetry/A") {
+        if (f.size() == 14 && f[0] == "telemetry/A") {
             found = true;
             EXPECT_EQ(f[1], "3");
             EXPECT_EQ(f[2], "1");
             EXPECT_EQ(f[6], "1");    // doomed
-            EXPECT_EQ(f[10], "1*");  // lost on the link, inferred
-            EXPECT_EQ(f[11], "0");   // unaccounted
-            EXPECT_EQ(f[12], "sequence");
+            EXPECT_EQ(f[10], "0");   // write_failed
+            EXPECT_EQ(f[11], "1*");  // lost on the link, inferred
+            EXPECT_EQ(f[12], "0");   // unaccounted
+            EXPECT_EQ(f[13], "sequence");
         }
     }
     EXPECT_TRUE(found) << text;

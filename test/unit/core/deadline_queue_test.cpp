@@ -71,6 +71,18 @@ TEST_F(DeadlineQueueTest, TakeHandsOverThePayload) {
     EXPECT_EQ(s.payload, (std::vector<std::uint8_t>{0xab, 0xab, 0xab}));
 }
 
+TEST_F(DeadlineQueueTest, KeepsTheRouteAndKindOfASampleThroughASlotsReuse) {
+    sut.push(make(0, 10, 0), 0);
+    sut.take(sut.most_urgent());  // the slot goes back to the free list
+    Sample dispose = make(0, 10, 1, 0);
+    dispose.route = 3;
+    dispose.kind = SampleKind::dispose;
+    sut.push(std::move(dispose), 0);
+    const Sample s = sut.take(sut.most_urgent());
+    EXPECT_EQ(s.route, 3u);
+    EXPECT_EQ(s.kind, SampleKind::dispose);
+}
+
 TEST_F(DeadlineQueueTest, PlacesAnOutOfOrderSampleOfATopicByItsDeadline) {
     sut.push(make(0, 100, 0), 1);
     sut.push(make(0, 300, 1), 1);

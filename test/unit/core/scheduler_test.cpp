@@ -64,6 +64,19 @@ class SchedulerTest : public ::testing::Test {
     TopicId a = 0, b = 0, c = 0, d = 0;
 };
 
+TEST_F(SchedulerTest, CountsARefusedWriteAsWriteFailedNotForwarded) {
+    make_sut(PolicyKind::ttl, 100'000);
+    sink.refuse_writes();
+    push(a);
+    release();
+    const TopicCounters counters = sut->counters(a);
+    EXPECT_EQ(counters.forwarded, 0u);
+    EXPECT_EQ(counters.forwarded_payload_bytes, 0u);
+    EXPECT_EQ(counters.dropped_for(DropReason::write_failed), 1u);
+    EXPECT_EQ(sink.dropped_count(DropReason::write_failed), 1u);
+    EXPECT_EQ(counters.received, counters.forwarded + counters.queued + counters.dropped_total());
+}
+
 TEST_F(SchedulerTest, SendsAtOnceWhenTheLinkIsFree) {
     make_sut(PolicyKind::ttl, 100'000);
     push(d);

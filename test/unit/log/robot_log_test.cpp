@@ -199,7 +199,8 @@ TEST_F(RobotLogTest, StoresEveryReasonByName) {
     std::vector<std::string> reasons;
     for (const auto& row : rows)
         reasons.push_back(row.reason);
-    EXPECT_EQ(reasons, (std::vector<std::string>{"expired", "doomed", "evicted", "oversize", "shutdown"}));
+    EXPECT_EQ(reasons,
+              (std::vector<std::string>{"expired", "doomed", "evicted", "oversize", "shutdown", "write_failed"}));
 }
 
 TEST_F(RobotLogTest, FlushReturnsOnlyOnceEverythingAppendedIsInTheFile) {

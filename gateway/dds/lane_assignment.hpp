@@ -1,0 +1,36 @@
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <shared_mutex>
+
+#include <fastdds/rtps/common/Guid.h>
+#include <fastdds/rtps/common/InstanceHandle.h>
+
+namespace tgw::dds {
+
+/// Which lane of a topic carries each robot-domain writer. A writer whose QoS meets several of the topic's
+/// readers (a reliable writer also matches the best-effort lane's reader) reaches each of them, but only its
+/// own lane forwards it, so nothing crosses twice. Thread-safe: the bridge threads ask, the gateway's worker
+/// assigns.
+class LaneAssignment {
+  public:
+    void assign(const eprosima::fastrtps::rtps::GUID_t& writer, std::uint16_t lane) {
+        std::unique_lock<std::shared_mutex> lock(mutex_);
+        lanes_[eprosima::fastrtps::rtps::InstanceHandle_t(writer)] = lane;
+    }
+
+    /// True when `lane` forwards the samples of the writer `publication` (SampleInfo::publication_handle). A
+    /// writer not assigned yet goes through whichever lane has it: its own lane does not exist yet.
+    bool carries(const eprosima::fastrtps::rtps::InstanceHandle_t& publication, std::uint16_t lane) const {
+        std::shared_lock<std::shared_mutex> lock(mutex_);
+        const auto it = lanes_.find(publication);
+        return it == lanes_.end() || it->second == lane;
+    }
+
+  private:
+    mutable std::shared_mutex mutex_;
+    std::map<eprosima::fastrtps::rtps::InstanceHandle_t, std::uint16_t> lanes_;
+};
+
+}  // namespace tgw::dds

@@ -1,0 +1,169 @@
+#pragma once
+
+// The fixture of the gateway's integration tests: a robot participant, a base-camp participant and the Gateway
+// between them, in one process, on domains of this process.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gateway/core/clock.hpp"
+#include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/gateway.hpp"
+#include "test/integration/dds_test_support.hpp"
+#include "test/integration/error_log_counter.hpp"
+
+namespace tgw::test {
+
+using namespace std::chrono_literals;
+using dds::Gateway;
+using dds::GatewayConfig;
+
+inline constexpr auto MATCH_TIMEOUT = std::chrono::milliseconds(8000);
+
+class GatewayIntegrationTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        ErrorLogCounter::instance().take_errors();
+        use_transports_in_process();
+        domains_ = TestDomains::for_this_process();
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        topic_prefix_ = std::string("tgw_it/") + info->name() + "/";
+        robot_ = std::make_unique<TestParticipant>(domains_.robot, TestParticipant::robot_qos());
+        ASSERT_TRUE(robot_->ok());
+        basecamp_ = std::make_unique<TestParticipant>(
+            domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port), &watcher_);
+        ASSERT_TRUE(basecamp_->ok());
+    }
+
+    void TearDown() override {
+        gateway_.reset();
+        robot_.reset();
+        basecamp_.reset();
+        listeners_.clear();
+        for (const std::string& file : files_) {
+            std::remove(file.c_str());
+            std::remove((file + "-wal").c_str());
+            std::remove((file + "-shm").c_str());
+        }
+        const auto errors = ErrorLogCounter::instance().take_errors();
+        std::string all;
+        for (const auto& e : errors) {
+            all += e + "\n";
+        }
+        EXPECT_TRUE(errors.empty()) << "Fast DDS logged errors:\n" << all;
+    }
+
+    GatewayConfig config() const {
+        GatewayConfig c;
+        c.robot_domain = domains_.robot;
+        c.wan_domain = domains_.wan;
+        c.wan_peers = {"127.0.0.1:" + std::to_string(domains_.wan_reader_port)};
+        c.wan_interface = "127.0.0.1";
+        c.wan_port = domains_.gateway_wan_port;
+        c.scheduler.initial_rate_bps = 50e6;
+        c.default_ttl = 5s;
+        return c;
+    }
+
+    void start_gateway(const GatewayConfig& c) { gateway_ = std::make_unique<Gateway>(c, clock_); }
+
+    /// A listener that outlives the entities it is attached to (they are deleted in TearDown).
+    template <typename T>
+    T& listener() {
+        auto owned = std::make_shared<T>();
+        listeners_.push_back(owned);
+        return *owned;
+    }
+
+    std::string temp_file(const std::string& suffix) {
+        const std::string path = "/tmp/tgw_it_" + std::to_string(::getpid()) + "_" +
+                                 ::testing::UnitTest::GetInstance()->current_test_info()->name() + suffix;
+        files_.push_back(path);
+        std::remove(path.c_str());
+        return path;
+    }
+
+    static fdds::DataWriterQos robot_writer_qos(TestParticipant& p, std::optional<core::Duration> lifespan = {}) {
+        fdds::DataWriterQos q = p.default_writer_qos();
+        q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+        q.history().depth = 1000;
+        if (lifespan) {
+            q.lifespan().duration = dds::to_dds_duration(*lifespan);
+        }
+        return q;
+    }
+
+    static fdds::DataReaderQos wan_reader_qos(TestParticipant& p) {
+        fdds::DataReaderQos q = p.default_reader_qos();
+        q.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+        q.history().depth = 1000;
+        return q;
+    }
+
+    /// Waits until the gateway bridges `topic`, its robot reader matched `writer_matches` and its WAN writer
+    /// matched `reader_matches`.
+    void wait_for_bridge(const std::string& topic, const MatchCounter& writer_matches,
+                         const std::atomic<int>& reader_matches) {
+        ASSERT_TRUE(gateway_->wait_for_topic(topic, MATCH_TIMEOUT)) << topic << " was never bridged";
+        ASSERT_TRUE(wait_until([&] { return writer_matches.matched.load() > 0; }, MATCH_TIMEOUT))
+            << "the gateway's robot reader never matched " << topic;
+        ASSERT_TRUE(wait_until([&] { return reader_matches.load() > 0; }, MATCH_TIMEOUT))
+            << "the base camp never matched the gateway's WAN writer of " << topic;
+        // Both ends must know each other: the WAN writer is best effort, so what it writes before it has
+        // matched the base camp's reader is lost for good.
+        const core::TopicId id = gateway_->find_topic(topic)->id;
+        ASSERT_TRUE(wait_until([&] { return gateway_->wan_matched_readers(id) > 0; }, MATCH_TIMEOUT))
+            << "the gateway's WAN writer never matched the base camp's reader of " << topic;
+        ASSERT_TRUE(wait_until([&] { return gateway_->robot_matched_writers(id) > 0; }, MATCH_TIMEOUT))
+            << "the gateway's robot reader never matched the writer of " << topic;
+    }
+
+    /// Makes a writer of `topic` on `robot` (the robot participant by default) and a base camp reader feeding
+    /// `wan`, then waits until the gateway bridges the two. The writer, or nullptr with the failure recorded.
+    template <typename PubSubType, typename Sample>
+    fdds::DataWriter* bridge(const std::string& topic, const fdds::DataWriterQos& qos, CollectingReader<Sample>& wan,
+                             TestParticipant* robot = nullptr) {
+        TestParticipant& publisher = robot ? *robot : *robot_;
+        auto& writer_matches = listener<MatchCounter>();
+        auto* writer = publisher.make_writer(topic, fdds::TypeSupport(new PubSubType()), qos, &writer_matches);
+        if (writer == nullptr) {
+            ADD_FAILURE() << "cannot create a robot writer of " << topic;
+            return nullptr;
+        }
+        if (basecamp_->make_reader(topic, fdds::TypeSupport(new PubSubType()), wan_reader_qos(*basecamp_), &wan) ==
+            nullptr) {
+            ADD_FAILURE() << "cannot create a base camp reader of " << topic;
+            return nullptr;
+        }
+        wait_for_bridge(topic, writer_matches, wan.matched);
+        return HasFatalFailure() ? nullptr : writer;
+    }
+
+    void expect_balanced() const {
+        const core::TopicCounters c = gateway_->total_counters();
+        EXPECT_EQ(c.received, c.forwarded + c.queued + c.dropped_total())
+            << "received " << c.received << " forwarded " << c.forwarded << " queued " << c.queued << " dropped "
+            << c.dropped_total();
+    }
+
+    static eprosima::fastrtps::Time_t wall_stamp(core::WallTime t) { return dds::to_dds_time(t); }
+
+    core::SystemClock clock_;
+    TestDomains domains_;
+    std::string topic_prefix_;
+    PublisherWatcher watcher_;
+    std::unique_ptr<TestParticipant> robot_;
+    std::unique_ptr<TestParticipant> basecamp_;
+    std::unique_ptr<Gateway> gateway_;
+    std::vector<std::string> files_;
+    std::vector<std::shared_ptr<void>> listeners_;
+};
+
+}  // namespace tgw::test

@@ -1,0 +1,386 @@
+// Any base-camp reader that would match the robot's publisher matches the gateway: real Fast DDS participants,
+// with the QoS programs use by default (ROS 2's reliable readers, Fast DDS's transient-local writers), and
+// every case checks what arrives, not only that endpoints matched.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "KeyedReadingPubSubTypes.h"
+#include "PaperWorkloadPubSubTypes.h"
+#include "RosStringPubSubTypes.h"
+#include "test/integration/gateway_fixture.hpp"
+
+namespace tgw::test {
+namespace {
+
+using Offer = dds::OfferedQos;
+
+class QosMatchingTest : public GatewayIntegrationTest {
+  protected:
+    /// What a robot process offers: Fast DDS's default writer (reliable, transient local) with room for bursts.
+    fdds::DataWriterQos writer_qos(bool reliable, bool transient_local, int depth = 100) const {
+        fdds::DataWriterQos q = robot_->default_writer_qos();
+        q.reliability().kind = reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+        q.durability().kind = transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+        q.history().depth = depth;
+        return q;
+    }
+
+    /// What a base-camp program asks for: ROS 2's default is reliable, volatile, keep last 10.
+    fdds::DataReaderQos reader_qos(bool reliable, bool transient_local, int depth = 100) const {
+        fdds::DataReaderQos q = basecamp_->default_reader_qos();
+        q.reliability().kind = reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+        q.durability().kind = transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+        q.history().depth = depth;
+        return q;
+    }
+
+    template <typename PubSubType>
+    fdds::DataWriter* robot_writer(const std::string& topic, const fdds::DataWriterQos& qos,
+                                   const std::vector<std::string>& partitions = {}) {
+        auto& matches = listener<MatchCounter>();
+        auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new PubSubType()), qos, &matches, partitions);
+        EXPECT_NE(writer, nullptr) << "cannot create the robot writer of " << topic;
+        if (writer != nullptr) {
+            EXPECT_TRUE(gateway_->wait_for_topic(topic, MATCH_TIMEOUT)) << topic << " was never bridged";
+            EXPECT_TRUE(wait_until([&] { return matches.matched.load() > 0; }, MATCH_TIMEOUT))
+                << "the gateway never matched the robot writer of " << topic;
+        }
+        return writer;
+    }
+
+    template <typename PubSubType, typename Sample>
+    bool basecamp_reader(const std::string& topic, const fdds::DataReaderQos& qos, CollectingReader<Sample>& into,
+                         const std::vector<std::string>& partitions = {}) {
+        if (basecamp_->make_reader(topic, fdds::TypeSupport(new PubSubType()), qos, &into, partitions) == nullptr) {
+            ADD_FAILURE() << "cannot create the base-camp reader of " << topic;
+            return false;
+        }
+        return true;
+    }
+
+    /// Waits until `reader` and the gateway's WAN writer of `topic` know each other: a volatile writer does not
+    /// send what it wrote before it matched the reader.
+    template <typename Sample>
+    void wait_until_linked(const std::string& topic, const CollectingReader<Sample>& reader) {
+        ASSERT_TRUE(wait_until([&] { return reader.matched.load() > 0; }, MATCH_TIMEOUT))
+            << "the base camp's reader never matched the gateway's writer of " << topic;
+        const core::TopicId id = gateway_->find_topic(topic)->id;
+        ASSERT_TRUE(wait_until([&] { return gateway_->wan_matched_readers(id) > 0; }, MATCH_TIMEOUT))
+            << "the gateway's WAN writer never matched the base camp's reader of " << topic;
+        ASSERT_TRUE(wait_until([&] { return gateway_->robot_matched_writers(id) > 0; }, MATCH_TIMEOUT))
+            << "the gateway's robot reader never matched the writer of " << topic;
+    }
+
+    /// Writes paper messages 0 .. count-1 and expects each at the base camp once, in order.
+    void expect_numbered_samples_cross(fdds::DataWriter* writer, const CollectingReader<idl::PaperMessage>& wan,
+                                       std::uint64_t count) {
+        for (std::uint64_t i = 0; i < count; ++i) {
+            auto m = paper_message(i);
+            ASSERT_TRUE(writer->write(&m));
+        }
+        EXPECT_TRUE(wait_until([&] { return wan.count() >= count; })) << "got " << wan.count() << " of " << count;
+        EXPECT_EQ(numbers(wan), range(0, count));
+    }
+
+    static idl::PaperMessage paper_message(std::uint64_t n) {
+        idl::PaperMessage m;
+        m.generated_ns(n);
+        m.data(std::vector<std::uint8_t>(41, static_cast<std::uint8_t>(n)));
+        return m;
+    }
+
+    /// The generated_ns of every sample received, in order.
+    static std::vector<std::uint64_t> numbers(const CollectingReader<idl::PaperMessage>& reader) {
+        std::vector<std::uint64_t> out;
+        for (const auto& r : reader.received()) {
+            out.push_back(r.data.generated_ns());
+        }
+        return out;
+    }
+
+    static std::vector<std::uint64_t> range(std::uint64_t first, std::uint64_t count) {
+        std::vector<std::uint64_t> out;
+        for (std::uint64_t i = 0; i < count; ++i) {
+            out.push_back(first + i);
+        }
+        return out;
+    }
+};
+
+struct MatrixCase {
+    const char* name;
+    bool writer_reliable;
+    bool writer_transient_local;
+    bool reader_reliable;
+    bool reader_transient_local;
+};
+
+class QosMatrixTest : public QosMatchingTest, public ::testing::WithParamInterface<MatrixCase> {};
+
+// Every pairing DDS itself would match: the reader asks for no more than the publisher offers.
+TEST_P(QosMatrixTest, ABaseCampReaderGetsEverySampleOfAPublisherItWouldMatchDirectly) {
+    const MatrixCase c = GetParam();
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + c.name;
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(
+        topic, reader_qos(c.reader_reliable, c.reader_transient_local), wan));
+    auto* writer =
+        robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(c.writer_reliable, c.writer_transient_local));
+    ASSERT_NE(writer, nullptr);
+    wait_until_linked(topic, wan);
+    ASSERT_FALSE(HasFatalFailure());
+
+    expect_numbered_samples_cross(writer, wan, 50);
+    const auto bridged = gateway_->find_topic(topic);
+    ASSERT_EQ(bridged->lanes.size(), 1u);
+    EXPECT_EQ(bridged->lanes[0].reliable, c.writer_reliable);
+    EXPECT_EQ(bridged->lanes[0].transient_local, c.writer_transient_local);
+    expect_balanced();
+}
+
+INSTANTIATE_TEST_SUITE_P(Pairings, QosMatrixTest,
+                         ::testing::Values(MatrixCase{"reliable_to_reliable", true, false, true, false},
+                                           MatrixCase{"reliable_to_best_effort", true, false, false, false},
+                                           MatrixCase{"best_effort_to_best_effort", false, false, false, false},
+                                           MatrixCase{"latched_to_reliable_volatile", true, true, true, false},
+                                           MatrixCase{"latched_to_latched", true, true, true, true}),
+                         [](const ::testing::TestParamInfo<MatrixCase>& info) { return std::string(info.param.name); });
+
+TEST_F(QosMatchingTest, TheWanWriterOffersWhatThePublisherOffered) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "mirrored";
+    fdds::DataWriterQos q = writer_qos(true, true);
+    q.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
+    q.ownership_strength().value = 42;
+    q.deadline().period = eprosima::fastrtps::Duration_t(2, 0);
+    ASSERT_NE(robot_writer<idl::PaperMessagePubSubType>(topic, q, {"site7"}), nullptr);
+
+    PublisherWatcher::Seen seen;
+    ASSERT_TRUE(wait_until([&] { return watcher_.find(topic, seen); }, MATCH_TIMEOUT));
+    EXPECT_EQ(seen.reliability, fdds::RELIABLE_RELIABILITY_QOS);
+    EXPECT_EQ(seen.durability, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
+    EXPECT_EQ(seen.ownership, fdds::EXCLUSIVE_OWNERSHIP_QOS);
+    EXPECT_EQ(seen.ownership_strength, 42u);
+    EXPECT_EQ(seen.partitions, std::vector<std::string>{"site7"});
+}
+
+TEST_F(QosMatchingTest, AnExclusiveOwnershipReaderGetsTheSamples) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "exclusive";
+    fdds::DataWriterQos wq = writer_qos(true, false);
+    wq.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
+    wq.ownership_strength().value = 5;
+    fdds::DataReaderQos rq = reader_qos(true, false);
+    rq.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, rq, wan));
+    auto* writer = robot_writer<idl::PaperMessagePubSubType>(topic, wq);
+    ASSERT_NE(writer, nullptr);
+    wait_until_linked(topic, wan);
+    ASSERT_FALSE(HasFatalFailure());
+    expect_numbered_samples_cross(writer, wan, 10);
+}
+
+TEST_F(QosMatchingTest, APartitionedPublisherReachesReadersOfItsPartitionOnly) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "partitioned";
+    auto& in_site = listener<CollectingReader<idl::PaperMessage>>();
+    auto& outside = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, reader_qos(true, false), in_site, {"site7"}));
+    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, reader_qos(false, false), outside));
+    auto* writer = robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(true, false), {"site7"});
+    ASSERT_NE(writer, nullptr);
+    wait_until_linked(topic, in_site);
+    ASSERT_FALSE(HasFatalFailure());
+
+    expect_numbered_samples_cross(writer, in_site, 20);
+    EXPECT_EQ(outside.count(), 0u) << "a reader outside the partition got samples of it";
+    EXPECT_EQ(outside.matched.load(), 0);
+}
+
+TEST_F(QosMatchingTest, ReliableAndBestEffortPublishersOfOneTopicEachArriveOnce) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "mixed";
+    auto& best_effort = listener<CollectingReader<idl::PaperMessage>>();
+    auto& reliable = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, reader_qos(false, false), best_effort));
+    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, reader_qos(true, false), reliable));
+    // The reliable one first: a reader copied from it would never match the best-effort one.
+    auto* strong = robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(true, false));
+    ASSERT_NE(strong, nullptr);
+    auto& weak_matches = listener<MatchCounter>();
+    auto* weak = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                     writer_qos(false, false), &weak_matches);
+    ASSERT_NE(weak, nullptr);
+    ASSERT_TRUE(wait_until([&] { return weak_matches.matched.load() > 0; }, MATCH_TIMEOUT))
+        << "the gateway never matched the best-effort publisher";
+    ASSERT_TRUE(wait_until([&] { return gateway_->find_topic(topic)->lanes.size() == 2; }, MATCH_TIMEOUT));
+    ASSERT_TRUE(
+        wait_until([&] { return best_effort.matched.load() == 2 && reliable.matched.load() == 1; }, MATCH_TIMEOUT))
+        << "best-effort reader matched " << best_effort.matched.load() << " writers, reliable "
+        << reliable.matched.load();
+    const core::TopicId id = gateway_->find_topic(topic)->id;
+    ASSERT_TRUE(wait_until([&] { return gateway_->wan_matched_readers(id) == 3; }, MATCH_TIMEOUT))
+        << "the gateway's two WAN writers matched " << gateway_->wan_matched_readers(id) << " readers, not 3";
+
+    for (std::uint64_t i = 0; i < 20; ++i) {
+        auto a = paper_message(i);
+        auto b = paper_message(1000 + i);
+        ASSERT_TRUE(strong->write(&a));
+        ASSERT_TRUE(weak->write(&b));
+    }
+    ASSERT_TRUE(wait_until([&] { return best_effort.count() >= 40 && reliable.count() >= 20; }))
+        << "best effort got " << best_effort.count() << " of 40, reliable " << reliable.count() << " of 20";
+    std::multiset<std::uint64_t> got;
+    for (std::uint64_t n : numbers(best_effort)) {
+        got.insert(n);
+    }
+    std::multiset<std::uint64_t> expected;
+    for (std::uint64_t i = 0; i < 20; ++i) {
+        expected.insert(i);
+        expected.insert(1000 + i);
+    }
+    EXPECT_EQ(got, expected) << "each sample once, from both publishers";
+    EXPECT_EQ(numbers(reliable), range(0, 20)) << "the reliable reader gets the reliable publisher's samples";
+    EXPECT_EQ(gateway_->total_counters().forwarded, 40u) << "a sample crossed twice";
+}
+
+TEST_F(QosMatchingTest, ALateJoinerToALatchedTopicGetsTheLastSampleOfEachInstanceAfterTheTtl) {
+    GatewayConfig c = config();
+    c.default_ttl = 300ms;
+    start_gateway(c);
+    const std::string topic = topic_prefix_ + "latched";
+    // /tf_static's QoS: reliable, transient local, keep last 1, no Lifespan.
+    auto* writer = robot_writer<idl::KeyedReadingPubSubType>(topic, writer_qos(true, true, 1));
+    ASSERT_NE(writer, nullptr);
+    auto& early = listener<CollectingReader<idl::KeyedReading>>();
+    ASSERT_TRUE(basecamp_reader<idl::KeyedReadingPubSubType>(topic, reader_qos(true, true), early));
+    wait_until_linked(topic, early);
+    ASSERT_FALSE(HasFatalFailure());
+    for (std::uint32_t round = 0; round < 2; ++round) {
+        for (std::uint32_t sensor : {1u, 2u, 3u}) {
+            idl::KeyedReading r;
+            r.sensor_id(sensor);
+            r.value(round);
+            ASSERT_TRUE(writer->write(&r));
+        }
+    }
+    ASSERT_TRUE(wait_until([&] { return early.count() >= 6; })) << "got " << early.count();
+    const auto written = std::chrono::steady_clock::now();
+    ASSERT_TRUE(wait_until([&] { return std::chrono::steady_clock::now() - written > 3 * c.default_ttl; }));
+
+    auto& late = listener<CollectingReader<idl::KeyedReading>>();
+    ASSERT_TRUE(basecamp_reader<idl::KeyedReadingPubSubType>(topic, reader_qos(true, true), late));
+    std::set<fdds::InstanceHandle_t> early_instances;
+    for (const auto& r : early.received()) {
+        early_instances.insert(r.info.instance_handle);
+    }
+    EXPECT_EQ(early_instances.size(), 3u) << "the instances were not kept apart";
+    EXPECT_EQ(gateway_->wan_writer_lifespan(gateway_->find_topic(topic)->id), std::nullopt)
+        << "a latched sample must outlive the TTL in the WAN writer's history";
+    ASSERT_TRUE(wait_until([&] { return late.count() >= 3; }))
+        << "the late joiner got " << late.count() << " of 3"
+        << (late.count() ? ", the first of sensor " + std::to_string(late.received()[0].data.sensor_id()) : "");
+    std::map<std::uint32_t, double> last;
+    for (const auto& r : late.received()) {
+        last[r.data.sensor_id()] = r.data.value();
+    }
+    EXPECT_EQ(last, (std::map<std::uint32_t, double>{{1, 1.0}, {2, 1.0}, {3, 1.0}}));
+    EXPECT_EQ(late.count(), 3u) << "only the last sample of each instance";
+}
+
+TEST_F(QosMatchingTest, AThousandInstancesInABurstArriveApart) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "instances";
+    constexpr std::uint32_t KEYS = 1000;
+    // Room for every instance on both ends (Fast DDS's default is 10).
+    fdds::DataReaderQos rq = reader_qos(true, false, 1);
+    rq.resource_limits().max_instances = KEYS;
+    rq.resource_limits().max_samples = KEYS;
+    rq.resource_limits().max_samples_per_instance = 1;
+    fdds::DataWriterQos wq = writer_qos(true, false, 1);
+    wq.resource_limits() = rq.resource_limits();
+    auto& wan = listener<CollectingReader<idl::KeyedReading>>();
+    ASSERT_TRUE(basecamp_reader<idl::KeyedReadingPubSubType>(topic, rq, wan));
+    auto* writer = robot_writer<idl::KeyedReadingPubSubType>(topic, wq);
+    ASSERT_NE(writer, nullptr);
+    wait_until_linked(topic, wan);
+    ASSERT_FALSE(HasFatalFailure());
+
+    std::map<std::uint32_t, fdds::InstanceHandle_t> robot_handles;
+    for (std::uint32_t sensor = 0; sensor < KEYS; ++sensor) {
+        idl::KeyedReading r;
+        r.sensor_id(sensor);
+        r.value(sensor * 0.5);
+        robot_handles[sensor] = writer->register_instance(&r);
+        ASSERT_EQ(writer->write(&r, robot_handles[sensor]), ReturnCode_t::RETCODE_OK);
+    }
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= KEYS; }, std::chrono::seconds(20)))
+        << "got " << wan.count() << " of " << KEYS;
+    std::map<std::uint32_t, std::set<fdds::InstanceHandle_t>> handles;
+    for (const auto& r : wan.received()) {
+        handles[r.data.sensor_id()].insert(r.info.instance_handle);
+    }
+    ASSERT_EQ(handles.size(), KEYS);
+    std::set<fdds::InstanceHandle_t> distinct;
+    for (const auto& [sensor, h] : handles) {
+        ASSERT_EQ(h.size(), 1u) << "sensor " << sensor << " arrived as several instances";
+        EXPECT_EQ(*h.begin(), robot_handles[sensor]);
+        distinct.insert(*h.begin());
+    }
+    EXPECT_EQ(distinct.size(), KEYS);
+
+    expect_balanced();
+}
+
+TEST_F(QosMatchingTest, ARos2ChatterListenerWithDefaultQosGetsEveryMessage) {
+    start_gateway(config());
+    const std::string topic = "rt/chatter";  // the domains are this test's own
+    // rclcpp's defaults on both sides: reliable, volatile, keep last 10.
+    auto& listener_node = listener<CollectingReader<std_msgs::msg::dds_::String_>>();
+    ASSERT_TRUE(
+        basecamp_reader<std_msgs::msg::dds_::String_PubSubType>(topic, reader_qos(true, false, 10), listener_node));
+    auto* talker = robot_writer<std_msgs::msg::dds_::String_PubSubType>(topic, writer_qos(true, false, 10));
+    ASSERT_NE(talker, nullptr);
+    wait_until_linked(topic, listener_node);
+    ASSERT_FALSE(HasFatalFailure());
+
+    constexpr std::size_t N = 200;
+    for (std::size_t i = 0; i < N; ++i) {
+        std_msgs::msg::dds_::String_ hello;
+        hello.data("Hello World: " + std::to_string(i));
+        ASSERT_TRUE(talker->write(&hello));
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));  // a talker publishes at a rate, not at once
+    }
+    ASSERT_TRUE(wait_until([&] { return listener_node.count() >= N; })) << "got " << listener_node.count();
+    const auto got = listener_node.received();
+    for (std::size_t i = 0; i < N; ++i) {
+        EXPECT_EQ(got[i].data.data(), "Hello World: " + std::to_string(i));
+    }
+}
+
+TEST_F(QosMatchingTest, AnXcdr2OnlyPublisherReachesAnXcdr2OnlyReader) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "xcdr2";
+    fdds::DataWriterQos wq = writer_qos(true, false);
+    wq.representation().m_value = {fdds::XCDR2_DATA_REPRESENTATION};
+    fdds::DataReaderQos rq = reader_qos(true, false);
+    rq.type_consistency().representation.m_value = {fdds::XCDR2_DATA_REPRESENTATION};
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, rq, wan));
+    auto* writer = robot_writer<idl::PaperMessagePubSubType>(topic, wq);
+    ASSERT_NE(writer, nullptr);
+    wait_until_linked(topic, wan);
+    ASSERT_FALSE(HasFatalFailure());
+    expect_numbered_samples_cross(writer, wan, 10);
+}
+
+}  // namespace
+}  // namespace tgw::test

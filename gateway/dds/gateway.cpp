@@ -55,6 +55,10 @@ void GatewayConfig::validate() const {
         throw core::ConfigError("--wan-coalesce-us " + std::to_string(wan_coalesce_window.count()) +
                                 ": expected 0 to " + std::to_string(MAX_COALESCE_WINDOW.count()) + " microseconds");
     }
+    if (wan_peer_participants < 1 || wan_peer_participants > MAX_WAN_PEER_PARTICIPANTS) {
+        throw core::ConfigError("--wan-peer-participants " + std::to_string(wan_peer_participants) +
+                                ": expected 1 to " + std::to_string(MAX_WAN_PEER_PARTICIPANTS));
+    }
     if (default_ttl <= core::Duration::zero()) {
         throw core::ConfigError("--default-ttl: must be positive");
     }
@@ -92,9 +96,14 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
 
     WanConfig wan;
     wan.domain = config_.wan_domain;
-    for (const std::string& peer : config_.wan_peers) {
-        wan.peers.push_back(parse_wan_peer(peer, config_.wan_domain));
+    for (const std::string& text : config_.wan_peers) {
+        const WanPeer peer = parse_wan_peer(text, config_.wan_domain);
+        for (const std::uint16_t port : peer_ports(peer, config_.wan_domain, config_.wan_peer_participants)) {
+            wan.peers.push_back(WanPeer{peer.address, port, true});
+        }
     }
+    // Each announcement (SPDP, and SEDP of every new endpoint) goes to each of these ports over the link.
+    wan_announcement_copies_ = std::max<std::size_t>(1, wan.peers.size());
     if (!config_.wan_interface.empty()) {
         wan.interface_address = resolve_interface_address(config_.wan_interface);
     }
@@ -127,7 +136,7 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
         loop_->charge_link(8u *
                            config_.scheduler.wire.announcement_bytes(std::string(RECEIVER_REPORT_TOPIC).size(),
                                                                      std::string("tgw::idl::ReceiverReport").size()) *
-                           std::max<std::size_t>(1, config_.wan_peers.size()));
+                           wan_announcement_copies_);
     }
 
     discovery_ = std::make_unique<Discovery>(
@@ -293,7 +302,7 @@ bool Gateway::add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub) {
     // The new writer's SEDP announcement goes to every peer over the same slow link as the samples.
     const std::size_t announcement =
         config_.scheduler.wire.announcement_bytes(bridge.info.name.size(), bridge.info.type_name.size());
-    loop_->charge_link(8u * announcement * std::max<std::size_t>(1, config_.wan_peers.size()));
+    loop_->charge_link(8u * announcement * wan_announcement_copies_);
 
     Bridge::Lane lane;
     lane.listener =

@@ -43,8 +43,11 @@ struct GatewayConfig {
     int robot_domain = 0;
     int wan_domain = 1;
     std::vector<std::string> wan_peers;  ///< ADDR or ADDR:PORT, see parse_wan_peer
-    std::string wan_interface;           ///< interface name or IPv4 address; empty: every interface
-    std::uint16_t wan_port = 0;          ///< own metatraffic port on the WAN; 0: Fast DDS's well-known port
+    /// A peer given without a port gets the announcements at the ports of this many participants (peer_ports).
+    int wan_peer_participants = 4;
+    static constexpr int MAX_WAN_PEER_PARTICIPANTS = 32;
+    std::string wan_interface;   ///< interface name or IPv4 address; empty: every interface
+    std::uint16_t wan_port = 0;  ///< own metatraffic port on the WAN; 0: Fast DDS's well-known port
     RobotTransport robot;
     std::string qos_file;            ///< Fast DDS XML; empty: none
     std::string log_file;            ///< on-robot SQLite log; empty: none
@@ -161,6 +164,7 @@ class Gateway {
     std::thread worker_;
 
     std::unique_ptr<RobotParticipant> robot_;
+    std::size_t wan_announcement_copies_ = 1;
     std::mutex stop_mutex_;
     bool stopped_ = false;
 };

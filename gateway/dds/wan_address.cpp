@@ -73,7 +73,19 @@ WanPeer parse_wan_peer(const std::string& text, int domain) {
         throw core::ConfigError("--wan-peer '" + text + "': port must be a number from 1 to 65535");
     }
     peer.port = static_cast<std::uint16_t>(port);
+    peer.exact_port = true;
     return peer;
+}
+
+std::vector<std::uint16_t> peer_ports(const WanPeer& peer, int domain, int participants) {
+    if (peer.exact_port) {
+        return {peer.port};
+    }
+    std::vector<std::uint16_t> ports;
+    for (int id = 0; id < participants; ++id) {
+        ports.push_back(metatraffic_unicast_port(domain, id));
+    }
+    return ports;
 }
 
 std::string resolve_interface_address(const std::string& name_or_address, const std::string& flag) {

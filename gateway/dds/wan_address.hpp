@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace tgw::dds {
 
@@ -9,15 +10,22 @@ namespace tgw::dds {
 struct WanPeer {
     std::string address;  ///< dotted IPv4
     std::uint16_t port = 0;
+    /// The port was given: announce to it alone. Otherwise `port` is participant 0's and the gateway announces
+    /// to the first few participants' ports (peer_ports).
+    bool exact_port = false;
 };
 
 /// The RTPS well-known metatraffic unicast port of participant `participant_id` in `domain` (RTPS 9.6.1.1).
 std::uint16_t metatraffic_unicast_port(int domain, int participant_id);
 
-/// Parses --wan-peer "ADDR" or "ADDR:PORT" (IPv4). Without a port, the peer's exact port is taken to be that
-/// of participant 0 in `domain`, so discovery does not go to every possible participant port. Throws
-/// core::ConfigError naming the flag and value.
+/// Parses --wan-peer "ADDR" or "ADDR:PORT" (IPv4). Without a port, `port` is participant 0's in `domain`.
+/// Throws core::ConfigError naming the flag and value.
 WanPeer parse_wan_peer(const std::string& text, int domain);
+
+/// The metatraffic ports the WAN participant announces itself to on `peer`: the one given, or those of
+/// participants 0 .. participants-1 of `domain` on that host (several base-camp programs, each its own
+/// participant; one that announces itself to the robot is found whatever its index).
+std::vector<std::uint16_t> peer_ports(const WanPeer& peer, int domain, int participants);
 
 /// --wan-interface (or another `flag`) as the IPv4 address to bind to: an address is returned as is (after
 /// checking its syntax), an interface name is looked up. Throws core::ConfigError naming the flag when neither

@@ -113,7 +113,12 @@ int main(int argc, char** argv) {
     app.add_option("--robot-domain", config.robot_domain, "DDS domain of the robot's processes")->capture_default_str();
     app.add_option("--wan-domain", config.wan_domain, "DDS domain towards the base camp")->capture_default_str();
     app.add_option("--wan-peer", config.wan_peers,
-                   "base-camp participant, IPv4[:PORT] (default port: participant 0's); repeatable");
+                   "base-camp host, IPv4[:PORT]; without a port, the gateway announces itself to the ports of its "
+                   "first --wan-peer-participants participants; repeatable");
+    app.add_option("--wan-peer-participants", config.wan_peer_participants,
+                   "base-camp programs (DDS participants) per --wan-peer host that find the gateway without "
+                   "announcing themselves to the robot; each costs an announcement on the link")
+        ->capture_default_str();
     app.add_option("--wan-interface", config.wan_interface, "interface name or IPv4 address to bind the WAN to");
     app.add_option("--wan-port", config.wan_port, "own WAN metatraffic port (default: Fast DDS's well-known port)");
     std::size_t max_datagram = config.scheduler.wire.max_datagram_bytes;

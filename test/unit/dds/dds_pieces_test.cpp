@@ -54,6 +54,12 @@ TEST(WanAddressTest, PeerWithoutPortGetsParticipantZerosMetatrafficPort) {
     const WanPeer sut = parse_wan_peer("192.0.2.7", 1);
     EXPECT_EQ(sut.address, "192.0.2.7");
     EXPECT_EQ(sut.port, 7660);  // 7400 + 250 * 1 + 10
+    EXPECT_FALSE(sut.exact_port);
+}
+
+TEST(WanAddressTest, APeerWithoutPortIsAnnouncedToTheFirstParticipantsPorts) {
+    EXPECT_EQ(peer_ports(parse_wan_peer("192.0.2.7", 1), 1, 3), (std::vector<std::uint16_t>{7660, 7662, 7664}));
+    EXPECT_EQ(peer_ports(parse_wan_peer("192.0.2.7:9000", 1), 1, 3), (std::vector<std::uint16_t>{9000}));
 }
 
 TEST(WanAddressTest, PeerWithPortKeepsIt) {

@@ -34,6 +34,9 @@ class LinkBudget {
     /// The link is seen busy until at least `t` (a queue the budget did not fill itself).
     void hold_until(SteadyTime t) { busy_until_ = std::max(busy_until_, t); }
 
+    /// What was charged beyond `t` never reaches the link (a queue dropped it): free from `t` on.
+    void release_to(SteadyTime t) { busy_until_ = std::min(busy_until_, t); }
+
     /// Charge `bits` sent at `now`; returns when they will have left the link.
     SteadyTime charge(SteadyTime now, std::uint64_t bits);
 

@@ -63,6 +63,11 @@ void Scheduler::set_ttl(TopicId topic, Duration ttl) {
     protect_valid_ = false;
 }
 
+void Scheduler::set_extra_wire_bytes(TopicId topic, std::size_t bytes) {
+    topics_[topic].config.extra_wire_bytes = bytes;
+    protect_valid_ = false;
+}
+
 bool Scheduler::active(TopicId topic, SteadyTime now) const {
     const TopicState& t = topics_[topic];
     return t.seen && now - t.last_arrival <= t.config.ttl;
@@ -117,7 +122,7 @@ void Scheduler::push(Sample&& sample, SteadyTime now, WallTime wall_now, SampleS
         origin = std::min(now, now + std::chrono::duration_cast<Duration>(sample.source_time - wall_now));
     }
     sample.deadline = origin + topic.config.ttl;
-    const std::uint64_t wire_bits = config_.wire.wire_bits(sample.payload.size());
+    const std::uint64_t wire_bits = this->wire_bits(sample.topic, sample.payload.size());
     const bool same_limit = topic.protect_epoch == protect_epoch_ && topic.last_wire_bits == wire_bits;
     topic.last_arrival = now;
     topic.last_wire_bits = wire_bits;
@@ -206,7 +211,7 @@ void Scheduler::release_by_deadline(SteadyTime now, SampleSink& sink) {
         bool sent = false;
         queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
             const DeadlineQueue::Peek sample = queue_.at(slot);
-            const std::uint64_t bits = config_.wire.wire_bits(sample.payload_bytes);
+            const std::uint64_t bits = wire_bits(sample.topic, sample.payload_bytes);
             const Duration tx = budget_.transmit_time(bits);
             const bool blocks_urgent = tx > protect.limit_for(sample.topic);
             if (start + tx + config_.link_latency > sample.deadline) {
@@ -253,7 +258,7 @@ void Scheduler::release_paper_period(SteadyTime now, SampleSink& sink) {
     });
     for (DeadlineQueue::Slot slot : marked) {
         Sample sample = take(slot);
-        const std::uint64_t bits = config_.wire.wire_bits(sample.payload.size());
+        const std::uint64_t bits = wire_bits(sample.topic, sample.payload.size());
         budget_.charge(now, bits);
         forward(std::move(sample), bits, sink);
     }
@@ -289,8 +294,26 @@ std::optional<SteadyTime> Scheduler::next_wakeup(SteadyTime now) const {
 }
 
 void Scheduler::charge_link(SteadyTime now, std::uint64_t bits) {
-    if (budget_.rate_bps() > 0.0) {
-        budget_.charge(now, bits);
+    if (budget_.rate_bps() <= 0.0) {
+        return;
+    }
+    const double reserve_bps = std::max(0.0, sensed_rate_bps_ - budget_.rate_bps());
+    if (now > reserve_time_) {
+        reserve_bits_ = std::min(reserve_bits_ + reserve_bps * to_seconds(now - reserve_time_),
+                                 reserve_bps * to_seconds(config_.reserve_window));
+        reserve_time_ = now;
+    }
+    const double covered = std::min(reserve_bits_, static_cast<double>(bits));
+    reserve_bits_ -= covered;
+    bits -= static_cast<std::uint64_t>(covered);
+    if (bits == 0) {
+        return;
+    }
+    const SteadyTime before = budget_.busy_until();
+    const SteadyTime after = budget_.charge(now, bits);
+    const SteadyTime bound = std::max(before, now + config_.link_queue);
+    if (after > bound) {
+        budget_.release_to(bound);
     }
 }
 

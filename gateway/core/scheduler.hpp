@@ -18,15 +18,22 @@ struct SchedulerConfig {
     PolicyKind policy = PolicyKind::ttl;
     double initial_rate_bps = 0.0;
     /// The share of the sensed rate the budget spends. The rest absorbs what the gateway does not schedule (the
-    /// WAN participant's discovery traffic) and a sensor that reads a little high, so that the shaper's queue
-    /// drains instead of standing full.
+    /// WAN participant's discovery traffic, charge_link) and a sensor that reads a little high, so that the
+    /// shaper's queue drains instead of standing full.
     double budget_fraction = 0.95;
+    /// How long the unspent rest of the rate is saved up for traffic charged from outside (charge_link): a
+    /// participant announcing itself every 20 s fits in it, a burst beyond it holds the budget.
+    Duration reserve_window = std::chrono::seconds(20);
     WireModel wire;
     std::size_t memory_cap_bytes = 64u << 20;
     /// How early the next sample may be handed to the link before the previous one has drained.
     Duration lead = std::chrono::milliseconds(2);
     /// One-way latency of the link beyond transmission, counted when judging whether a sample can still arrive.
     Duration link_latency = Duration::zero();
+    /// The longest a link queue holds (its depth in time at the sensed rate). Traffic the gateway does not
+    /// schedule may come in bursts larger than that (discovery at start-up); what overflows the queue is
+    /// dropped on the way, not delayed, so charge_link holds the budget no further than this ahead.
+    Duration link_queue = std::chrono::seconds(1);
     /// Deadlines from the publisher's source timestamp (true) or from the arrival at the gateway (false).
     bool trust_source_clock = true;
     /// `paper` only: the filter's period, and the overhead it assumes on top of the payload (0.25 = 25 %).
@@ -38,6 +45,9 @@ struct SchedulerConfig {
 struct TopicConfig {
     std::string name;
     Duration ttl = std::chrono::seconds(5);
+    /// What each sample of the topic costs on the link beyond the WireModel: a reliable writer's piggy-backed
+    /// HEARTBEAT (WireModel::reliable_heartbeat_bytes).
+    std::size_t extra_wire_bytes = 0;
 };
 
 /// The scheduling core: a pure step machine with no clock and no threads of its own. Samples come in with
@@ -50,6 +60,7 @@ class Scheduler {
 
     TopicId add_topic(const TopicConfig& topic);
     void set_ttl(TopicId topic, Duration ttl);
+    void set_extra_wire_bytes(TopicId topic, std::size_t bytes);
     const TopicConfig& topic(TopicId id) const { return topics_[id].config; }
     std::size_t topic_count() const { return topics_.size(); }
 
@@ -71,8 +82,10 @@ class Scheduler {
     /// What the budget spends: the sensed rate times budget_fraction.
     double budget_rate_bps() const { return budget_.rate_bps(); }
 
-    /// Count traffic the scheduler did not release but that shares the link (the WAN participant announcing a
-    /// new writer): the link is busy with it before the next sample goes.
+    /// Count traffic the scheduler did not release but that shares the link (the WAN participant's discovery,
+    /// heartbeats and repairs). What the reserve (the rate the budget does not spend, saved up over
+    /// reserve_window) covers costs nothing more; beyond it the link is busy with it before the next sample
+    /// goes, up to link_queue ahead.
     void charge_link(SteadyTime now, std::uint64_t bits);
 
     /// The link's own queue holds `bits` now (a shaper's backlog, read by the rate sensor). Nothing more is
@@ -90,6 +103,11 @@ class Scheduler {
     const SchedulerConfig& config() const { return config_; }
 
   private:
+    /// The bits a sample of `payload_bytes` of `topic` puts on the link.
+    std::uint64_t wire_bits(TopicId topic, std::size_t payload_bytes) const {
+        return config_.wire.wire_bits(payload_bytes) + 8u * topics_[topic].config.extra_wire_bytes;
+    }
+
     struct TopicState {
         TopicConfig config;
         TopicCounters counters;
@@ -133,6 +151,8 @@ class Scheduler {
     DeadlineQueue queue_;
     double sensed_rate_bps_;
     LinkBudget budget_;
+    double reserve_bits_ = 0.0;  ///< saved for charge_link, as of reserve_time_
+    SteadyTime reserve_time_{};
     std::uint64_t next_sequence_ = 0;
     SteadyTime next_paper_period_{};
     bool paper_started_ = false;

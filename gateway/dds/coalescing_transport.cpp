@@ -13,6 +13,9 @@ namespace {
 // max_blocking_time of a write.
 constexpr std::chrono::milliseconds SEND_TIMEOUT{100};
 
+// Ethernet 14, IPv4 20, UDP 8 around each datagram (WireModel counts the same).
+constexpr std::uint64_t FRAME_HEADER_BYTES = 42;
+
 /// Walks a DatagramDestination's locators for SenderResource::send.
 class LocatorVectorIterator final : public eprosima::fastdds::rtps::LocatorsIterator {
   public:
@@ -36,8 +39,10 @@ class LocatorVectorIterator final : public eprosima::fastdds::rtps::LocatorsIter
 
 CoalescingTransportDescriptor::CoalescingTransportDescriptor(
     std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> low_level,
-    std::shared_ptr<DatagramCoalescer> coalescer_in)
-    : ChainingTransportDescriptor(std::move(low_level)), coalescer(std::move(coalescer_in)) {}
+    std::shared_ptr<DatagramCoalescer> coalescer_in, UnscheduledTrafficCallback on_unscheduled_in)
+    : ChainingTransportDescriptor(std::move(low_level)),
+      coalescer(std::move(coalescer_in)),
+      on_unscheduled(std::move(on_unscheduled_in)) {}
 
 eprosima::fastdds::rtps::TransportInterface* CoalescingTransportDescriptor::create_transport() const {
     return new CoalescingTransport(*this);
@@ -58,6 +63,11 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     destination.locators.clear();
     for (rtps::LocatorsIterator& it = *destination_locators_begin; it != *destination_locators_end; ++it) {
         destination.locators.push_back(*it);
+    }
+    // A scheduled write was charged for one copy of its message; everything else is reported.
+    const std::size_t scheduled = DatagramCoalescer::DeferScope::current() != 0 ? 1 : 0;
+    if (descriptor_.on_unscheduled && destination.locators.size() > scheduled) {
+        descriptor_.on_unscheduled((destination.locators.size() - scheduled) * (send_buffer_size + FRAME_HEADER_BYTES));
     }
     return coalescer_->send(*this, destination, send_buffer, send_buffer_size);
 }

@@ -1,6 +1,8 @@
 // The WAN participant's UDPv4 transport, with its sends passed through a DatagramCoalescer.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <memory>
 
 #include <fastdds/rtps/transport/ChainingTransport.h>
@@ -10,19 +12,28 @@
 
 namespace tgw::dds {
 
+/// Called with the bytes (whole Ethernet frames) of what the participant sends that no scheduled write
+/// accounts for: discovery, heartbeats, acknowledgements, repairs, history sent to a late joiner, and the
+/// further copies of a sample sent to several readers. Runs in Fast DDS's sending threads.
+using UnscheduledTrafficCallback = std::function<void(std::uint64_t frame_bytes)>;
+
 /// Put in a participant's user_transports in place of `low_level`: Fast DDS creates a CoalescingTransport from
 /// it, which sends through `coalescer`. The coalescer must outlive the participant, and be stopped before the
 /// participant is deleted.
 struct CoalescingTransportDescriptor : public eprosima::fastdds::rtps::ChainingTransportDescriptor {
     CoalescingTransportDescriptor(std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> low_level,
-                                  std::shared_ptr<DatagramCoalescer> coalescer);
+                                  std::shared_ptr<DatagramCoalescer> coalescer,
+                                  UnscheduledTrafficCallback on_unscheduled = {});
 
     eprosima::fastdds::rtps::TransportInterface* create_transport() const override;
 
     std::shared_ptr<DatagramCoalescer> coalescer;
+    UnscheduledTrafficCallback on_unscheduled;
 };
 
-/// Receives as the low-level transport does; hands every outgoing RTPS message to the coalescer.
+/// Receives as the low-level transport does; hands every outgoing RTPS message to the coalescer. A message sent
+/// outside a write's DatagramCoalescer::DeferScope (and every copy of a write's message after the first) is
+/// reported to the descriptor's on_unscheduled.
 class CoalescingTransport final : public eprosima::fastdds::rtps::ChainingTransport, public DatagramSender {
   public:
     explicit CoalescingTransport(const CoalescingTransportDescriptor& descriptor);

@@ -74,10 +74,16 @@ void GatewayConfig::validate() const {
     }
 }
 
+struct Gateway::UnscheduledLink {
+    std::mutex mutex;
+    Gateway* gateway = nullptr;  ///< null once the Gateway is being destroyed
+};
+
 struct Gateway::Bridge {
     struct Lane {
         std::unique_ptr<TopicBridge> listener;
         eprosima::fastdds::dds::DataReader* reader = nullptr;
+        bool declared = false;  ///< made at start-up from a --qos profile, before any publisher
     };
     BridgedTopic info;
     LaneAssignment writers;
@@ -85,8 +91,12 @@ struct Gateway::Bridge {
 };
 
 Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
-    : config_(std::move(config)), clock_(clock), filter_(config_.allow, config_.deny) {
+    : config_(std::move(config)),
+      clock_(clock),
+      filter_(config_.allow, config_.deny),
+      unscheduled_link_(std::make_shared<UnscheduledLink>()) {
     config_.validate();
+    unscheduled_link_->gateway = this;
     if (!config_.log_file.empty()) {
         log_ = std::make_unique<log::RobotLog>(config_.log_file);
     }
@@ -102,8 +112,7 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
             wan.peers.push_back(WanPeer{peer.address, port, true});
         }
     }
-    // Each announcement (SPDP, and SEDP of every new endpoint) goes to each of these ports over the link.
-    wan_announcement_copies_ = std::max<std::size_t>(1, wan.peers.size());
+
     if (!config_.wan_interface.empty()) {
         wan.interface_address = resolve_interface_address(config_.wan_interface);
     }
@@ -112,19 +121,22 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     wan.announcement_period = config_.wan_announcement_period;
     wan.max_datagram_bytes = config_.scheduler.wire.max_datagram_bytes;
     wan.coalesce_window = config_.wan_coalesce_window;
+    // Discovery, heartbeats, repairs, copies to further readers: charged as they leave, so that the budget
+    // counts every byte the WAN participant puts on the link (DESIGN section 3).
+    wan.on_unscheduled = [link = unscheduled_link_](std::uint64_t frame_bytes) {
+        std::lock_guard<std::mutex> lock(link->mutex);
+        if (link->gateway != nullptr) {
+            Gateway* gateway = link->gateway;
+            gateway->unscheduled_wire_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
+            gateway->post([gateway, frame_bytes] { gateway->loop_->charge_link(8u * frame_bytes); });
+        }
+    };
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
 
     directory_ = std::make_unique<TopicDirectory>();
     sink_ = std::make_unique<GatewaySink>(*wan_, log_.get(), *directory_, clock_);
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
     loop_->start();
-    wan_->on_latched_resend([this](const std::vector<std::size_t>& payload_bytes) {
-        std::uint64_t bits = 0;
-        for (const std::size_t bytes : payload_bytes) {
-            bits += config_.scheduler.wire.wire_bits(bytes);
-        }
-        post([this, bits] { loop_->charge_link(bits); });
-    });
     if (config_.receiver_reports) {
         // After the loop: each report is compared with what the loop had forwarded when it came.
         reports_ = std::make_unique<ReceiverReportReader>(wan_->guid_prefix(),
@@ -132,11 +144,6 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
         if (!wan_->subscribe_receiver_reports(reports_.get())) {
             throw core::ConfigError("--receiver-reports: cannot subscribe to the base camp's reports");
         }
-        // The report reader's announcement crosses the link once per peer, as a writer's does.
-        loop_->charge_link(8u *
-                           config_.scheduler.wire.announcement_bytes(std::string(RECEIVER_REPORT_TOPIC).size(),
-                                                                     std::string("tgw::idl::ReceiverReport").size()) *
-                           wan_announcement_copies_);
     }
 
     discovery_ = std::make_unique<Discovery>(
@@ -151,6 +158,17 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
         robot_ = std::make_unique<RobotParticipant>(config_.robot_domain, discovery_.get(), transport,
                                                     participant_profile(ROBOT_PARTICIPANT_PROFILE));
         discovery_->ignore_participant(robot_->guid_prefix());
+        if (!config_.qos_file.empty()) {
+            for (const DeclaredTopic& declared : declared_topics(config_.qos_file)) {
+                DiscoveredPublisher pub;
+                pub.topic = declared.topic;
+                pub.type_name = declared.type_name;
+                pub.keyed = declared.keyed;
+                pub.lifespan = declared.lifespan;
+                pub.qos = OfferedQos::from_writer(declared.qos, declared.keyed);
+                post([this, pub = std::move(pub)] { bridge_nts(pub, true); });
+            }
+        }
     } catch (...) {
         stop();
         throw;
@@ -159,6 +177,9 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
 
 Gateway::~Gateway() {
     stop();
+    // The WAN participant outlives the members its transport's callback would use.
+    std::lock_guard<std::mutex> lock(unscheduled_link_->mutex);
+    unscheduled_link_->gateway = nullptr;
 }
 
 void Gateway::stop() {
@@ -237,7 +258,23 @@ void Gateway::run_worker() {
     }
 }
 
-void Gateway::bridge_nts(const DiscoveredPublisher& pub) {
+std::optional<std::uint16_t> Gateway::lane_for_nts(const Bridge& bridge, const OfferedQos& offer) const {
+    const auto& lanes = bridge.info.lanes;
+    const auto same = std::find(lanes.begin(), lanes.end(), offer);
+    if (same != lanes.end()) {
+        return static_cast<std::uint16_t>(same - lanes.begin());
+    }
+    // A lane declared in the --qos file takes any publisher its reader matches: its WAN writer offers what the
+    // operator wrote, and its announcement crossed the link at start-up.
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+        if (bridge.lanes[i].declared && lanes[i].accepts(offer)) {
+            return static_cast<std::uint16_t>(i);
+        }
+    }
+    return std::nullopt;
+}
+
+void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     // The robot participant exists once discovery reports anything; stop() joins this thread before
     // resetting it.
     if (!filter_.admits(pub.topic) || !robot_) {
@@ -250,12 +287,10 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub) {
         bridge = it == bridges_.end() ? nullptr : it->second.get();
     }
     if (bridge != nullptr) {
-        const auto& lanes = bridge->info.lanes;
-        const auto same = std::find(lanes.begin(), lanes.end(), pub.qos);
-        if (same != lanes.end()) {
-            // A further publisher with the same offer: the lane's reader matches it already.
-            bridge->writers.assign(pub.writer, static_cast<std::uint16_t>(same - lanes.begin()));
-        } else if (add_lane_nts(*bridge, pub)) {
+        if (const auto lane = lane_for_nts(*bridge, pub.qos)) {
+            // The lane's reader matches this publisher already.
+            bridge->writers.assign(pub.writer, *lane);
+        } else if (add_lane_nts(*bridge, pub, false)) {
             bridges_changed_.notify_all();
         }
         return;
@@ -272,7 +307,7 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub) {
     created->info.ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
     created->info.id = loop_->add_topic(core::TopicConfig{pub.topic, created->info.ttl.ttl});
     directory_->add(created->info.id, {pub.topic, pub.type_name});
-    if (!add_lane_nts(*created, pub)) {
+    if (!add_lane_nts(*created, pub, declared)) {
         return;
     }
     {
@@ -286,7 +321,7 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub) {
     bridges_changed_.notify_all();
 }
 
-bool Gateway::add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub) {
+bool Gateway::add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub, bool declared) {
     const auto index = static_cast<std::uint16_t>(bridge.lanes.size());
     // The WAN writer first, so that nothing the reader takes finds no writer.
     // Lifespan = TTL, so that base-camp readers drop what is stale themselves; but what a latched publisher
@@ -299,12 +334,13 @@ bool Gateway::add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub) {
                         pub.qos)) {
         return false;
     }
-    // The new writer's SEDP announcement goes to every peer over the same slow link as the samples.
-    const std::size_t announcement =
-        config_.scheduler.wire.announcement_bytes(bridge.info.name.size(), bridge.info.type_name.size());
-    loop_->charge_link(8u * announcement * wan_announcement_copies_);
+    if (wan_->reliable(bridge.info.id, index)) {
+        // Every sample of a reliable lane carries a HEARTBEAT; a topic with a reliable lane is charged it.
+        loop_->set_extra_wire_bytes(bridge.info.id, config_.scheduler.wire.reliable_heartbeat_bytes);
+    }
 
     Bridge::Lane lane;
+    lane.declared = declared;
     lane.listener =
         std::make_unique<TopicBridge>(bridge.info.id, index, bridge.info.keyed, bridge.writers, *loop_, clock_);
     lane.reader =
@@ -313,7 +349,9 @@ bool Gateway::add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub) {
         return false;
     }
     // After the reader exists: until now the writer's samples came through the lane that had them, if any.
-    bridge.writers.assign(pub.writer, index);
+    if (pub.writer != eprosima::fastrtps::rtps::GUID_t::unknown()) {
+        bridge.writers.assign(pub.writer, index);
+    }
     std::lock_guard<std::mutex> lock(bridges_mutex_);
     bridge.lanes.push_back(std::move(lane));
     bridge.info.lanes.push_back(pub.qos);
@@ -390,6 +428,10 @@ DatagramCoalescer::Counts Gateway::wan_datagrams() const {
 
 std::optional<ReceiverReportTotals> Gateway::receiver_report() const {
     return reports_ ? reports_->latest() : std::nullopt;
+}
+
+std::uint64_t Gateway::unscheduled_wire_bytes() const {
+    return unscheduled_wire_bytes_.load();
 }
 
 std::uint64_t Gateway::logged() const {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -123,6 +124,9 @@ class Gateway {
     /// The base camp's latest receiver report about this gateway; nullopt before one, or without
     /// GatewayConfig::receiver_reports.
     std::optional<ReceiverReportTotals> receiver_report() const;
+    /// What the WAN participant sent beyond the scheduled writes, in Ethernet frame bytes: discovery,
+    /// heartbeats, repairs, further copies (CoalescingTransport). Each byte is charged to the link budget.
+    std::uint64_t unscheduled_wire_bytes() const;
     /// Samples handed to the on-robot log.
     std::uint64_t logged() const;
     /// The gateway's own processing time of every sample forwarded so far: from its arrival in the scheduler
@@ -131,18 +135,24 @@ class Gateway {
 
   private:
     struct Bridge;
+    struct UnscheduledLink;
 
     /// Runs `task` in the worker thread, after those posted before it.
     void post(std::function<void()> task);
     void run_worker();
-    void bridge_nts(const DiscoveredPublisher& pub);  // the worker thread only
-    /// Creates lane `index` of `bridge` for publishers offering `offer`; false if Fast DDS refused.
-    bool add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub);  // the worker thread only
+    /// Bridges `pub`'s topic, or finds or makes its lane; `declared`: from a --qos profile, no publisher yet.
+    void bridge_nts(const DiscoveredPublisher& pub, bool declared = false);  // the worker thread only
+    /// The existing lane of `bridge` that carries a publisher offering `offer`, if any.
+    std::optional<std::uint16_t> lane_for_nts(const Bridge& bridge, const OfferedQos& offer) const;
+    /// Creates the next lane of `bridge` for `pub`'s offer; false if Fast DDS refused.
+    bool add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub, bool declared);  // the worker thread only
     void stop_worker();
 
     GatewayConfig config_;
     const core::Clock& clock_;
     TopicFilter filter_;
+    /// How the WAN transport's reports of unscheduled traffic reach this object while it lives.
+    std::shared_ptr<UnscheduledLink> unscheduled_link_;
 
     std::unique_ptr<log::RobotLog> log_;
     std::unique_ptr<ReceiverReportReader> reports_;  ///< before wan_: its reader's listener outlives it
@@ -164,7 +174,7 @@ class Gateway {
     std::thread worker_;
 
     std::unique_ptr<RobotParticipant> robot_;
-    std::size_t wan_announcement_copies_ = 1;
+    std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};
     std::mutex stop_mutex_;
     bool stopped_ = false;
 };

@@ -51,6 +51,14 @@ struct OfferedQos {
     /// Partitions live on the publisher and subscriber in Fast DDS 2.9.
     eprosima::fastdds::dds::PartitionQosPolicy partition_policy() const;
 
+    /// A robot reader that asks for this (apply_to_robot_reader) matches a writer that offers `publisher`, and
+    /// sees its instances: the lane a --qos profile declared can carry that publisher.
+    bool accepts(const OfferedQos& publisher) const {
+        return (!reliable || publisher.reliable) && (!transient_local || publisher.transient_local) &&
+               partitions == publisher.partitions && exclusive_ownership == publisher.exclusive_ownership &&
+               needs_inline_key_hash == publisher.needs_inline_key_hash;
+    }
+
     /// "reliable transient-local partitions=a,b ...": for logs and summaries.
     std::string describe() const;
 

@@ -2,6 +2,9 @@
 
 #include <optional>
 #include <string>
+#include <vector>
+
+#include <fastdds/dds/publisher/qos/WriterQos.hpp>
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
@@ -21,6 +24,21 @@ void load_qos_file(const std::string& path);
 /// The Lifespan of the data_writer profile named `topic` in the loaded files: the operator's TTL for the topic
 /// (DESIGN section 4). nullopt when there is no such profile or it sets no finite Lifespan. Needs no participant.
 std::optional<core::Duration> writer_profile_lifespan(const std::string& topic);
+
+/// A topic the --qos file names with its type (a data_writer profile whose <topic> has a <dataType>): the
+/// gateway bridges it at start-up, before any publisher appears, so its WAN writer's announcement has crossed
+/// the link by the time the first samples come.
+struct DeclaredTopic {
+    std::string topic;
+    std::string type_name;
+    bool keyed = false;
+    std::optional<core::Duration> lifespan;
+    eprosima::fastdds::dds::WriterQos qos;  ///< the profile's: what the early lane's reader asks for
+};
+
+/// The declared topics of a loaded --qos file, in file order. Throws core::ConfigError naming the file and
+/// line of a data_writer profile whose <topic> names another topic than its profile_name.
+std::vector<DeclaredTopic> declared_topics(const std::string& path);
 
 /// The participant profile `name` from the loaded files, if there is one.
 std::optional<eprosima::fastdds::dds::DomainParticipantQos> participant_profile(const std::string& name);

@@ -133,7 +133,11 @@ fdds::DataReader* RobotParticipant::create_reader(const std::string& topic_name,
     qos.resource_limits().max_samples = fdds::LENGTH_UNLIMITED;
     qos.resource_limits().max_instances = MAX_INSTANCES;
     qos.resource_limits().allocated_samples = 16;
-    qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
+    // Fast DDS 2.9's dynamic payload pools drop a change without payload: a keyed topic's dispose or unregister
+    // would never arrive. Keyed lanes preallocate and grow instead; the bridge takes every sample at once, so
+    // their history stays short.
+    qos.endpoint().history_memory_policy = keyed ? eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE
+                                                 : eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
     qos.data_sharing().off();
 
     fdds::DataReader* reader = subscriber->create_datareader(topic, qos, listener, fdds::StatusMask::all());

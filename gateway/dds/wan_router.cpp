@@ -38,46 +38,36 @@ constexpr std::int32_t MAX_INSTANCES = 65536;
 
 }  // namespace
 
+/// Counts the base-camp participants the WAN participant has discovered: each new endpoint's SEDP announcement
+/// goes to each of them.
+class WanRouter::ParticipantCounter final : public fdds::DomainParticipantListener {
+  public:
+    void on_participant_discovery(fdds::DomainParticipant* /*participant*/,
+                                  eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+        using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
+        if (info.status == Status::DISCOVERED_PARTICIPANT) {
+            count.fetch_add(1);
+        } else if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
+            count.fetch_sub(1);
+        }
+    }
+    std::atomic<std::int32_t> count{0};
+};
+
 struct WanRouter::Lane {
     std::string topic;
     bool keyed = false;
-    bool latched = false;
     fdds::DataWriter* writer = nullptr;
     std::unique_ptr<WriterListener> listener;
     bool failure_reported = false;
-    /// A latched lane's last sample per instance, by payload size: what a late joiner will be sent.
-    std::mutex latched_mutex;
-    std::map<fdds::InstanceHandle_t, std::size_t> latched_bytes;
 };
 
 class WanRouter::WriterListener final : public fdds::DataWriterListener {
   public:
-    WriterListener(Lane& lane, std::shared_ptr<ResendCallback> on_resend)
-        : lane_(lane), on_resend_(std::move(on_resend)) {}
-
     void on_publication_matched(fdds::DataWriter* /*writer*/, const fdds::PublicationMatchedStatus& info) override {
         matched.store(info.current_count);
-        if (!lane_.latched || info.current_count_change <= 0 || !*on_resend_) {
-            return;
-        }
-        // The writer sends its history to the new reader now, outside the scheduler: charge it to the budget.
-        std::vector<std::size_t> sizes;
-        {
-            std::lock_guard<std::mutex> lock(lane_.latched_mutex);
-            for (const auto& [instance, bytes] : lane_.latched_bytes) {
-                sizes.push_back(bytes);
-            }
-        }
-        if (!sizes.empty()) {
-            (*on_resend_)(sizes);
-        }
     }
-
     std::atomic<std::int32_t> matched{0};
-
-  private:
-    Lane& lane_;
-    std::shared_ptr<ResendCallback> on_resend_;
 };
 
 namespace {
@@ -96,7 +86,7 @@ Locator_t udp_locator(const std::string& address, std::uint16_t port) {
 
 WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainParticipantQos>& base)
     : coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_)),
-      on_resend_(std::make_shared<ResendCallback>()) {
+      participants_(std::make_unique<ParticipantCounter>()) {
     fdds::DomainParticipantQos qos =
         base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
     qos.name("telemetry-gateway/wan");
@@ -111,7 +101,8 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     if (!config.interface_address.empty()) {
         udp->interfaceWhiteList.push_back(config.interface_address);
     }
-    qos.transport().user_transports.push_back(std::make_shared<CoalescingTransportDescriptor>(udp, coalescer_));
+    qos.transport().user_transports.push_back(
+        std::make_shared<CoalescingTransportDescriptor>(udp, coalescer_, config.on_unscheduled));
 
     // An explicit metatraffic unicast locator and no multicast one: Fast DDS then opens no multicast
     // listener and announces only to the initial peers. Port 0 means the participant id's well-known port.
@@ -130,8 +121,9 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
         builtin.discovery_config.leaseDuration_announcementperiod = to_dds_duration(config.announcement_period);
     }
 
+    fdds::StatusMask discovery_only = fdds::StatusMask::none();
     participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
-        static_cast<fdds::DomainId_t>(config.domain), qos, nullptr, fdds::StatusMask::none());
+        static_cast<fdds::DomainId_t>(config.domain), qos, participants_.get(), discovery_only);
     if (participant_ == nullptr) {
         throw core::ConfigError("--wan-domain " + std::to_string(config.domain) +
                                 ": cannot create the WAN participant (check --wan-interface and --wan-peer)");
@@ -148,7 +140,7 @@ WanRouter::~WanRouter() {
     // Sends what waits while the transport's channels still exist.
     coalescer_->stop();
     if (participant_ != nullptr) {
-        *on_resend_ = nullptr;
+        participant_->set_listener(nullptr);
         participant_->delete_contained_entities();
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
     }
@@ -160,10 +152,6 @@ std::optional<fdds::DataWriterQos> WanRouter::writer_profile(const std::string& 
         return std::nullopt;
     }
     return qos;
-}
-
-void WanRouter::on_latched_resend(ResendCallback callback) {
-    *on_resend_ = std::move(callback);
 }
 
 fdds::Publisher* WanRouter::publisher_nts(const OfferedQos& offer) {
@@ -186,8 +174,7 @@ bool WanRouter::add_lane(core::TopicId id, std::uint16_t lane_index, const std::
     auto lane = std::make_unique<Lane>();
     lane->topic = topic;
     lane->keyed = keyed;
-    lane->latched = offer.transient_local;
-    lane->listener = std::make_unique<WriterListener>(*lane, on_resend_);
+    lane->listener = std::make_unique<WriterListener>();
 
     std::lock_guard<std::mutex> lock(mutex_);
     fdds::TypeSupport type = participant_->find_type(type_name);
@@ -225,7 +212,9 @@ bool WanRouter::add_lane(core::TopicId id, std::uint16_t lane_index, const std::
     qos.resource_limits().max_instances = MAX_INSTANCES;
     qos.resource_limits().max_samples_per_instance = qos.history().depth;
     qos.lifespan().duration = lifespan ? to_dds_duration(*lifespan) : eprosima::fastrtps::c_TimeInfinite;
-    qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
+    // As the robot readers: a dynamic payload pool refuses a dispose's empty payload (OUT_OF_RESOURCES).
+    qos.endpoint().history_memory_policy = keyed ? eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE
+                                                 : eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
     qos.data_sharing().off();
 
     lane->writer = publisher->create_datawriter(wan_topic, qos, lane->listener.get(), fdds::StatusMask::all());
@@ -242,6 +231,15 @@ bool WanRouter::add_lane(core::TopicId id, std::uint16_t lane_index, const std::
     }
     lanes_[id][lane_index] = std::move(lane);
     return true;
+}
+
+std::size_t WanRouter::remote_participants() const {
+    return static_cast<std::size_t>(std::max(0, participants_->count.load()));
+}
+
+bool WanRouter::reliable(core::TopicId id, std::uint16_t lane_index) const {
+    Lane* e = lane(id, lane_index);
+    return e != nullptr && e->writer->get_qos().reliability().kind == fdds::RELIABLE_RELIABILITY_QOS;
 }
 
 WanRouter::Lane* WanRouter::lane(core::TopicId id, std::uint16_t lane_index) const {
@@ -288,14 +286,6 @@ WriteResult WanRouter::write(core::Sample& sample) {
             std::cerr << "telemetry-gateway: WAN write failed on " << e->topic << " (code " << rc() << ")\n";
         }
         return WriteResult::failed;
-    }
-    if (e->latched) {
-        std::lock_guard<std::mutex> lock(e->latched_mutex);
-        if (sample.kind == core::SampleKind::data) {
-            e->latched_bytes[handle] = sample.payload.size();
-        } else {
-            e->latched_bytes.erase(handle);
-        }
     }
     return WriteResult::ok;
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
@@ -21,6 +22,7 @@
 #include "gateway/core/clock.hpp"
 #include "gateway/core/sample.hpp"
 #include "gateway/core/wire_model.hpp"
+#include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/wan_address.hpp"
@@ -47,6 +49,9 @@ struct WanConfig {
     /// long, to share a datagram with those that follow (DatagramCoalescer); one that comes alone goes at once.
     /// 0: one datagram per sample.
     std::chrono::microseconds coalesce_window = DatagramCoalescer::DEFAULT_WINDOW;
+    /// What the participant sends beyond the scheduled writes (see CoalescingTransport), so the caller can
+    /// charge it to the link budget.
+    UnscheduledTrafficCallback on_unscheduled;
 };
 
 /// Outcome of one write, counted by the caller; nothing on this path throws.
@@ -57,7 +62,8 @@ enum class WriteResult { ok, unknown_topic, failed };
 /// One DataWriter per lane of a bridged topic (one per QoS its robot publishers offer, OfferedQos), with the
 /// robot topic's name and type name, offering what the publishers offered, in their partitions, and the
 /// Lifespan the gateway chose. A transient-local ("latched") lane keeps the last sample of each instance for
-/// readers that join later. It reads one topic only: the base camp's receiver reports, when asked to.
+/// readers that join later; what it sends them then is unscheduled traffic (WanConfig::on_unscheduled). It reads one
+/// topic only: the base camp's receiver reports, when asked to.
 class WanRouter {
   public:
     /// Throws core::ConfigError when the participant cannot be created. `base`: starting QoS (an XML
@@ -71,11 +77,6 @@ class WanRouter {
 
     /// The data_writer profile named after `topic` in the loaded XML files, if there is one.
     std::optional<eprosima::fastdds::dds::DataWriterQos> writer_profile(const std::string& topic) const;
-
-    /// Called, from Fast DDS's threads, with the payload bytes of the samples a latched lane's writer will
-    /// send again to a reader that matched it just now: the caller charges them to the link budget.
-    using ResendCallback = std::function<void(const std::vector<std::size_t>& payload_bytes)>;
-    void on_latched_resend(ResendCallback callback);
 
     /// Creates the writer of lane `lane` of the topic, with Lifespan `lifespan` (nullopt: infinite). False
     /// (after logging it) when Fast DDS refuses.
@@ -92,6 +93,11 @@ class WanRouter {
 
     /// The Lifespan QoS of the writer of the topic's lane, or nullopt if there is no writer or it is infinite.
     std::optional<core::Duration> writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
+    /// Whether the writer of the topic's lane is reliable (it may not be, though its publisher was: a
+    /// best-effort data_writer profile).
+    bool reliable(core::TopicId id, std::uint16_t lane) const;
+    /// Base-camp participants discovered now.
+    std::size_t remote_participants() const;
     /// Base-camp readers currently matched with the topic's writers, all lanes together.
     std::int32_t matched_readers(core::TopicId id) const;
     std::uint64_t write_failures() const { return write_failures_.load(); }
@@ -102,6 +108,7 @@ class WanRouter {
 
   private:
     class WriterListener;
+    class ParticipantCounter;
     struct Lane;
 
     Lane* lane(core::TopicId id, std::uint16_t lane) const;
@@ -115,7 +122,7 @@ class WanRouter {
     mutable std::mutex mutex_;
     std::map<std::vector<std::string>, eprosima::fastdds::dds::Publisher*> publishers_;
     std::vector<std::vector<std::unique_ptr<Lane>>> lanes_;  // [TopicId][lane]
-    std::shared_ptr<ResendCallback> on_resend_;
+    std::unique_ptr<ParticipantCounter> participants_;       ///< before participant_'s deletion
     std::atomic<std::uint64_t> write_failures_{0};
 };
 

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -86,6 +87,19 @@ class GatewayIntegrationTest : public ::testing::Test {
         files_.push_back(path);
         std::remove(path.c_str());
         return path;
+    }
+
+    /// A --qos file with one best-effort data_writer profile for `topic`: Lifespan `lifespan_s`, then `extra`.
+    std::string writer_profile_file(const std::string& topic, int lifespan_s, const std::string& extra) {
+        const std::string xml = temp_file(".xml");
+        std::ofstream out(xml);
+        out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+               "<dds xmlns=\"http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles\"><profiles>\n"
+               "<data_writer profile_name=\""
+            << topic << "\"><qos><reliability><kind>BEST_EFFORT</kind></reliability><lifespan><duration><sec>"
+            << lifespan_s << "</sec><nanosec>0</nanosec></duration></lifespan></qos>" << extra
+            << "</data_writer>\n</profiles></dds>\n";
+        return xml;
     }
 
     static fdds::DataWriterQos robot_writer_qos(TestParticipant& p, std::optional<core::Duration> lifespan = {}) {

@@ -327,19 +327,8 @@ TEST_F(GatewayIntegrationTest, TakesTheTtlFromThePublishersLifespan) {
 
 TEST_F(GatewayIntegrationTest, TakesTheTtlFromAnXmlProfileNamedAfterTheTopic) {
     const std::string topic = topic_prefix_ + std::to_string(::getpid()) + "/profiled";
-    const std::string xml = temp_file(".xml");
-    {
-        std::ofstream out(xml);
-        out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-               "<dds xmlns=\"http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles\"><profiles>\n"
-               "<data_writer profile_name=\""
-            << topic
-            << "\"><qos><reliability><kind>BEST_EFFORT</kind></reliability>"
-               "<lifespan><duration><sec>7</sec><nanosec>0</nanosec></duration></lifespan></qos></data_writer>\n"
-               "</profiles></dds>\n";
-    }
     GatewayConfig c = config();
-    c.qos_file = xml;
+    c.qos_file = writer_profile_file(topic, 7, "");
     start_gateway(c);
     auto& wan = listener<CollectingReader<idl::PaperMessage>>();
     auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, 3s), wan);
@@ -351,6 +340,37 @@ TEST_F(GatewayIntegrationTest, TakesTheTtlFromAnXmlProfileNamedAfterTheTopic) {
     PublisherWatcher::Seen seen;
     ASSERT_TRUE(wait_until([&] { return watcher_.find(topic, seen); }));
     EXPECT_EQ(seen.lifespan, eprosima::fastrtps::Duration_t(7, 0));
+}
+
+TEST_F(GatewayIntegrationTest, BridgesATopicTheQosFileDeclaresBeforeItsPublisherAppears) {
+    const std::string topic = topic_prefix_ + std::to_string(::getpid()) + "/declared";
+    GatewayConfig c = config();
+    c.qos_file =
+        writer_profile_file(topic, 2, "<topic><kind>NO_KEY</kind><dataType>tgw::idl::PaperMessage</dataType></topic>");
+    start_gateway(c);
+    // No publisher yet: the topic is bridged and its WAN writer announced from the start.
+    ASSERT_TRUE(gateway_->wait_for_topic(topic, MATCH_TIMEOUT));
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                     wan_reader_qos(*basecamp_), &wan),
+              nullptr);
+    ASSERT_TRUE(wait_until([&] { return wan.matched.load() > 0; }, MATCH_TIMEOUT))
+        << "the declared topic's WAN writer was not there before its publisher";
+
+    auto& writer_matches = listener<MatchCounter>();
+    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                       robot_writer_qos(*robot_), &writer_matches);
+    ASSERT_NE(writer, nullptr);
+    wait_for_bridge(topic, writer_matches, wan.matched);
+    ASSERT_FALSE(HasFatalFailure());
+    EXPECT_EQ(gateway_->find_topic(topic)->lanes.size(), 1u) << "the reliable publisher took a lane of its own";
+    EXPECT_EQ(gateway_->find_topic(topic)->ttl.ttl, core::Duration(2s));
+    for (std::uint64_t i = 0; i < 10; ++i) {
+        idl::PaperMessage msg;
+        msg.generated_ns(i);
+        ASSERT_TRUE(writer->write(&msg));
+    }
+    EXPECT_TRUE(wait_until([&] { return wan.count() >= 10; })) << "got " << wan.count();
 }
 
 TEST_F(GatewayIntegrationTest, UsesTheDefaultTtlWhenNothingElseApplies) {
@@ -479,12 +499,13 @@ TEST_F(GatewayIntegrationTest, WritesTheQueueToTheLogOnShutdown) {
 TEST_F(GatewayIntegrationTest, EverySampleIsForwardedQueuedOrLogged) {
     GatewayConfig c = config();
     c.log_file = temp_file(".db");
-    c.scheduler.initial_rate_bps = 20000;
     start_gateway(c);
     const std::string topic = topic_prefix_ + "overload";
     auto& wan = listener<CollectingReader<idl::PaperMessage>>();
     auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, 1s), wan);
     ASSERT_NE(writer, nullptr);
+    // Discovery was charged at the fast rate; now the slow link.
+    gateway_->set_rate(20000);
 
     // 200 D-sized samples at once on a 20,000 bit/s link with a 1 s TTL: most cannot be sent.
     constexpr std::uint64_t N = 200;

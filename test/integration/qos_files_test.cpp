@@ -65,6 +65,41 @@ TEST_F(QosFilesTest, WriterProfileLifespanNeedsNoParticipant) {
     EXPECT_FALSE(dds::writer_profile_lifespan("no/such/topic"));
 }
 
+TEST_F(QosFilesTest, PaperWorkloadDeclaresItsFourTopicsWithTheirType) {
+    const std::string path = std::string(TGW_QOS_DIR) + "/paper_workload.xml";
+    dds::load_qos_file(path);
+    const auto declared = dds::declared_topics(path);
+    ASSERT_EQ(declared.size(), 4u);
+    const char* names[] = {"telemetry/A", "telemetry/B", "telemetry/C", "telemetry/D"};
+    for (std::size_t i = 0; i < 4; ++i) {
+        EXPECT_EQ(declared[i].topic, names[i]);
+        EXPECT_EQ(declared[i].type_name, "tgw::idl::PaperMessage");
+        EXPECT_FALSE(declared[i].keyed);
+        EXPECT_EQ(declared[i].qos.m_reliability.kind, fdds::BEST_EFFORT_RELIABILITY_QOS);
+    }
+    EXPECT_EQ(declared[0].lifespan, std::chrono::seconds(1));
+}
+
+TEST_F(QosFilesTest, AProfileForAnotherTopicThanItsNameIsAConfigErrorNamingTheLine) {
+    const std::string path = "/tmp/tgw_qos_other_topic_" + std::to_string(::getpid()) + ".xml";
+    {
+        std::ofstream out(path);
+        out << "<?xml version=\"1.0\"?>\n<dds xmlns=\"http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles\">\n"
+               "<profiles>\n<data_writer profile_name=\"tgw_test/a\">\n"
+               "<topic><name>tgw_test/b</name><dataType>T</dataType></topic>\n</data_writer>\n</profiles>\n</dds>\n";
+    }
+    dds::load_qos_file(path);
+    try {
+        dds::declared_topics(path);
+        ADD_FAILURE() << "no ConfigError";
+    } catch (const core::ConfigError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(path + ":4:"), std::string::npos) << what;
+        EXPECT_NE(what.find("tgw_test/b"), std::string::npos) << what;
+    }
+    std::remove(path.c_str());
+}
+
 TEST_F(QosFilesTest, ParticipantProfilesExist) {
     dds::load_qos_file(std::string(TGW_QOS_DIR) + "/gateway_participants.xml");
     const auto wan = dds::participant_profile(dds::WAN_PARTICIPANT_PROFILE);

@@ -276,6 +276,7 @@ TEST_F(QosMatchingTest, ALateJoinerToALatchedTopicGetsTheLastSampleOfEachInstanc
     const auto written = std::chrono::steady_clock::now();
     ASSERT_TRUE(wait_until([&] { return std::chrono::steady_clock::now() - written > 3 * c.default_ttl; }));
 
+    const std::uint64_t unscheduled_before = gateway_->unscheduled_wire_bytes();
     auto& late = listener<CollectingReader<idl::KeyedReading>>();
     ASSERT_TRUE(basecamp_reader<idl::KeyedReadingPubSubType>(topic, reader_qos(true, true), late));
     std::set<fdds::InstanceHandle_t> early_instances;
@@ -294,9 +295,11 @@ TEST_F(QosMatchingTest, ALateJoinerToALatchedTopicGetsTheLastSampleOfEachInstanc
     }
     EXPECT_EQ(last, (std::map<std::uint32_t, double>{{1, 1.0}, {2, 1.0}, {3, 1.0}}));
     EXPECT_EQ(late.count(), 3u) << "only the last sample of each instance";
+    // The history sent to the late joiner left outside the scheduler: it was charged to the budget.
+    EXPECT_GE(gateway_->unscheduled_wire_bytes() - unscheduled_before, 3u * 100u);
 }
 
-TEST_F(QosMatchingTest, AThousandInstancesInABurstArriveApart) {
+TEST_F(QosMatchingTest, AThousandInstancesInABurstArriveApartAndADisposeFollows) {
     start_gateway(config());
     const std::string topic = topic_prefix_ + "instances";
     constexpr std::uint32_t KEYS = 1000;
@@ -336,6 +339,13 @@ TEST_F(QosMatchingTest, AThousandInstancesInABurstArriveApart) {
         distinct.insert(*h.begin());
     }
     EXPECT_EQ(distinct.size(), KEYS);
+
+    idl::KeyedReading gone;
+    gone.sensor_id(7);
+    ASSERT_EQ(writer->dispose(&gone, robot_handles[7]), ReturnCode_t::RETCODE_OK);
+    EXPECT_TRUE(wait_until([&] { return wan.disposed().count(robot_handles[7]) == 1; }))
+        << "the dispose of sensor 7 never reached the base camp";
+    EXPECT_EQ(wan.disposed().size(), 1u);
 
     expect_balanced();
 }

@@ -61,6 +61,10 @@ void print_summary(const tgw::dds::Gateway& gateway) {
         std::printf(", %llu failed after waiting", static_cast<unsigned long long>(datagrams.failed_datagrams));
     }
     std::printf("\n");
+    std::printf(
+        "WAN traffic outside the schedule (discovery, heartbeats, repairs, copies to further readers): %llu "
+        "bytes, charged to the budget\n",
+        static_cast<unsigned long long>(gateway.unscheduled_wire_bytes()));
     if (const auto report = gateway.receiver_report()) {
         std::printf(
             "base camp's last receiver report (of %llu): %llu samples received, %llu lost on the way, %llu in "

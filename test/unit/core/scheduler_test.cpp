@@ -263,6 +263,48 @@ TEST_F(SchedulerTest, TrafficChargedFromOutsideDelaysTheNextSample) {
     EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a}));
 }
 
+TEST_F(SchedulerTest, OutsideTrafficHoldsTheLinkNoLongerThanItsQueue) {
+    make_sut(PolicyKind::ttl, 10'000);      // link_queue: 1 s by default
+    sut->charge_link(clock.now(), 50'000);  // 5 s of a discovery burst: a 1 s queue drops the rest
+    push(d);
+    run_for(milliseconds(999));
+    EXPECT_TRUE(sink.forwarded().empty());
+    run_for(milliseconds(1));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{d}));
+}
+
+TEST_F(SchedulerTest, TheUnspentRestOfTheRateCoversOutsideTrafficThatFitsInIt) {
+    config.policy = PolicyKind::ttl;
+    config.initial_rate_bps = 10'000;
+    config.lead = Duration::zero();
+    config.budget_fraction = 0.9;  // 1,000 bit/s saved for outside traffic, over 20 s at most
+    Scheduler scheduler(config);
+    const TopicId t = scheduler.add_topic({"A", seconds(1)});
+    auto send_one = [&] {
+        Sample s;
+        s.topic = t;
+        s.payload.assign(64, 1);
+        s.source_time = clock.wall_now();
+        scheduler.push(std::move(s), clock.now(), clock.wall_now(), sink);
+        scheduler.release(clock.now(), sink);
+    };
+    scheduler.charge_link(clock.now(), 0);  // the reserve starts filling now
+    clock.advance(seconds(30));
+    scheduler.charge_link(clock.now(), 20'000);  // an announcement burst the saved 20,000 bits cover
+    send_one();
+    EXPECT_EQ(sink.forwarded().size(), 1u) << "traffic the reserve covered held the link";
+    clock.advance(seconds(1));
+    scheduler.charge_link(clock.now(), 5'000);  // 1,000 bits saved since: 4,000 at 9,000 bit/s hold it 0.44 s
+    send_one();
+    EXPECT_EQ(sink.forwarded().size(), 1u);
+    clock.advance(milliseconds(440));
+    scheduler.release(clock.now(), sink);
+    EXPECT_EQ(sink.forwarded().size(), 1u);
+    clock.advance(milliseconds(5));
+    scheduler.release(clock.now(), sink);
+    EXPECT_EQ(sink.forwarded().size(), 2u);
+}
+
 TEST_F(SchedulerTest, WaitsForABacklogSeenInTheLinkToDrain) {
     make_sut(PolicyKind::ttl, 10'000);
     sut->observe_link_backlog(clock.now(), 3'000);  // 300 ms of someone else's traffic in the shaper

@@ -392,5 +392,32 @@ TEST_F(QosMatchingTest, AnXcdr2OnlyPublisherReachesAnXcdr2OnlyReader) {
     expect_numbered_samples_cross(writer, wan, 10);
 }
 
+TEST_F(QosMatchingTest, AGatewayStartedAfterATransientLocalPublisherGetsItsHistory) {
+    // The publisher wrote before the gateway (re)started: a transient-local lane's reader asks for its history.
+    const std::string topic = topic_prefix_ + "history";
+    auto& matches = listener<MatchCounter>();
+    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                       writer_qos(true, true, 5), &matches);
+    ASSERT_NE(writer, nullptr);
+    for (std::uint64_t i = 0; i < 3; ++i) {
+        auto m = paper_message(i);
+        ASSERT_TRUE(writer->write(&m));
+    }
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, reader_qos(true, true), wan));
+
+    start_gateway(config());
+    ASSERT_TRUE(gateway_->wait_for_topic(topic, MATCH_TIMEOUT));
+    const core::TopicId id = gateway_->find_topic(topic)->id;
+    EXPECT_TRUE(wait_until([&] { return gateway_->counters(id).received >= 3; }))
+        << "the gateway received " << gateway_->counters(id).received << " of the 3 samples written before it";
+    // The WAN writer keeps the last sample for readers that come after it was written.
+    EXPECT_TRUE(wait_until([&] {
+        const auto got = numbers(wan);
+        return !got.empty() && got.back() == 2;
+    })) << "the base camp never got the last sample";
+    expect_balanced();
+}
+
 }  // namespace
 }  // namespace tgw::test

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Cross-vendor test: Cyclone DDS publishers on the robot domain -> telemetry-gateway -> Cyclone DDS
 # subscribers on the WAN domain, on loopback only, with domain ids of this run only. Passes when both
-# subscribers (an unkeyed topic with samples up to 5 kB, a keyed topic with several instances) receive every
+# subscribers (an unkeyed topic with samples up to 5 kB, a keyed topic with 50 instances) receive every
 # sample with its bytes, source timestamp and instance intact. The keyed topic's small samples come in bursts,
 # which the gateway packs into shared WAN datagrams: its summary must show fewer datagrams than messages.
 #
@@ -26,7 +26,9 @@ RUN="$$_$RANDOM"
 BLOB_TOPIC="xv/blob/$RUN"
 KEYED_TOPIC="xv/keyed/$RUN"
 COUNT=24
-INSTANCES=4
+# The keyed topic: 50 instances, 2 samples each, written in bursts.
+KEYED_COUNT=100
+INSTANCES=50
 TIMEOUT_S=60
 
 # Cyclone on loopback only: no multicast (lo has none), discovery by unicast to the well-known participant
@@ -36,7 +38,7 @@ export CYCLONEDDS_URI="<CycloneDDS><Domain Id=\"any\"><General><Interfaces><Netw
 echo "cross-vendor: robot domain $ROBOT_DOMAIN, WAN domain $WAN_DOMAIN, topics $BLOB_TOPIC, $KEYED_TOPIC"
 "$SUB" "$WAN_DOMAIN" "$BLOB_TOPIC" blob "$COUNT" 1 "$TIMEOUT_S" >"$WORK/sub-blob.out" 2>&1 &
 SUB_BLOB=$!
-"$SUB" "$WAN_DOMAIN" "$KEYED_TOPIC" keyed "$COUNT" "$INSTANCES" "$TIMEOUT_S" >"$WORK/sub-keyed.out" 2>&1 &
+"$SUB" "$WAN_DOMAIN" "$KEYED_TOPIC" keyed "$KEYED_COUNT" "$INSTANCES" "$TIMEOUT_S" >"$WORK/sub-keyed.out" 2>&1 &
 SUB_KEYED=$!
 PIDS+=("$SUB_BLOB" "$SUB_KEYED")
 
@@ -47,7 +49,7 @@ PIDS+=("$!")
 
 "$PUB" "$ROBOT_DOMAIN" "$BLOB_TOPIC" blob "$COUNT" 1 "$TIMEOUT_S" >"$WORK/pub-blob.out" 2>&1 &
 PIDS+=("$!")
-"$PUB" "$ROBOT_DOMAIN" "$KEYED_TOPIC" keyed "$COUNT" "$INSTANCES" "$TIMEOUT_S" 0 >"$WORK/pub-keyed.out" 2>&1 &
+"$PUB" "$ROBOT_DOMAIN" "$KEYED_TOPIC" keyed "$KEYED_COUNT" "$INSTANCES" "$TIMEOUT_S" 0 >"$WORK/pub-keyed.out" 2>&1 &
 PIDS+=("$!")
 
 status=0

@@ -1,5 +1,7 @@
 #include "gateway/dds/coalescing_transport.hpp"
 
+#include <algorithm>
+
 #include <fastdds/rtps/network/SenderResource.h>
 #include <fastdds/rtps/common/LocatorsIterator.hpp>
 
@@ -64,10 +66,16 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     for (rtps::LocatorsIterator& it = *destination_locators_begin; it != *destination_locators_end; ++it) {
         destination.locators.push_back(*it);
     }
-    // A scheduled write was charged for one copy of its message; everything else is reported.
-    const std::size_t scheduled = DatagramCoalescer::DeferScope::current() != 0 ? 1 : 0;
-    if (descriptor_.on_unscheduled && destination.locators.size() > scheduled) {
-        descriptor_.on_unscheduled((destination.locators.size() - scheduled) * (send_buffer_size + FRAME_HEADER_BYTES));
+    // A scheduled write was charged for one copy of its message; everything else is reported. Only locators
+    // this transport sends to count (a remote reader may also announce shared memory ones).
+    if (descriptor_.on_unscheduled) {
+        const std::size_t scheduled = DatagramCoalescer::DeferScope::current() != 0 ? 1 : 0;
+        const auto copies = static_cast<std::size_t>(
+            std::count_if(destination.locators.begin(), destination.locators.end(),
+                          [this](const rtps::Locator_t& locator) { return IsLocatorSupported(locator); }));
+        if (copies > scheduled) {
+            descriptor_.on_unscheduled((copies - scheduled) * (send_buffer_size + FRAME_HEADER_BYTES));
+        }
     }
     return coalescer_->send(*this, destination, send_buffer, send_buffer_size);
 }

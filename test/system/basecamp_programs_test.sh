@@ -63,14 +63,23 @@ PIDS+=("$!")
     >"$WORK/pub.out" 2>&1 &
 PIDS+=("$!")
 
+# The sequence number is the payload's first field, after the 4-byte encapsulation header.
+recorded() {
+    sqlite3 "$WORK/basecamp.db" \
+        "select count(distinct substr(hex(payload), 9, 8)) from samples where topic = '$TOPIC'" 2>/dev/null || echo 0
+}
 fastdds_status=0 cyclone_status=0
 wait "$fastdds_pid" || fastdds_status=$?
 wait "$cyclone_pid" || cyclone_status=$?
+# The recorder subscribes once it has discovered the gateway's writer, and commits every so often: the
+# publisher repeats its samples, so wait for them all (at most TIMEOUT_S) before stopping it.
+for _ in $(seq 1 $((TIMEOUT_S * 2))); do
+    [ "$(recorded)" -ge "$COUNT" ] && break
+    sleep 0.5
+done
 kill -TERM "$record_pid" 2>/dev/null || true
 wait "$record_pid" 2>/dev/null || true
-# The sequence number is the payload's first field, after the 4-byte encapsulation header.
-recorded="$(sqlite3 "$WORK/basecamp.db" \
-    "select count(distinct substr(hex(payload), 9, 8)) from samples where topic = '$TOPIC'" 2>/dev/null || echo 0)"
+recorded="$(recorded)"
 
 for f in fastdds cyclone record gateway pub; do
     echo "--- $f"

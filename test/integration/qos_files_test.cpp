@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 
 #include "gateway/core/config_error.hpp"

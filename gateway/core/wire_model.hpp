@@ -45,14 +45,6 @@ struct WireModel {
     /// leave, as unscheduled traffic).
     std::size_t reliable_heartbeat_bytes = 32;
 
-    /// The SEDP announcement of a new writer to one peer: 526 bytes on the wire for "telemetry/A" and
-    /// "tgw::idl::PaperMessage" (captured), most of it fixed, plus the two names.
-    std::size_t writer_announcement_bytes = 493;
-
-    std::size_t announcement_bytes(std::size_t topic_name_bytes, std::size_t type_name_bytes) const {
-        return writer_announcement_bytes + topic_name_bytes + type_name_bytes;
-    }
-
     /// Bytes on the wire for one sample of `payload_bytes` serialized bytes sent alone.
     std::size_t wire_bytes(std::size_t payload_bytes) const;
 

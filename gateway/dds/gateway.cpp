@@ -126,9 +126,7 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     wan.on_unscheduled = [link = unscheduled_link_](std::uint64_t frame_bytes) {
         std::lock_guard<std::mutex> lock(link->mutex);
         if (link->gateway != nullptr) {
-            Gateway* gateway = link->gateway;
-            gateway->unscheduled_wire_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
-            gateway->post([gateway, frame_bytes] { gateway->loop_->charge_link(8u * frame_bytes); });
+            link->gateway->charge_unscheduled(frame_bytes);
         }
     };
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
@@ -428,6 +426,18 @@ DatagramCoalescer::Counts Gateway::wan_datagrams() const {
 
 std::optional<ReceiverReportTotals> Gateway::receiver_report() const {
     return reports_ ? reports_->latest() : std::nullopt;
+}
+
+void Gateway::charge_unscheduled(std::uint64_t frame_bytes) {
+    unscheduled_wire_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
+    pending_unscheduled_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
+    // One task charges whatever has come by the time it runs: a burst of copies costs one hand-off, not one each.
+    if (!unscheduled_charge_posted_.exchange(true)) {
+        post([this] {
+            unscheduled_charge_posted_.store(false);
+            loop_->charge_link(8u * pending_unscheduled_bytes_.exchange(0));
+        });
+    }
 }
 
 std::uint64_t Gateway::unscheduled_wire_bytes() const {

@@ -147,6 +147,8 @@ class Gateway {
     /// Creates the next lane of `bridge` for `pub`'s offer; false if Fast DDS refused.
     bool add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub, bool declared);  // the worker thread only
     void stop_worker();
+    /// Counts traffic the WAN transport sent outside the schedule and has the worker charge it to the loop.
+    void charge_unscheduled(std::uint64_t frame_bytes);
 
     GatewayConfig config_;
     const core::Clock& clock_;
@@ -175,6 +177,8 @@ class Gateway {
 
     std::unique_ptr<RobotParticipant> robot_;
     std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};
+    std::atomic<std::uint64_t> pending_unscheduled_bytes_{0};  ///< reported, not yet charged to the loop
+    std::atomic<bool> unscheduled_charge_posted_{false};
     std::mutex stop_mutex_;
     bool stopped_ = false;
 };

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <map>
 #include <shared_mutex>
@@ -18,11 +19,18 @@ class LaneAssignment {
     void assign(const eprosima::fastrtps::rtps::GUID_t& writer, std::uint16_t lane) {
         std::unique_lock<std::shared_mutex> lock(mutex_);
         lanes_[eprosima::fastrtps::rtps::InstanceHandle_t(writer)] = lane;
+        if (lane != 0) {
+            several_lanes_.store(true, std::memory_order_release);
+        }
     }
 
     /// True when `lane` forwards the samples of the writer `publication` (SampleInfo::publication_handle). A
     /// writer not assigned yet goes through whichever lane has it: its own lane does not exist yet.
     bool carries(const eprosima::fastrtps::rtps::InstanceHandle_t& publication, std::uint16_t lane) const {
+        // The usual topic has one lane: every sample takes it, without a lookup on the per-sample path.
+        if (!several_lanes_.load(std::memory_order_acquire)) {
+            return true;
+        }
         std::shared_lock<std::shared_mutex> lock(mutex_);
         const auto it = lanes_.find(publication);
         return it == lanes_.end() || it->second == lane;
@@ -31,6 +39,7 @@ class LaneAssignment {
   private:
     mutable std::shared_mutex mutex_;
     std::map<eprosima::fastrtps::rtps::InstanceHandle_t, std::uint16_t> lanes_;
+    std::atomic<bool> several_lanes_{false};
 };
 
 }  // namespace tgw::dds

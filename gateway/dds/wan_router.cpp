@@ -250,7 +250,6 @@ WanRouter::Lane* WanRouter::lane(core::TopicId id, std::uint16_t lane_index) con
 WriteResult WanRouter::write(core::Sample& sample) {
     Lane* e = lane(sample.topic, sample.route);
     if (e == nullptr) {
-        write_failures_.fetch_add(1, std::memory_order_relaxed);
         return WriteResult::unknown_topic;
     }
     PassthroughData data;
@@ -280,7 +279,6 @@ WriteResult WanRouter::write(core::Sample& sample) {
     }();
     sample.payload = std::move(data.payload);
     if (rc != ReturnCode_t::RETCODE_OK) {
-        write_failures_.fetch_add(1, std::memory_order_relaxed);
         if (!e->failure_reported) {
             e->failure_reported = true;
             std::cerr << "telemetry-gateway: WAN write failed on " << e->topic << " (code " << rc() << ")\n";

@@ -100,7 +100,6 @@ class WanRouter {
     std::size_t remote_participants() const;
     /// Base-camp readers currently matched with the topic's writers, all lanes together.
     std::int32_t matched_readers(core::TopicId id) const;
-    std::uint64_t write_failures() const { return write_failures_.load(); }
     /// How the samples' datagrams were packed.
     const DatagramCoalescer& coalescer() const { return *coalescer_; }
 
@@ -123,7 +122,6 @@ class WanRouter {
     std::map<std::vector<std::string>, eprosima::fastdds::dds::Publisher*> publishers_;
     std::vector<std::vector<std::unique_ptr<Lane>>> lanes_;  // [TopicId][lane]
     std::unique_ptr<ParticipantCounter> participants_;       ///< before participant_'s deletion
-    std::atomic<std::uint64_t> write_failures_{0};
 };
 
 }  // namespace tgw::dds

@@ -77,6 +77,19 @@ class QosMatchingTest : public GatewayIntegrationTest {
             << "the gateway's robot reader never matched the writer of " << topic;
     }
 
+    /// A base-camp reader asking `reader`, then a robot writer offering `writer`, on `topic`; once the gateway
+    /// links the two, paper messages 0 .. count-1 are written and each is expected at the base camp once.
+    void expect_paper_messages_cross(const std::string& topic, const fdds::DataWriterQos& writer,
+                                     const fdds::DataReaderQos& reader, std::uint64_t count) {
+        auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+        ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, reader, wan));
+        auto* robot = robot_writer<idl::PaperMessagePubSubType>(topic, writer);
+        ASSERT_NE(robot, nullptr);
+        wait_until_linked(topic, wan);
+        ASSERT_FALSE(HasFatalFailure());
+        expect_numbered_samples_cross(robot, wan, count);
+    }
+
     /// Writes paper messages 0 .. count-1 and expects each at the base camp once, in order.
     void expect_numbered_samples_cross(fdds::DataWriter* writer, const CollectingReader<idl::PaperMessage>& wan,
                                        std::uint64_t count) {
@@ -128,16 +141,9 @@ TEST_P(QosMatrixTest, ABaseCampReaderGetsEverySampleOfAPublisherItWouldMatchDire
     const MatrixCase c = GetParam();
     start_gateway(config());
     const std::string topic = topic_prefix_ + c.name;
-    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
-    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(
-        topic, reader_qos(c.reader_reliable, c.reader_transient_local), wan));
-    auto* writer =
-        robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(c.writer_reliable, c.writer_transient_local));
-    ASSERT_NE(writer, nullptr);
-    wait_until_linked(topic, wan);
+    expect_paper_messages_cross(topic, writer_qos(c.writer_reliable, c.writer_transient_local),
+                                reader_qos(c.reader_reliable, c.reader_transient_local), 50);
     ASSERT_FALSE(HasFatalFailure());
-
-    expect_numbered_samples_cross(writer, wan, 50);
     const auto bridged = gateway_->find_topic(topic);
     ASSERT_EQ(bridged->lanes.size(), 1u);
     EXPECT_EQ(bridged->lanes[0].reliable, c.writer_reliable);
@@ -179,13 +185,7 @@ TEST_F(QosMatchingTest, AnExclusiveOwnershipReaderGetsTheSamples) {
     wq.ownership_strength().value = 5;
     fdds::DataReaderQos rq = reader_qos(true, false);
     rq.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
-    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
-    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, rq, wan));
-    auto* writer = robot_writer<idl::PaperMessagePubSubType>(topic, wq);
-    ASSERT_NE(writer, nullptr);
-    wait_until_linked(topic, wan);
-    ASSERT_FALSE(HasFatalFailure());
-    expect_numbered_samples_cross(writer, wan, 10);
+    expect_paper_messages_cross(topic, wq, rq, 10);
 }
 
 TEST_F(QosMatchingTest, APartitionedPublisherReachesReadersOfItsPartitionOnly) {
@@ -383,13 +383,7 @@ TEST_F(QosMatchingTest, AnXcdr2OnlyPublisherReachesAnXcdr2OnlyReader) {
     wq.representation().m_value = {fdds::XCDR2_DATA_REPRESENTATION};
     fdds::DataReaderQos rq = reader_qos(true, false);
     rq.type_consistency().representation.m_value = {fdds::XCDR2_DATA_REPRESENTATION};
-    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
-    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, rq, wan));
-    auto* writer = robot_writer<idl::PaperMessagePubSubType>(topic, wq);
-    ASSERT_NE(writer, nullptr);
-    wait_until_linked(topic, wan);
-    ASSERT_FALSE(HasFatalFailure());
-    expect_numbered_samples_cross(writer, wan, 10);
+    expect_paper_messages_cross(topic, wq, rq, 10);
 }
 
 TEST_F(QosMatchingTest, AGatewayStartedAfterATransientLocalPublisherGetsItsHistory) {

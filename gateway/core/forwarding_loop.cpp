@@ -40,11 +40,6 @@ void ForwardingLoop::set_ttl(TopicId topic, Duration ttl) {
     scheduler_.set_ttl(topic, ttl);
 }
 
-void ForwardingLoop::set_extra_wire_bytes(TopicId topic, std::size_t bytes) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    scheduler_.set_extra_wire_bytes(topic, bytes);
-}
-
 void ForwardingLoop::submit(Sample&& sample) {
     std::lock_guard<std::mutex> lock(mutex_);
     {

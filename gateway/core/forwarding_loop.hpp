@@ -27,8 +27,6 @@ class ForwardingLoop {
 
     TopicId add_topic(const TopicConfig& topic);
     void set_ttl(TopicId topic, Duration ttl);
-    /// See TopicConfig::extra_wire_bytes.
-    void set_extra_wire_bytes(TopicId topic, std::size_t bytes);
     void submit(Sample&& sample);
     void set_rate(double rate_bps);
     /// See Scheduler::charge_link.

@@ -63,11 +63,6 @@ void Scheduler::set_ttl(TopicId topic, Duration ttl) {
     protect_valid_ = false;
 }
 
-void Scheduler::set_extra_wire_bytes(TopicId topic, std::size_t bytes) {
-    topics_[topic].config.extra_wire_bytes = bytes;
-    protect_valid_ = false;
-}
-
 bool Scheduler::active(TopicId topic, SteadyTime now) const {
     const TopicState& t = topics_[topic];
     return t.seen && now - t.last_arrival <= t.config.ttl;
@@ -122,7 +117,7 @@ void Scheduler::push(Sample&& sample, SteadyTime now, WallTime wall_now, SampleS
         origin = std::min(now, now + std::chrono::duration_cast<Duration>(sample.source_time - wall_now));
     }
     sample.deadline = origin + topic.config.ttl;
-    const std::uint64_t wire_bits = this->wire_bits(sample.topic, sample.payload.size());
+    const std::uint64_t wire_bits = this->wire_bits(sample.payload.size());
     const bool same_limit = topic.protect_epoch == protect_epoch_ && topic.last_wire_bits == wire_bits;
     topic.last_arrival = now;
     topic.last_wire_bits = wire_bits;
@@ -211,7 +206,7 @@ void Scheduler::release_by_deadline(SteadyTime now, SampleSink& sink) {
         bool sent = false;
         queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
             const DeadlineQueue::Peek sample = queue_.at(slot);
-            const std::uint64_t bits = wire_bits(sample.topic, sample.payload_bytes);
+            const std::uint64_t bits = wire_bits(sample.payload_bytes);
             const Duration tx = budget_.transmit_time(bits);
             const bool blocks_urgent = tx > protect.limit_for(sample.topic);
             if (start + tx + config_.link_latency > sample.deadline) {
@@ -258,7 +253,7 @@ void Scheduler::release_paper_period(SteadyTime now, SampleSink& sink) {
     });
     for (DeadlineQueue::Slot slot : marked) {
         Sample sample = take(slot);
-        const std::uint64_t bits = wire_bits(sample.topic, sample.payload.size());
+        const std::uint64_t bits = wire_bits(sample.payload.size());
         budget_.charge(now, bits);
         forward(std::move(sample), bits, sink);
     }

@@ -45,9 +45,6 @@ struct SchedulerConfig {
 struct TopicConfig {
     std::string name;
     Duration ttl = std::chrono::seconds(5);
-    /// What each sample of the topic costs on the link beyond the WireModel: a reliable writer's piggy-backed
-    /// HEARTBEAT (WireModel::reliable_heartbeat_bytes).
-    std::size_t extra_wire_bytes = 0;
 };
 
 /// The scheduling core: a pure step machine with no clock and no threads of its own. Samples come in with
@@ -60,7 +57,6 @@ class Scheduler {
 
     TopicId add_topic(const TopicConfig& topic);
     void set_ttl(TopicId topic, Duration ttl);
-    void set_extra_wire_bytes(TopicId topic, std::size_t bytes);
     const TopicConfig& topic(TopicId id) const { return topics_[id].config; }
     std::size_t topic_count() const { return topics_.size(); }
 
@@ -103,10 +99,8 @@ class Scheduler {
     const SchedulerConfig& config() const { return config_; }
 
   private:
-    /// The bits a sample of `payload_bytes` of `topic` puts on the link.
-    std::uint64_t wire_bits(TopicId topic, std::size_t payload_bytes) const {
-        return config_.wire.wire_bits(payload_bytes) + 8u * topics_[topic].config.extra_wire_bytes;
-    }
+    /// The bits a sample of `payload_bytes` puts on the link.
+    std::uint64_t wire_bits(std::size_t payload_bytes) const { return config_.wire.wire_bits(payload_bytes); }
 
     struct TopicState {
         TopicConfig config;

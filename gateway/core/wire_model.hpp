@@ -39,11 +39,8 @@ struct WireModel {
     /// Payloads up to this size go in one DATA submessage (1440 bytes of RTPS message less 132 of headers).
     std::size_t max_unfragmented_bytes = 1308;
 
-    /// A reliable writer adds a HEARTBEAT submessage to every sample's datagram (Fast DDS's piggy-backed
-    /// heartbeat). Captured on the testbed (scripts/demo --rate 40000 --reliable-wan --capture): 491 HEARTBEATs
-    /// of 32 bytes for 448 samples in 42.7 s, 43 of them alone in datagrams of their own (charged as they
-    /// leave, as unscheduled traffic).
-    std::size_t reliable_heartbeat_bytes = 32;
+    // A reliable writer's HEARTBEATs (32 bytes, piggy-backed on a sample's message or alone in their own) are
+    // not modelled: the WAN transport measures and charges them as they leave (CoalescingTransport).
 
     /// Bytes on the wire for one sample of `payload_bytes` serialized bytes sent alone.
     std::size_t wire_bytes(std::size_t payload_bytes) const;

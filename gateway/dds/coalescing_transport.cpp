@@ -41,10 +41,12 @@ class LocatorVectorIterator final : public eprosima::fastdds::rtps::LocatorsIter
 
 CoalescingTransportDescriptor::CoalescingTransportDescriptor(
     std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> low_level,
-    std::shared_ptr<DatagramCoalescer> coalescer_in, UnscheduledTrafficCallback on_unscheduled_in)
+    std::shared_ptr<DatagramCoalescer> coalescer_in, UnscheduledTrafficCallback on_unscheduled_in,
+    std::shared_ptr<HeartbeatThrottle> heartbeat_throttle_in)
     : ChainingTransportDescriptor(std::move(low_level)),
       coalescer(std::move(coalescer_in)),
-      on_unscheduled(std::move(on_unscheduled_in)) {}
+      on_unscheduled(std::move(on_unscheduled_in)),
+      heartbeat_throttle(std::move(heartbeat_throttle_in)) {}
 
 eprosima::fastdds::rtps::TransportInterface* CoalescingTransportDescriptor::create_transport() const {
     return new CoalescingTransport(*this);
@@ -66,15 +68,28 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     for (rtps::LocatorsIterator& it = *destination_locators_begin; it != *destination_locators_end; ++it) {
         destination.locators.push_back(*it);
     }
-    // A scheduled write was charged for one copy of its message; everything else is reported. Only locators
-    // this transport sends to count (a remote reader may also announce shared memory ones).
+    const bool scheduled_write = DatagramCoalescer::DeferScope::current() != 0;
+    if (!scheduled_write && descriptor_.heartbeat_throttle &&
+        !descriptor_.heartbeat_throttle->admit(destination, send_buffer, send_buffer_size, core::SteadyClock::now())) {
+        return true;  // the same HEARTBEAT went there a moment ago
+    }
+    // A scheduled write was charged for one copy of its message, without the HEARTBEAT a reliable writer may
+    // have put in it; everything else is reported. Only locators this transport sends to count (a remote
+    // reader may also announce shared memory ones).
     if (descriptor_.on_unscheduled) {
-        const std::size_t scheduled = DatagramCoalescer::DeferScope::current() != 0 ? 1 : 0;
+        const std::size_t scheduled = scheduled_write ? 1 : 0;
         const auto copies = static_cast<std::size_t>(
             std::count_if(destination.locators.begin(), destination.locators.end(),
                           [this](const rtps::Locator_t& locator) { return IsLocatorSupported(locator); }));
+        std::uint64_t unscheduled = 0;
         if (copies > scheduled) {
-            descriptor_.on_unscheduled((copies - scheduled) * (send_buffer_size + FRAME_HEADER_BYTES));
+            unscheduled += (copies - scheduled) * (send_buffer_size + FRAME_HEADER_BYTES);
+        }
+        if (copies > 0 && scheduled > 0) {
+            unscheduled += RtpsDatagram::heartbeat_bytes(send_buffer, send_buffer_size);
+        }
+        if (unscheduled > 0) {
+            descriptor_.on_unscheduled(unscheduled);
         }
     }
     return coalescer_->send(*this, destination, send_buffer, send_buffer_size);

@@ -9,12 +9,16 @@
 #include <fastdds/rtps/transport/ChainingTransportDescriptor.h>
 
 #include "gateway/dds/datagram_coalescer.hpp"
+#include "gateway/dds/heartbeat_throttle.hpp"
 
 namespace tgw::dds {
 
 /// Called with the bytes (whole Ethernet frames) of what the participant sends that no scheduled write
 /// accounts for: discovery, heartbeats, acknowledgements, repairs, history sent to a late joiner, and the
 /// further copies of a sample sent to several readers. Runs in Fast DDS's sending threads.
+/// The WAN's default bytes between a reliable writer's piggy-backed HEARTBEATs (WanConfig::heartbeat_spacing_bytes).
+constexpr std::uint32_t DEFAULT_HEARTBEAT_SPACING_BYTES = 1024;
+
 using UnscheduledTrafficCallback = std::function<void(std::uint64_t frame_bytes)>;
 
 /// Put in a participant's user_transports in place of `low_level`: Fast DDS creates a CoalescingTransport from
@@ -23,17 +27,27 @@ using UnscheduledTrafficCallback = std::function<void(std::uint64_t frame_bytes)
 struct CoalescingTransportDescriptor : public eprosima::fastdds::rtps::ChainingTransportDescriptor {
     CoalescingTransportDescriptor(std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> low_level,
                                   std::shared_ptr<DatagramCoalescer> coalescer,
-                                  UnscheduledTrafficCallback on_unscheduled = {});
+                                  UnscheduledTrafficCallback on_unscheduled = {},
+                                  std::shared_ptr<HeartbeatThrottle> heartbeat_throttle = {});
 
     eprosima::fastdds::rtps::TransportInterface* create_transport() const override;
 
+    /// Fast DDS 2.9 takes the smallest min_send_buffer_size of a participant's transports as the bytes a
+    /// reliable writer sends between piggy-backed HEARTBEATs, and nothing else (the socket's buffer is the
+    /// low-level transport's own). 0 (the UDP descriptor's default) puts one in every message.
+    std::uint32_t min_send_buffer_size() const override { return heartbeat_spacing_bytes; }
+
+    std::uint32_t heartbeat_spacing_bytes = 0;
     std::shared_ptr<DatagramCoalescer> coalescer;
     UnscheduledTrafficCallback on_unscheduled;
+    /// Holds back repeated HEARTBEATs; none: every message goes.
+    std::shared_ptr<HeartbeatThrottle> heartbeat_throttle;
 };
 
-/// Receives as the low-level transport does; hands every outgoing RTPS message to the coalescer. A message sent
-/// outside a write's DatagramCoalescer::DeferScope (and every copy of a write's message after the first) is
-/// reported to the descriptor's on_unscheduled.
+/// Receives as the low-level transport does; hands every outgoing RTPS message to the coalescer, but a HEARTBEAT
+/// the descriptor's throttle holds back. A message sent outside a write's DatagramCoalescer::DeferScope (and
+/// every copy of a write's message after the first, and the HEARTBEAT in a write's message) is reported to the
+/// descriptor's on_unscheduled.
 class CoalescingTransport final : public eprosima::fastdds::rtps::ChainingTransport, public DatagramSender {
   public:
     explicit CoalescingTransport(const CoalescingTransportDescriptor& descriptor);

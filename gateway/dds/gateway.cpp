@@ -121,6 +121,7 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     wan.announcement_period = config_.wan_announcement_period;
     wan.max_datagram_bytes = config_.scheduler.wire.max_datagram_bytes;
     wan.coalesce_window = config_.wan_coalesce_window;
+    wan.heartbeat_spacing_bytes = config_.wan_heartbeat_bytes;
     // Discovery, heartbeats, repairs, copies to further readers: charged as they leave, so that the budget
     // counts every byte the WAN participant puts on the link (DESIGN section 3).
     wan.on_unscheduled = [link = unscheduled_link_](std::uint64_t frame_bytes) {
@@ -332,10 +333,6 @@ bool Gateway::add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub, bool 
                         pub.qos)) {
         return false;
     }
-    if (wan_->reliable(bridge.info.id, index)) {
-        // Every sample of a reliable lane carries a HEARTBEAT; a topic with a reliable lane is charged it.
-        loop_->set_extra_wire_bytes(bridge.info.id, config_.scheduler.wire.reliable_heartbeat_bytes);
-    }
 
     Bridge::Lane lane;
     lane.declared = declared;
@@ -438,6 +435,10 @@ void Gateway::charge_unscheduled(std::uint64_t frame_bytes) {
             loop_->charge_link(8u * pending_unscheduled_bytes_.exchange(0));
         });
     }
+}
+
+std::uint64_t Gateway::suppressed_heartbeats() const {
+    return wan_->suppressed_heartbeats();
 }
 
 std::uint64_t Gateway::unscheduled_wire_bytes() const {

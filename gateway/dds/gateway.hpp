@@ -18,6 +18,7 @@
 #include "gateway/core/forwarding_loop.hpp"
 #include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/scheduler.hpp"
+#include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/offered_qos.hpp"
@@ -62,6 +63,8 @@ struct GatewayConfig {
     bool receiver_reports = false;
     /// WanConfig::coalesce_window: how long a WAN sample may wait to share a datagram; 0: never.
     std::chrono::microseconds wan_coalesce_window = DatagramCoalescer::DEFAULT_WINDOW;
+    /// See WanConfig::heartbeat_spacing_bytes.
+    std::uint32_t wan_heartbeat_bytes = DEFAULT_HEARTBEAT_SPACING_BYTES;
     static constexpr std::chrono::microseconds MAX_COALESCE_WINDOW{100'000};
 
     /// Throws core::ConfigError naming the flag at fault. Checks what needs no file or network.
@@ -127,6 +130,8 @@ class Gateway {
     /// What the WAN participant sent beyond the scheduled writes, in Ethernet frame bytes: discovery,
     /// heartbeats, repairs, further copies (CoalescingTransport). Each byte is charged to the link budget.
     std::uint64_t unscheduled_wire_bytes() const;
+    /// Repeated HEARTBEATs the WAN transport held back (HeartbeatThrottle), never sent nor charged.
+    std::uint64_t suppressed_heartbeats() const;
     /// Samples handed to the on-robot log.
     std::uint64_t logged() const;
     /// The gateway's own processing time of every sample forwarded so far: from its arrival in the scheduler

@@ -3,36 +3,20 @@
 #include <algorithm>
 #include <cstring>
 
+#include "gateway/dds/rtps_submessage.hpp"
+
 namespace tgw::dds {
 
 namespace {
 
-// RTPS 2.x submessage ids (DDSI-RTPS 9.4.5.1.1) this class must understand.
-constexpr std::uint8_t PAD = 0x01;
-constexpr std::uint8_t INFO_TS = 0x09;
-constexpr std::uint8_t INFO_SRC = 0x0c;
-constexpr std::uint8_t INFO_REPLY_IP4 = 0x0d;
-constexpr std::uint8_t INFO_DST = 0x0e;
-constexpr std::uint8_t INFO_REPLY = 0x0f;
-// eProsima's vendor-specific network-statistics submessage (Fast DDS with FASTDDS_STATISTICS).
-constexpr std::uint8_t FASTDDS_STATISTICS = 0x80;
+using namespace rtps_bytes;
+
 constexpr std::uint8_t VENDOR_EPROSIMA[2] = {0x01, 0x0f};
 constexpr std::size_t VENDOR_OFFSET = 6;
-
-constexpr std::uint8_t FLAG_LITTLE_ENDIAN = 0x01;
 constexpr std::uint8_t FLAG_INVALIDATE = 0x02;  ///< INFO_TS: no timestamp follows
-constexpr std::size_t SUBMESSAGE_HEADER_BYTES = 4;
-constexpr std::size_t GUID_PREFIX_BYTES = 12;
 
 constexpr bool is_info(std::uint8_t id) {
     return id == PAD || id == INFO_TS || id == INFO_SRC || id == INFO_REPLY_IP4 || id == INFO_DST || id == INFO_REPLY;
-}
-
-std::uint16_t octets_to_next_header(const std::uint8_t* submessage) {
-    const auto lo = static_cast<std::uint16_t>(submessage[2]);
-    const auto hi = static_cast<std::uint16_t>(submessage[3]);
-    return (submessage[1] & FLAG_LITTLE_ENDIAN) != 0 ? static_cast<std::uint16_t>(lo | (hi << 8))
-                                                     : static_cast<std::uint16_t>((lo << 8) | hi);
 }
 
 bool is_zero(const std::uint8_t* bytes, std::size_t size) {
@@ -92,11 +76,13 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
             shape.sets_timestamp_first = shape.sets_timestamp_first || leading_info;
         } else if (id == INFO_SRC || id == INFO_REPLY || id == INFO_REPLY_IP4) {
             shape.mergeable = false;
+        } else if (id == HEARTBEAT) {
+            shape.heartbeat_bytes += SUBMESSAGE_HEADER_BYTES + length;
         }
         leading_info = leading_info && is_info(id);
         // Receivers step to the next 4-byte boundary.
         const std::size_t next = body + ((length + 3) & ~std::size_t{3});
-        if (eprosima && id == FASTDDS_STATISTICS) {
+        if (eprosima && id == EPROSIMA_STATISTICS) {
             if (next != size) {
                 shape.mergeable = false;  // not where the receiver expects it
             }
@@ -109,6 +95,10 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
     }
     shape.well_formed = true;
     return shape;
+}
+
+std::size_t RtpsDatagram::heartbeat_bytes(const std::uint8_t* message, std::size_t size) {
+    return shape_of(message, size).heartbeat_bytes;
 }
 
 bool RtpsDatagram::append(const std::uint8_t* message, std::size_t size) {

@@ -37,6 +37,10 @@ class RtpsDatagram {
     /// How many messages were appended since the last clear().
     std::size_t messages() const { return messages_; }
 
+    /// The bytes of HEARTBEAT submessages (headers included) in one RTPS message: what a reliable writer adds
+    /// to a sample's message beyond the wire model. 0 for a message that is not well formed.
+    static std::size_t heartbeat_bytes(const std::uint8_t* message, std::size_t size);
+
   private:
     /// What a receiver's state is after a run of submessages, and whether more may follow.
     struct Shape {
@@ -47,6 +51,7 @@ class RtpsDatagram {
         bool destination_in_force = false;  ///< at the end
         bool timestamp_in_force = false;    ///< at the end
         std::size_t trailer_bytes = 0;      ///< the statistics submessage it ends with, header included
+        std::size_t heartbeat_bytes = 0;    ///< HEARTBEAT submessages, headers included
     };
     static Shape shape_of(const std::uint8_t* message, std::size_t size);
 

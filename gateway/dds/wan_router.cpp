@@ -101,8 +101,10 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     if (!config.interface_address.empty()) {
         udp->interfaceWhiteList.push_back(config.interface_address);
     }
-    qos.transport().user_transports.push_back(
-        std::make_shared<CoalescingTransportDescriptor>(udp, coalescer_, config.on_unscheduled));
+    auto coalescing =
+        std::make_shared<CoalescingTransportDescriptor>(udp, coalescer_, config.on_unscheduled, heartbeat_throttle_);
+    coalescing->heartbeat_spacing_bytes = config.heartbeat_spacing_bytes;
+    qos.transport().user_transports.push_back(coalescing);
 
     // An explicit metatraffic unicast locator and no multicast one: Fast DDS then opens no multicast
     // listener and announces only to the initial peers. Port 0 means the participant id's well-known port.
@@ -216,6 +218,9 @@ bool WanRouter::add_lane(core::TopicId id, std::uint16_t lane_index, const std::
     qos.endpoint().history_memory_policy = keyed ? eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE
                                                  : eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
     qos.data_sharing().off();
+    // A robot publisher's dispose reaches the gateway as a dispose and is passed on as one; an unregister must
+    // stay an unregister at the base camp, not become a dispose (Fast DDS's default for unregister_instance).
+    qos.writer_data_lifecycle().autodispose_unregistered_instances = false;
 
     lane->writer = publisher->create_datawriter(wan_topic, qos, lane->listener.get(), fdds::StatusMask::all());
     if (lane->writer == nullptr) {
@@ -235,11 +240,6 @@ bool WanRouter::add_lane(core::TopicId id, std::uint16_t lane_index, const std::
 
 std::size_t WanRouter::remote_participants() const {
     return static_cast<std::size_t>(std::max(0, participants_->count.load()));
-}
-
-bool WanRouter::reliable(core::TopicId id, std::uint16_t lane_index) const {
-    Lane* e = lane(id, lane_index);
-    return e != nullptr && e->writer->get_qos().reliability().kind == fdds::RELIABLE_RELIABILITY_QOS;
 }
 
 WanRouter::Lane* WanRouter::lane(core::TopicId id, std::uint16_t lane_index) const {

@@ -49,6 +49,11 @@ struct WanConfig {
     /// long, to share a datagram with those that follow (DatagramCoalescer); one that comes alone goes at once.
     /// 0: one datagram per sample.
     std::chrono::microseconds coalesce_window = DatagramCoalescer::DEFAULT_WINDOW;
+    /// A reliable writer puts a HEARTBEAT (32 bytes) in a sample's message once it has sent this many bytes
+    /// since its last one, and each HEARTBEAT brings an ACKNACK back from every reader. 0: one with every
+    /// sample, as Fast DDS does by default, so a lost sample is repaired one sample later. Between them the
+    /// writer's periodic HEARTBEAT (3 s) covers a quiet writer.
+    std::uint32_t heartbeat_spacing_bytes = DEFAULT_HEARTBEAT_SPACING_BYTES;
     /// What the participant sends beyond the scheduled writes (see CoalescingTransport), so the caller can
     /// charge it to the link budget.
     UnscheduledTrafficCallback on_unscheduled;
@@ -93,15 +98,14 @@ class WanRouter {
 
     /// The Lifespan QoS of the writer of the topic's lane, or nullopt if there is no writer or it is infinite.
     std::optional<core::Duration> writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
-    /// Whether the writer of the topic's lane is reliable (it may not be, though its publisher was: a
-    /// best-effort data_writer profile).
-    bool reliable(core::TopicId id, std::uint16_t lane) const;
     /// Base-camp participants discovered now.
     std::size_t remote_participants() const;
     /// Base-camp readers currently matched with the topic's writers, all lanes together.
     std::int32_t matched_readers(core::TopicId id) const;
     /// How the samples' datagrams were packed.
     const DatagramCoalescer& coalescer() const { return *coalescer_; }
+    /// Repeated HEARTBEATs the transport held back (HeartbeatThrottle).
+    std::uint64_t suppressed_heartbeats() const { return heartbeat_throttle_->suppressed(); }
 
     eprosima::fastrtps::rtps::GuidPrefix_t guid_prefix() const;
 
@@ -116,6 +120,7 @@ class WanRouter {
 
     core::SystemClock clock_;  // datagrams wait in real time, whatever clock the scheduler runs on
     std::shared_ptr<DatagramCoalescer> coalescer_;
+    std::shared_ptr<HeartbeatThrottle> heartbeat_throttle_ = std::make_shared<HeartbeatThrottle>();
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Publisher* publisher_ = nullptr;  ///< the default partition's
     mutable std::mutex mutex_;

@@ -210,6 +210,8 @@ class CollectingReader final : public fdds::DataReaderListener {
                 received_.push_back({data, info});
             } else if (info.instance_state == fdds::NOT_ALIVE_DISPOSED_INSTANCE_STATE) {
                 disposed_.insert(info.instance_handle);
+            } else if (info.instance_state == fdds::NOT_ALIVE_NO_WRITERS_INSTANCE_STATE) {
+                unregistered_.insert(info.instance_handle);
             }
         }
     }
@@ -231,12 +233,19 @@ class CollectingReader final : public fdds::DataReaderListener {
         return disposed_;
     }
 
+    /// Instances that arrived with no writer left (unregistered by the last one).
+    std::set<fdds::InstanceHandle_t> unregistered() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return unregistered_;
+    }
+
     std::atomic<int> matched{0};
 
   private:
     mutable std::mutex mutex_;
     std::vector<Received> received_;
     std::set<fdds::InstanceHandle_t> disposed_;
+    std::set<fdds::InstanceHandle_t> unregistered_;
 };
 
 /// Records the WAN writers the base camp discovers, with their Lifespan.

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "KeyedReadingPubSubTypes.h"
@@ -177,6 +178,58 @@ TEST_F(QosMatchingTest, TheWanWriterOffersWhatThePublisherOffered) {
     EXPECT_EQ(seen.partitions, std::vector<std::string>{"site7"});
 }
 
+class HeartbeatSpacingTest : public QosMatchingTest, public ::testing::WithParamInterface<std::uint32_t> {};
+
+// A reliable WAN writer's HEARTBEATs ride in the samples' messages and are charged as they leave: one in every
+// message with spacing 0 (Fast DDS's default), one per `spacing` bytes of the writer's messages otherwise.
+TEST_P(HeartbeatSpacingTest, AReliableWriterSendsAndIsChargedTheHeartbeatsItsSpacingAllows) {
+    const std::uint32_t spacing = GetParam();
+    auto c = config();
+    c.wan_heartbeat_bytes = spacing;
+    start_gateway(c);
+    const std::string topic = topic_prefix_ + "heartbeats";
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, reader_qos(true, false), wan));
+    auto* robot = robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(true, false));
+    ASSERT_NE(robot, nullptr);
+    wait_until_linked(topic, wan);
+    ASSERT_FALSE(HasFatalFailure());
+
+    // Discovery's first announcements (repeated at start) are charged too: let them end.
+    std::uint64_t before = gateway_->unscheduled_wire_bytes();
+    for (int quiet_checks = 0; quiet_checks < 20; ++quiet_checks) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        const std::uint64_t now = gateway_->unscheduled_wire_bytes();
+        if (now == before) {
+            break;
+        }
+        before = now;
+    }
+    constexpr std::uint64_t SAMPLES = 100;
+    constexpr std::uint64_t HEARTBEAT_BYTES = 32;
+    for (std::uint64_t i = 0; i < SAMPLES; ++i) {
+        auto m = paper_message(i);
+        ASSERT_TRUE(robot->write(&m));
+        // One WAN write per sample, as at the paper's rates.
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= SAMPLES; })) << "got " << wan.count();
+    EXPECT_EQ(numbers(wan), range(0, SAMPLES));
+    const std::uint64_t charged = gateway_->unscheduled_wire_bytes() - before;
+    if (spacing == 0) {
+        EXPECT_GE(charged, SAMPLES * HEARTBEAT_BYTES) << "a HEARTBEAT in every sample's message, each charged";
+    } else {
+        // A 41-byte sample's message is about 150 bytes: one HEARTBEAT per 7 or so, and little else.
+        EXPECT_GT(charged, 0u);
+        EXPECT_LT(charged, SAMPLES * HEARTBEAT_BYTES / 2) << "HEARTBEATs are spaced by " << spacing << " bytes";
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Spacing, HeartbeatSpacingTest, ::testing::Values(0u, dds::DEFAULT_HEARTBEAT_SPACING_BYTES),
+                         [](const ::testing::TestParamInfo<std::uint32_t>& info) {
+                             return info.param == 0 ? std::string("every_sample") : std::string("default");
+                         });
+
 TEST_F(QosMatchingTest, AnExclusiveOwnershipReaderGetsTheSamples) {
     start_gateway(config());
     const std::string topic = topic_prefix_ + "exclusive";
@@ -299,7 +352,7 @@ TEST_F(QosMatchingTest, ALateJoinerToALatchedTopicGetsTheLastSampleOfEachInstanc
     EXPECT_GE(gateway_->unscheduled_wire_bytes() - unscheduled_before, 3u * 100u);
 }
 
-TEST_F(QosMatchingTest, AThousandInstancesInABurstArriveApartAndADisposeFollows) {
+TEST_F(QosMatchingTest, AThousandInstancesInABurstArriveApartAndADisposeAndAnUnregisterFollow) {
     start_gateway(config());
     const std::string topic = topic_prefix_ + "instances";
     constexpr std::uint32_t KEYS = 1000;
@@ -310,6 +363,7 @@ TEST_F(QosMatchingTest, AThousandInstancesInABurstArriveApartAndADisposeFollows)
     rq.resource_limits().max_samples_per_instance = 1;
     fdds::DataWriterQos wq = writer_qos(true, false, 1);
     wq.resource_limits() = rq.resource_limits();
+    wq.writer_data_lifecycle().autodispose_unregistered_instances = false;  // an unregister is not a dispose
     auto& wan = listener<CollectingReader<idl::KeyedReading>>();
     ASSERT_TRUE(basecamp_reader<idl::KeyedReadingPubSubType>(topic, rq, wan));
     auto* writer = robot_writer<idl::KeyedReadingPubSubType>(topic, wq);
@@ -345,6 +399,15 @@ TEST_F(QosMatchingTest, AThousandInstancesInABurstArriveApartAndADisposeFollows)
     ASSERT_EQ(writer->dispose(&gone, robot_handles[7]), ReturnCode_t::RETCODE_OK);
     EXPECT_TRUE(wait_until([&] { return wan.disposed().count(robot_handles[7]) == 1; }))
         << "the dispose of sensor 7 never reached the base camp";
+    EXPECT_EQ(wan.disposed().size(), 1u);
+
+    // The robot's writer lets go of sensor 8: the gateway's WAN writer, its only writer at the base camp, does.
+    idl::KeyedReading released;
+    released.sensor_id(8);
+    ASSERT_EQ(writer->unregister_instance(&released, robot_handles[8]), ReturnCode_t::RETCODE_OK);
+    EXPECT_TRUE(wait_until([&] { return wan.unregistered().count(robot_handles[8]) == 1; }))
+        << "the unregister of sensor 8 never reached the base camp";
+    EXPECT_EQ(wan.unregistered().size(), 1u);
     EXPECT_EQ(wan.disposed().size(), 1u);
 
     expect_balanced();

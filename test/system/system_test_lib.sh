@@ -33,11 +33,13 @@ read_demo_result() {
     dropped="$(sed -E 's/.*; ([0-9]+) packets dropped.*/\1/' <<<"$queue")"
 }
 
-# run_demo NAME DEMO_ARGS...: runs scripts/demo with the programs of $BIN into a temporary file (removed at exit),
-# shown as it goes; sets out to the file.
+# run_demo NAME DEMO_ARGS...: runs scripts/demo with the programs of $BIN into a temporary file (removed at exit,
+# with those of earlier calls), shown as it goes; sets out to the file.
+DEMO_OUTPUTS=()
 run_demo() {
     out="$(mktemp "${TMPDIR:-/tmp}/tgw-$1.XXXXXX")"
     shift
-    trap 'rm -f "$out"' EXIT
+    DEMO_OUTPUTS+=("$out")
+    trap 'rm -f "${DEMO_OUTPUTS[@]}"' EXIT
     TGW_BIN="$BIN" scripts/demo --no-build "$@" | tee "$out"
 }

@@ -63,8 +63,9 @@ void print_summary(const tgw::dds::Gateway& gateway) {
     std::printf("\n");
     std::printf(
         "WAN traffic outside the schedule (discovery, heartbeats, repairs, copies to further readers): %llu "
-        "bytes, charged to the budget\n",
-        static_cast<unsigned long long>(gateway.unscheduled_wire_bytes()));
+        "bytes, charged to the budget; %llu repeated heartbeats held back\n",
+        static_cast<unsigned long long>(gateway.unscheduled_wire_bytes()),
+        static_cast<unsigned long long>(gateway.suppressed_heartbeats()));
     if (const auto report = gateway.receiver_report()) {
         std::printf(
             "base camp's last receiver report (of %llu): %llu samples received, %llu lost on the way, %llu in "
@@ -134,6 +135,10 @@ int main(int argc, char** argv) {
     app.add_option("--wan-coalesce-us", coalesce_us,
                    "a WAN sample that follows the previous datagram within this many microseconds waits as long "
                    "to share a datagram with the next ones; a sample that comes alone goes at once; 0: never")
+        ->capture_default_str();
+    app.add_option("--wan-heartbeat-bytes", config.wan_heartbeat_bytes,
+                   "a reliable WAN writer piggy-backs a HEARTBEAT (and draws an ACKNACK from each reader) once "
+                   "per this many bytes it sends; 0: with every sample, so a lost one is repaired a sample later")
         ->capture_default_str();
     bool robot_udp_only = false;
     app.add_option("--robot-interface", config.robot.interfaces,

@@ -1,6 +1,7 @@
 // RTPS messages and submessages as bytes, shaped as Fast DDS 2.9 writes them, for tests of what shares a datagram.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <initializer_list>
 #include <vector>
@@ -41,6 +42,17 @@ inline Bytes info_src() {
 /// A DATA submessage with `body_bytes` of body (a multiple of 4, as Fast DDS pads it).
 inline Bytes data(std::size_t body_bytes) {
     return submessage(0x15, 0x05, Bytes(body_bytes, 0x5a));
+}
+
+/// A HEARTBEAT submessage (28 bytes of body: reader and writer ids, first and last sequence numbers, count)
+/// from the writer whose entity id bytes are all `writer`, announcing 1 .. `last`.
+inline Bytes heartbeat(std::uint8_t writer = 0x11, std::uint8_t last = 1, std::uint8_t count = 1) {
+    Bytes body(28, 0);
+    std::fill(body.begin() + 4, body.begin() + 8, writer);
+    body[12] = 1;     // first sequence number, low word (little endian)
+    body[20] = last;  // last sequence number, low word
+    body[24] = count;
+    return submessage(0x07, 0x01, body);
 }
 
 /// Fast DDS's network-statistics submessage (id 0x80, big-endian, 56 bytes), which its transport fills in.

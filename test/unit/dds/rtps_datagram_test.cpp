@@ -13,6 +13,7 @@ namespace {
 
 using test::rtps::Bytes;
 using test::rtps::data;
+using test::rtps::heartbeat;
 using test::rtps::info_dst;
 using test::rtps::info_src;
 using test::rtps::info_ts;
@@ -135,6 +136,21 @@ TEST_F(RtpsDatagramTest, RefusesAMalformedMessageButSendsOneAlone) {
     sut.clear();
     EXPECT_TRUE(append(sut, truncated));
     EXPECT_FALSE(append(sut, message({info_ts(2), data(40)})));
+}
+
+TEST(RtpsHeartbeatBytes, CountsEveryHeartbeatSubmessageWithItsHeader) {
+    const Bytes piggy_backed = message({info_dst(0x33), info_ts(1), data(40), heartbeat(), statistics(0)});
+    EXPECT_EQ(RtpsDatagram::heartbeat_bytes(piggy_backed.data(), piggy_backed.size()), 32u);
+    const Bytes two = message({heartbeat(), info_ts(1), data(40), heartbeat()});
+    EXPECT_EQ(RtpsDatagram::heartbeat_bytes(two.data(), two.size()), 64u);
+    const Bytes none = message({info_ts(1), data(40), statistics(0)});
+    EXPECT_EQ(RtpsDatagram::heartbeat_bytes(none.data(), none.size()), 0u);
+}
+
+TEST(RtpsHeartbeatBytes, CountsNothingInAMalformedMessage) {
+    Bytes truncated = message({info_ts(1), heartbeat()});
+    truncated.resize(truncated.size() - 8);
+    EXPECT_EQ(RtpsDatagram::heartbeat_bytes(truncated.data(), truncated.size()), 0u);
 }
 
 TEST_F(RtpsDatagramTest, ClearStartsOver) {

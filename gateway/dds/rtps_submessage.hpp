@@ -1,0 +1,35 @@
+// RTPS 2.x message layout (DDSI-RTPS 9.4) that the WAN transport's byte-level pieces read: submessage ids and
+// headers. Pure bytes: no Fast DDS header.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace tgw::dds::rtps_bytes {
+
+constexpr std::size_t MESSAGE_HEADER_BYTES = 20;
+constexpr std::size_t SUBMESSAGE_HEADER_BYTES = 4;
+constexpr std::size_t GUID_PREFIX_BYTES = 12;
+
+// Submessage ids (DDSI-RTPS 9.4.5.1.1).
+constexpr std::uint8_t PAD = 0x01;
+constexpr std::uint8_t HEARTBEAT = 0x07;
+constexpr std::uint8_t INFO_TS = 0x09;
+constexpr std::uint8_t INFO_SRC = 0x0c;
+constexpr std::uint8_t INFO_REPLY_IP4 = 0x0d;
+constexpr std::uint8_t INFO_DST = 0x0e;
+constexpr std::uint8_t INFO_REPLY = 0x0f;
+/// eProsima's vendor-specific network-statistics submessage, which Debian's Fast DDS (built with statistics)
+/// ends every message with.
+constexpr std::uint8_t EPROSIMA_STATISTICS = 0x80;
+
+constexpr std::uint8_t FLAG_LITTLE_ENDIAN = 0x01;
+
+/// A submessage's octetsToNextHeader, in the endianness its E flag gives.
+inline std::size_t octets_to_next_header(const std::uint8_t* submessage) {
+    const auto lo = static_cast<std::size_t>(submessage[2]);
+    const auto hi = static_cast<std::size_t>(submessage[3]);
+    return (submessage[1] & FLAG_LITTLE_ENDIAN) != 0 ? (lo | (hi << 8)) : ((lo << 8) | hi);
+}
+
+}  // namespace tgw::dds::rtps_bytes

@@ -1,0 +1,92 @@
+// HeartbeatThrottle: which HEARTBEATs repeat one sent a moment ago, and are held back.
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "gateway/dds/heartbeat_throttle.hpp"
+#include "test/unit/dds/rtps_bytes.hpp"
+
+namespace tgw::dds {
+namespace {
+
+using namespace std::chrono_literals;
+using test::rtps::Bytes;
+using test::rtps::data;
+using test::rtps::heartbeat;
+using test::rtps::info_dst;
+using test::rtps::info_ts;
+using test::rtps::message;
+using test::rtps::statistics;
+
+DatagramDestination to_port(std::uint32_t port) {
+    eprosima::fastrtps::rtps::Locator_t locator;
+    locator.kind = LOCATOR_KIND_UDPv4;
+    locator.port = port;
+    locator.address[15] = 2;
+    return DatagramDestination{nullptr, {locator}};
+}
+
+class HeartbeatThrottleTest : public ::testing::Test {
+  protected:
+    bool admit(const Bytes& m, core::Duration at, const DatagramDestination& to = to_port(7661)) {
+        return sut.admit(to, m.data(), m.size(), core::SteadyTime{} + at);
+    }
+
+    HeartbeatThrottle sut{1s};
+    /// A lone HEARTBEAT as Fast DDS 2.9 answers an ACKNACK: to one reader, with the statistics trailer.
+    Bytes answer = message({info_dst(0x33), heartbeat(0x11, 5, 1), statistics(0)});
+};
+
+TEST_F(HeartbeatThrottleTest, HoldsBackTheSameHeartbeatToTheSameReaderWithinTheInterval) {
+    EXPECT_TRUE(admit(answer, 0ms));
+    const Bytes again = message({info_dst(0x33), heartbeat(0x11, 5, 2), statistics(0)});  // only the count moved
+    EXPECT_FALSE(admit(again, 70ms));
+    EXPECT_FALSE(admit(again, 999ms));
+    EXPECT_EQ(sut.suppressed(), 2u);
+}
+
+TEST_F(HeartbeatThrottleTest, LetsTheSameHeartbeatGoOnceTheIntervalHasPassed) {
+    EXPECT_TRUE(admit(answer, 0ms));
+    EXPECT_TRUE(admit(answer, 1000ms));
+    EXPECT_FALSE(admit(answer, 1500ms)) << "the interval counts from the last one sent";
+    EXPECT_TRUE(admit(answer, 2000ms));
+}
+
+TEST_F(HeartbeatThrottleTest, LetsAHeartbeatWithNewsGo) {
+    EXPECT_TRUE(admit(answer, 0ms));
+    EXPECT_TRUE(admit(message({info_dst(0x33), heartbeat(0x11, 6, 2), statistics(0)}), 10ms)) << "a new sample";
+    EXPECT_TRUE(admit(message({info_dst(0x33), heartbeat(0x22, 5, 1), statistics(0)}), 20ms)) << "another writer";
+    EXPECT_TRUE(admit(message({info_dst(0x44), heartbeat(0x11, 5, 1), statistics(0)}), 30ms)) << "another reader";
+    EXPECT_TRUE(admit(answer, 40ms, to_port(7663))) << "another destination";
+    EXPECT_EQ(sut.suppressed(), 0u);
+}
+
+TEST_F(HeartbeatThrottleTest, NeverHoldsBackAnythingButALoneHeartbeat) {
+    const Bytes piggy_backed = message({info_dst(0x33), info_ts(1), data(40), heartbeat(0x11, 5, 1), statistics(0)});
+    const Bytes two = message({info_dst(0x33), heartbeat(0x11, 5, 1), heartbeat(0x22, 5, 1)});
+    const Bytes sample = message({info_ts(1), data(40)});
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_TRUE(admit(piggy_backed, std::chrono::milliseconds(i)));
+        EXPECT_TRUE(admit(two, std::chrono::milliseconds(i)));
+        EXPECT_TRUE(admit(sample, std::chrono::milliseconds(i)));
+    }
+    Bytes truncated = answer;
+    truncated.resize(truncated.size() - 70);
+    EXPECT_TRUE(admit(truncated, 0ms));
+    EXPECT_TRUE(admit(truncated, 1ms));
+    EXPECT_EQ(sut.suppressed(), 0u);
+}
+
+TEST_F(HeartbeatThrottleTest, RemembersManyWritersAndReadersApart) {
+    for (int writer = 1; writer <= 200; ++writer) {
+        for (std::uint8_t reader = 1; reader <= 10; ++reader) {
+            const Bytes hb = message({info_dst(reader), heartbeat(static_cast<std::uint8_t>(writer), 5, 1)});
+            ASSERT_TRUE(admit(hb, std::chrono::milliseconds(writer)));
+            ASSERT_FALSE(admit(hb, std::chrono::milliseconds(writer + 500)));
+        }
+    }
+    EXPECT_EQ(sut.suppressed(), 2000u);
+}
+
+}  // namespace
+}  // namespace tgw::dds

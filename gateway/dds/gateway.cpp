@@ -336,8 +336,8 @@ bool Gateway::add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub, bool 
 
     Bridge::Lane lane;
     lane.declared = declared;
-    lane.listener =
-        std::make_unique<TopicBridge>(bridge.info.id, index, bridge.info.keyed, bridge.writers, *loop_, clock_);
+    lane.listener = std::make_unique<TopicBridge>(bridge.info.id, bridge.info.name, index, bridge.info.keyed,
+                                                  bridge.writers, *loop_, clock_);
     lane.reader =
         robot_->create_reader(bridge.info.name, bridge.info.type_name, bridge.info.keyed, pub.qos, lane.listener.get());
     if (lane.reader == nullptr) {

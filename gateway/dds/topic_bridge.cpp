@@ -1,6 +1,7 @@
 #include "gateway/dds/topic_bridge.hpp"
 
 #include <algorithm>
+#include <iostream>
 #include <utility>
 
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -25,9 +26,9 @@ core::SampleKind kind_of(const fdds::SampleInfo& info) {
 
 }  // namespace
 
-TopicBridge::TopicBridge(core::TopicId topic, std::uint16_t lane, bool keyed, const LaneAssignment& lanes,
-                         core::ForwardingLoop& loop, const core::Clock& clock)
-    : topic_(topic), lane_(lane), keyed_(keyed), lanes_(lanes), loop_(loop), clock_(clock) {}
+TopicBridge::TopicBridge(core::TopicId topic, std::string name, std::uint16_t lane, bool keyed,
+                         const LaneAssignment& lanes, core::ForwardingLoop& loop, const core::Clock& clock)
+    : topic_(topic), name_(std::move(name)), lane_(lane), keyed_(keyed), lanes_(lanes), loop_(loop), clock_(clock) {}
 
 void TopicBridge::on_data_available(fdds::DataReader* reader) {
     // Fast DDS may call this from the SHM and the UDP receive threads at once: samples go to the loop in the
@@ -54,6 +55,11 @@ void TopicBridge::on_data_available(fdds::DataReader* reader) {
             const eprosima::fastrtps::rtps::octet* hash = info.instance_handle.value;
             std::copy(hash, hash + sample.key.bytes.size(), sample.key.bytes.begin());
             sample.key.valid = true;
+        } else if (keyed_ && without_key_hash_.fetch_add(1, std::memory_order_relaxed) == 0) {
+            std::cerr << "telemetry-gateway: " << name_
+                      << ": keyed, but its publisher sends no key hash; base-camp readers still tell the instances "
+                         "apart, the gateway's history (a latched topic's last sample per instance) cannot. "
+                         "Cyclone DDS sends it with <Internal><GenerateKeyhash>true</GenerateKeyhash></Internal>\n";
         }
         if (const auto source = to_wall_time(info.source_timestamp)) {
             sample.source_time = *source;

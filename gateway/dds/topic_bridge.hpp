@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cstdint>
 #include <mutex>
+#include <string>
 
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 
@@ -19,8 +20,8 @@ namespace tgw::dds {
 /// buffer, and moved from there on.
 class TopicBridge final : public eprosima::fastdds::dds::DataReaderListener {
   public:
-    /// `lanes` must outlive the bridge.
-    TopicBridge(core::TopicId topic, std::uint16_t lane, bool keyed, const LaneAssignment& lanes,
+    /// `lanes` must outlive the bridge. `name`: the topic's, for the warning about samples without a key hash.
+    TopicBridge(core::TopicId topic, std::string name, std::uint16_t lane, bool keyed, const LaneAssignment& lanes,
                 core::ForwardingLoop& loop, const core::Clock& clock);
 
     void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
@@ -32,9 +33,14 @@ class TopicBridge final : public eprosima::fastdds::dds::DataReaderListener {
     std::int32_t matched_writers() const { return matched_.load(); }
     /// Samples that carried no source timestamp and were stamped on arrival.
     std::uint64_t stamped_on_arrival() const { return stamped_on_arrival_.load(); }
+    /// Samples of a keyed topic whose instance the publisher did not send (no key hash): the gateway, which
+    /// does not know the type, writes them all as one instance, so its per-instance history cannot keep them
+    /// apart (base-camp readers still can: they compute the key from the payload).
+    std::uint64_t without_key_hash() const { return without_key_hash_.load(); }
 
   private:
     const core::TopicId topic_;
+    const std::string name_;
     const std::uint16_t lane_;
     const bool keyed_;
     const LaneAssignment& lanes_;
@@ -42,6 +48,7 @@ class TopicBridge final : public eprosima::fastdds::dds::DataReaderListener {
     const core::Clock& clock_;
     std::atomic<std::int32_t> matched_{0};
     std::atomic<std::uint64_t> stamped_on_arrival_{0};
+    std::atomic<std::uint64_t> without_key_hash_{0};
     /// Held from take to submit: the SHM and UDP receive threads both call on_data_available, and without it
     /// one could submit a later sample before the other submits the earlier one it took.
     std::mutex take_order_;

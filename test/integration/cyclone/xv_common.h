@@ -3,6 +3,7 @@
 #ifndef TGW_XV_COMMON_H
 #define TGW_XV_COMMON_H
 
+#include <dds/dds.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,6 +34,24 @@ typedef struct xv_args {
     uint32_t instances;
     double seconds;
 } xv_args;
+
+/* QoS beyond the defaults, from the environment, the same for both ends:
+ *   XV_PARTITION=NAME     the publisher's or subscriber's partition;
+ *   XV_TRANSIENT_LOCAL=1  durability transient local (a "latched" publisher, a late-joining reader). */
+static inline void xv_apply_env_qos(dds_qos_t* qos) {
+    const char* partition = getenv("XV_PARTITION");
+    if (partition != NULL && *partition != '\0')
+        dds_qset_partition1(qos, partition);
+    const char* transient_local = getenv("XV_TRANSIENT_LOCAL");
+    if (transient_local != NULL && strcmp(transient_local, "1") == 0)
+        dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+}
+
+/* A non-negative integer from the environment, or `otherwise`. */
+static inline uint32_t xv_env_uint(const char* name, uint32_t otherwise) {
+    const char* value = getenv(name);
+    return value != NULL && *value != '\0' ? (uint32_t)strtoul(value, NULL, 10) : otherwise;
+}
 
 /* argv: DOMAIN TOPIC blob|keyed COUNT INSTANCES SECONDS */
 static inline int xv_parse_args(int argc, char** argv, xv_args* args) {

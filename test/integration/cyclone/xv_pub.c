@@ -1,7 +1,10 @@
 /* Cyclone DDS publisher for the cross-vendor test: writes samples 0..COUNT-1 of tgw_xv::Blob or
  * tgw_xv::KeyedBlob over and over, with a known source timestamp, until SECONDS have passed. Repeating makes
  * the test independent of when the gateway's reader and writer match. PAUSE_MS (default 20) between samples;
- * 0 writes each round as one burst, whose samples the gateway packs into shared WAN datagrams. */
+ * 0 writes each round as one burst, whose samples the gateway packs into shared WAN datagrams.
+ * XV_ROUNDS=N stops writing after N rounds and stays until SECONDS have passed (a latched publisher's history
+ * then stays with it); each round ends with a line "xv_pub: round N written". XV_PARTITION and
+ * XV_TRANSIENT_LOCAL: see xv_common.h. */
 #include <dds/dds.h>
 
 #include "CrossVendor.h"
@@ -24,6 +27,7 @@ int main(int argc, char** argv) {
     dds_qos_t* qos = dds_create_qos();
     dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
     dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 64);
+    xv_apply_env_qos(qos);
     const dds_entity_t writer = dds_create_writer(participant, topic, qos, NULL);
     dds_delete_qos(qos);
     if (topic < 0 || writer < 0) {
@@ -35,7 +39,13 @@ int main(int argc, char** argv) {
     uint8_t* buffer = malloc(5001);
     char text[128];
     unsigned long written = 0;
+    const uint32_t rounds = xv_env_uint("XV_ROUNDS", UINT32_MAX);
+    uint32_t round = 0;
     while (dds_time() < end) {
+        if (round >= rounds) {
+            dds_sleepfor(DDS_MSECS(50));
+            continue;
+        }
         dds_publication_matched_status_t matched;
         dds_get_publication_matched_status(writer, &matched);
         if (matched.current_count == 0) {
@@ -69,6 +79,9 @@ int main(int argc, char** argv) {
             if (pause_ms > 0)
                 dds_sleepfor(DDS_MSECS(pause_ms));
         }
+        ++round;
+        printf("xv_pub: round %u written\n", round);
+        fflush(stdout);
         dds_sleepfor(DDS_MSECS(200));
     }
     free(buffer);

@@ -1,6 +1,9 @@
 /* Cyclone DDS subscriber for the cross-vendor test: waits until it has received every sample 0..COUNT-1 and
  * checks each byte, the source timestamp, and for keyed topics that each key keeps one instance of its own.
- * Exit 0 when all arrived intact, 1 on a corrupted sample or after SECONDS without all of them. */
+ * Exit 0 when all arrived intact, 1 on a corrupted sample or after SECONDS without all of them.
+ * XV_FIRST=N expects only samples N..COUNT-1: an earlier one is an error (a late joiner to a latched topic gets
+ * the last sample of each instance, nothing older). XV_EXPECT_NONE=1 passes only if nothing arrives within
+ * SECONDS (a reader outside the publisher's partition). XV_PARTITION and XV_TRANSIENT_LOCAL: see xv_common.h. */
 #include <dds/dds.h>
 
 #include "CrossVendor.h"
@@ -79,6 +82,7 @@ int main(int argc, char** argv) {
      * the (reliable) Cyclone publisher offered. */
     dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
     dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+    xv_apply_env_qos(qos);
     const dds_entity_t reader = dds_create_reader(participant, topic, qos, NULL);
     dds_delete_qos(qos);
     if (topic < 0 || reader < 0) {
@@ -86,6 +90,9 @@ int main(int argc, char** argv) {
         return 1;
     }
 
+    const uint32_t first = xv_env_uint("XV_FIRST", 0);
+    const int expect_none = xv_env_uint("XV_EXPECT_NONE", 0) == 1;
+    const uint32_t expected = expect_none ? 0 : args.count - (first < args.count ? first : args.count);
     uint8_t* seen = calloc(args.count, 1);
     dds_instance_handle_t* handles = calloc(args.instances, sizeof(dds_instance_handle_t));
     uint32_t distinct = 0;
@@ -94,7 +101,7 @@ int main(int argc, char** argv) {
     void* samples[MAX_SAMPLES] = {NULL};
     dds_sample_info_t infos[MAX_SAMPLES];
     const dds_time_t end = dds_time() + (dds_duration_t)(args.seconds * 1e9);
-    while (ok && distinct < args.count && dds_time() < end) {
+    while (ok && (expect_none || distinct < expected) && dds_time() < end) {
         const dds_return_t n = dds_take(reader, samples, infos, MAX_SAMPLES, MAX_SAMPLES);
         if (n <= 0) {
             dds_sleepfor(DDS_MSECS(20));
@@ -114,6 +121,11 @@ int main(int argc, char** argv) {
                 seq = s->seq;
                 ok = seq < args.count && check_blob(s, &infos[i]);
             }
+            if (ok && (expect_none || seq < first)) {
+                fprintf(stderr, "xv_sub: sample %u arrived, expected %s\n", seq,
+                        expect_none ? "none" : "only the latest of each instance");
+                ok = 0;
+            }
             if (ok && !seen[seq]) {
                 seen[seq] = 1;
                 ++distinct;
@@ -121,12 +133,14 @@ int main(int argc, char** argv) {
         }
         dds_return_loan(reader, samples, n);
     }
-    printf("xv_sub: %s: %lu samples received, %u of %u distinct, %s\n", args.topic, received, distinct, args.count,
-           !ok                      ? "CORRUPTED"
-           : distinct == args.count ? "all intact"
-                                    : "TIMED OUT");
+    printf("xv_sub: %s: %lu samples received, %u of %u expected distinct, %s\n", args.topic, received, distinct,
+           expected,
+           !ok                   ? "UNEXPECTED"
+           : expect_none         ? "none, as expected"
+           : distinct == expected ? "all intact"
+                                 : "TIMED OUT");
     free(seen);
     free(handles);
     dds_delete(participant);
-    return ok && distinct == args.count ? 0 : 1;
+    return ok && distinct == expected ? 0 : 1;
 }

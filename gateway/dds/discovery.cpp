@@ -19,7 +19,8 @@ constexpr std::uint8_t ENTITY_KIND_WRITER_WITH_KEY = 0x02;
 
 }  // namespace
 
-Discovery::Discovery(Callback on_publisher) : on_publisher_(std::move(on_publisher)) {}
+Discovery::Discovery(Callback on_publisher, GoneCallback on_gone)
+    : on_publisher_(std::move(on_publisher)), on_gone_(std::move(on_gone)) {}
 
 void Discovery::ignore_participant(const GuidPrefix_t& prefix) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -33,12 +34,18 @@ bool Discovery::ignored(const GuidPrefix_t& prefix) const {
 
 void Discovery::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* /*participant*/,
                                        WriterDiscoveryInfo&& info) {
-    // A changed QoS keeps the topic's first TTL; a removed writer leaves its bridge in place for the next one.
-    if (info.status != WriterDiscoveryInfo::DISCOVERED_WRITER) {
-        return;
-    }
+    // A changed QoS keeps the topic's first TTL and its lanes.
     const auto& data = info.info;
     if (ignored(data.guid().guidPrefix)) {
+        return;
+    }
+    if (info.status == WriterDiscoveryInfo::REMOVED_WRITER) {
+        if (on_gone_) {
+            on_gone_(data.topicName().to_string(), data.guid());
+        }
+        return;
+    }
+    if (info.status != WriterDiscoveryInfo::DISCOVERED_WRITER) {
         return;
     }
     DiscoveredPublisher pub;

@@ -26,13 +26,15 @@ struct DiscoveredPublisher {
 };
 
 /// The robot participant's listener: turns every publisher discovered on the robot domain, whenever it
-/// appears, into a DiscoveredPublisher for `on_publisher`. Publishers of the gateway's own participants are
-/// ignored. Runs in Fast DDS's discovery thread: `on_publisher` must return quickly and create no entities.
+/// appears, into a DiscoveredPublisher for `on_publisher`, and tells `on_gone` the topic and GUID of each that
+/// leaves (deleted, or its participant gone). Publishers of the gateway's own participants are ignored. Runs in
+/// Fast DDS's discovery thread: the callbacks must return quickly and create or delete no entities.
 class Discovery final : public eprosima::fastdds::dds::DomainParticipantListener {
   public:
     using Callback = std::function<void(DiscoveredPublisher&&)>;
+    using GoneCallback = std::function<void(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t&)>;
 
-    explicit Discovery(Callback on_publisher);
+    explicit Discovery(Callback on_publisher, GoneCallback on_gone = {});
 
     /// Publishers of this participant will not be reported (the gateway's own).
     void ignore_participant(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix);
@@ -44,6 +46,7 @@ class Discovery final : public eprosima::fastdds::dds::DomainParticipantListener
     bool ignored(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
 
     Callback on_publisher_;
+    GoneCallback on_gone_;
     mutable std::mutex mutex_;
     std::vector<eprosima::fastrtps::rtps::GuidPrefix_t> ignored_;
 };

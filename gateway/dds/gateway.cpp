@@ -146,7 +146,10 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     }
 
     discovery_ = std::make_unique<Discovery>(
-        [this](DiscoveredPublisher&& pub) { post([this, pub = std::move(pub)] { bridge_nts(pub); }); });
+        [this](DiscoveredPublisher&& pub) { post([this, pub = std::move(pub)] { bridge_nts(pub); }); },
+        [this](const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
+            post([this, topic, writer] { forget_writer_nts(topic, writer); });
+        });
     discovery_->ignore_participant(wan_->guid_prefix());
     worker_ = std::thread([this] { run_worker(); });
     try {
@@ -231,6 +234,14 @@ void Gateway::post(std::function<void()> task) {
     events_changed_.notify_one();
 }
 
+void Gateway::post_at(std::chrono::steady_clock::time_point at, std::function<void()> task) {
+    {
+        std::lock_guard<std::mutex> lock(events_mutex_);
+        timers_.emplace(at, std::move(task));
+    }
+    events_changed_.notify_one();
+}
+
 void Gateway::stop_worker() {
     {
         std::lock_guard<std::mutex> lock(events_mutex_);
@@ -244,13 +255,21 @@ void Gateway::stop_worker() {
 
 void Gateway::run_worker() {
     std::unique_lock<std::mutex> lock(events_mutex_);
-    while (true) {
-        events_changed_.wait(lock, [this] { return worker_stopping_ || !events_.empty(); });
-        if (worker_stopping_) {
-            return;
+    while (!worker_stopping_) {
+        std::function<void()> task;
+        if (!events_.empty()) {
+            task = std::move(events_.front());
+            events_.pop_front();
+        } else if (!timers_.empty() && timers_.begin()->first <= std::chrono::steady_clock::now()) {
+            task = std::move(timers_.begin()->second);
+            timers_.erase(timers_.begin());
+        } else if (!timers_.empty()) {
+            events_changed_.wait_until(lock, timers_.begin()->first);
+            continue;
+        } else {
+            events_changed_.wait(lock);
+            continue;
         }
-        std::function<void()> task = std::move(events_.front());
-        events_.pop_front();
         lock.unlock();
         task();
         lock.lock();
@@ -259,18 +278,60 @@ void Gateway::run_worker() {
 
 std::optional<std::uint16_t> Gateway::lane_for_nts(const Bridge& bridge, const OfferedQos& offer) const {
     const auto& lanes = bridge.info.lanes;
-    const auto same = std::find(lanes.begin(), lanes.end(), offer);
-    if (same != lanes.end()) {
-        return static_cast<std::uint16_t>(same - lanes.begin());
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+        if (bridge.info.live[i] && lanes[i] == offer) {
+            return static_cast<std::uint16_t>(i);
+        }
     }
     // A lane declared in the --qos file takes any publisher its reader matches: its WAN writer offers what the
     // operator wrote, and its announcement crossed the link at start-up.
     for (std::size_t i = 0; i < lanes.size(); ++i) {
-        if (bridge.lanes[i].declared && lanes[i].accepts(offer)) {
+        if (bridge.info.live[i] && bridge.lanes[i].declared && lanes[i].accepts(offer)) {
             return static_cast<std::uint16_t>(i);
         }
     }
     return std::nullopt;
+}
+
+Gateway::Bridge* Gateway::find_bridge(const std::string& topic) {
+    std::lock_guard<std::mutex> lock(bridges_mutex_);
+    const auto it = bridges_.find(topic);
+    return it == bridges_.end() ? nullptr : it->second.get();
+}
+
+void Gateway::forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
+    Bridge* bridge = find_bridge(topic);
+    if (bridge == nullptr) {
+        return;
+    }
+    const std::optional<std::uint16_t> lane = bridge->writers.release(writer);
+    if (!lane || bridge->writers.writers_on(*lane) > 0 || bridge->lanes[*lane].declared) {
+        return;
+    }
+    // What the publisher sent is still the base camp's due: the lane stays until its queued samples are past
+    // their TTL. A publisher of the same offer that comes back meanwhile keeps it.
+    const auto ttl = std::chrono::duration_cast<std::chrono::steady_clock::duration>(bridge->info.ttl.ttl);
+    post_at(std::chrono::steady_clock::now() + ttl + LANE_LINGER,
+            [this, topic, lane = *lane] { retire_lane_nts(topic, lane); });
+}
+
+void Gateway::retire_lane_nts(const std::string& topic, std::uint16_t lane) {
+    Bridge* bridge = find_bridge(topic);
+    if (bridge == nullptr || lane >= bridge->lanes.size() || !bridge->info.live[lane] ||
+        bridge->writers.writers_on(lane) > 0) {
+        return;
+    }
+    Bridge::Lane& retired = bridge->lanes[lane];
+    robot_->delete_reader(retired.reader);  // no callback into the listener after this
+    std::unique_ptr<TopicBridge> listener;
+    {
+        std::lock_guard<std::mutex> lock(bridges_mutex_);
+        retired.reader = nullptr;
+        listener = std::move(retired.listener);
+        bridge->info.live[lane] = false;
+        by_id_[bridge->info.id].live = bridge->info.live;
+    }
+    wan_->remove_lane(bridge->info.id, lane);
 }
 
 void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
@@ -279,12 +340,7 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     if (!filter_.admits(pub.topic) || !robot_) {
         return;
     }
-    Bridge* bridge = nullptr;
-    {
-        std::lock_guard<std::mutex> lock(bridges_mutex_);
-        const auto it = bridges_.find(pub.topic);
-        bridge = it == bridges_.end() ? nullptr : it->second.get();
-    }
+    Bridge* bridge = find_bridge(pub.topic);
     if (bridge != nullptr) {
         if (const auto lane = lane_for_nts(*bridge, pub.qos)) {
             // The lane's reader matches this publisher already.
@@ -321,7 +377,9 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
 }
 
 bool Gateway::add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub, bool declared) {
-    const auto index = static_cast<std::uint16_t>(bridge.lanes.size());
+    // A retired lane's index is taken again: lanes do not grow with publishers that come and go.
+    const auto retired = std::find(bridge.info.live.begin(), bridge.info.live.end(), false);
+    const auto index = static_cast<std::uint16_t>(retired - bridge.info.live.begin());
     // The WAN writer first, so that nothing the reader takes finds no writer.
     // Lifespan = TTL, so that base-camp readers drop what is stale themselves; but what a latched publisher
     // keeps forever (ROS 2's /tf_static, /robot_description) stays for late joiners past the TTL.
@@ -348,10 +406,18 @@ bool Gateway::add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub, bool 
         bridge.writers.assign(pub.writer, index);
     }
     std::lock_guard<std::mutex> lock(bridges_mutex_);
-    bridge.lanes.push_back(std::move(lane));
-    bridge.info.lanes.push_back(pub.qos);
+    if (index == bridge.lanes.size()) {
+        bridge.lanes.push_back(std::move(lane));
+        bridge.info.lanes.push_back(pub.qos);
+        bridge.info.live.push_back(true);
+    } else {
+        bridge.lanes[index] = std::move(lane);
+        bridge.info.lanes[index] = pub.qos;
+        bridge.info.live[index] = true;
+    }
     if (bridge.info.id < by_id_.size()) {
         by_id_[bridge.info.id].lanes = bridge.info.lanes;
+        by_id_[bridge.info.id].live = bridge.info.live;
     }
     return true;
 }
@@ -397,7 +463,7 @@ std::int32_t Gateway::robot_matched_writers(core::TopicId id) const {
         if (bridge->info.id == id) {
             std::int32_t matched = 0;
             for (const Bridge::Lane& lane : bridge->lanes) {
-                matched += lane.listener->matched_writers();
+                matched += lane.listener ? lane.listener->matched_writers() : 0;
             }
             return matched;
         }

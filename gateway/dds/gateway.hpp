@@ -80,13 +80,17 @@ struct BridgedTopic {
     ResolvedTtl ttl;
     /// The QoS offers of its publishers, one lane each (a robot reader and a WAN writer), by lane index.
     std::vector<OfferedQos> lanes;
+    /// By lane index: false once the lane's last publisher has left and the lane was retired (its index is
+    /// reused by the next new offer).
+    std::vector<bool> live;
 };
 
 /// The whole gateway in one object (main stays thin; integration tests create it in-process): the on-robot
 /// log, the WAN participant, the ForwardingLoop with its sink, and the robot participant whose discovery
 /// creates, for each admitted topic, a lane per QoS its publishers offer: a type-agnostic reader that asks for
-/// that QoS and a WAN writer that offers it. Entities are created in a worker thread of its own, never in
-/// Fast DDS's callbacks.
+/// that QoS and a WAN writer that offers it. A lane whose last publisher left is retired a TTL later (plus
+/// LANE_LINGER), so base-camp readers see its writer go, unless it was declared in the --qos file. Entities are
+/// created and deleted in a worker thread of its own, never in Fast DDS's callbacks.
 class Gateway {
   public:
     /// Starts everything. Throws core::ConfigError (bad flag, file, or a participant that cannot be created).
@@ -138,15 +142,27 @@ class Gateway {
     /// to the return of the WAN DataWriter's write (time queued for the link budget included).
     core::LatencyHistogram::Snapshot processing_latency() const;
 
+    /// How long a lane whose last publisher left outlives the TTL of its samples still queued.
+    static constexpr std::chrono::seconds LANE_LINGER{1};
+
   private:
     struct Bridge;
     struct UnscheduledLink;
 
     /// Runs `task` in the worker thread, after those posted before it.
     void post(std::function<void()> task);
+    /// Runs `task` in the worker thread once the steady clock reaches `at` (a real-time wait, whatever clock
+    /// the scheduler runs on: it is about DDS entities).
+    void post_at(std::chrono::steady_clock::time_point at, std::function<void()> task);
     void run_worker();
     /// Bridges `pub`'s topic, or finds or makes its lane; `declared`: from a --qos profile, no publisher yet.
     void bridge_nts(const DiscoveredPublisher& pub, bool declared = false);  // the worker thread only
+    /// The bridge of `topic`, nullptr before its first publisher. Bridges live as long as the gateway.
+    Bridge* find_bridge(const std::string& topic);
+    /// A publisher left: if it was its lane's last, the lane is retired once its queued samples are past.
+    void forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer);
+    /// Deletes the lane's robot reader and WAN writer if no publisher came back to it meanwhile.
+    void retire_lane_nts(const std::string& topic, std::uint16_t lane);  // the worker thread only
     /// The existing lane of `bridge` that carries a publisher offering `offer`, if any.
     std::optional<std::uint16_t> lane_for_nts(const Bridge& bridge, const OfferedQos& offer) const;
     /// Creates the next lane of `bridge` for `pub`'s offer; false if Fast DDS refused.
@@ -177,6 +193,7 @@ class Gateway {
     std::mutex events_mutex_;
     std::condition_variable events_changed_;
     std::deque<std::function<void()>> events_;
+    std::multimap<std::chrono::steady_clock::time_point, std::function<void()>> timers_;
     bool worker_stopping_ = false;
     std::thread worker_;
 

@@ -1,8 +1,10 @@
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <shared_mutex>
 
 #include <fastdds/rtps/common/Guid.h>
@@ -22,6 +24,25 @@ class LaneAssignment {
         if (lane != 0) {
             several_lanes_.store(true, std::memory_order_release);
         }
+    }
+
+    /// Forgets a writer that left; the lane that carried it, if it was assigned.
+    std::optional<std::uint16_t> release(const eprosima::fastrtps::rtps::GUID_t& writer) {
+        std::unique_lock<std::shared_mutex> lock(mutex_);
+        const auto it = lanes_.find(eprosima::fastrtps::rtps::InstanceHandle_t(writer));
+        if (it == lanes_.end()) {
+            return std::nullopt;
+        }
+        const std::uint16_t lane = it->second;
+        lanes_.erase(it);
+        return lane;
+    }
+
+    /// Writers assigned to `lane` now.
+    std::size_t writers_on(std::uint16_t lane) const {
+        std::shared_lock<std::shared_mutex> lock(mutex_);
+        return static_cast<std::size_t>(
+            std::count_if(lanes_.begin(), lanes_.end(), [lane](const auto& entry) { return entry.second == lane; }));
     }
 
     /// True when `lane` forwards the samples of the writer `publication` (SampleInfo::publication_handle). A

@@ -60,6 +60,16 @@ struct WanRouter::Lane {
     fdds::DataWriter* writer = nullptr;
     std::unique_ptr<WriterListener> listener;
     bool failure_reported = false;
+
+    Lane() = default;
+    Lane(const Lane&) = delete;
+    Lane& operator=(const Lane&) = delete;
+    /// Deletes the writer: a lane goes when its last holder lets go of it, after any write in progress.
+    ~Lane() {
+        if (writer != nullptr) {
+            const_cast<fdds::Publisher*>(writer->get_publisher())->delete_datawriter(writer);
+        }
+    }
 };
 
 class WanRouter::WriterListener final : public fdds::DataWriterListener {
@@ -141,6 +151,10 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
 WanRouter::~WanRouter() {
     // Sends what waits while the transport's channels still exist.
     coalescer_->stop();
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        lanes_.clear();  // their writers, before the participant
+    }
     if (participant_ != nullptr) {
         participant_->set_listener(nullptr);
         participant_->delete_contained_entities();
@@ -173,7 +187,7 @@ fdds::Publisher* WanRouter::publisher_nts(const OfferedQos& offer) {
 bool WanRouter::add_lane(core::TopicId id, std::uint16_t lane_index, const std::string& topic,
                          const std::string& type_name, bool keyed, std::optional<core::Duration> lifespan,
                          const OfferedQos& offer) {
-    auto lane = std::make_unique<Lane>();
+    auto lane = std::make_shared<Lane>();
     lane->topic = topic;
     lane->keyed = keyed;
     lane->listener = std::make_unique<WriterListener>();
@@ -242,13 +256,24 @@ std::size_t WanRouter::remote_participants() const {
     return static_cast<std::size_t>(std::max(0, participants_->count.load()));
 }
 
-WanRouter::Lane* WanRouter::lane(core::TopicId id, std::uint16_t lane_index) const {
+std::shared_ptr<WanRouter::Lane> WanRouter::lane(core::TopicId id, std::uint16_t lane_index) const {
     std::lock_guard<std::mutex> lock(mutex_);
-    return id < lanes_.size() && lane_index < lanes_[id].size() ? lanes_[id][lane_index].get() : nullptr;
+    return id < lanes_.size() && lane_index < lanes_[id].size() ? lanes_[id][lane_index] : nullptr;
+}
+
+void WanRouter::remove_lane(core::TopicId id, std::uint16_t lane_index) {
+    std::shared_ptr<Lane> removed;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (id < lanes_.size() && lane_index < lanes_[id].size()) {
+            removed = std::move(lanes_[id][lane_index]);
+        }
+    }
+    // The writer goes here, or after the write that holds the lane now.
 }
 
 WriteResult WanRouter::write(core::Sample& sample) {
-    Lane* e = lane(sample.topic, sample.route);
+    const std::shared_ptr<Lane> e = lane(sample.topic, sample.route);
     if (e == nullptr) {
         return WriteResult::unknown_topic;
     }
@@ -317,7 +342,7 @@ bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {
 }
 
 std::optional<core::Duration> WanRouter::writer_lifespan(core::TopicId id, std::uint16_t lane_index) const {
-    Lane* e = lane(id, lane_index);
+    const std::shared_ptr<Lane> e = lane(id, lane_index);
     if (e == nullptr) {
         return std::nullopt;
     }

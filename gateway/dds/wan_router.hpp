@@ -88,6 +88,10 @@ class WanRouter {
     bool add_lane(core::TopicId id, std::uint16_t lane, const std::string& topic, const std::string& type_name,
                   bool keyed, std::optional<core::Duration> lifespan, const OfferedQos& offer);
 
+    /// Deletes the writer of lane `lane` of the topic (after a write in progress on it), so base-camp readers
+    /// see it go as they would see the robot's publisher go. Its samples still queued then find no writer.
+    void remove_lane(core::TopicId id, std::uint16_t lane);
+
     /// Writes (or disposes, or unregisters) with the sample's source timestamp and instance, through the
     /// writer of its lane. The sample keeps its payload, so a refused write can still be logged. Never throws.
     WriteResult write(core::Sample& sample);
@@ -114,7 +118,7 @@ class WanRouter {
     class ParticipantCounter;
     struct Lane;
 
-    Lane* lane(core::TopicId id, std::uint16_t lane) const;
+    std::shared_ptr<Lane> lane(core::TopicId id, std::uint16_t lane) const;
     /// One publisher per partition set (a publisher's QoS in Fast DDS 2.9), made on demand.
     eprosima::fastdds::dds::Publisher* publisher_nts(const OfferedQos& offer);
 
@@ -125,7 +129,7 @@ class WanRouter {
     eprosima::fastdds::dds::Publisher* publisher_ = nullptr;  ///< the default partition's
     mutable std::mutex mutex_;
     std::map<std::vector<std::string>, eprosima::fastdds::dds::Publisher*> publishers_;
-    std::vector<std::vector<std::unique_ptr<Lane>>> lanes_;  // [TopicId][lane]
+    std::vector<std::vector<std::shared_ptr<Lane>>> lanes_;  // [TopicId][lane]; a write holds its lane
     std::unique_ptr<ParticipantCounter> participants_;       ///< before participant_'s deletion
 };
 

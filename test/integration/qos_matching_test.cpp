@@ -230,6 +230,46 @@ INSTANTIATE_TEST_SUITE_P(Spacing, HeartbeatSpacingTest, ::testing::Values(0u, dd
                              return info.param == 0 ? std::string("every_sample") : std::string("default");
                          });
 
+// The base camp sees a robot publisher go as it would see it go without the gateway: the lane's WAN writer is
+// deleted once what the publisher sent is past its TTL; the next publisher of that QoS brings the lane back.
+TEST_F(QosMatchingTest, ALaneIsRetiredATtlAfterItsLastPublisherLeftAndComesBackWithTheNext) {
+    auto c = config();
+    c.default_ttl = 1s;
+    start_gateway(c);
+    const std::string topic = topic_prefix_ + "coming_and_going";
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_TRUE(basecamp_reader<idl::PaperMessagePubSubType>(topic, reader_qos(true, false), wan));
+    auto* first = robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(true, false));
+    ASSERT_NE(first, nullptr);
+    wait_until_linked(topic, wan);
+    ASSERT_FALSE(HasFatalFailure());
+    expect_numbered_samples_cross(first, wan, 5);
+
+    const auto left = std::chrono::steady_clock::now();
+    ASSERT_EQ(const_cast<fdds::Publisher*>(first->get_publisher())->delete_datawriter(first), ReturnCode_t::RETCODE_OK);
+    ASSERT_TRUE(wait_until([&] { return wan.matched.load() == 0; }, 15s))
+        << "the base camp still matches the WAN writer of a topic whose publisher left";
+    EXPECT_GE(std::chrono::steady_clock::now() - left, c.default_ttl) << "retired before its samples' TTL";
+    const auto retired = gateway_->find_topic(topic);
+    ASSERT_EQ(retired->live.size(), 1u);
+    EXPECT_FALSE(retired->live[0]);
+
+    auto* second = robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(true, false));
+    ASSERT_NE(second, nullptr);
+    wait_until_linked(topic, wan);
+    ASSERT_FALSE(HasFatalFailure());
+    for (std::uint64_t i = 5; i < 10; ++i) {
+        auto m = paper_message(i);
+        ASSERT_TRUE(second->write(&m));
+    }
+    EXPECT_TRUE(wait_until([&] { return wan.count() >= 10; })) << "got " << wan.count() << " of 10";
+    EXPECT_EQ(numbers(wan), range(0, 10));
+    const auto back = gateway_->find_topic(topic);
+    EXPECT_EQ(back->lanes.size(), 1u) << "the retired lane's index is taken again";
+    EXPECT_EQ(back->live, std::vector<bool>{true});
+    expect_balanced();
+}
+
 TEST_F(QosMatchingTest, AnExclusiveOwnershipReaderGetsTheSamples) {
     start_gateway(config());
     const std::string topic = topic_prefix_ + "exclusive";

@@ -12,6 +12,7 @@
 #include <fastdds/dds/topic/Topic.hpp>
 
 #include "gateway/core/config_error.hpp"
+#include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 
 namespace tgw::dds {
@@ -21,11 +22,6 @@ using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
 using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
 
 namespace {
-
-// Room for bursts between two listener calls; the bridge takes every sample as it arrives.
-constexpr std::int32_t READER_HISTORY_DEPTH = 1000;
-// Fast DDS sizes a keyed KEEP_LAST history as depth x max_instances, so "unlimited" (-1) is not an option.
-constexpr std::int32_t MAX_INSTANCES = 65536;
 
 // The kernel caps SO_RCVBUF at this without a word.
 constexpr const char* RMEM_MAX_PATH = "/proc/sys/net/core/rmem_max";
@@ -123,22 +119,7 @@ fdds::DataReader* RobotParticipant::create_reader(const std::string& topic_name,
         return nullptr;
     }
 
-    fdds::DataReaderQos qos = subscriber->get_default_datareader_qos();
-    // expects_inline_qos only for keyed Fast DDS writers (OfferedQos::needs_inline_key_hash); the instance
-    // comes from SampleInfo.
-    offer.apply_to_robot_reader(qos);
-    qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = READER_HISTORY_DEPTH;
-    qos.resource_limits().max_samples_per_instance = READER_HISTORY_DEPTH;
-    qos.resource_limits().max_samples = fdds::LENGTH_UNLIMITED;
-    qos.resource_limits().max_instances = MAX_INSTANCES;
-    qos.resource_limits().allocated_samples = 16;
-    // Fast DDS 2.9's dynamic payload pools drop a change without payload: a keyed topic's dispose or unregister
-    // would never arrive. Keyed lanes preallocate and grow instead; the bridge takes every sample at once, so
-    // their history stays short.
-    qos.endpoint().history_memory_policy = keyed ? eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE
-                                                 : eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
-    qos.data_sharing().off();
+    const fdds::DataReaderQos qos = passthrough_reader_qos(subscriber->get_default_datareader_qos(), offer, keyed);
 
     fdds::DataReader* reader = subscriber->create_datareader(topic, qos, listener, fdds::StatusMask::all());
     if (reader == nullptr) {

@@ -17,6 +17,7 @@
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
 
@@ -27,16 +28,6 @@ using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
 using eprosima::fastrtps::rtps::IPLocator;
 using eprosima::fastrtps::rtps::Locator_t;
 using eprosima::fastrtps::types::ReturnCode_t;
-
-namespace {
-
-// A reliable lane keeps what a base-camp reader may still ask to be repaired: KEEP_LAST per instance, and
-// Lifespan = TTL removes what is stale, so a repair of a sample past its deadline is never sent.
-constexpr std::int32_t RELIABLE_HISTORY_DEPTH = 64;
-// Fast DDS sizes a keyed KEEP_LAST history as depth x max_instances, so "unlimited" (-1) is not an option.
-constexpr std::int32_t MAX_INSTANCES = 65536;
-
-}  // namespace
 
 /// Counts the base-camp participants the WAN participant has discovered: each new endpoint's SEDP announcement
 /// goes to each of them.
@@ -215,26 +206,13 @@ bool WanRouter::add_lane(core::TopicId id, std::uint16_t lane_index, const std::
     // A data_writer profile named after the topic is the starting point (its Lifespan already made the TTL);
     // what decides matching is the publishers' offer, except that a profile may ask for best effort.
     const std::optional<fdds::DataWriterQos> profile = writer_profile(topic);
-    fdds::DataWriterQos qos = profile.value_or(publisher->get_default_datawriter_qos());
-    offer.apply_to_wan_writer(qos);
+    fdds::DataWriterQos qos =
+        passthrough_writer_qos(profile.value_or(publisher->get_default_datawriter_qos()), offer, keyed, lifespan);
     if (profile && profile->reliability().kind == fdds::BEST_EFFORT_RELIABILITY_QOS) {
         // The operator's word (a writer's default is reliable, so this was asked for): no HEARTBEAT or
         // ACKNACK on the link for this topic, at the price of reliable base-camp readers not matching.
         qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
     }
-    qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = offer.reliable && !offer.transient_local ? RELIABLE_HISTORY_DEPTH : 1;
-    qos.resource_limits().max_samples = fdds::LENGTH_UNLIMITED;
-    qos.resource_limits().max_instances = MAX_INSTANCES;
-    qos.resource_limits().max_samples_per_instance = qos.history().depth;
-    qos.lifespan().duration = lifespan ? to_dds_duration(*lifespan) : eprosima::fastrtps::c_TimeInfinite;
-    // As the robot readers: a dynamic payload pool refuses a dispose's empty payload (OUT_OF_RESOURCES).
-    qos.endpoint().history_memory_policy = keyed ? eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE
-                                                 : eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
-    qos.data_sharing().off();
-    // A robot publisher's dispose reaches the gateway as a dispose and is passed on as one; an unregister must
-    // stay an unregister at the base camp, not become a dispose (Fast DDS's default for unregister_instance).
-    qos.writer_data_lifecycle().autodispose_unregistered_instances = false;
 
     lane->writer = publisher->create_datawriter(wan_topic, qos, lane->listener.get(), fdds::StatusMask::all());
     if (lane->writer == nullptr) {

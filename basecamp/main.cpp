@@ -1,5 +1,6 @@
-// tm-basecamp: the base camp's side of the link. record: every topic of a domain into SQLite; report: the
-// paper's metrics per topic from a recording, and with the gateway's on-robot log where every missing sample went.
+// tm-basecamp: the base camp's side of the link. record: every topic of a domain into SQLite; relay: every topic
+// of the WAN domain into the camp's own domain; report: the paper's metrics per topic from a recording, and with
+// the gateway's on-robot log where every missing sample went.
 #include <CLI/CLI.hpp>
 
 #include <atomic>
@@ -8,7 +9,11 @@
 #include <string>
 #include <vector>
 
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+
+#include "basecamp/peer_transport.hpp"
 #include "basecamp/recorder.hpp"
+#include "basecamp/relay.hpp"
 #include "basecamp/report.hpp"
 #include "basecamp/sample_store.hpp"
 #include "gateway/core/config_error.hpp"
@@ -70,6 +75,24 @@ int main(int argc, char** argv) {
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
 
+    CLI::App* relay = app.add_subcommand(
+        "relay", "the camp's one participant on the WAN domain: every topic republished into the camp's own domain");
+    int local_domain = 0;
+    double relay_duration_s = 0.0;
+    tgw::basecamp::PeerTransport relay_transport;
+    relay->add_option("--domain", domain, "the WAN domain's id")->check(CLI::Range(0, 232));
+    relay->add_option("--peer", relay_transport.peers,
+                      "IPv4 address of the robot (repeatable): UDP unicast only on the WAN, no multicast");
+    relay->add_option("--interface", relay_transport.interface,
+                      "interface name or IPv4 address to bind the WAN participant's sockets to");
+    relay
+        ->add_option("--local-domain", local_domain,
+                     "the camp's own domain: every topic appears there, for programs with their vendors' defaults")
+        ->check(CLI::Range(0, 232))
+        ->required();
+    relay->add_option("--duration", relay_duration_s, "seconds to relay; until SIGINT/SIGTERM without it")
+        ->check(CLI::PositiveNumber);
+
     CLI::App* report = app.add_subcommand("report", "print received, on time and transmission time per topic");
     std::string in;
     std::vector<std::string> ttls;
@@ -101,7 +124,23 @@ int main(int argc, char** argv) {
     }
 
     try {
-        if (record->parsed()) {
+        if (relay->parsed()) {
+            if (local_domain == domain)
+                throw tgw::core::ConfigError("--local-domain: must differ from --domain (" + std::to_string(domain) +
+                                             "), or every sample would come back to the relay");
+            auto wan_qos =
+                eprosima::fastdds::dds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
+            tgw::basecamp::apply_peer_transport(wan_qos, relay_transport);
+            tgw::basecamp::Relay relaying(domain, wan_qos, local_domain);
+            std::signal(SIGINT, on_signal);
+            std::signal(SIGTERM, on_signal);
+            std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain << std::endl;
+            const auto duration =
+                relay_duration_s > 0 ? tgw::core::from_seconds(relay_duration_s) : tgw::core::Duration::max() / 2;
+            relaying.run(duration, g_stop);
+            for (const auto& [topic, count] : relaying.relayed())
+                std::cout << "  " << topic << ": " << count << " samples relayed\n";
+        } else if (record->parsed()) {
             tgw::basecamp::SampleStore store(out, "--out");
             tgw::basecamp::Recorder recorder(domain, transport, store, tgw::core::from_seconds(report_period_s));
             std::signal(SIGINT, on_signal);

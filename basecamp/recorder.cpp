@@ -85,14 +85,7 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
 
 Recorder::Recorder(int domain, const PeerTransport& transport, SampleStore& store, core::Duration report_period)
     : store_(store), report_period_(report_period) {
-    discovery_ = std::make_unique<dds::Discovery>([this](dds::DiscoveredPublisher&& publisher) {
-        // Discovery thread: entities are created by run(), never here.
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            discovered_.push_back(std::move(publisher));
-        }
-        discovered_cv_.notify_all();
-    });
+    discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
     qos.name("tm-basecamp");
@@ -169,21 +162,13 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
 void Recorder::run(core::Duration duration, const std::atomic<bool>& stop) {
     const auto end = core::SteadyClock::now() + duration;
     auto next_report = core::SteadyClock::now() + report_period_;
-    std::unique_lock<std::mutex> lock(mutex_);
     while (!stop.load() && core::SteadyClock::now() < end) {
-        discovered_cv_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !discovered_.empty(); });
+        for (const dds::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
+            subscribe(publisher);
+        }
         if (reporter_ && core::SteadyClock::now() >= next_report) {
             next_report += report_period_;
-            lock.unlock();
             reporter_->publish(tally_.totals());
-            lock.lock();
-        }
-        while (!discovered_.empty()) {
-            const dds::DiscoveredPublisher publisher = std::move(discovered_.front());
-            discovered_.pop_front();
-            lock.unlock();
-            subscribe(publisher);
-            lock.lock();
         }
     }
 }

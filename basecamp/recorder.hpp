@@ -10,6 +10,7 @@
 #include <string>
 
 #include "basecamp/delivery_tally.hpp"
+#include "basecamp/discovery_queue.hpp"
 #include "basecamp/peer_transport.hpp"
 #include "basecamp/sample_store.hpp"
 #include "gateway/core/time.hpp"
@@ -54,15 +55,12 @@ class Recorder {
     SampleStore& store_;
     DeliveryTally tally_;
     core::Duration report_period_;
+    DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
     std::map<std::string, std::unique_ptr<TopicReader>> readers_;
     std::unique_ptr<ReceiverReporter> reporter_;
-
-    mutable std::mutex mutex_;
-    std::condition_variable discovered_cv_;
-    std::deque<dds::DiscoveredPublisher> discovered_;
 };
 
 }  // namespace tgw::basecamp

@@ -475,6 +475,10 @@ std::int32_t Gateway::wan_matched_readers(core::TopicId id) const {
     return wan_->matched_readers(id);
 }
 
+std::size_t Gateway::wan_participants() const {
+    return wan_->remote_participants();
+}
+
 std::optional<core::Duration> Gateway::wan_writer_lifespan(core::TopicId id, std::uint16_t lane) const {
     return wan_->writer_lifespan(id, lane);
 }

@@ -124,6 +124,8 @@ class Gateway {
 
     std::int32_t robot_matched_writers(core::TopicId id) const;
     std::int32_t wan_matched_readers(core::TopicId id) const;
+    /// Base-camp participants the WAN participant knows now.
+    std::size_t wan_participants() const;
     std::optional<core::Duration> wan_writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
     std::uint64_t wan_write_failures() const;
     /// The WAN samples' RTPS messages and the datagrams that carried them.

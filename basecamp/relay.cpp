@@ -1,0 +1,271 @@
+#include "basecamp/relay.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include "gateway/core/config_error.hpp"
+#include "gateway/dds/passthrough_qos.hpp"
+#include "gateway/dds/passthrough_type.hpp"
+#include "gateway/dds/receiver_report_topic.hpp"
+
+namespace tgw::basecamp {
+
+namespace fdds = eprosima::fastdds::dds;
+
+namespace {
+
+/// The type and topic `publisher` needs on `participant`, made on first use (a topic's lanes share them).
+fdds::Topic* topic_on(fdds::DomainParticipant* participant, const dds::DiscoveredPublisher& publisher) {
+    if (participant->find_type(publisher.type_name).empty()) {
+        fdds::TypeSupport type(new dds::PassthroughType(publisher.type_name, publisher.keyed));
+        if (participant->register_type(type, publisher.type_name) != ReturnCode_t::RETCODE_OK) {
+            return nullptr;
+        }
+    }
+    if (auto* existing = dynamic_cast<fdds::Topic*>(participant->lookup_topicdescription(publisher.topic))) {
+        return existing;
+    }
+    return participant->create_topic(publisher.topic, publisher.type_name, fdds::TOPIC_QOS_DEFAULT);
+}
+
+}  // namespace
+
+/// One QoS offer of a topic: the WAN reader that asks for it, and the local writer that offers it. Its
+/// listener writes every sample it takes on the local domain, in the taking thread.
+class Relay::Lane final : public fdds::DataReaderListener {
+  public:
+    Lane(const dds::LaneAssignment& writers, std::uint16_t index, bool keyed)
+        : writers_(writers), index_(index), keyed_(keyed) {}
+
+    ~Lane() override {
+        // The reader first: no callback may find the writer gone.
+        if (reader != nullptr) {
+            reader->set_listener(nullptr);
+            const_cast<fdds::Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
+        }
+        if (writer != nullptr) {
+            const_cast<fdds::Publisher*>(writer->get_publisher())->delete_datawriter(writer);
+        }
+    }
+
+    void on_data_available(fdds::DataReader* from) override {
+        dds::PassthroughData data;
+        fdds::SampleInfo info;
+        while (from->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
+            if (!writers_.carries(info.publication_handle, index_)) {
+                continue;  // the writer's own lane passes it on
+            }
+            fdds::InstanceHandle_t handle = fdds::HANDLE_NIL;
+            if (keyed_) {
+                data.key = info.instance_handle;
+                handle =
+                    info.instance_handle.isDefined() ? info.instance_handle : dds::PassthroughType::UNKNOWN_INSTANCE;
+            }
+            // SampleInfo carries the RTPS time type; the writers take the DDS one.
+            const eprosima::fastrtps::Time_t stamp(info.source_timestamp.seconds(), info.source_timestamp.nanosec());
+            ReturnCode_t rc = ReturnCode_t::RETCODE_OK;
+            if (info.valid_data) {
+                rc = writer->write_w_timestamp(&data, handle, stamp);
+            } else if (!keyed_) {
+                continue;  // an unkeyed topic's one instance: nothing to pass on
+            } else if (info.instance_state == fdds::NOT_ALIVE_DISPOSED_INSTANCE_STATE) {
+                rc = writer->dispose_w_timestamp(&data, handle, stamp);
+            } else {
+                rc = writer->unregister_instance_w_timestamp(&data, handle, stamp);
+            }
+            if (rc == ReturnCode_t::RETCODE_OK) {
+                relayed.fetch_add(1, std::memory_order_relaxed);
+            } else if (failures.fetch_add(1, std::memory_order_relaxed) == 0) {
+                std::fprintf(stderr, "tm-basecamp relay: a local write on '%s' failed (code %d)\n",
+                             from->get_topicdescription()->get_name().c_str(), static_cast<int>(rc()));
+            }
+        }
+    }
+
+    /// Counts the local readers the lane's writer has matched.
+    class WriterMatches final : public fdds::DataWriterListener {
+      public:
+        void on_publication_matched(fdds::DataWriter*, const fdds::PublicationMatchedStatus& info) override {
+            count.store(info.current_count);
+        }
+        std::atomic<std::int32_t> count{0};
+    };
+
+    fdds::DataReader* reader = nullptr;
+    fdds::DataWriter* writer = nullptr;
+    WriterMatches writer_matches;
+    dds::OfferedQos offer;
+    std::atomic<std::uint64_t> relayed{0};
+    std::atomic<std::uint64_t> failures{0};
+
+  private:
+    const dds::LaneAssignment& writers_;
+    const std::uint16_t index_;
+    const bool keyed_;
+};
+
+Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain) {
+    discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
+    wan_qos.name("tm-basecamp relay/wan");
+    fdds::DomainParticipantQos local_qos = factory->get_default_participant_qos();
+    local_qos.name("tm-basecamp relay/local");
+    // The local participant first: nothing discovered on the WAN may find it missing.
+    local_ = factory->create_participant(local_domain, local_qos);
+    if (local_ == nullptr) {
+        throw core::ConfigError("--local-domain: cannot create a DDS participant on domain " +
+                                std::to_string(local_domain));
+    }
+    wan_ = factory->create_participant(wan_domain, wan_qos, discovery_.get(), fdds::StatusMask::none());
+    if (wan_ == nullptr) {
+        factory->delete_participant(local_);
+        throw core::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(wan_domain));
+    }
+    discovery_->ignore_participant(wan_->guid().guidPrefix);
+}
+
+Relay::~Relay() {
+    if (wan_ != nullptr) {
+        wan_->set_listener(nullptr);
+    }
+    {
+        std::lock_guard<std::mutex> lock(topics_mutex_);
+        topics_.clear();  // each lane's reader, then its writer
+    }
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
+    for (fdds::DomainParticipant* participant : {wan_, local_}) {
+        if (participant != nullptr) {
+            participant->delete_contained_entities();
+            factory->delete_participant(participant);
+        }
+    }
+}
+
+fdds::Subscriber* Relay::wan_subscriber(const dds::OfferedQos& offer) {
+    auto& subscriber = wan_subscribers_[offer.partitions];
+    if (subscriber == nullptr) {
+        fdds::SubscriberQos qos = wan_->get_default_subscriber_qos();
+        qos.partition() = offer.partition_policy();
+        subscriber = wan_->create_subscriber(qos);
+    }
+    return subscriber;
+}
+
+fdds::Publisher* Relay::local_publisher(const dds::OfferedQos& offer) {
+    auto& publisher = local_publishers_[offer.partitions];
+    if (publisher == nullptr) {
+        fdds::PublisherQos qos = local_->get_default_publisher_qos();
+        qos.partition() = offer.partition_policy();
+        publisher = local_->create_publisher(qos);
+    }
+    return publisher;
+}
+
+std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic,
+                                              std::uint16_t index) {
+    fdds::Topic* wan_topic = topic_on(wan_, publisher);
+    fdds::Topic* local_topic = topic_on(local_, publisher);
+    fdds::Subscriber* subscriber = wan_subscriber(publisher.qos);
+    fdds::Publisher* publisher_entity = local_publisher(publisher.qos);
+    if (wan_topic == nullptr || local_topic == nullptr || subscriber == nullptr || publisher_entity == nullptr) {
+        std::fprintf(stderr, "tm-basecamp relay: cannot create the topic '%s' (type '%s')\n", publisher.topic.c_str(),
+                     publisher.type_name.c_str());
+        return nullptr;
+    }
+    auto lane = std::make_unique<Lane>(topic.writers, index, publisher.keyed);
+    lane->offer = publisher.qos;
+    // The writer first, so that nothing the reader takes finds no writer. Its Lifespan is the gateway's (TTL, or
+    // none on a latched topic): with the source timestamp kept, a sample expires here when it would have there.
+    lane->writer = publisher_entity->create_datawriter(
+        local_topic,
+        dds::passthrough_writer_qos(publisher_entity->get_default_datawriter_qos(), publisher.qos, publisher.keyed,
+                                    publisher.lifespan),
+        &lane->writer_matches, fdds::StatusMask::publication_matched());
+    if (lane->writer != nullptr) {
+        lane->reader = subscriber->create_datareader(
+            wan_topic,
+            dds::passthrough_reader_qos(subscriber->get_default_datareader_qos(), publisher.qos, publisher.keyed),
+            lane.get(), fdds::StatusMask::all());
+    }
+    if (lane->reader == nullptr) {
+        std::fprintf(stderr, "tm-basecamp relay: cannot relay '%s' (%s)\n", publisher.topic.c_str(),
+                     publisher.qos.describe().c_str());
+        return nullptr;
+    }
+    return lane;
+}
+
+void Relay::relay(const dds::DiscoveredPublisher& publisher) {
+    // Receivers' reports are for the gateways, not the camp.
+    if (publisher.topic == dds::RECEIVER_REPORT_TOPIC) {
+        return;
+    }
+    std::unique_lock<std::mutex> lock(topics_mutex_);
+    auto& topic = topics_[publisher.topic];
+    if (!topic) {
+        topic = std::make_unique<Topic>();
+    }
+    for (std::size_t i = 0; i < topic->lanes.size(); ++i) {
+        if (topic->lanes[i]->offer == publisher.qos) {
+            topic->writers.assign(publisher.writer, static_cast<std::uint16_t>(i));
+            return;
+        }
+    }
+    const auto index = static_cast<std::uint16_t>(topic->lanes.size());
+    lock.unlock();  // entity creation may call back into discovery
+    std::unique_ptr<Lane> lane = make_lane(publisher, *topic, index);
+    if (!lane) {
+        return;
+    }
+    topic->writers.assign(publisher.writer, index);
+    lock.lock();
+    topic->lanes.push_back(std::move(lane));
+}
+
+void Relay::run(core::Duration duration, const std::atomic<bool>& stop) {
+    const auto end = core::SteadyClock::now() + duration;
+    while (!stop.load() && core::SteadyClock::now() < end) {
+        for (const dds::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
+            relay(publisher);
+        }
+    }
+}
+
+std::int32_t Relay::local_readers(const std::string& topic) const {
+    std::lock_guard<std::mutex> lock(topics_mutex_);
+    const auto it = topics_.find(topic);
+    std::int32_t n = 0;
+    if (it != topics_.end()) {
+        for (const auto& lane : it->second->lanes) {
+            n += lane->writer_matches.count.load();
+        }
+    }
+    return n;
+}
+
+std::map<std::string, std::uint64_t> Relay::relayed() const {
+    std::lock_guard<std::mutex> lock(topics_mutex_);
+    std::map<std::string, std::uint64_t> counts;
+    for (const auto& [name, topic] : topics_) {
+        std::uint64_t n = 0;
+        for (const auto& lane : topic->lanes) {
+            n += lane->relayed.load();
+        }
+        counts[name] = n;
+    }
+    return counts;
+}
+
+}  // namespace tgw::basecamp

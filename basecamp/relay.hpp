@@ -1,0 +1,78 @@
+// tm-basecamp relay: the base camp's one participant on the WAN domain, republishing every topic it carries
+// into the camp's own domain, where any number of programs subscribe with their vendors' defaults.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+
+#include "basecamp/discovery_queue.hpp"
+#include "gateway/core/time.hpp"
+#include "gateway/dds/discovery.hpp"
+#include "gateway/dds/lane_assignment.hpp"
+
+namespace eprosima::fastdds::dds {
+class DomainParticipant;
+class Publisher;
+class Subscriber;
+}  // namespace eprosima::fastdds::dds
+
+namespace tgw::basecamp {
+
+/// Subscribes on the WAN domain to every topic that appears there, whatever its type, asking exactly what each
+/// writer offers (reliability, durability, partitions, ownership, representation), and writes every sample on
+/// the local domain under the same topic and type name, with its source timestamp and instance, through a
+/// writer that offers the same QoS and the same Lifespan (so the sample expires there when it would have at
+/// the robot). A transient-local ("latched") topic's last sample per instance stays in the local writer, so a
+/// program that joins later gets it from there, at no cost to the radio. Disposes and unregisters pass too.
+///
+/// Like the gateway, it makes one lane per QoS offer of a topic (a reader on the WAN, a writer on the local
+/// domain), and a writer's samples are passed on by its own lane only.
+class Relay {
+  public:
+    /// Creates both participants: on `wan_domain` with `wan_qos` (made for the link: apply_peer_transport), on
+    /// `local_domain` with Fast DDS's defaults (multicast discovery, shared memory and UDP). Throws
+    /// core::ConfigError naming the flag when DDS refuses either.
+    Relay(int wan_domain, eprosima::fastdds::dds::DomainParticipantQos wan_qos, int local_domain);
+    ~Relay();
+    Relay(const Relay&) = delete;
+    Relay& operator=(const Relay&) = delete;
+
+    /// Creates lanes for topics as they are discovered, until `duration` has passed or `stop` turns true.
+    void run(core::Duration duration, const std::atomic<bool>& stop);
+
+    /// Readers on the local domain matched with the topic's writers now.
+    std::int32_t local_readers(const std::string& topic) const;
+
+    /// Samples (and disposes, unregisters) written on the local domain so far, per topic.
+    std::map<std::string, std::uint64_t> relayed() const;
+
+  private:
+    class Lane;
+    struct Topic {
+        dds::LaneAssignment writers;
+        std::vector<std::unique_ptr<Lane>> lanes;
+    };
+
+    void relay(const dds::DiscoveredPublisher& publisher);
+    std::unique_ptr<Lane> make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic, std::uint16_t index);
+    eprosima::fastdds::dds::Subscriber* wan_subscriber(const dds::OfferedQos& offer);
+    eprosima::fastdds::dds::Publisher* local_publisher(const dds::OfferedQos& offer);
+
+    DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
+    std::unique_ptr<dds::Discovery> discovery_;
+    eprosima::fastdds::dds::DomainParticipant* wan_ = nullptr;
+    eprosima::fastdds::dds::DomainParticipant* local_ = nullptr;
+    std::map<std::vector<std::string>, eprosima::fastdds::dds::Subscriber*> wan_subscribers_;  // by partitions
+    std::map<std::vector<std::string>, eprosima::fastdds::dds::Publisher*> local_publishers_;
+    mutable std::mutex topics_mutex_;  ///< run() adds to topics_, relayed() reads it
+    std::map<std::string, std::unique_ptr<Topic>> topics_;
+};
+
+}  // namespace tgw::basecamp

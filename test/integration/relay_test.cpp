@@ -1,0 +1,224 @@
+// tm-basecamp relay between a gateway's WAN domain and a local domain: programs there with Fast DDS's defaults
+// receive every topic, and a latched topic's late joiner is served by the relay, not the link. Real
+// participants in one process: robot writer -> Gateway -> Relay -> local readers.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <map>
+#include <memory>
+#include <set>
+#include <thread>
+
+#include "KeyedReadingPubSubTypes.h"
+#include "PaperWorkloadPubSubTypes.h"
+#include "RosStringPubSubTypes.h"
+#include "basecamp/relay.hpp"
+#include "test/integration/gateway_fixture.hpp"
+
+namespace tgw::test {
+namespace {
+
+class RelayTest : public GatewayIntegrationTest {
+  protected:
+    void SetUp() override {
+        GatewayIntegrationTest::SetUp();
+        // The relay is the base camp's one participant on the WAN domain, on the port the gateway announces to.
+        basecamp_.reset();
+        local_domain_ = 201 + static_cast<int>(::getpid() % 31);
+        local_ = std::make_unique<TestParticipant>(local_domain_, fdds::PARTICIPANT_QOS_DEFAULT);
+        ASSERT_TRUE(local_->ok());
+    }
+
+    void TearDown() override {
+        stop_relay_.store(true);
+        if (relay_thread_.joinable()) {
+            relay_thread_.join();
+        }
+        local_.reset();
+        relay_.reset();
+        GatewayIntegrationTest::TearDown();
+    }
+
+    void start_relay() {
+        relay_ = std::make_unique<basecamp::Relay>(
+            domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port), local_domain_);
+        relay_thread_ = std::thread([this] { relay_->run(std::chrono::minutes(5), stop_relay_); });
+    }
+
+    /// What a robot process offers: reliable, keep last `depth`, transient local or volatile.
+    fdds::DataWriterQos writer_qos(bool transient_local, int depth = 100) const {
+        fdds::DataWriterQos q = robot_->default_writer_qos();
+        q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+        q.durability().kind = transient_local ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+        q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+        q.history().depth = depth;
+        return q;
+    }
+
+    template <typename PubSubType>
+    fdds::DataWriter* robot_writer(const std::string& topic, const fdds::DataWriterQos& qos) {
+        auto& matches = listener<MatchCounter>();
+        auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new PubSubType()), qos, &matches);
+        EXPECT_NE(writer, nullptr);
+        if (writer != nullptr) {
+            EXPECT_TRUE(wait_until([&] { return matches.matched.load() > 0; }, MATCH_TIMEOUT))
+                << "the gateway never matched the robot writer of " << topic;
+        }
+        return writer;
+    }
+
+    template <typename PubSubType, typename Sample>
+    void local_reader(const std::string& topic, const fdds::DataReaderQos& qos, CollectingReader<Sample>& into) {
+        ASSERT_NE(local_->make_reader(topic, fdds::TypeSupport(new PubSubType()), qos, &into), nullptr);
+    }
+
+    /// A source timestamp a moment ago, as a robot clock gives it.
+    static eprosima::fastrtps::Time_t stamp_now() {
+        eprosima::fastrtps::Time_t t;
+        eprosima::fastrtps::Time_t::now(t);
+        return t;
+    }
+
+    /// Nanoseconds of a source timestamp as a reader's SampleInfo gives it.
+    static std::int64_t ns_of(const eprosima::fastrtps::rtps::Time_t& t) { return t.to_ns(); }
+    static std::int64_t ns_of(const eprosima::fastrtps::Time_t& t) { return t.to_ns(); }
+
+    int local_domain_ = 0;
+    std::unique_ptr<TestParticipant> local_;
+    std::unique_ptr<basecamp::Relay> relay_;
+    std::thread relay_thread_;
+    std::atomic<bool> stop_relay_{false};
+};
+
+// Three programs on the camp's domain with their defaults: a Fast DDS reader with every default (best effort), a
+// ROS 2 listener (reliable, keep last 10) on rt/chatter, and a reliable reader of a keyed topic.
+TEST_F(RelayTest, DefaultReadersOnTheLocalDomainGetEveryTopicWithItsTimestampAndInstances) {
+    start_gateway(config());
+    start_relay();
+    const std::string paper = topic_prefix_ + "paper";
+    const std::string chatter = "rt/chatter";  // the domains are this test's own
+    const std::string keyed = topic_prefix_ + "keyed";
+
+    auto& paper_reader = listener<CollectingReader<idl::PaperMessage>>();
+    local_reader<idl::PaperMessagePubSubType>(paper, local_->default_reader_qos(), paper_reader);
+    fdds::DataReaderQos ros = local_->default_reader_qos();
+    ros.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    ros.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+    ros.history().depth = 10;
+    auto& chatter_reader = listener<CollectingReader<std_msgs::msg::dds_::String_>>();
+    local_reader<std_msgs::msg::dds_::String_PubSubType>(chatter, ros, chatter_reader);
+    fdds::DataReaderQos keyed_qos = ros;
+    keyed_qos.history().depth = 100;
+    auto& keyed_reader = listener<CollectingReader<idl::KeyedReading>>();
+    local_reader<idl::KeyedReadingPubSubType>(keyed, keyed_qos, keyed_reader);
+
+    auto* paper_writer = robot_writer<idl::PaperMessagePubSubType>(paper, writer_qos(false));
+    auto* chatter_writer = robot_writer<std_msgs::msg::dds_::String_PubSubType>(chatter, writer_qos(false, 10));
+    auto* keyed_writer = robot_writer<idl::KeyedReadingPubSubType>(keyed, writer_qos(false));
+    ASSERT_TRUE(paper_writer && chatter_writer && keyed_writer);
+    for (auto* reader : {&paper_reader.matched, &chatter_reader.matched, &keyed_reader.matched}) {
+        ASSERT_TRUE(wait_until([&] { return reader->load() > 0; }, 3 * MATCH_TIMEOUT))
+            << "a local reader never matched the relay's writer";
+    }
+    // The relay's WAN readers match the gateway's writers a moment after its local writers exist, and a writer
+    // sends a best-effort reader nothing before it has matched it from its own side.
+    for (const std::string& topic : {paper, chatter, keyed}) {
+        ASSERT_TRUE(wait_until([&] { return relay_->local_readers(topic) > 0; }, MATCH_TIMEOUT))
+            << "the relay's local writer of " << topic << " never matched its reader";
+        ASSERT_TRUE(wait_until([&] { return gateway_->wan_matched_readers(gateway_->find_topic(topic)->id) > 0; },
+                               MATCH_TIMEOUT))
+            << "the relay never matched the gateway's writer of " << topic;
+    }
+
+    constexpr std::uint32_t N = 20;
+    std::map<std::uint64_t, eprosima::fastrtps::Time_t> stamps;
+    std::map<std::uint32_t, fdds::InstanceHandle_t> robot_handles;
+    for (std::uint32_t i = 0; i < N; ++i) {
+        idl::PaperMessage m;
+        m.generated_ns(i);
+        m.data(std::vector<std::uint8_t>(41, static_cast<std::uint8_t>(i)));
+        stamps[i] = stamp_now();
+        ASSERT_EQ(paper_writer->write_w_timestamp(&m, fdds::HANDLE_NIL, stamps[i]), ReturnCode_t::RETCODE_OK);
+        std_msgs::msg::dds_::String_ hello;
+        hello.data("hello world " + std::to_string(i));
+        ASSERT_TRUE(chatter_writer->write(&hello));
+        idl::KeyedReading r;
+        r.sensor_id(i % 4);
+        r.value(i);
+        robot_handles[i % 4] = keyed_writer->register_instance(&r);
+        ASSERT_EQ(keyed_writer->write(&r, robot_handles[i % 4]), ReturnCode_t::RETCODE_OK);
+    }
+    ASSERT_TRUE(wait_until([&] {
+        return paper_reader.count() >= N && chatter_reader.count() >= N && keyed_reader.count() >= N;
+    })) << "paper "
+        << paper_reader.count() << ", chatter " << chatter_reader.count() << ", keyed " << keyed_reader.count()
+        << " of " << N;
+
+    for (const auto& r : paper_reader.received()) {
+        const std::uint64_t i = r.data.generated_ns();
+        EXPECT_EQ(r.data.data(), std::vector<std::uint8_t>(41, static_cast<std::uint8_t>(i)));
+        // RTPS carries fractions of 2^-32 s: equal to the nanosecond, give or take the rounding.
+        EXPECT_NEAR(ns_of(r.info.source_timestamp), ns_of(stamps[i]), 2) << "sample " << i << " lost its timestamp";
+    }
+    std::vector<std::string> said;
+    for (const auto& r : chatter_reader.received()) {
+        said.push_back(r.data.data());
+    }
+    ASSERT_EQ(said.size(), N);
+    EXPECT_EQ(said.front(), "hello world 0");
+    EXPECT_EQ(said.back(), "hello world " + std::to_string(N - 1));
+    std::map<std::uint32_t, std::set<fdds::InstanceHandle_t>> instances;
+    for (const auto& r : keyed_reader.received()) {
+        instances[r.data.sensor_id()].insert(r.info.instance_handle);
+    }
+    ASSERT_EQ(instances.size(), 4u);
+    for (const auto& [sensor, handles] : instances) {
+        ASSERT_EQ(handles.size(), 1u) << "sensor " << sensor << " arrived as several instances";
+        EXPECT_EQ(*handles.begin(), robot_handles[sensor]);
+    }
+    EXPECT_EQ(gateway_->wan_participants(), 1u) << "the relay is the base camp's only participant on the WAN";
+    EXPECT_EQ(relay_->relayed()[paper], N);
+    expect_balanced();
+}
+
+// A program that joins the camp's domain after a latched topic was written gets it from the relay: nothing
+// more crosses the link, and the gateway's writer still has the relay as its one reader.
+TEST_F(RelayTest, ALateJoinerOnTheLocalDomainGetsALatchedTopicFromTheRelay) {
+    start_gateway(config());
+    start_relay();
+    const std::string topic = topic_prefix_ + "latched";
+    auto* writer = robot_writer<idl::KeyedReadingPubSubType>(topic, writer_qos(true, 1));
+    ASSERT_NE(writer, nullptr);
+    ASSERT_TRUE(wait_until([&] {
+        const auto bridged = gateway_->find_topic(topic);
+        return bridged && gateway_->wan_matched_readers(bridged->id) > 0;
+    })) << "the relay never matched the gateway's writer";
+    for (std::uint32_t sensor = 1; sensor <= 3; ++sensor) {
+        idl::KeyedReading r;
+        r.sensor_id(sensor);
+        r.value(sensor * 10.0);
+        ASSERT_TRUE(writer->write(&r));
+    }
+    ASSERT_TRUE(wait_until([&] { return relay_->relayed()[topic] >= 3; })) << "relayed " << relay_->relayed()[topic];
+    const core::TopicId id = gateway_->find_topic(topic)->id;
+    const std::uint64_t forwarded = gateway_->counters(id).forwarded;
+
+    fdds::DataReaderQos late_qos = local_->default_reader_qos();
+    late_qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    late_qos.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
+    auto& late = listener<CollectingReader<idl::KeyedReading>>();
+    local_reader<idl::KeyedReadingPubSubType>(topic, late_qos, late);
+    ASSERT_TRUE(wait_until([&] { return late.count() >= 3; })) << "the late joiner got " << late.count() << " of 3";
+    std::map<std::uint32_t, double> last;
+    for (const auto& r : late.received()) {
+        last[r.data.sensor_id()] = r.data.value();
+    }
+    EXPECT_EQ(last, (std::map<std::uint32_t, double>{{1, 10.0}, {2, 20.0}, {3, 30.0}}));
+    EXPECT_EQ(gateway_->counters(id).forwarded, forwarded) << "the late joiner cost the link a sample";
+    EXPECT_EQ(gateway_->wan_matched_readers(id), 1) << "the late joiner reached the WAN";
+    EXPECT_EQ(relay_->relayed()[topic], 3u);
+}
+
+}  // namespace
+}  // namespace tgw::test

@@ -90,6 +90,10 @@ int main(int argc, char** argv) {
                      "the camp's own domain: every topic appears there, for programs with their vendors' defaults")
         ->check(CLI::Range(0, 232))
         ->required();
+    tgw::basecamp::PeerTransport local_transport;
+    local_transport.interface_flag = "--local-interface";
+    relay->add_option("--local-interface", local_transport.interface,
+                      "interface name or IPv4 address the camp's domain uses (default: every interface)");
     relay->add_option("--duration", relay_duration_s, "seconds to relay; until SIGINT/SIGTERM without it")
         ->check(CLI::PositiveNumber);
 
@@ -128,10 +132,12 @@ int main(int argc, char** argv) {
             if (local_domain == domain)
                 throw tgw::core::ConfigError("--local-domain: must differ from --domain (" + std::to_string(domain) +
                                              "), or every sample would come back to the relay");
-            auto wan_qos =
-                eprosima::fastdds::dds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
+            auto* factory = eprosima::fastdds::dds::DomainParticipantFactory::get_instance();
+            auto wan_qos = factory->get_default_participant_qos();
             tgw::basecamp::apply_peer_transport(wan_qos, relay_transport);
-            tgw::basecamp::Relay relaying(domain, wan_qos, local_domain);
+            auto local_qos = factory->get_default_participant_qos();
+            tgw::basecamp::apply_peer_transport(local_qos, local_transport);
+            tgw::basecamp::Relay relaying(domain, wan_qos, local_domain, local_qos);
             std::signal(SIGINT, on_signal);
             std::signal(SIGTERM, on_signal);
             std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain << std::endl;

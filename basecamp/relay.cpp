@@ -116,11 +116,11 @@ class Relay::Lane final : public fdds::DataReaderListener {
     const bool keyed_;
 };
 
-Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain) {
+Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain,
+             fdds::DomainParticipantQos local_qos) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     wan_qos.name("tm-basecamp relay/wan");
-    fdds::DomainParticipantQos local_qos = factory->get_default_participant_qos();
     local_qos.name("tm-basecamp relay/local");
     // The local participant first: nothing discovered on the WAN may find it missing.
     local_ = factory->create_participant(local_domain, local_qos);

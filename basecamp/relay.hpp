@@ -37,9 +37,10 @@ namespace tgw::basecamp {
 class Relay {
   public:
     /// Creates both participants: on `wan_domain` with `wan_qos` (made for the link: apply_peer_transport), on
-    /// `local_domain` with Fast DDS's defaults (multicast discovery, shared memory and UDP). Throws
-    /// core::ConfigError naming the flag when DDS refuses either.
-    Relay(int wan_domain, eprosima::fastdds::dds::DomainParticipantQos wan_qos, int local_domain);
+    /// `local_domain` with `local_qos` (Fast DDS's defaults: multicast discovery, shared memory and UDP, perhaps
+    /// bound to one interface). Throws core::ConfigError naming the flag when DDS refuses either.
+    Relay(int wan_domain, eprosima::fastdds::dds::DomainParticipantQos wan_qos, int local_domain,
+          eprosima::fastdds::dds::DomainParticipantQos local_qos);
     ~Relay();
     Relay(const Relay&) = delete;
     Relay& operator=(const Relay&) = delete;

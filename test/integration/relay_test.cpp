@@ -42,7 +42,8 @@ class RelayTest : public GatewayIntegrationTest {
 
     void start_relay() {
         relay_ = std::make_unique<basecamp::Relay>(
-            domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port), local_domain_);
+            domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port), local_domain_,
+            fdds::PARTICIPANT_QOS_DEFAULT);
         relay_thread_ = std::thread([this] { relay_->run(std::chrono::minutes(5), stop_relay_); });
     }
 

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <csignal>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -94,6 +95,14 @@ int main(int argc, char** argv) {
     local_transport.interface_flag = "--local-interface";
     relay->add_option("--local-interface", local_transport.interface,
                       "interface name or IPv4 address the camp's domain uses (default: every interface)");
+    std::string relay_out;
+    relay->add_option("--out", relay_out, "also record every sample taken off the WAN, as 'record' does (SQLite)");
+    double relay_report_period_s = 1.0;
+    relay
+        ->add_option("--report-period", relay_report_period_s,
+                     "seconds between receiver reports to each gateway (tgw/receiver_report); 0: none")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     relay->add_option("--duration", relay_duration_s, "seconds to relay; until SIGINT/SIGTERM without it")
         ->check(CLI::PositiveNumber);
 
@@ -137,13 +146,22 @@ int main(int argc, char** argv) {
             tgw::basecamp::apply_peer_transport(wan_qos, relay_transport);
             auto local_qos = factory->get_default_participant_qos();
             tgw::basecamp::apply_peer_transport(local_qos, local_transport);
-            tgw::basecamp::Relay relaying(domain, wan_qos, local_domain, local_qos);
+            std::unique_ptr<tgw::basecamp::SampleStore> store;
+            if (!relay_out.empty())
+                store = std::make_unique<tgw::basecamp::SampleStore>(relay_out, "--out");
+            tgw::basecamp::Relay relaying(domain, wan_qos, local_domain, local_qos, store.get(),
+                                          tgw::core::from_seconds(relay_report_period_s));
             std::signal(SIGINT, on_signal);
             std::signal(SIGTERM, on_signal);
             std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain << std::endl;
             const auto duration =
                 relay_duration_s > 0 ? tgw::core::from_seconds(relay_duration_s) : tgw::core::Duration::max() / 2;
             relaying.run(duration, g_stop);
+            if (store) {
+                store->flush();
+                std::cout << "  recorded in " << relay_out << ": " << store->rows_written() << " rows, "
+                          << store->write_errors() << " write errors\n";
+            }
             for (const auto& [topic, count] : relaying.relayed())
                 std::cout << "  " << topic << ": " << count << " samples relayed\n";
         } else if (record->parsed()) {

@@ -15,6 +15,7 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "basecamp/receiver_reporter.hpp"
+#include "basecamp/wan_capture.hpp"
 #include "gateway/core/config_error.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_type.hpp"
@@ -28,14 +29,7 @@ namespace fdds = eprosima::fastdds::dds;
 class Recorder::TopicReader final : public fdds::DataReaderListener {
   public:
     TopicReader(const dds::DiscoveredPublisher& publisher, SampleStore& store, DeliveryTally& tally)
-        : topic_(publisher.topic),
-          type_name_(publisher.type_name),
-          keyed_(publisher.keyed),
-          store_(store),
-          tally_(tally) {
-        if (publisher.lifespan)
-            lifespan_ns_ = publisher.lifespan->count();
-    }
+        : topic_(topic_record(publisher)), store_(store), tally_(tally) {}
 
     void on_data_available(fdds::DataReader* reader) override {
         dds::PassthroughData data;
@@ -43,42 +37,18 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
         while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
             if (!info.valid_data)
                 continue;
-            tally_.add(writer_guid(info), info.sample_identity.sequence_number().to64long(), data.payload.size());
-            const std::int64_t now_ns = core::to_ns(core::WallClock::now());
-            SampleRecord record;
-            record.topic = topic_;
-            record.type_name = type_name_;
-            record.payload = std::move(data.payload);
-            const auto source = dds::to_wall_time(info.source_timestamp);
-            record.source_ns = source ? core::to_ns(*source) : 0;
-            const auto reception = dds::to_wall_time(info.reception_timestamp);
-            record.receive_ns = reception ? core::to_ns(*reception) : now_ns;
-            record.lifespan_ns = lifespan_ns_;
-            if (keyed_) {
-                for (std::size_t i = 0; i < 16; ++i)
-                    record.instance.push_back(info.instance_handle.value[i]);
-            }
-            store_.add(std::move(record));
+            tally_sample(tally_, info, data.payload.size());
+            store_.add(sample_record(topic_, std::move(data.payload), info));
             ++received;
         }
     }
 
+    const TopicRecord& topic() const { return topic_; }
+
     std::atomic<std::uint64_t> received{0};
 
   private:
-    static WriterGuid writer_guid(const fdds::SampleInfo& info) {
-        const auto& guid = info.sample_identity.writer_guid();
-        WriterGuid out;
-        std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), out.begin());
-        std::copy(std::begin(guid.entityId.value), std::end(guid.entityId.value),
-                  out.begin() + sizeof(guid.guidPrefix.value));
-        return out;
-    }
-
-    std::string topic_;
-    std::string type_name_;
-    bool keyed_;
-    std::optional<std::int64_t> lifespan_ns_;
+    TopicRecord topic_;
     SampleStore& store_;
     DeliveryTally& tally_;
 };
@@ -147,15 +117,7 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
         std::fprintf(stderr, "tm-basecamp: cannot create a reader for '%s'\n", publisher.topic.c_str());
         return;
     }
-    TopicRecord record;
-    record.topic = publisher.topic;
-    record.type_name = publisher.type_name;
-    if (publisher.lifespan)
-        record.lifespan_ns = publisher.lifespan->count();
-    record.keyed = publisher.keyed;
-    record.reliable = publisher.qos.reliable;
-    record.discovered_ns = core::to_ns(core::WallClock::now());
-    store_.add_topic(std::move(record));
+    store_.add_topic(reader->topic());
     readers_.emplace(publisher.topic, std::move(reader));
 }
 

@@ -15,6 +15,8 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include "basecamp/receiver_reporter.hpp"
+#include "basecamp/wan_capture.hpp"
 #include "gateway/core/config_error.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
@@ -46,8 +48,15 @@ fdds::Topic* topic_on(fdds::DomainParticipant* participant, const dds::Discovere
 /// listener writes every sample it takes on the local domain, in the taking thread.
 class Relay::Lane final : public fdds::DataReaderListener {
   public:
-    Lane(const dds::LaneAssignment& writers, std::uint16_t index, bool keyed)
-        : writers_(writers), index_(index), keyed_(keyed) {}
+    /// `store`: where --out records, or nullptr.
+    Lane(const dds::LaneAssignment& writers, std::uint16_t index, TopicRecord topic, DeliveryTally& tally,
+         SampleStore* store)
+        : writers_(writers),
+          index_(index),
+          keyed_(topic.keyed),
+          topic_(std::move(topic)),
+          tally_(tally),
+          store_(store) {}
 
     ~Lane() override {
         // The reader first: no callback may find the writer gone.
@@ -77,6 +86,10 @@ class Relay::Lane final : public fdds::DataReaderListener {
             const eprosima::fastrtps::Time_t stamp(info.source_timestamp.seconds(), info.source_timestamp.nanosec());
             ReturnCode_t rc = ReturnCode_t::RETCODE_OK;
             if (info.valid_data) {
+                tally_sample(tally_, info, data.payload.size());
+                if (store_ != nullptr) {
+                    store_->add(sample_record(topic_, data.payload, info));
+                }
                 rc = writer->write_w_timestamp(&data, handle, stamp);
             } else if (!keyed_) {
                 continue;  // an unkeyed topic's one instance: nothing to pass on
@@ -114,10 +127,14 @@ class Relay::Lane final : public fdds::DataReaderListener {
     const dds::LaneAssignment& writers_;
     const std::uint16_t index_;
     const bool keyed_;
+    const TopicRecord topic_;
+    DeliveryTally& tally_;
+    SampleStore* store_;
 };
 
-Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain,
-             fdds::DomainParticipantQos local_qos) {
+Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain, fdds::DomainParticipantQos local_qos,
+             SampleStore* store, core::Duration report_period)
+    : store_(store), report_period_(report_period) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     wan_qos.name("tm-basecamp relay/wan");
@@ -134,6 +151,9 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
         throw core::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(wan_domain));
     }
     discovery_->ignore_participant(wan_->guid().guidPrefix);
+    if (report_period_ > core::Duration::zero()) {
+        reporter_ = std::make_unique<ReceiverReporter>(wan_);
+    }
 }
 
 Relay::~Relay() {
@@ -184,7 +204,7 @@ std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& pu
                      publisher.type_name.c_str());
         return nullptr;
     }
-    auto lane = std::make_unique<Lane>(topic.writers, index, publisher.keyed);
+    auto lane = std::make_unique<Lane>(topic.writers, index, topic_record(publisher), tally_, store_);
     lane->offer = publisher.qos;
     // The writer first, so that nothing the reader takes finds no writer. Its Lifespan is the gateway's (TTL, or
     // none on a latched topic): with the source timestamp kept, a sample expires here when it would have there.
@@ -229,6 +249,9 @@ void Relay::relay(const dds::DiscoveredPublisher& publisher) {
     if (!lane) {
         return;
     }
+    if (store_ != nullptr && index == 0) {
+        store_->add_topic(topic_record(publisher));
+    }
     topic->writers.assign(publisher.writer, index);
     lock.lock();
     topic->lanes.push_back(std::move(lane));
@@ -236,9 +259,14 @@ void Relay::relay(const dds::DiscoveredPublisher& publisher) {
 
 void Relay::run(core::Duration duration, const std::atomic<bool>& stop) {
     const auto end = core::SteadyClock::now() + duration;
+    auto next_report = core::SteadyClock::now() + report_period_;
     while (!stop.load() && core::SteadyClock::now() < end) {
         for (const dds::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
             relay(publisher);
+        }
+        if (reporter_ && core::SteadyClock::now() >= next_report) {
+            next_report += report_period_;
+            reporter_->publish(tally_.totals());
         }
     }
 }

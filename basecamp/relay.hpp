@@ -12,7 +12,9 @@
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
+#include "basecamp/delivery_tally.hpp"
 #include "basecamp/discovery_queue.hpp"
+#include "basecamp/sample_store.hpp"
 #include "gateway/core/time.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/lane_assignment.hpp"
@@ -24,6 +26,8 @@ class Subscriber;
 }  // namespace eprosima::fastdds::dds
 
 namespace tgw::basecamp {
+
+class ReceiverReporter;
 
 /// Subscribes on the WAN domain to every topic that appears there, whatever its type, asking exactly what each
 /// writer offers (reliability, durability, partitions, ownership, representation), and writes every sample on
@@ -38,9 +42,13 @@ class Relay {
   public:
     /// Creates both participants: on `wan_domain` with `wan_qos` (made for the link: apply_peer_transport), on
     /// `local_domain` with `local_qos` (Fast DDS's defaults: multicast discovery, shared memory and UDP, perhaps
-    /// bound to one interface). Throws core::ConfigError naming the flag when DDS refuses either.
+    /// bound to one interface). With `store`, every sample taken off the WAN is recorded there too, as `record`
+    /// does. Every `report_period` (zero: never) it tells each gateway what arrived and what was lost on the way,
+    /// as `record` does: the camp's one WAN participant is the one to report. Throws core::ConfigError naming
+    /// the flag when DDS refuses a participant.
     Relay(int wan_domain, eprosima::fastdds::dds::DomainParticipantQos wan_qos, int local_domain,
-          eprosima::fastdds::dds::DomainParticipantQos local_qos);
+          eprosima::fastdds::dds::DomainParticipantQos local_qos, SampleStore* store = nullptr,
+          core::Duration report_period = std::chrono::seconds(1));
     ~Relay();
     Relay(const Relay&) = delete;
     Relay& operator=(const Relay&) = delete;
@@ -66,6 +74,10 @@ class Relay {
     eprosima::fastdds::dds::Subscriber* wan_subscriber(const dds::OfferedQos& offer);
     eprosima::fastdds::dds::Publisher* local_publisher(const dds::OfferedQos& offer);
 
+    SampleStore* store_;
+    DeliveryTally tally_;
+    core::Duration report_period_;
+    std::unique_ptr<ReceiverReporter> reporter_;
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* wan_ = nullptr;

@@ -10,10 +10,13 @@
 #include <set>
 #include <thread>
 
+#include <sqlite3.h>
 #include "KeyedReadingPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
 #include "RosStringPubSubTypes.h"
+
 #include "basecamp/relay.hpp"
+#include "basecamp/sample_store.hpp"
 #include "test/integration/gateway_fixture.hpp"
 
 namespace tgw::test {
@@ -40,10 +43,10 @@ class RelayTest : public GatewayIntegrationTest {
         GatewayIntegrationTest::TearDown();
     }
 
-    void start_relay() {
+    void start_relay(basecamp::SampleStore* store = nullptr, core::Duration report_period = 1s) {
         relay_ = std::make_unique<basecamp::Relay>(
             domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port), local_domain_,
-            fdds::PARTICIPANT_QOS_DEFAULT);
+            fdds::PARTICIPANT_QOS_DEFAULT, store, report_period);
         relay_thread_ = std::thread([this] { relay_->run(std::chrono::minutes(5), stop_relay_); });
     }
 
@@ -219,6 +222,59 @@ TEST_F(RelayTest, ALateJoinerOnTheLocalDomainGetsALatchedTopicFromTheRelay) {
     EXPECT_EQ(gateway_->counters(id).forwarded, forwarded) << "the late joiner cost the link a sample";
     EXPECT_EQ(gateway_->wan_matched_readers(id), 1) << "the late joiner reached the WAN";
     EXPECT_EQ(relay_->relayed()[topic], 3u);
+}
+
+// relay --out records what it takes off the WAN, as record does, and the relay, the camp's one WAN participant,
+// reports to the gateway what arrived.
+TEST_F(RelayTest, RecordsWhatItRelaysAndReportsItToTheGateway) {
+    GatewayConfig c = config();
+    c.receiver_reports = true;
+    start_gateway(c);
+    const std::string path = temp_file(".db");
+    auto store = std::make_unique<basecamp::SampleStore>(path, "--out", 50);
+    start_relay(store.get(), 200ms);
+    const std::string topic = topic_prefix_ + "recorded";
+    auto* writer = robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(false));
+    ASSERT_NE(writer, nullptr);
+    ASSERT_TRUE(wait_until([&] {
+        const auto bridged = gateway_->find_topic(topic);
+        return bridged && gateway_->wan_matched_readers(bridged->id) > 0;
+    })) << "the relay never matched the gateway's writer";
+
+    constexpr std::uint64_t N = 10;
+    for (std::uint64_t i = 0; i < N; ++i) {
+        idl::PaperMessage m;
+        m.generated_ns(i);
+        m.data(std::vector<std::uint8_t>(41, static_cast<std::uint8_t>(i)));
+        ASSERT_TRUE(writer->write(&m));
+    }
+    ASSERT_TRUE(wait_until([&] { return relay_->relayed()[topic] >= N; })) << "relayed " << relay_->relayed()[topic];
+    ASSERT_TRUE(wait_until([&] {
+        const auto report = gateway_->receiver_report();
+        return report && report->received_samples >= N;
+    })) << "the gateway never heard from the relay";
+    EXPECT_EQ(gateway_->receiver_report()->lost_samples, 0u);
+
+    store->flush();
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+    sqlite3_stmt* stmt = nullptr;
+    ASSERT_EQ(
+        sqlite3_prepare_v2(db,
+                           "SELECT COUNT(*), MIN(length(payload)), (SELECT COUNT(*) FROM topics WHERE topic = ?1) "
+                           "FROM samples WHERE topic = ?1 AND source_ns > 0",
+                           -1, &stmt, nullptr),
+        SQLITE_OK);
+    sqlite3_bind_text(stmt, 1, topic.c_str(), -1, SQLITE_TRANSIENT);
+    ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
+    EXPECT_EQ(static_cast<std::uint64_t>(sqlite3_column_int64(stmt, 0)), N);
+    EXPECT_GT(sqlite3_column_int64(stmt, 1), 41) << "the payload as received, encapsulation included";
+    EXPECT_EQ(sqlite3_column_int64(stmt, 2), 1);
+    sqlite3_finalize(stmt);
+    sqlite3_close(db);
+    stop_relay_.store(true);
+    relay_thread_.join();
+    relay_.reset();
 }
 
 }  // namespace

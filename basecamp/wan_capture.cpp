@@ -1,0 +1,50 @@
+#include "basecamp/wan_capture.hpp"
+
+#include <algorithm>
+#include <iterator>
+
+#include "gateway/core/time.hpp"
+#include "gateway/dds/dds_time.hpp"
+
+namespace tgw::basecamp {
+
+TopicRecord topic_record(const dds::DiscoveredPublisher& publisher) {
+    TopicRecord record;
+    record.topic = publisher.topic;
+    record.type_name = publisher.type_name;
+    if (publisher.lifespan)
+        record.lifespan_ns = publisher.lifespan->count();
+    record.keyed = publisher.keyed;
+    record.reliable = publisher.qos.reliable;
+    record.discovered_ns = core::to_ns(core::WallClock::now());
+    return record;
+}
+
+SampleRecord sample_record(const TopicRecord& topic, std::vector<std::uint8_t> payload,
+                           const eprosima::fastdds::dds::SampleInfo& info) {
+    SampleRecord record;
+    record.topic = topic.topic;
+    record.type_name = topic.type_name;
+    record.payload = std::move(payload);
+    const auto source = dds::to_wall_time(info.source_timestamp);
+    record.source_ns = source ? core::to_ns(*source) : 0;
+    const auto reception = dds::to_wall_time(info.reception_timestamp);
+    record.receive_ns = reception ? core::to_ns(*reception) : core::to_ns(core::WallClock::now());
+    record.lifespan_ns = topic.lifespan_ns;
+    if (topic.keyed) {
+        for (std::size_t i = 0; i < 16; ++i)
+            record.instance.push_back(info.instance_handle.value[i]);
+    }
+    return record;
+}
+
+void tally_sample(DeliveryTally& tally, const eprosima::fastdds::dds::SampleInfo& info, std::size_t payload_bytes) {
+    const auto& guid = info.sample_identity.writer_guid();
+    WriterGuid writer;
+    std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), writer.begin());
+    std::copy(std::begin(guid.entityId.value), std::end(guid.entityId.value),
+              writer.begin() + sizeof(guid.guidPrefix.value));
+    tally.add(writer, info.sample_identity.sequence_number().to64long(), payload_bytes);
+}
+
+}  // namespace tgw::basecamp

@@ -1,0 +1,29 @@
+// What the base camp keeps of each sample it takes off the WAN domain (tm-basecamp record, relay --out): the
+// recording's rows, and the per-writer tally that the receiver reports to the gateways are made of.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+
+#include "basecamp/delivery_tally.hpp"
+#include "basecamp/sample_store.hpp"
+#include "gateway/dds/discovery.hpp"
+
+namespace tgw::basecamp {
+
+/// The recording's description of a topic as its WAN writer announced it.
+TopicRecord topic_record(const dds::DiscoveredPublisher& publisher);
+
+/// One recording row: `payload` as received, the writer's source timestamp, the reception time, and the
+/// instance of a keyed topic.
+SampleRecord sample_record(const TopicRecord& topic, std::vector<std::uint8_t> payload,
+                           const eprosima::fastdds::dds::SampleInfo& info);
+
+/// Counts a received sample against its writer (sequence number and payload bytes) for the receiver reports.
+void tally_sample(DeliveryTally& tally, const eprosima::fastdds::dds::SampleInfo& info, std::size_t payload_bytes);
+
+}  // namespace tgw::basecamp

@@ -34,12 +34,13 @@ read_demo_result() {
 }
 
 # run_demo NAME DEMO_ARGS...: runs scripts/demo with the programs of $BIN into a temporary file (removed at exit,
-# with those of earlier calls), shown as it goes; sets out to the file.
+# with those of earlier calls and whatever else the caller put in DEMO_OUTPUTS), shown as it goes; sets out to
+# the file.
 DEMO_OUTPUTS=()
 run_demo() {
     out="$(mktemp "${TMPDIR:-/tmp}/tgw-$1.XXXXXX")"
     shift
     DEMO_OUTPUTS+=("$out")
-    trap 'rm -f "${DEMO_OUTPUTS[@]}"' EXIT
+    trap 'rm -rf "${DEMO_OUTPUTS[@]}"' EXIT
     TGW_BIN="$BIN" scripts/demo --no-build "$@" | tee "$out"
 }

@@ -37,7 +37,7 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
         while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
             if (!info.valid_data)
                 continue;
-            tally_sample(tally_, info, data.payload.size());
+            tally_sample(tally_, topic_, info, data.payload.size());
             store_.add(sample_record(topic_, std::move(data.payload), info));
             ++received;
         }
@@ -104,7 +104,8 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
     qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
     qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
     qos.history().depth = 1000;
-    qos.resource_limits().max_samples = 100000;
+    // Unlimited: Fast DDS refuses a keyed reader whose max_samples is below max_instances x per instance.
+    qos.resource_limits().max_samples = fdds::LENGTH_UNLIMITED;
     qos.resource_limits().max_instances = 1000;
     qos.resource_limits().max_samples_per_instance = 1000;
     qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;

@@ -86,7 +86,7 @@ class Relay::Lane final : public fdds::DataReaderListener {
             const eprosima::fastrtps::Time_t stamp(info.source_timestamp.seconds(), info.source_timestamp.nanosec());
             ReturnCode_t rc = ReturnCode_t::RETCODE_OK;
             if (info.valid_data) {
-                tally_sample(tally_, info, data.payload.size());
+                tally_sample(tally_, topic_, info, data.payload.size());
                 if (store_ != nullptr) {
                     store_->add(sample_record(topic_, data.payload, info));
                 }

@@ -5,6 +5,7 @@
 
 #include "gateway/core/time.hpp"
 #include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -38,7 +39,11 @@ SampleRecord sample_record(const TopicRecord& topic, std::vector<std::uint8_t> p
     return record;
 }
 
-void tally_sample(DeliveryTally& tally, const eprosima::fastdds::dds::SampleInfo& info, std::size_t payload_bytes) {
+void tally_sample(DeliveryTally& tally, const TopicRecord& topic, const eprosima::fastdds::dds::SampleInfo& info,
+                  std::size_t payload_bytes) {
+    if (topic.topic == dds::STATUS_TOPIC) {
+        return;
+    }
     const auto& guid = info.sample_identity.writer_guid();
     WriterGuid writer;
     std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), writer.begin());

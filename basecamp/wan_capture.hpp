@@ -23,7 +23,10 @@ TopicRecord topic_record(const dds::DiscoveredPublisher& publisher);
 SampleRecord sample_record(const TopicRecord& topic, std::vector<std::uint8_t> payload,
                            const eprosima::fastdds::dds::SampleInfo& info);
 
-/// Counts a received sample against its writer (sequence number and payload bytes) for the receiver reports.
-void tally_sample(DeliveryTally& tally, const eprosima::fastdds::dds::SampleInfo& info, std::size_t payload_bytes);
+/// Counts a received sample of `topic` against its writer (sequence number and payload bytes) for the receiver
+/// reports. The gateway's status is not counted: the reports tell the gateway what became of its scheduled
+/// samples, and the status is not one of them.
+void tally_sample(DeliveryTally& tally, const TopicRecord& topic, const eprosima::fastdds::dds::SampleInfo& info,
+                  std::size_t payload_bytes);
 
 }  // namespace tgw::basecamp

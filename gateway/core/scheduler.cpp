@@ -137,6 +137,7 @@ void Scheduler::push(Sample&& sample, SteadyTime now, WallTime wall_now, SampleS
         return;
     }
     const std::int64_t rank = rank_of(sample.topic);
+    topic.counters.queued_payload_bytes += sample.payload.size();
     queue_.push(std::move(sample), rank);
     ++topic.counters.queued;
     evict_over_cap(sink);
@@ -159,7 +160,9 @@ void Scheduler::release(SteadyTime now, SampleSink& sink) {
 
 Sample Scheduler::take(DeadlineQueue::Slot slot) {
     Sample sample = queue_.take(slot);
-    --topics_[sample.topic].counters.queued;
+    TopicCounters& counters = topics_[sample.topic].counters;
+    --counters.queued;
+    counters.queued_payload_bytes -= sample.payload.size();
     return sample;
 }
 

@@ -12,6 +12,7 @@ struct TopicCounters {
     std::uint64_t received = 0;
     std::uint64_t forwarded = 0;
     std::uint64_t queued = 0;
+    std::uint64_t queued_payload_bytes = 0;  ///< of the samples queued now
     std::array<std::uint64_t, DROP_REASON_COUNT> dropped{};
     std::uint64_t forwarded_payload_bytes = 0;
     std::uint64_t forwarded_wire_bytes = 0;
@@ -30,6 +31,7 @@ struct TopicCounters {
         received += o.received;
         forwarded += o.forwarded;
         queued += o.queued;
+        queued_payload_bytes += o.queued_payload_bytes;
         for (std::size_t i = 0; i < dropped.size(); ++i)
             dropped[i] += o.dropped[i];
         forwarded_payload_bytes += o.forwarded_payload_bytes;

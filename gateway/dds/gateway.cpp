@@ -4,12 +4,14 @@
 #include <iostream>
 #include <utility>
 
+#include "GatewayStatusPubSubTypes.h"
 #include "gateway/core/config_error.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway_sink.hpp"
 #include "gateway/dds/qos_file.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
 #include "gateway/dds/robot_participant.hpp"
+#include "gateway/dds/status_topic.hpp"
 #include "gateway/dds/topic_bridge.hpp"
 #include "gateway/dds/topic_directory.hpp"
 #include "gateway/dds/wan_address.hpp"
@@ -152,6 +154,17 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
         });
     discovery_->ignore_participant(wan_->guid_prefix());
     worker_ = std::thread([this] { run_worker(); });
+    if (config_.status_period > core::Duration::zero()) {
+        status_writer_ = wan_->create_status_writer();
+        if (status_writer_ == nullptr) {
+            stop();
+            throw core::ConfigError("--status-period: cannot create the writer of " + std::string(STATUS_TOPIC));
+        }
+        // The first after one period: by then the sensor has been described and read.
+        post_at(std::chrono::steady_clock::now() +
+                    std::chrono::duration_cast<std::chrono::steady_clock::duration>(config_.status_period),
+                [this] { publish_status_nts(); });
+    }
     try {
         RobotTransport transport = config_.robot;
         for (std::string& interface : transport.interfaces) {
@@ -211,7 +224,19 @@ void Gateway::observe_link_backlog(std::uint64_t bytes) {
     loop_->observe_link_backlog(8u * bytes);
 }
 
+void Gateway::set_sensor_description(std::string description) {
+    std::lock_guard<std::mutex> lock(sensor_mutex_);
+    sensor_description_ = std::move(description);
+}
+
 void Gateway::apply_reading(const sensor::RateReading& reading) {
+    {
+        std::lock_guard<std::mutex> lock(sensor_mutex_);
+        sensor_detail_ = reading.ok ? reading.detail : reading.error;
+    }
+    if (!reading.ok) {
+        return;  // the guarded sensor's failures never get here; a bare one keeps the last rate
+    }
     set_rate(reading.rate_bps);
     if (reading.queued_bytes) {
         observe_link_backlog(*reading.queued_bytes);
@@ -475,6 +500,10 @@ std::int32_t Gateway::wan_matched_readers(core::TopicId id) const {
     return wan_->matched_readers(id);
 }
 
+eprosima::fastrtps::rtps::GuidPrefix_t Gateway::wan_guid_prefix() const {
+    return wan_->guid_prefix();
+}
+
 std::size_t Gateway::wan_participants() const {
     return wan_->remote_participants();
 }
@@ -505,6 +534,62 @@ void Gateway::charge_unscheduled(std::uint64_t frame_bytes) {
             loop_->charge_link(8u * pending_unscheduled_bytes_.exchange(0));
         });
     }
+}
+
+void Gateway::publish_status_nts() {
+    idl::GatewayStatus status;
+    const auto prefix = wan_->guid_prefix();
+    std::copy(std::begin(prefix.value), std::end(prefix.value), status.gateway_prefix().begin());
+    status.sent_ns(static_cast<std::uint64_t>(core::to_ns(clock_.wall_now())));
+    const double rate = loop_->rate_bps();
+    status.sensed_rate_bps(rate);
+    status.budget_bps(rate * config_.scheduler.budget_fraction);
+    {
+        std::lock_guard<std::mutex> lock(sensor_mutex_);
+        status.sensor(sensor_description_);
+        status.sensor_detail(sensor_detail_);
+    }
+    status.unscheduled_wire_bytes(unscheduled_wire_bytes_.load());
+    status.log_samples(logged());
+    std::int32_t all_readers = 0;
+    for (const BridgedTopic& topic : topics()) {
+        const core::TopicCounters c = loop_->counters(topic.id);
+        idl::TopicStatus t;
+        t.name(topic.name);
+        t.ttl_ms(
+            static_cast<std::uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(topic.ttl.ttl).count()));
+        t.queued_samples(static_cast<std::uint32_t>(c.queued));
+        t.queued_bytes(c.queued_payload_bytes);
+        t.received(c.received);
+        t.forwarded(c.forwarded);
+        t.forwarded_wire_bytes(c.forwarded_wire_bytes);
+        t.expired(c.dropped_for(core::DropReason::expired));
+        t.doomed(c.dropped_for(core::DropReason::doomed));
+        t.evicted(c.dropped_for(core::DropReason::evicted));
+        t.oversize(c.dropped_for(core::DropReason::oversize));
+        t.shutdown(c.dropped_for(core::DropReason::shutdown));
+        t.write_failed(c.dropped_for(core::DropReason::write_failed));
+        t.matched_readers(wan_->matched_readers(topic.id));
+        all_readers += t.matched_readers();
+        status.topics().push_back(std::move(t));
+    }
+    status.matched_readers(all_readers);
+
+    // At most STATUS_RATE_SHARE of the rate: a status and its headers on the wire, alone in a datagram.
+    idl::GatewayStatusPubSubType type;
+    const std::size_t bytes = type.getSerializedSizeProvider(&status)();
+    const double wire_bits = static_cast<double>(config_.scheduler.wire.wire_bits(bytes));
+    core::Duration period = config_.status_period;
+    if (rate > 0) {
+        period = std::max(period, core::from_seconds(wire_bits / (STATUS_RATE_SHARE * rate)));
+    }
+    status.status_period_s(core::to_seconds(period));
+    // Written outside any scheduled write: the WAN transport charges its bytes to the budget as they leave.
+    if (status_writer_->write(&status)) {
+        statuses_published_.fetch_add(1, std::memory_order_relaxed);
+    }
+    post_at(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(period),
+            [this] { publish_status_nts(); });
 }
 
 std::uint64_t Gateway::suppressed_heartbeats() const {

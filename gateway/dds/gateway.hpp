@@ -32,6 +32,10 @@ namespace tgw::log {
 class RobotLog;
 }
 
+namespace eprosima::fastdds::dds {
+class DataWriter;
+}
+
 namespace tgw::dds {
 
 class GatewaySink;
@@ -66,6 +70,9 @@ struct GatewayConfig {
     /// See WanConfig::heartbeat_spacing_bytes.
     std::uint32_t wan_heartbeat_bytes = DEFAULT_HEARTBEAT_SPACING_BYTES;
     static constexpr std::chrono::microseconds MAX_COALESCE_WINDOW{100'000};
+    /// How often the gateway publishes its status (STATUS_TOPIC) at most; zero: never. On a slow link it comes
+    /// less often, so that it takes at most STATUS_RATE_SHARE of the sensed rate.
+    core::Duration status_period = core::Duration::zero();
 
     /// Throws core::ConfigError naming the flag at fault. Checks what needs no file or network.
     void validate() const;
@@ -110,6 +117,10 @@ class Gateway {
     void observe_link_backlog(std::uint64_t bytes);
     /// A good reading of the rate sensor: its rate, and its view of the link's queue where it has one.
     void apply_reading(const sensor::RateReading& reading);
+    /// The sensor's SPEC, for the status.
+    void set_sensor_description(std::string description);
+    /// Status samples written so far.
+    std::uint64_t statuses_published() const { return statuses_published_.load(); }
     /// The rate the scheduler budgets with (before its budget fraction).
     double rate_bps() const;
 
@@ -124,6 +135,8 @@ class Gateway {
 
     std::int32_t robot_matched_writers(core::TopicId id) const;
     std::int32_t wan_matched_readers(core::TopicId id) const;
+    /// The WAN participant's GUID prefix: how base-camp programs tell this gateway's status and writers apart.
+    eprosima::fastrtps::rtps::GuidPrefix_t wan_guid_prefix() const;
     /// Base-camp participants the WAN participant knows now.
     std::size_t wan_participants() const;
     std::optional<core::Duration> wan_writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
@@ -170,6 +183,8 @@ class Gateway {
     /// Creates the next lane of `bridge` for `pub`'s offer; false if Fast DDS refused.
     bool add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub, bool declared);  // the worker thread only
     void stop_worker();
+    /// Writes the status and schedules the next one.
+    void publish_status_nts();  // the worker thread only
     /// Counts traffic the WAN transport sent outside the schedule and has the worker charge it to the loop.
     void charge_unscheduled(std::uint64_t frame_bytes);
 
@@ -201,6 +216,11 @@ class Gateway {
 
     std::unique_ptr<RobotParticipant> robot_;
     std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};
+    eprosima::fastdds::dds::DataWriter* status_writer_ = nullptr;  ///< owned by the WAN participant
+    std::atomic<std::uint64_t> statuses_published_{0};
+    std::mutex sensor_mutex_;
+    std::string sensor_description_;
+    std::string sensor_detail_;
     std::atomic<std::uint64_t> pending_unscheduled_bytes_{0};  ///< reported, not yet charged to the loop
     std::atomic<bool> unscheduled_charge_posted_{false};
     std::mutex stop_mutex_;

@@ -66,6 +66,10 @@ void print_summary(const tgw::dds::Gateway& gateway) {
         "bytes, charged to the budget; %llu repeated heartbeats held back\n",
         static_cast<unsigned long long>(gateway.unscheduled_wire_bytes()),
         static_cast<unsigned long long>(gateway.suppressed_heartbeats()));
+    if (gateway.statuses_published() > 0) {
+        std::printf("status samples published on tgw/status: %llu\n",
+                    static_cast<unsigned long long>(gateway.statuses_published()));
+    }
     if (const auto report = gateway.receiver_report()) {
         std::printf(
             "base camp's last receiver report (of %llu): %llu samples received, %llu lost on the way, %llu in "
@@ -139,6 +143,12 @@ int main(int argc, char** argv) {
     app.add_option("--wan-heartbeat-bytes", config.wan_heartbeat_bytes,
                    "a reliable WAN writer piggy-backs a HEARTBEAT (and draws an ACKNACK from each reader) once "
                    "per this many bytes it sends; 0: with every sample, so a lost one is repaired a sample later")
+        ->capture_default_str();
+    double status_period_s = 1.0;
+    app.add_option("--status-period", status_period_s,
+                   "seconds between the gateway's status samples on tgw/status (less often where that would take "
+                   "more than 2 % of the sensed rate); 0: none")
+        ->check(tgw::cli::non_negative())
         ->capture_default_str();
     bool robot_udp_only = false;
     app.add_option("--robot-interface", config.robot.interfaces,
@@ -224,6 +234,7 @@ int main(int argc, char** argv) {
         config.scheduler.wire = tgw::core::WireModel::for_max_datagram(max_datagram);
         config.robot.shm = !robot_udp_only;
         config.wan_coalesce_window = std::chrono::microseconds(coalesce_us);
+        config.status_period = tgw::core::from_seconds(status_period_s);
 
         guard.hold = tgw::core::from_seconds(hold_s);
         if (!(guard.smoothing > 0.0 && guard.smoothing <= 1.0)) {
@@ -292,6 +303,7 @@ int main(int argc, char** argv) {
                                                                        tgw::sensor::DeliveredRateConfig{}, clock,
                                                                        sensor_log);
         }
+        gateway.set_sensor_description(sensor->describe());
         tgw::dds::RatePoller poller(
             *sensor, [&gateway](const tgw::sensor::RateReading& reading) { gateway.apply_reading(reading); },
             SENSOR_POLL_INTERVAL);

@@ -144,10 +144,11 @@ int main(int argc, char** argv) {
                    "a reliable WAN writer piggy-backs a HEARTBEAT (and draws an ACKNACK from each reader) once "
                    "per this many bytes it sends; 0: with every sample, so a lost one is repaired a sample later")
         ->capture_default_str();
-    double status_period_s = 1.0;
+    double status_period_s = 0.0;
     app.add_option("--status-period", status_period_s,
                    "seconds between the gateway's status samples on tgw/status (less often where that would take "
-                   "more than 2 % of the sensed rate); 0: none")
+                   "more than 2 % of the sensed rate); 0, the default for now: none (each status leaves as one "
+                   "burst outside the schedule)")
         ->check(tgw::cli::non_negative())
         ->capture_default_str();
     bool robot_udp_only = false;

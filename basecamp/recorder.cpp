@@ -83,17 +83,10 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
     // Other receivers' reports are for their gateways, not a recording.
     if (readers_.count(publisher.topic) != 0 || publisher.topic == dds::RECEIVER_REPORT_TOPIC)
         return;
-    if (participant_->find_type(publisher.type_name).empty()) {
-        fdds::TypeSupport type(new dds::PassthroughType(publisher.type_name, publisher.keyed));
-        if (type.register_type(participant_) != ReturnCode_t::RETCODE_OK) {
-            std::fprintf(stderr, "tm-basecamp: cannot register type '%s' for '%s'\n", publisher.type_name.c_str(),
-                         publisher.topic.c_str());
-            return;
-        }
-    }
-    fdds::Topic* topic = participant_->create_topic(publisher.topic, publisher.type_name, fdds::TOPIC_QOS_DEFAULT);
+    fdds::Topic* topic = dds::passthrough_topic(participant_, publisher.topic, publisher.type_name, publisher.keyed);
     if (topic == nullptr) {
-        std::fprintf(stderr, "tm-basecamp: cannot create topic '%s'\n", publisher.topic.c_str());
+        std::fprintf(stderr, "tm-basecamp: cannot create topic '%s' (type '%s')\n", publisher.topic.c_str(),
+                     publisher.type_name.c_str());
         return;
     }
     fdds::DataReaderQos qos = subscriber_->get_default_datareader_qos();

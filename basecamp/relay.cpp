@@ -6,7 +6,6 @@
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
-#include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
@@ -21,28 +20,11 @@
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
+#include "gateway/dds/writer_match_counter.hpp"
 
 namespace tgw::basecamp {
 
 namespace fdds = eprosima::fastdds::dds;
-
-namespace {
-
-/// The type and topic `publisher` needs on `participant`, made on first use (a topic's lanes share them).
-fdds::Topic* topic_on(fdds::DomainParticipant* participant, const dds::DiscoveredPublisher& publisher) {
-    if (participant->find_type(publisher.type_name).empty()) {
-        fdds::TypeSupport type(new dds::PassthroughType(publisher.type_name, publisher.keyed));
-        if (participant->register_type(type, publisher.type_name) != ReturnCode_t::RETCODE_OK) {
-            return nullptr;
-        }
-    }
-    if (auto* existing = dynamic_cast<fdds::Topic*>(participant->lookup_topicdescription(publisher.topic))) {
-        return existing;
-    }
-    return participant->create_topic(publisher.topic, publisher.type_name, fdds::TOPIC_QOS_DEFAULT);
-}
-
-}  // namespace
 
 /// One QoS offer of a topic: the WAN reader that asks for it, and the local writer that offers it. Its
 /// listener writes every sample it takes on the local domain, in the taking thread.
@@ -107,18 +89,9 @@ class Relay::Lane final : public fdds::DataReaderListener {
         }
     }
 
-    /// Counts the local readers the lane's writer has matched.
-    class WriterMatches final : public fdds::DataWriterListener {
-      public:
-        void on_publication_matched(fdds::DataWriter*, const fdds::PublicationMatchedStatus& info) override {
-            count.store(info.current_count);
-        }
-        std::atomic<std::int32_t> count{0};
-    };
-
     fdds::DataReader* reader = nullptr;
     fdds::DataWriter* writer = nullptr;
-    WriterMatches writer_matches;
+    dds::WriterMatchCounter writer_matches;  ///< the local readers it has matched
     dds::OfferedQos offer;
     std::atomic<std::uint64_t> relayed{0};
     std::atomic<std::uint64_t> failures{0};
@@ -195,8 +168,8 @@ fdds::Publisher* Relay::local_publisher(const dds::OfferedQos& offer) {
 
 std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic,
                                               std::uint16_t index) {
-    fdds::Topic* wan_topic = topic_on(wan_, publisher);
-    fdds::Topic* local_topic = topic_on(local_, publisher);
+    fdds::Topic* wan_topic = dds::passthrough_topic(wan_, publisher.topic, publisher.type_name, publisher.keyed);
+    fdds::Topic* local_topic = dds::passthrough_topic(local_, publisher.topic, publisher.type_name, publisher.keyed);
     fdds::Subscriber* subscriber = wan_subscriber(publisher.qos);
     fdds::Publisher* publisher_entity = local_publisher(publisher.qos);
     if (wan_topic == nullptr || local_topic == nullptr || subscriber == nullptr || publisher_entity == nullptr) {
@@ -277,7 +250,7 @@ std::int32_t Relay::local_readers(const std::string& topic) const {
     std::int32_t n = 0;
     if (it != topics_.end()) {
         for (const auto& lane : it->second->lanes) {
-            n += lane->writer_matches.count.load();
+            n += lane->writer_matches.matched.load();
         }
     }
     return n;

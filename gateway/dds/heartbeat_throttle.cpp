@@ -56,13 +56,11 @@ std::size_t HeartbeatThrottle::KeyHash::operator()(const Key& key) const {
     return static_cast<std::size_t>(h.value());
 }
 
-bool HeartbeatThrottle::lone_heartbeat(std::uint64_t destination, const std::uint8_t* message, std::size_t size,
-                                       Key& key) {
+bool HeartbeatThrottle::lone_heartbeat(const std::uint8_t* message, std::size_t size, Key& key) {
     if (size < MESSAGE_HEADER_BYTES || std::memcmp(message, "RTPS", 4) != 0) {
         return false;
     }
     key = Key{};
-    key.destination = destination;
     bool heartbeat = false;
     std::size_t pos = MESSAGE_HEADER_BYTES;
     while (pos + SUBMESSAGE_HEADER_BYTES <= size) {
@@ -102,9 +100,10 @@ bool HeartbeatThrottle::lone_heartbeat(std::uint64_t destination, const std::uin
 bool HeartbeatThrottle::admit(const DatagramDestination& destination, const std::uint8_t* message, std::size_t size,
                               core::SteadyTime now) {
     Key key;
-    if (!lone_heartbeat(destination_hash(destination), message, size, key)) {
+    if (!lone_heartbeat(message, size, key)) {
         return true;
     }
+    key.destination = destination_hash(destination);  // only for the few messages that are lone HEARTBEATs
     std::lock_guard<std::mutex> lock(mutex_);
     auto [it, inserted] = last_sent_.try_emplace(key, now);
     if (!inserted) {

@@ -47,8 +47,8 @@ class HeartbeatThrottle {
         std::size_t operator()(const Key& key) const;
     };
 
-    /// The key of a message that carries a lone HEARTBEAT; false for any other message.
-    static bool lone_heartbeat(std::uint64_t destination, const std::uint8_t* message, std::size_t size, Key& key);
+    /// The key (but its destination) of a message that carries a lone HEARTBEAT; false for any other message.
+    static bool lone_heartbeat(const std::uint8_t* message, std::size_t size, Key& key);
 
     const core::Duration interval_;
     mutable std::mutex mutex_;

@@ -2,10 +2,16 @@
 
 #include <cstring>
 
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
 namespace tgw::dds {
 
+namespace fdds = eprosima::fastdds::dds;
 using eprosima::fastrtps::rtps::InstanceHandle_t;
 using eprosima::fastrtps::rtps::SerializedPayload_t;
+using eprosima::fastrtps::types::ReturnCode_t;
 
 namespace {
 
@@ -75,6 +81,20 @@ bool PassthroughType::getKey(void* data, InstanceHandle_t* handle, bool /*force_
     const auto* sample = static_cast<const PassthroughData*>(data);
     *handle = sample->key.isDefined() ? sample->key : UNKNOWN_INSTANCE;
     return true;
+}
+
+fdds::Topic* passthrough_topic(fdds::DomainParticipant* participant, const std::string& topic,
+                               const std::string& type_name, bool keyed) {
+    if (participant->find_type(type_name).empty()) {
+        fdds::TypeSupport type(new PassthroughType(type_name, keyed));
+        if (participant->register_type(type, type_name) != ReturnCode_t::RETCODE_OK) {
+            return nullptr;
+        }
+    }
+    if (auto* existing = dynamic_cast<fdds::Topic*>(participant->lookup_topicdescription(topic))) {
+        return existing;
+    }
+    return participant->create_topic(topic, type_name, fdds::TOPIC_QOS_DEFAULT);
 }
 
 }  // namespace tgw::dds

@@ -7,6 +7,11 @@
 #include <fastdds/rtps/common/InstanceHandle.h>
 #include <fastdds/dds/topic/TopicDataType.hpp>
 
+namespace eprosima::fastdds::dds {
+class DomainParticipant;
+class Topic;
+}  // namespace eprosima::fastdds::dds
+
 namespace tgw::dds {
 
 /// One sample of any type as the gateway carries it: the serialized bytes exactly as they came off the wire
@@ -38,5 +43,11 @@ class PassthroughType final : public eprosima::fastdds::dds::TopicDataType {
 
     bool keyed() const { return m_isGetKeyDefined; }
 };
+
+/// The Topic `topic` of type `type_name` on `participant`, as the gateway and the base camp pass it on: a
+/// PassthroughType registered under that name on first use, and the existing Topic if there is one (a topic's
+/// lanes share it). nullptr when Fast DDS refuses either.
+eprosima::fastdds::dds::Topic* passthrough_topic(eprosima::fastdds::dds::DomainParticipant* participant,
+                                                 const std::string& topic, const std::string& type_name, bool keyed);
 
 }  // namespace tgw::dds

@@ -100,22 +100,10 @@ fdds::DataReader* RobotParticipant::create_reader(const std::string& topic_name,
                                                   bool keyed, const OfferedQos& offer,
                                                   fdds::DataReaderListener* listener) {
     std::lock_guard<std::mutex> lock(mutex_);
-    fdds::TypeSupport type = participant_->find_type(type_name);
-    if (type.empty()) {
-        type = fdds::TypeSupport(new PassthroughType(type_name, keyed));
-        if (participant_->register_type(type, type_name) != ReturnCode_t::RETCODE_OK) {
-            std::cerr << "telemetry-gateway: cannot register type " << type_name << " for " << topic_name << '\n';
-            return nullptr;
-        }
-    }
-    // A topic's lanes share one Topic object.
-    auto* topic = dynamic_cast<fdds::Topic*>(participant_->lookup_topicdescription(topic_name));
-    if (topic == nullptr) {
-        topic = participant_->create_topic(topic_name, type_name, fdds::TOPIC_QOS_DEFAULT);
-    }
+    fdds::Topic* topic = passthrough_topic(participant_, topic_name, type_name, keyed);
     fdds::Subscriber* subscriber = subscriber_nts(offer);
     if (topic == nullptr || subscriber == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create robot topic " << topic_name << '\n';
+        std::cerr << "telemetry-gateway: cannot create robot topic " << topic_name << " (type " << type_name << ")\n";
         return nullptr;
     }
 

@@ -51,7 +51,7 @@ struct WanRouter::Lane {
     std::string topic;
     bool keyed = false;
     fdds::DataWriter* writer = nullptr;
-    std::unique_ptr<WriterListener> listener;
+    std::unique_ptr<WriterMatchCounter> listener;
     bool failure_reported = false;
 
     Lane() = default;
@@ -63,14 +63,6 @@ struct WanRouter::Lane {
             const_cast<fdds::Publisher*>(writer->get_publisher())->delete_datawriter(writer);
         }
     }
-};
-
-class WanRouter::WriterListener final : public fdds::DataWriterListener {
-  public:
-    void on_publication_matched(fdds::DataWriter* /*writer*/, const fdds::PublicationMatchedStatus& info) override {
-        matched.store(info.current_count);
-    }
-    std::atomic<std::int32_t> matched{0};
 };
 
 namespace {
@@ -183,25 +175,13 @@ bool WanRouter::add_lane(core::TopicId id, std::uint16_t lane_index, const std::
     auto lane = std::make_shared<Lane>();
     lane->topic = topic;
     lane->keyed = keyed;
-    lane->listener = std::make_unique<WriterListener>();
+    lane->listener = std::make_unique<WriterMatchCounter>();
 
     std::lock_guard<std::mutex> lock(mutex_);
-    fdds::TypeSupport type = participant_->find_type(type_name);
-    if (type.empty()) {
-        type = fdds::TypeSupport(new PassthroughType(type_name, keyed));
-        if (participant_->register_type(type, type_name) != ReturnCode_t::RETCODE_OK) {
-            std::cerr << "telemetry-gateway: cannot register WAN type " << type_name << " for " << topic << '\n';
-            return false;
-        }
-    }
-    // A topic's lanes share one Topic object.
-    auto* wan_topic = dynamic_cast<fdds::Topic*>(participant_->lookup_topicdescription(topic));
-    if (wan_topic == nullptr) {
-        wan_topic = participant_->create_topic(topic, type_name, fdds::TOPIC_QOS_DEFAULT);
-    }
+    fdds::Topic* wan_topic = passthrough_topic(participant_, topic, type_name, keyed);
     fdds::Publisher* publisher = publisher_nts(offer);
     if (wan_topic == nullptr || publisher == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create WAN topic " << topic << '\n';
+        std::cerr << "telemetry-gateway: cannot create WAN topic " << topic << " (type " << type_name << ")\n";
         return false;
     }
 

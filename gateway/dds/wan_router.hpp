@@ -26,6 +26,7 @@
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/wan_address.hpp"
+#include "gateway/dds/writer_match_counter.hpp"
 
 namespace tgw::dds {
 
@@ -118,7 +119,6 @@ class WanRouter {
     eprosima::fastrtps::rtps::GuidPrefix_t guid_prefix() const;
 
   private:
-    class WriterListener;
     class ParticipantCounter;
     struct Lane;
 

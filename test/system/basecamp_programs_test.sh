@@ -17,28 +17,10 @@ RATE=1000000
 COUNT=20
 TIMEOUT_S=60
 TOPIC="xv/blob/programs"
-WORK="$(mktemp -d "${TMPDIR:-/tmp}/tgw-programs.XXXXXX")"
-TESTBED_ID="$(od -An -N3 -tx1 /dev/urandom | tr -d ' \n')"
-PIDS=()
-cleanup() {
-    local pid
-    for pid in "${PIDS[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
-    for pid in "${PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
-    TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed down 2>/dev/null || true
-    rm -rf "$WORK"
-}
-trap cleanup EXIT
-
-TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed up "$RATE" >/dev/null
-robot_addr="$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info robot-addr)"
-basecamp_addr="$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info basecamp-addr)"
-veth="$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info robot-veth)"
-tb=(env TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed exec)
+start_testbed "$RATE" programs
 
 # Cyclone at the base camp as its documentation sets up unicast discovery towards a known host.
 basecamp_cyclone="<CycloneDDS><Domain Id=\"any\"><General><Interfaces><NetworkInterface address=\"$basecamp_addr\"/></Interfaces><AllowMulticast>false</AllowMulticast></General><Discovery><ParticipantIndex>auto</ParticipantIndex><Peers><Peer Address=\"$robot_addr\"/></Peers></Discovery></Domain></CycloneDDS>"
-# The robot's Cyclone publisher on the robot's loopback, where the gateway's robot participant listens.
-robot_cyclone="<CycloneDDS><Domain Id=\"any\"><General><Interfaces><NetworkInterface address=\"127.0.0.1\"/></Interfaces><AllowMulticast>false</AllowMulticast></General><Discovery><ParticipantIndex>auto</ParticipantIndex><Peers><Peer Address=\"127.0.0.1\"/></Peers></Discovery></Domain></CycloneDDS>"
 
 # The base camp first: tm-basecamp record, then the two vendors' programs (participants 0, 1 and 2 there).
 "${tb[@]}" basecamp "$BIN/tm-basecamp" record --domain 1 --peer "$robot_addr" --interface "$basecamp_addr" \

@@ -44,3 +44,28 @@ run_demo() {
     trap 'rm -rf "${DEMO_OUTPUTS[@]}"' EXIT
     TGW_BIN="$BIN" scripts/demo --no-build "$@" | tee "$out"
 }
+
+# start_testbed RATE NAME: a testbed of its own shaped at RATE bit/s and a work directory, both removed at exit
+# with every process whose PID is added to PIDS. Sets WORK, TESTBED_ID, robot_addr, basecamp_addr, veth, tb (the
+# prefix that runs a command in a namespace: "${tb[@]}" robot CMD) and robot_cyclone (a CYCLONEDDS_URI for a
+# Cyclone program on the robot's loopback, where the gateway's robot participant listens).
+PIDS=()
+start_testbed() {
+    WORK="$(mktemp -d "${TMPDIR:-/tmp}/tgw-$2.XXXXXX")"
+    TESTBED_ID="$(od -An -N3 -tx1 /dev/urandom | tr -d ' \n')"
+    trap stop_testbed EXIT
+    TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed up "$1" >/dev/null
+    robot_addr="$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info robot-addr)"
+    basecamp_addr="$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info basecamp-addr)"
+    veth="$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info robot-veth)"
+    tb=(env TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed exec)
+    robot_cyclone="<CycloneDDS><Domain Id=\"any\"><General><Interfaces><NetworkInterface address=\"127.0.0.1\"/></Interfaces><AllowMulticast>false</AllowMulticast></General><Discovery><ParticipantIndex>auto</ParticipantIndex><Peers><Peer Address=\"127.0.0.1\"/></Peers></Discovery></Domain></CycloneDDS>"
+}
+
+stop_testbed() {
+    local pid
+    for pid in "${PIDS[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
+    for pid in "${PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
+    TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed down 2>/dev/null || true
+    rm -rf "$WORK"
+}

@@ -12,8 +12,7 @@
 #include "gateway/dds/receiver_report_topic.hpp"
 #include "gateway/dds/robot_participant.hpp"
 #include "gateway/dds/status_topic.hpp"
-#include "gateway/dds/topic_bridge.hpp"
-#include "gateway/dds/topic_directory.hpp"
+#include "gateway/dds/topic_table.hpp"
 #include "gateway/dds/wan_address.hpp"
 #include "gateway/dds/wan_router.hpp"
 #include "gateway/log/robot_log.hpp"
@@ -81,17 +80,6 @@ struct Gateway::UnscheduledLink {
     Gateway* gateway = nullptr;  ///< null once the Gateway is being destroyed
 };
 
-struct Gateway::Bridge {
-    struct Lane {
-        std::unique_ptr<TopicBridge> listener;
-        eprosima::fastdds::dds::DataReader* reader = nullptr;
-        bool declared = false;  ///< made at start-up from a --qos profile, before any publisher
-    };
-    BridgedTopic info;
-    LaneAssignment writers;
-    std::vector<Lane> lanes;  // by lane index, as info.lanes
-};
-
 Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     : config_(std::move(config)),
       clock_(clock),
@@ -134,8 +122,8 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     };
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
 
-    directory_ = std::make_unique<TopicDirectory>();
-    sink_ = std::make_unique<GatewaySink>(*wan_, log_.get(), *directory_, clock_);
+    topics_ = std::make_unique<TopicTable>();
+    sink_ = std::make_unique<GatewaySink>(*topics_, log_.get(), clock_);
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
     loop_->start();
     if (config_.receiver_reports) {
@@ -205,12 +193,8 @@ void Gateway::stop() {
     stopped_ = true;
     stop_worker();
     if (robot_) {
-        std::lock_guard<std::mutex> bridges_lock(bridges_mutex_);
-        for (auto& [name, bridge] : bridges_) {
-            for (Bridge::Lane& lane : bridge->lanes) {
-                robot_->delete_reader(lane.reader);
-                lane.reader = nullptr;
-            }
+        for (TopicBridge* bridge : topics_->all()) {
+            bridge->close_readers();
         }
     }
     robot_.reset();
@@ -301,62 +285,16 @@ void Gateway::run_worker() {
     }
 }
 
-std::optional<std::uint16_t> Gateway::lane_for_nts(const Bridge& bridge, const OfferedQos& offer) const {
-    const auto& lanes = bridge.info.lanes;
-    for (std::size_t i = 0; i < lanes.size(); ++i) {
-        if (bridge.info.live[i] && lanes[i] == offer) {
-            return static_cast<std::uint16_t>(i);
-        }
-    }
-    // A lane declared in the --qos file takes any publisher its reader matches: its WAN writer offers what the
-    // operator wrote, and its announcement crossed the link at start-up.
-    for (std::size_t i = 0; i < lanes.size(); ++i) {
-        if (bridge.info.live[i] && bridge.lanes[i].declared && lanes[i].accepts(offer)) {
-            return static_cast<std::uint16_t>(i);
-        }
-    }
-    return std::nullopt;
-}
-
-Gateway::Bridge* Gateway::find_bridge(const std::string& topic) {
-    std::lock_guard<std::mutex> lock(bridges_mutex_);
-    const auto it = bridges_.find(topic);
-    return it == bridges_.end() ? nullptr : it->second.get();
-}
-
 void Gateway::forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
-    Bridge* bridge = find_bridge(topic);
-    if (bridge == nullptr) {
-        return;
-    }
-    const std::optional<std::uint16_t> lane = bridge->writers.release(writer);
-    if (!lane || bridge->writers.writers_on(*lane) > 0 || bridge->lanes[*lane].declared) {
+    TopicBridge* bridge = topics_->find(topic);
+    const std::optional<std::uint16_t> lane = bridge != nullptr ? bridge->release(writer) : std::nullopt;
+    if (!lane) {
         return;
     }
     // What the publisher sent is still the base camp's due: the lane stays until its queued samples are past
     // their TTL. A publisher of the same offer that comes back meanwhile keeps it.
-    const auto ttl = std::chrono::duration_cast<std::chrono::steady_clock::duration>(bridge->info.ttl.ttl);
-    post_at(std::chrono::steady_clock::now() + ttl + LANE_LINGER,
-            [this, topic, lane = *lane] { retire_lane_nts(topic, lane); });
-}
-
-void Gateway::retire_lane_nts(const std::string& topic, std::uint16_t lane) {
-    Bridge* bridge = find_bridge(topic);
-    if (bridge == nullptr || lane >= bridge->lanes.size() || !bridge->info.live[lane] ||
-        bridge->writers.writers_on(lane) > 0) {
-        return;
-    }
-    Bridge::Lane& retired = bridge->lanes[lane];
-    robot_->delete_reader(retired.reader);  // no callback into the listener after this
-    std::unique_ptr<TopicBridge> listener;
-    {
-        std::lock_guard<std::mutex> lock(bridges_mutex_);
-        retired.reader = nullptr;
-        listener = std::move(retired.listener);
-        bridge->info.live[lane] = false;
-        by_id_[bridge->info.id].live = bridge->info.live;
-    }
-    wan_->remove_lane(bridge->info.id, lane);
+    const auto ttl = std::chrono::duration_cast<std::chrono::steady_clock::duration>(bridge->ttl().ttl);
+    post_at(std::chrono::steady_clock::now() + ttl + LANE_LINGER, [bridge, lane = *lane] { bridge->retire(lane); });
 }
 
 void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
@@ -365,109 +303,38 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     if (!filter_.admits(pub.topic) || !robot_) {
         return;
     }
-    Bridge* bridge = find_bridge(pub.topic);
-    if (bridge != nullptr) {
-        if (const auto lane = lane_for_nts(*bridge, pub.qos)) {
-            // The lane's reader matches this publisher already.
-            bridge->writers.assign(pub.writer, *lane);
-        } else if (add_lane_nts(*bridge, pub, false)) {
-            bridges_changed_.notify_all();
-        }
+    if (TopicBridge* bridge = topics_->find(pub.topic)) {
+        bridge->admit(pub, false);
         return;
     }
-
     std::optional<core::Duration> profile_lifespan;
     if (auto profile = wan_->writer_profile(pub.topic)) {
         profile_lifespan = to_duration(profile->lifespan().duration);
     }
-    auto created = std::make_unique<Bridge>();
-    created->info.name = pub.topic;
-    created->info.type_name = pub.type_name;
-    created->info.keyed = pub.keyed;
-    created->info.ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
-    created->info.id = loop_->add_topic(core::TopicConfig{pub.topic, created->info.ttl.ttl});
-    directory_->add(created->info.id, {pub.topic, pub.type_name});
-    if (!add_lane_nts(*created, pub, declared)) {
-        return;
+    const ResolvedTtl ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
+    const core::TopicId id = loop_->add_topic(core::TopicConfig{pub.topic, ttl.ttl});
+    auto bridge = std::make_unique<TopicBridge>(id, pub.topic, pub.type_name, pub.keyed, ttl,
+                                                TopicBridge::Ends{*robot_, *wan_, *loop_, clock_});
+    if (bridge->admit(pub, declared)) {
+        topics_->add(std::move(bridge));
     }
-    {
-        std::lock_guard<std::mutex> lock(bridges_mutex_);
-        if (by_id_.size() <= created->info.id) {
-            by_id_.resize(created->info.id + 1);
-        }
-        by_id_[created->info.id] = created->info;
-        bridges_.emplace(pub.topic, std::move(created));
-    }
-    bridges_changed_.notify_all();
-}
-
-bool Gateway::add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub, bool declared) {
-    // A retired lane's index is taken again: lanes do not grow with publishers that come and go.
-    const auto retired = std::find(bridge.info.live.begin(), bridge.info.live.end(), false);
-    const auto index = static_cast<std::uint16_t>(retired - bridge.info.live.begin());
-    // The WAN writer first, so that nothing the reader takes finds no writer.
-    // Lifespan = TTL, so that base-camp readers drop what is stale themselves; but what a latched publisher
-    // keeps forever (ROS 2's /tf_static, /robot_description) stays for late joiners past the TTL.
-    std::optional<core::Duration> lifespan = bridge.info.ttl.ttl;
-    if (pub.qos.transient_local && !pub.lifespan) {
-        lifespan.reset();
-    }
-    if (!wan_->add_lane(bridge.info.id, index, bridge.info.name, bridge.info.type_name, bridge.info.keyed, lifespan,
-                        pub.qos)) {
-        return false;
-    }
-
-    Bridge::Lane lane;
-    lane.declared = declared;
-    lane.listener = std::make_unique<TopicBridge>(bridge.info.id, bridge.info.name, index, bridge.info.keyed,
-                                                  bridge.writers, *loop_, clock_);
-    lane.reader =
-        robot_->create_reader(bridge.info.name, bridge.info.type_name, bridge.info.keyed, pub.qos, lane.listener.get());
-    if (lane.reader == nullptr) {
-        return false;
-    }
-    // After the reader exists: until now the writer's samples came through the lane that had them, if any.
-    if (pub.writer != eprosima::fastrtps::rtps::GUID_t::unknown()) {
-        bridge.writers.assign(pub.writer, index);
-    }
-    std::lock_guard<std::mutex> lock(bridges_mutex_);
-    if (index == bridge.lanes.size()) {
-        bridge.lanes.push_back(std::move(lane));
-        bridge.info.lanes.push_back(pub.qos);
-        bridge.info.live.push_back(true);
-    } else {
-        bridge.lanes[index] = std::move(lane);
-        bridge.info.lanes[index] = pub.qos;
-        bridge.info.live[index] = true;
-    }
-    if (bridge.info.id < by_id_.size()) {
-        by_id_[bridge.info.id].lanes = bridge.info.lanes;
-        by_id_[bridge.info.id].live = bridge.info.live;
-    }
-    return true;
 }
 
 std::vector<BridgedTopic> Gateway::topics() const {
-    std::lock_guard<std::mutex> lock(bridges_mutex_);
     std::vector<BridgedTopic> out;
-    for (const auto& [name, bridge] : bridges_) {
-        out.push_back(bridge->info);
+    for (const TopicBridge* bridge : topics_->all()) {
+        out.push_back(bridge->describe());
     }
     return out;
 }
 
 std::optional<BridgedTopic> Gateway::find_topic(const std::string& name) const {
-    std::lock_guard<std::mutex> lock(bridges_mutex_);
-    const auto it = bridges_.find(name);
-    if (it == bridges_.end()) {
-        return std::nullopt;
-    }
-    return it->second->info;
+    const TopicBridge* bridge = topics_->find(name);
+    return bridge != nullptr ? std::optional<BridgedTopic>(bridge->describe()) : std::nullopt;
 }
 
 bool Gateway::wait_for_topic(const std::string& name, std::chrono::milliseconds timeout) const {
-    std::unique_lock<std::mutex> lock(bridges_mutex_);
-    return bridges_changed_.wait_for(lock, timeout, [&] { return bridges_.count(name) != 0; });
+    return topics_->wait_for(name, timeout);
 }
 
 core::TopicCounters Gateway::counters(core::TopicId id) const {
@@ -483,21 +350,13 @@ std::size_t Gateway::queued_samples() const {
 }
 
 std::int32_t Gateway::robot_matched_writers(core::TopicId id) const {
-    std::lock_guard<std::mutex> lock(bridges_mutex_);
-    for (const auto& [name, bridge] : bridges_) {
-        if (bridge->info.id == id) {
-            std::int32_t matched = 0;
-            for (const Bridge::Lane& lane : bridge->lanes) {
-                matched += lane.listener ? lane.listener->matched_writers() : 0;
-            }
-            return matched;
-        }
-    }
-    return 0;
+    const TopicBridge* bridge = topics_->find(id);
+    return bridge != nullptr ? bridge->matched_writers() : 0;
 }
 
 std::int32_t Gateway::wan_matched_readers(core::TopicId id) const {
-    return wan_->matched_readers(id);
+    const TopicBridge* bridge = topics_->find(id);
+    return bridge != nullptr ? bridge->matched_readers() : 0;
 }
 
 eprosima::fastrtps::rtps::GuidPrefix_t Gateway::wan_guid_prefix() const {
@@ -509,7 +368,8 @@ std::size_t Gateway::wan_participants() const {
 }
 
 std::optional<core::Duration> Gateway::wan_writer_lifespan(core::TopicId id, std::uint16_t lane) const {
-    return wan_->writer_lifespan(id, lane);
+    const TopicBridge* bridge = topics_->find(id);
+    return bridge != nullptr ? bridge->writer_lifespan(lane) : std::nullopt;
 }
 
 std::uint64_t Gateway::wan_write_failures() const {
@@ -552,12 +412,12 @@ void Gateway::publish_status_nts() {
     status.unscheduled_wire_bytes(unscheduled_wire_bytes_.load());
     status.log_samples(logged());
     std::int32_t all_readers = 0;
-    for (const BridgedTopic& topic : topics()) {
-        const core::TopicCounters c = loop_->counters(topic.id);
+    for (const TopicBridge* topic : topics_->all()) {
+        const core::TopicCounters c = loop_->counters(topic->id());
         idl::TopicStatus t;
-        t.name(topic.name);
-        t.ttl_ms(
-            static_cast<std::uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(topic.ttl.ttl).count()));
+        t.name(topic->name());
+        t.ttl_ms(static_cast<std::uint32_t>(
+            std::chrono::duration_cast<std::chrono::milliseconds>(topic->ttl().ttl).count()));
         t.queued_samples(static_cast<std::uint32_t>(c.queued));
         t.queued_bytes(c.queued_payload_bytes);
         t.received(c.received);
@@ -569,7 +429,7 @@ void Gateway::publish_status_nts() {
         t.oversize(c.dropped_for(core::DropReason::oversize));
         t.shutdown(c.dropped_for(core::DropReason::shutdown));
         t.write_failed(c.dropped_for(core::DropReason::write_failed));
-        t.matched_readers(wan_->matched_readers(topic.id));
+        t.matched_readers(topic->matched_readers());
         all_readers += t.matched_readers();
         status.topics().push_back(std::move(t));
     }

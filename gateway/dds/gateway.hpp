@@ -24,6 +24,7 @@
 #include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/receiver_report_reader.hpp"
 #include "gateway/dds/robot_transport.hpp"
+#include "gateway/dds/topic_bridge.hpp"
 #include "gateway/dds/topic_filter.hpp"
 #include "gateway/dds/ttl_resolver.hpp"
 #include "sensor/rate_sensor.hpp"
@@ -40,8 +41,7 @@ namespace tgw::dds {
 
 class GatewaySink;
 class RobotParticipant;
-class TopicBridge;
-class TopicDirectory;
+class TopicTable;
 class WanRouter;
 
 /// Everything the telemetry-gateway program's flags set (DESIGN section 6).
@@ -78,25 +78,11 @@ struct GatewayConfig {
     void validate() const;
 };
 
-/// A robot-domain topic the gateway bridges to the WAN.
-struct BridgedTopic {
-    core::TopicId id = 0;
-    std::string name;
-    std::string type_name;
-    bool keyed = false;
-    ResolvedTtl ttl;
-    /// The QoS offers of its publishers, one lane each (a robot reader and a WAN writer), by lane index.
-    std::vector<OfferedQos> lanes;
-    /// By lane index: false once the lane's last publisher has left and the lane was retired (its index is
-    /// reused by the next new offer).
-    std::vector<bool> live;
-};
-
 /// The whole gateway in one object (main stays thin; integration tests create it in-process): the on-robot
 /// log, the WAN participant, the ForwardingLoop with its sink, and the robot participant whose discovery
-/// creates, for each admitted topic, a lane per QoS its publishers offer: a type-agnostic reader that asks for
-/// that QoS and a WAN writer that offers it. A lane whose last publisher left is retired a TTL later (plus
-/// LANE_LINGER), so base-camp readers see its writer go, unless it was declared in the --qos file. Entities are
+/// makes one TopicBridge per admitted topic, with a lane per QoS its publishers offer: a type-agnostic reader
+/// that asks for that QoS and a WAN writer that offers it. A lane whose last publisher left is retired a TTL later
+/// (plus LANE_LINGER), so base-camp readers see its writer go, unless it was declared in the --qos file. Entities are
 /// created and deleted in a worker thread of its own, never in Fast DDS's callbacks.
 class Gateway {
   public:
@@ -161,7 +147,6 @@ class Gateway {
     static constexpr std::chrono::seconds LANE_LINGER{1};
 
   private:
-    struct Bridge;
     struct UnscheduledLink;
 
     /// Runs `task` in the worker thread, after those posted before it.
@@ -172,16 +157,8 @@ class Gateway {
     void run_worker();
     /// Bridges `pub`'s topic, or finds or makes its lane; `declared`: from a --qos profile, no publisher yet.
     void bridge_nts(const DiscoveredPublisher& pub, bool declared = false);  // the worker thread only
-    /// The bridge of `topic`, nullptr before its first publisher. Bridges live as long as the gateway.
-    Bridge* find_bridge(const std::string& topic);
     /// A publisher left: if it was its lane's last, the lane is retired once its queued samples are past.
     void forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer);
-    /// Deletes the lane's robot reader and WAN writer if no publisher came back to it meanwhile.
-    void retire_lane_nts(const std::string& topic, std::uint16_t lane);  // the worker thread only
-    /// The existing lane of `bridge` that carries a publisher offering `offer`, if any.
-    std::optional<std::uint16_t> lane_for_nts(const Bridge& bridge, const OfferedQos& offer) const;
-    /// Creates the next lane of `bridge` for `pub`'s offer; false if Fast DDS refused.
-    bool add_lane_nts(Bridge& bridge, const DiscoveredPublisher& pub, bool declared);  // the worker thread only
     void stop_worker();
     /// Writes the status and schedules the next one.
     void publish_status_nts();  // the worker thread only
@@ -197,15 +174,10 @@ class Gateway {
     std::unique_ptr<log::RobotLog> log_;
     std::unique_ptr<ReceiverReportReader> reports_;  ///< before wan_: its reader's listener outlives it
     std::unique_ptr<WanRouter> wan_;
-    std::unique_ptr<TopicDirectory> directory_;
+    std::unique_ptr<TopicTable> topics_;  ///< after wan_: its bridges hold WAN writers
     std::unique_ptr<GatewaySink> sink_;
     std::unique_ptr<core::ForwardingLoop> loop_;
     std::unique_ptr<Discovery> discovery_;
-
-    mutable std::mutex bridges_mutex_;
-    mutable std::condition_variable bridges_changed_;
-    std::map<std::string, std::unique_ptr<Bridge>> bridges_;
-    std::vector<BridgedTopic> by_id_;
 
     std::mutex events_mutex_;
     std::condition_variable events_changed_;

@@ -4,11 +4,12 @@
 
 namespace tgw::dds {
 
-GatewaySink::GatewaySink(WanRouter& wan, log::RobotLog* log, const TopicDirectory& topics, const core::Clock& clock)
-    : wan_(wan), log_(log), topics_(topics), clock_(clock) {}
+GatewaySink::GatewaySink(const TopicTable& topics, log::RobotLog* log, const core::Clock& clock)
+    : topics_(topics), log_(log), clock_(clock) {}
 
 bool GatewaySink::forward(core::Sample&& sample) {
-    if (wan_.write(sample) != WriteResult::ok) {
+    const TopicBridge* bridge = topics_.find(sample.topic);
+    if (bridge == nullptr || bridge->write(sample) != WriteResult::ok) {
         // The payload is still ours: keep it, so that a refused write is never silently lost.
         wan_write_failures_.fetch_add(1, std::memory_order_relaxed);
         drop(std::move(sample), core::DropReason::write_failed);
@@ -22,10 +23,11 @@ void GatewaySink::drop(core::Sample&& sample, core::DropReason reason) {
     if (log_ == nullptr) {
         return;
     }
-    const TopicDirectory::Names names = topics_.get(sample.topic);
     log::LogRecord record;
-    record.topic = names.topic;
-    record.type_name = names.type_name;
+    if (const TopicBridge* bridge = topics_.find(sample.topic)) {
+        record.topic = bridge->name();
+        record.type_name = bridge->type_name();
+    }
     record.sample = &sample;
     record.reason = reason;
     record.arrival = to_wall(sample.arrival);

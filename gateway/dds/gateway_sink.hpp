@@ -6,19 +6,19 @@
 #include "gateway/core/clock.hpp"
 #include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/sample_sink.hpp"
-#include "gateway/dds/topic_directory.hpp"
-#include "gateway/dds/wan_router.hpp"
+#include "gateway/dds/topic_table.hpp"
 #include "gateway/log/robot_log.hpp"
 
 namespace tgw::dds {
 
-/// Where the scheduler's decisions land in the gateway: released samples are written to the WAN, the others
+/// Where the scheduler's decisions land in the gateway: released samples are written to the WAN by their topic's
+/// bridge, the others
 /// appended to the on-robot log (when there is one) with their steady times converted to wall time here, at
 /// the edge. Never throws; failures are counted.
 class GatewaySink final : public core::SampleSink {
   public:
     /// `log` may be null (no --log): dropped samples are then only counted.
-    GatewaySink(WanRouter& wan, log::RobotLog* log, const TopicDirectory& topics, const core::Clock& clock);
+    GatewaySink(const TopicTable& topics, log::RobotLog* log, const core::Clock& clock);
 
     bool forward(core::Sample&& sample) override;
     void drop(core::Sample&& sample, core::DropReason reason) override;
@@ -32,9 +32,8 @@ class GatewaySink final : public core::SampleSink {
   private:
     core::WallTime to_wall(core::SteadyTime t) const;
 
-    WanRouter& wan_;
+    const TopicTable& topics_;
     log::RobotLog* log_;
-    const TopicDirectory& topics_;
     const core::Clock& clock_;
     std::atomic<std::uint64_t> wan_write_failures_{0};
     std::atomic<std::uint64_t> logged_{0};

@@ -1,78 +1,174 @@
 #include "gateway/dds/topic_bridge.hpp"
 
 #include <algorithm>
-#include <iostream>
 #include <utility>
 
-#include <fastdds/dds/subscriber/DataReader.hpp>
-#include <fastdds/dds/subscriber/SampleInfo.hpp>
-
-#include "gateway/dds/dds_time.hpp"
-#include "gateway/dds/passthrough_type.hpp"
+#include "gateway/dds/lane_listener.hpp"
+#include "gateway/dds/robot_participant.hpp"
+#include "gateway/dds/wan_router.hpp"
 
 namespace tgw::dds {
 
-namespace fdds = eprosima::fastdds::dds;
+struct TopicBridge::Lane {
+    OfferedQos offer;
+    bool live = false;
+    bool declared = false;  ///< made at start-up from a --qos profile, before any publisher
+    eprosima::fastdds::dds::DataReader* reader = nullptr;  ///< owned by the robot participant
+    std::unique_ptr<LaneListener> listener;
+    std::shared_ptr<WanWriter> writer;  ///< a write in progress holds it too
+};
 
-namespace {
+TopicBridge::TopicBridge(core::TopicId id, std::string name, std::string type_name, bool keyed, ResolvedTtl ttl,
+                         Ends ends)
+    : id_(id), name_(std::move(name)), type_name_(std::move(type_name)), keyed_(keyed), ttl_(ttl), ends_(ends) {}
 
-core::SampleKind kind_of(const fdds::SampleInfo& info) {
-    if (info.valid_data) {
-        return core::SampleKind::data;
+TopicBridge::~TopicBridge() = default;
+
+std::optional<std::uint16_t> TopicBridge::lane_for_nts(const OfferedQos& offer) const {
+    for (std::size_t i = 0; i < lanes_.size(); ++i) {
+        if (lanes_[i].live && lanes_[i].offer == offer) {
+            return static_cast<std::uint16_t>(i);
+        }
     }
-    return info.instance_state == fdds::NOT_ALIVE_DISPOSED_INSTANCE_STATE ? core::SampleKind::dispose
-                                                                          : core::SampleKind::unregister;
+    // A lane declared in the --qos file takes any publisher its reader matches: its WAN writer offers what the
+    // operator wrote, and its announcement crossed the link at start-up.
+    for (std::size_t i = 0; i < lanes_.size(); ++i) {
+        if (lanes_[i].live && lanes_[i].declared && lanes_[i].offer.accepts(offer)) {
+            return static_cast<std::uint16_t>(i);
+        }
+    }
+    return std::nullopt;
 }
 
-}  // namespace
+bool TopicBridge::admit(const DiscoveredPublisher& pub, bool declared) {
+    if (const auto lane = lane_for_nts(pub.qos)) {
+        // The lane's reader matches this publisher already.
+        writers_.assign(pub.writer, *lane);
+        return true;
+    }
+    // A retired lane's index is taken again: lanes do not grow with publishers that come and go.
+    const auto retired = std::find_if(lanes_.begin(), lanes_.end(), [](const Lane& lane) { return !lane.live; });
+    const auto index = static_cast<std::uint16_t>(retired - lanes_.begin());
 
-TopicBridge::TopicBridge(core::TopicId topic, std::string name, std::uint16_t lane, bool keyed,
-                         const LaneAssignment& lanes, core::ForwardingLoop& loop, const core::Clock& clock)
-    : topic_(topic), name_(std::move(name)), lane_(lane), keyed_(keyed), lanes_(lanes), loop_(loop), clock_(clock) {}
+    // The WAN writer first, so that nothing the reader takes finds no writer.
+    // Lifespan = TTL, so that base-camp readers drop what is stale themselves; but what a latched publisher
+    // keeps forever (ROS 2's /tf_static, /robot_description) stays for late joiners past the TTL.
+    std::optional<core::Duration> lifespan = ttl_.ttl;
+    if (pub.qos.transient_local && !pub.lifespan) {
+        lifespan.reset();
+    }
+    Lane lane;
+    lane.offer = pub.qos;
+    lane.live = true;
+    lane.declared = declared;
+    lane.writer = ends_.wan.create_writer(name_, type_name_, keyed_, lifespan, pub.qos);
+    if (lane.writer == nullptr) {
+        return false;
+    }
+    lane.listener = std::make_unique<LaneListener>(id_, name_, index, keyed_, writers_, ends_.loop, ends_.clock);
+    lane.reader = ends_.robot.create_reader(name_, type_name_, keyed_, pub.qos, lane.listener.get());
+    if (lane.reader == nullptr) {
+        return false;
+    }
+    // After the reader exists: until now the writer's samples came through the lane that had them, if any.
+    if (pub.writer != eprosima::fastrtps::rtps::GUID_t::unknown()) {
+        writers_.assign(pub.writer, index);
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (index == lanes_.size()) {
+        lanes_.push_back(std::move(lane));
+    } else {
+        lanes_[index] = std::move(lane);
+    }
+    return true;
+}
 
-void TopicBridge::on_data_available(fdds::DataReader* reader) {
-    // Fast DDS may call this from the SHM and the UDP receive threads at once: samples go to the loop in the
-    // order they were taken.
-    std::lock_guard<std::mutex> lock(take_order_);
-    PassthroughData data;
-    fdds::SampleInfo info;
-    while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
-        if (!lanes_.carries(info.publication_handle, lane_)) {
-            continue;  // the writer's own lane carries it
+std::optional<std::uint16_t> TopicBridge::release(const eprosima::fastrtps::rtps::GUID_t& writer) {
+    const std::optional<std::uint16_t> lane = writers_.release(writer);
+    if (!lane || writers_.writers_on(*lane) > 0 || lanes_[*lane].declared) {
+        return std::nullopt;
+    }
+    return lane;
+}
+
+void TopicBridge::retire(std::uint16_t index) {
+    if (index >= lanes_.size() || !lanes_[index].live || writers_.writers_on(index) > 0) {
+        return;
+    }
+    Lane& lane = lanes_[index];
+    ends_.robot.delete_reader(lane.reader);  // no callback into the listener after this
+    std::unique_ptr<LaneListener> listener;
+    std::shared_ptr<WanWriter> writer;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        lane.reader = nullptr;
+        listener = std::move(lane.listener);
+        writer = std::move(lane.writer);
+        lane.live = false;
+    }
+    // The writer goes here, or after the write that holds it now.
+}
+
+void TopicBridge::close_readers() {
+    for (Lane& lane : lanes_) {
+        if (lane.reader != nullptr) {
+            ends_.robot.delete_reader(lane.reader);
+            std::lock_guard<std::mutex> lock(mutex_);
+            lane.reader = nullptr;
         }
-        core::Sample sample;
-        sample.kind = kind_of(info);
-        if (sample.kind != core::SampleKind::data && !keyed_) {
-            continue;  // an unkeyed topic's one instance: nothing for the base camp to learn
-        }
-        sample.topic = topic_;
-        sample.route = lane_;
-        if (sample.kind == core::SampleKind::data) {
-            sample.payload = std::move(data.payload);
-        }
-        data.payload = {};
-        if (keyed_ && info.instance_handle.isDefined() && info.instance_handle != PassthroughType::UNKNOWN_INSTANCE) {
-            const eprosima::fastrtps::rtps::octet* hash = info.instance_handle.value;
-            std::copy(hash, hash + sample.key.bytes.size(), sample.key.bytes.begin());
-            sample.key.valid = true;
-        } else if (keyed_ && without_key_hash_.fetch_add(1, std::memory_order_relaxed) == 0) {
-            std::cerr << "telemetry-gateway: " << name_
-                      << ": keyed, but its publisher sends no key hash; base-camp readers still tell the instances "
-                         "apart, the gateway's history (a latched topic's last sample per instance) cannot. "
-                         "Cyclone DDS sends it with <Internal><GenerateKeyhash>true</GenerateKeyhash></Internal>\n";
-        }
-        if (const auto source = to_wall_time(info.source_timestamp)) {
-            sample.source_time = *source;
-        } else {
-            sample.source_time = clock_.wall_now();
-            stamped_on_arrival_.fetch_add(1, std::memory_order_relaxed);
-        }
-        loop_.submit(std::move(sample));
     }
 }
 
-void TopicBridge::on_subscription_matched(fdds::DataReader* /*reader*/, const fdds::SubscriptionMatchedStatus& info) {
-    matched_.store(info.current_count);
+WriteResult TopicBridge::write(core::Sample& sample) const {
+    std::shared_ptr<WanWriter> writer;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (sample.route < lanes_.size()) {
+            writer = lanes_[sample.route].writer;
+        }
+    }
+    return writer ? writer->write(sample) : WriteResult::unknown_topic;
+}
+
+std::int32_t TopicBridge::matched_writers() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::int32_t matched = 0;
+    for (const Lane& lane : lanes_) {
+        matched += lane.listener ? lane.listener->matched_writers() : 0;
+    }
+    return matched;
+}
+
+std::int32_t TopicBridge::matched_readers() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::int32_t matched = 0;
+    for (const Lane& lane : lanes_) {
+        matched += lane.writer ? lane.writer->matched_readers() : 0;
+    }
+    return matched;
+}
+
+std::optional<core::Duration> TopicBridge::writer_lifespan(std::uint16_t index) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (index >= lanes_.size() || !lanes_[index].writer) {
+        return std::nullopt;
+    }
+    return lanes_[index].writer->lifespan();
+}
+
+BridgedTopic TopicBridge::describe() const {
+    BridgedTopic out;
+    out.id = id_;
+    out.name = name_;
+    out.type_name = type_name_;
+    out.keyed = keyed_;
+    out.ttl = ttl_;
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const Lane& lane : lanes_) {
+        out.lanes.push_back(lane.offer);
+        out.live.push_back(lane.live);
+    }
+    return out;
 }
 
 }  // namespace tgw::dds

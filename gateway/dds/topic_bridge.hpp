@@ -1,57 +1,113 @@
 #pragma once
 
-#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
-
-#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <vector>
 
 #include "gateway/core/clock.hpp"
 #include "gateway/core/forwarding_loop.hpp"
+#include "gateway/core/sample.hpp"
+#include "gateway/dds/discovery.hpp"
 #include "gateway/dds/lane_assignment.hpp"
+#include "gateway/dds/offered_qos.hpp"
+#include "gateway/dds/ttl_resolver.hpp"
+#include "gateway/dds/wan_writer.hpp"
+
+namespace eprosima::fastdds::dds {
+class DataReader;
+}
 
 namespace tgw::dds {
 
-/// The listener of one lane's type-agnostic reader on the robot domain: every sample it takes from a writer of
-/// its lane (LaneAssignment) becomes a core::Sample (payload as received, instance from SampleInfo, the
-/// publisher's source timestamp) and goes to the ForwardingLoop in the same thread. Disposes and unregisters
-/// go the same way, without payload. The payload is copied once, from Fast DDS's cache into the sample's own
-/// buffer, and moved from there on.
-class TopicBridge final : public eprosima::fastdds::dds::DataReaderListener {
+class LaneListener;
+class RobotParticipant;
+class WanRouter;
+
+/// What a bridged topic looks like from outside, copied at one instant.
+struct BridgedTopic {
+    core::TopicId id = 0;
+    std::string name;
+    std::string type_name;
+    bool keyed = false;
+    ResolvedTtl ttl;
+    /// The QoS offers of its publishers, one lane each (a robot reader and a WAN writer), by lane index.
+    std::vector<OfferedQos> lanes;
+    /// By lane index: false once the lane's last publisher has left and the lane was retired (its index is
+    /// reused by the next new offer).
+    std::vector<bool> live;
+};
+
+/// One robot-domain topic the gateway bridges, and everything it has of it: its names, key kind and TTL, which
+/// publisher goes through which lane (LaneAssignment), and per lane (one per QoS its publishers offer) the
+/// type-agnostic robot reader that asks for that QoS, its listener, and the WAN writer that offers it. Its
+/// queue and counters are the scheduler's, under the same TopicId (core knows no DDS). A new offer that no lane
+/// matches gets a lane of its own, so a publisher never changes what the others' readers see; a lane whose last
+/// publisher left is retired (unless it was declared in the --qos file) and its index reused.
+///
+/// The gateway's worker thread admits publishers, retires lanes and closes the readers; any thread may write
+/// and ask.
+class TopicBridge {
   public:
-    /// `lanes` must outlive the bridge. `name`: the topic's, for the warning about samples without a key hash.
-    TopicBridge(core::TopicId topic, std::string name, std::uint16_t lane, bool keyed, const LaneAssignment& lanes,
-                core::ForwardingLoop& loop, const core::Clock& clock);
+    /// What the bridge makes its lanes' entities with; each must outlive the bridge, and `robot` its readers.
+    struct Ends {
+        RobotParticipant& robot;
+        WanRouter& wan;
+        core::ForwardingLoop& loop;
+        const core::Clock& clock;
+    };
 
-    void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
-    void on_subscription_matched(eprosima::fastdds::dds::DataReader* reader,
-                                 const eprosima::fastdds::dds::SubscriptionMatchedStatus& info) override;
+    TopicBridge(core::TopicId id, std::string name, std::string type_name, bool keyed, ResolvedTtl ttl, Ends ends);
+    /// Lets go of the WAN writers; close_readers() must have run.
+    ~TopicBridge();
 
-    core::TopicId topic() const { return topic_; }
-    /// Robot-domain writers currently matched.
-    std::int32_t matched_writers() const { return matched_.load(); }
-    /// Samples that carried no source timestamp and were stamped on arrival.
-    std::uint64_t stamped_on_arrival() const { return stamped_on_arrival_.load(); }
-    /// Samples of a keyed topic whose instance the publisher did not send (no key hash): the gateway, which
-    /// does not know the type, writes them all as one instance, so its per-instance history cannot keep them
-    /// apart (base-camp readers still can: they compute the key from the payload).
-    std::uint64_t without_key_hash() const { return without_key_hash_.load(); }
+    TopicBridge(const TopicBridge&) = delete;
+    TopicBridge& operator=(const TopicBridge&) = delete;
+
+    core::TopicId id() const { return id_; }
+    const std::string& name() const { return name_; }
+    const std::string& type_name() const { return type_name_; }
+    const ResolvedTtl& ttl() const { return ttl_; }
+
+    /// Carries `pub`'s samples from now on, on the lane of its offer, or on a new one; `declared`: a --qos
+    /// profile's lane, made before any publisher, that takes any publisher its reader matches. False (after
+    /// logging it) when Fast DDS refused a new lane's reader or writer. The worker thread only.
+    bool admit(const DiscoveredPublisher& pub, bool declared);
+    /// A publisher left. Returns its lane when it was the lane's last publisher and the lane may be retired.
+    std::optional<std::uint16_t> release(const eprosima::fastrtps::rtps::GUID_t& writer);
+    /// Deletes the lane's robot reader and WAN writer, unless a publisher came back to it meanwhile; samples of
+    /// it still queued then find no writer. The worker thread only.
+    void retire(std::uint16_t lane);
+    /// Deletes every robot reader: no sample comes in after this. The WAN writers stay.
+    void close_readers();
+
+    /// Writes (or disposes, or unregisters) through the WAN writer of the sample's lane. Never throws.
+    WriteResult write(core::Sample& sample) const;
+
+    /// Robot-domain writers matched now, all lanes together.
+    std::int32_t matched_writers() const;
+    /// Base-camp readers matched now, all lanes together.
+    std::int32_t matched_readers() const;
+    /// The Lifespan QoS of the lane's WAN writer; nullopt without a writer or when it is infinite.
+    std::optional<core::Duration> writer_lifespan(std::uint16_t lane) const;
+    BridgedTopic describe() const;
 
   private:
-    const core::TopicId topic_;
+    struct Lane;
+
+    std::optional<std::uint16_t> lane_for_nts(const OfferedQos& offer) const;
+
+    const core::TopicId id_;
     const std::string name_;
-    const std::uint16_t lane_;
+    const std::string type_name_;
     const bool keyed_;
-    const LaneAssignment& lanes_;
-    core::ForwardingLoop& loop_;
-    const core::Clock& clock_;
-    std::atomic<std::int32_t> matched_{0};
-    std::atomic<std::uint64_t> stamped_on_arrival_{0};
-    std::atomic<std::uint64_t> without_key_hash_{0};
-    /// Held from take to submit: the SHM and UDP receive threads both call on_data_available, and without it
-    /// one could submit a later sample before the other submits the earlier one it took.
-    std::mutex take_order_;
+    const ResolvedTtl ttl_;
+    Ends ends_;
+    LaneAssignment writers_;  ///< before lanes_: their listeners read it
+    mutable std::mutex mutex_;
+    std::vector<Lane> lanes_;  // by lane index; only the worker thread adds or retires
 };
 
 }  // namespace tgw::dds

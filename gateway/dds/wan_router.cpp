@@ -47,24 +47,6 @@ class WanRouter::ParticipantCounter final : public fdds::DomainParticipantListen
     std::atomic<std::int32_t> count{0};
 };
 
-struct WanRouter::Lane {
-    std::string topic;
-    bool keyed = false;
-    fdds::DataWriter* writer = nullptr;
-    std::unique_ptr<WriterMatchCounter> listener;
-    bool failure_reported = false;
-
-    Lane() = default;
-    Lane(const Lane&) = delete;
-    Lane& operator=(const Lane&) = delete;
-    /// Deletes the writer: a lane goes when its last holder lets go of it, after any write in progress.
-    ~Lane() {
-        if (writer != nullptr) {
-            const_cast<fdds::Publisher*>(writer->get_publisher())->delete_datawriter(writer);
-        }
-    }
-};
-
 namespace {
 
 Locator_t udp_locator(const std::string& address, std::uint16_t port) {
@@ -136,10 +118,6 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
 WanRouter::~WanRouter() {
     // Sends what waits while the transport's channels still exist.
     coalescer_->stop();
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        lanes_.clear();  // their writers, before the participant
-    }
     if (participant_ != nullptr) {
         participant_->set_listener(nullptr);
         participant_->delete_contained_entities();
@@ -169,20 +147,16 @@ fdds::Publisher* WanRouter::publisher_nts(const OfferedQos& offer) {
     return publisher;
 }
 
-bool WanRouter::add_lane(core::TopicId id, std::uint16_t lane_index, const std::string& topic,
-                         const std::string& type_name, bool keyed, std::optional<core::Duration> lifespan,
-                         const OfferedQos& offer) {
-    auto lane = std::make_shared<Lane>();
-    lane->topic = topic;
-    lane->keyed = keyed;
-    lane->listener = std::make_unique<WriterMatchCounter>();
+std::shared_ptr<WanWriter> WanRouter::create_writer(const std::string& topic, const std::string& type_name, bool keyed,
+                                                    std::optional<core::Duration> lifespan, const OfferedQos& offer) {
+    auto matches = std::make_unique<WriterMatchCounter>();
 
     std::lock_guard<std::mutex> lock(mutex_);
     fdds::Topic* wan_topic = passthrough_topic(participant_, topic, type_name, keyed);
     fdds::Publisher* publisher = publisher_nts(offer);
     if (wan_topic == nullptr || publisher == nullptr) {
         std::cerr << "telemetry-gateway: cannot create WAN topic " << topic << " (type " << type_name << ")\n";
-        return false;
+        return nullptr;
     }
 
     // A data_writer profile named after the topic is the starting point (its Lifespan already made the TTL);
@@ -196,81 +170,17 @@ bool WanRouter::add_lane(core::TopicId id, std::uint16_t lane_index, const std::
         qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
     }
 
-    lane->writer = publisher->create_datawriter(wan_topic, qos, lane->listener.get(), fdds::StatusMask::all());
-    if (lane->writer == nullptr) {
+    fdds::DataWriter* writer = publisher->create_datawriter(wan_topic, qos, matches.get(), fdds::StatusMask::all());
+    if (writer == nullptr) {
         std::cerr << "telemetry-gateway: cannot create the WAN writer for " << topic << " (" << offer.describe()
                   << ")\n";
-        return false;
+        return nullptr;
     }
-    if (lanes_.size() <= id) {
-        lanes_.resize(id + 1);
-    }
-    if (lanes_[id].size() <= lane_index) {
-        lanes_[id].resize(lane_index + 1);
-    }
-    lanes_[id][lane_index] = std::move(lane);
-    return true;
+    return std::make_shared<WanWriter>(writer, std::move(matches), topic, keyed);
 }
 
 std::size_t WanRouter::remote_participants() const {
     return static_cast<std::size_t>(std::max(0, participants_->count.load()));
-}
-
-std::shared_ptr<WanRouter::Lane> WanRouter::lane(core::TopicId id, std::uint16_t lane_index) const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return id < lanes_.size() && lane_index < lanes_[id].size() ? lanes_[id][lane_index] : nullptr;
-}
-
-void WanRouter::remove_lane(core::TopicId id, std::uint16_t lane_index) {
-    std::shared_ptr<Lane> removed;
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (id < lanes_.size() && lane_index < lanes_[id].size()) {
-            removed = std::move(lanes_[id][lane_index]);
-        }
-    }
-    // The writer goes here, or after the write that holds the lane now.
-}
-
-WriteResult WanRouter::write(core::Sample& sample) {
-    const std::shared_ptr<Lane> e = lane(sample.topic, sample.route);
-    if (e == nullptr) {
-        return WriteResult::unknown_topic;
-    }
-    PassthroughData data;
-    // Borrowed for the write, which copies it once into the change, and handed back after.
-    data.payload = std::move(sample.payload);
-    fdds::InstanceHandle_t handle = fdds::HANDLE_NIL;
-    if (e->keyed) {
-        if (sample.key.valid) {
-            for (std::size_t i = 0; i < sample.key.bytes.size(); ++i) {
-                data.key.value[i] = sample.key.bytes[i];
-            }
-        }
-        handle = data.key.isDefined() ? data.key : PassthroughType::UNKNOWN_INSTANCE;
-    }
-    const auto stamp = to_dds_time(sample.source_time);
-    const ReturnCode_t rc = [&] {
-        const DatagramCoalescer::DeferScope may_wait;
-        switch (sample.kind) {
-            case core::SampleKind::dispose:
-                return e->writer->dispose_w_timestamp(&data, handle, stamp);
-            case core::SampleKind::unregister:
-                return e->writer->unregister_instance_w_timestamp(&data, handle, stamp);
-            case core::SampleKind::data:
-                break;
-        }
-        return e->writer->write_w_timestamp(&data, handle, stamp);
-    }();
-    sample.payload = std::move(data.payload);
-    if (rc != ReturnCode_t::RETCODE_OK) {
-        if (!e->failure_reported) {
-            e->failure_reported = true;
-            std::cerr << "telemetry-gateway: WAN write failed on " << e->topic << " (code " << rc() << ")\n";
-        }
-        return WriteResult::failed;
-    }
-    return WriteResult::ok;
 }
 
 fdds::DataWriter* WanRouter::create_status_writer() {
@@ -325,25 +235,6 @@ bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {
         return false;
     }
     return true;
-}
-
-std::optional<core::Duration> WanRouter::writer_lifespan(core::TopicId id, std::uint16_t lane_index) const {
-    const std::shared_ptr<Lane> e = lane(id, lane_index);
-    if (e == nullptr) {
-        return std::nullopt;
-    }
-    return to_duration(e->writer->get_qos().lifespan().duration);
-}
-
-std::int32_t WanRouter::matched_readers(core::TopicId id) const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    std::int32_t matched = 0;
-    if (id < lanes_.size()) {
-        for (const auto& lane : lanes_[id]) {
-            matched += lane ? lane->listener->matched.load() : 0;
-        }
-    }
-    return matched;
 }
 
 eprosima::fastrtps::rtps::GuidPrefix_t WanRouter::guid_prefix() const {

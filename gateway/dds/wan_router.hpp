@@ -26,7 +26,7 @@
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/wan_address.hpp"
-#include "gateway/dds/writer_match_counter.hpp"
+#include "gateway/dds/wan_writer.hpp"
 
 namespace tgw::dds {
 
@@ -60,16 +60,13 @@ struct WanConfig {
     UnscheduledTrafficCallback on_unscheduled;
 };
 
-/// Outcome of one write, counted by the caller; nothing on this path throws.
-enum class WriteResult { ok, unknown_topic, failed };
-
 /// The gateway's participant on the WAN domain: UDPv4 unicast only (no multicast, no shared memory), bound to
 /// one interface, announcing itself to the configured peers' exact ports, with long announcement periods.
-/// One DataWriter per lane of a bridged topic (one per QoS its robot publishers offer, OfferedQos), with the
-/// robot topic's name and type name, offering what the publishers offered, in their partitions, and the
-/// Lifespan the gateway chose. A transient-local ("latched") lane keeps the last sample of each instance for
-/// readers that join later; what it sends them then is unscheduled traffic (WanConfig::on_unscheduled). It reads one
-/// topic only: the base camp's receiver reports, when asked to.
+/// It makes the WanWriter of each lane of a bridged topic (one per QoS its robot publishers offer, OfferedQos),
+/// with the robot topic's name and type name, offering what the publishers offered, in their partitions, and
+/// the Lifespan the gateway chose; the topic's TopicBridge holds them. A transient-local ("latched") lane keeps the
+/// last sample of each instance for readers that join later; what it sends them then is unscheduled traffic
+/// (WanConfig::on_unscheduled). It reads one topic only: the base camp's receiver reports, when asked to.
 class WanRouter {
   public:
     /// Throws core::ConfigError when the participant cannot be created. `base`: starting QoS (an XML
@@ -84,18 +81,10 @@ class WanRouter {
     /// The data_writer profile named after `topic` in the loaded XML files, if there is one.
     std::optional<eprosima::fastdds::dds::DataWriterQos> writer_profile(const std::string& topic) const;
 
-    /// Creates the writer of lane `lane` of the topic, with Lifespan `lifespan` (nullopt: infinite). False
-    /// (after logging it) when Fast DDS refuses.
-    bool add_lane(core::TopicId id, std::uint16_t lane, const std::string& topic, const std::string& type_name,
-                  bool keyed, std::optional<core::Duration> lifespan, const OfferedQos& offer);
-
-    /// Deletes the writer of lane `lane` of the topic (after a write in progress on it), so base-camp readers
-    /// see it go as they would see the robot's publisher go. Its samples still queued then find no writer.
-    void remove_lane(core::TopicId id, std::uint16_t lane);
-
-    /// Writes (or disposes, or unregisters) with the sample's source timestamp and instance, through the
-    /// writer of its lane. The sample keeps its payload, so a refused write can still be logged. Never throws.
-    WriteResult write(core::Sample& sample);
+    /// A writer of `topic` offering `offer`, with Lifespan `lifespan` (nullopt: infinite). nullptr (after
+    /// logging it) when Fast DDS refuses. Every writer must be released before the router goes.
+    std::shared_ptr<WanWriter> create_writer(const std::string& topic, const std::string& type_name, bool keyed,
+                                             std::optional<core::Duration> lifespan, const OfferedQos& offer);
 
     /// Creates a reader of dds::RECEIVER_REPORT_TOPIC for `listener`, which must outlive the router. False
     /// (after logging it) when Fast DDS refuses.
@@ -105,12 +94,8 @@ class WanRouter {
 
     bool subscribe_receiver_reports(eprosima::fastdds::dds::DataReaderListener* listener);
 
-    /// The Lifespan QoS of the writer of the topic's lane, or nullopt if there is no writer or it is infinite.
-    std::optional<core::Duration> writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
     /// Base-camp participants discovered now.
     std::size_t remote_participants() const;
-    /// Base-camp readers currently matched with the topic's writers, all lanes together.
-    std::int32_t matched_readers(core::TopicId id) const;
     /// How the samples' datagrams were packed.
     const DatagramCoalescer& coalescer() const { return *coalescer_; }
     /// Repeated HEARTBEATs the transport held back (HeartbeatThrottle).
@@ -120,9 +105,7 @@ class WanRouter {
 
   private:
     class ParticipantCounter;
-    struct Lane;
 
-    std::shared_ptr<Lane> lane(core::TopicId id, std::uint16_t lane) const;
     /// One publisher per partition set (a publisher's QoS in Fast DDS 2.9), made on demand.
     eprosima::fastdds::dds::Publisher* publisher_nts(const OfferedQos& offer);
 
@@ -133,8 +116,7 @@ class WanRouter {
     eprosima::fastdds::dds::Publisher* publisher_ = nullptr;  ///< the default partition's
     mutable std::mutex mutex_;
     std::map<std::vector<std::string>, eprosima::fastdds::dds::Publisher*> publishers_;
-    std::vector<std::vector<std::shared_ptr<Lane>>> lanes_;  // [TopicId][lane]; a write holds its lane
-    std::unique_ptr<ParticipantCounter> participants_;       ///< before participant_'s deletion
+    std::unique_ptr<ParticipantCounter> participants_;  ///< before participant_'s deletion
 };
 
 }  // namespace tgw::dds

@@ -1,0 +1,57 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+
+#include "gateway/core/clock.hpp"
+#include "gateway/core/forwarding_loop.hpp"
+#include "gateway/dds/lane_assignment.hpp"
+
+namespace tgw::dds {
+
+/// The listener of one lane's type-agnostic reader on the robot domain: every sample it takes from a writer of
+/// its lane (LaneAssignment) becomes a core::Sample (payload as received, instance from SampleInfo, the
+/// publisher's source timestamp) and goes to the ForwardingLoop in the same thread. Disposes and unregisters
+/// go the same way, without payload. The payload is copied once, from Fast DDS's cache into the sample's own
+/// buffer, and moved from there on.
+class LaneListener final : public eprosima::fastdds::dds::DataReaderListener {
+  public:
+    /// `lanes` must outlive the listener. `name`: the topic's, for the warning about samples without a key hash.
+    LaneListener(core::TopicId topic, std::string name, std::uint16_t lane, bool keyed, const LaneAssignment& lanes,
+                 core::ForwardingLoop& loop, const core::Clock& clock);
+
+    void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
+    void on_subscription_matched(eprosima::fastdds::dds::DataReader* reader,
+                                 const eprosima::fastdds::dds::SubscriptionMatchedStatus& info) override;
+
+    core::TopicId topic() const { return topic_; }
+    /// Robot-domain writers currently matched.
+    std::int32_t matched_writers() const { return matched_.load(); }
+    /// Samples that carried no source timestamp and were stamped on arrival.
+    std::uint64_t stamped_on_arrival() const { return stamped_on_arrival_.load(); }
+    /// Samples of a keyed topic whose instance the publisher did not send (no key hash): the gateway, which
+    /// does not know the type, writes them all as one instance, so its per-instance history cannot keep them
+    /// apart (base-camp readers still can: they compute the key from the payload).
+    std::uint64_t without_key_hash() const { return without_key_hash_.load(); }
+
+  private:
+    const core::TopicId topic_;
+    const std::string name_;
+    const std::uint16_t lane_;
+    const bool keyed_;
+    const LaneAssignment& lanes_;
+    core::ForwardingLoop& loop_;
+    const core::Clock& clock_;
+    std::atomic<std::int32_t> matched_{0};
+    std::atomic<std::uint64_t> stamped_on_arrival_{0};
+    std::atomic<std::uint64_t> without_key_hash_{0};
+    /// Held from take to submit: the SHM and UDP receive threads both call on_data_available, and without it
+    /// one could submit a later sample before the other submits the earlier one it took.
+    std::mutex take_order_;
+};
+
+}  // namespace tgw::dds

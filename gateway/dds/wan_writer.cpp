@@ -1,0 +1,66 @@
+#include "gateway/dds/wan_writer.hpp"
+
+#include <iostream>
+#include <utility>
+
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+
+#include "gateway/dds/datagram_coalescer.hpp"
+#include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/passthrough_type.hpp"
+
+namespace tgw::dds {
+
+namespace fdds = eprosima::fastdds::dds;
+using eprosima::fastrtps::types::ReturnCode_t;
+
+WanWriter::WanWriter(fdds::DataWriter* writer, std::unique_ptr<WriterMatchCounter> matches, std::string topic,
+                     bool keyed)
+    : writer_(writer), matches_(std::move(matches)), topic_(std::move(topic)), keyed_(keyed) {}
+
+WanWriter::~WanWriter() {
+    const_cast<fdds::Publisher*>(writer_->get_publisher())->delete_datawriter(writer_);
+}
+
+WriteResult WanWriter::write(core::Sample& sample) {
+    PassthroughData data;
+    // Borrowed for the write, which copies it once into the change, and handed back after.
+    data.payload = std::move(sample.payload);
+    fdds::InstanceHandle_t handle = fdds::HANDLE_NIL;
+    if (keyed_) {
+        if (sample.key.valid) {
+            for (std::size_t i = 0; i < sample.key.bytes.size(); ++i) {
+                data.key.value[i] = sample.key.bytes[i];
+            }
+        }
+        handle = data.key.isDefined() ? data.key : PassthroughType::UNKNOWN_INSTANCE;
+    }
+    const auto stamp = to_dds_time(sample.source_time);
+    const ReturnCode_t rc = [&] {
+        const DatagramCoalescer::DeferScope may_wait;
+        switch (sample.kind) {
+            case core::SampleKind::dispose:
+                return writer_->dispose_w_timestamp(&data, handle, stamp);
+            case core::SampleKind::unregister:
+                return writer_->unregister_instance_w_timestamp(&data, handle, stamp);
+            case core::SampleKind::data:
+                break;
+        }
+        return writer_->write_w_timestamp(&data, handle, stamp);
+    }();
+    sample.payload = std::move(data.payload);
+    if (rc != ReturnCode_t::RETCODE_OK) {
+        if (!failure_reported_.exchange(true)) {
+            std::cerr << "telemetry-gateway: WAN write failed on " << topic_ << " (code " << rc() << ")\n";
+        }
+        return WriteResult::failed;
+    }
+    return WriteResult::ok;
+}
+
+std::optional<core::Duration> WanWriter::lifespan() const {
+    return to_duration(writer_->get_qos().lifespan().duration);
+}
+
+}  // namespace tgw::dds

@@ -1,0 +1,52 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "gateway/core/clock.hpp"
+#include "gateway/core/sample.hpp"
+#include "gateway/dds/writer_match_counter.hpp"
+
+namespace eprosima::fastdds::dds {
+class DataWriter;
+}
+
+namespace tgw::dds {
+
+/// Outcome of one write, counted by the caller; nothing on this path throws.
+enum class WriteResult { ok, unknown_topic, failed };
+
+/// One lane's DataWriter on the WAN domain (made by WanRouter::create_writer): writes, disposes and unregisters
+/// with the sample's source timestamp and instance, and counts the base-camp readers it matches. It deletes the
+/// writer when the last holder lets go of it, so a write in progress finishes first; every holder must let go
+/// before the WAN participant goes.
+class WanWriter {
+  public:
+    /// Takes `writer`, which must have been created with `matches` as its listener.
+    WanWriter(eprosima::fastdds::dds::DataWriter* writer, std::unique_ptr<WriterMatchCounter> matches,
+              std::string topic, bool keyed);
+    ~WanWriter();
+
+    WanWriter(const WanWriter&) = delete;
+    WanWriter& operator=(const WanWriter&) = delete;
+
+    /// The sample keeps its payload, so that a refused write can still be logged. Never throws.
+    WriteResult write(core::Sample& sample);
+
+    /// Base-camp readers matched now.
+    std::int32_t matched_readers() const { return matches_->matched.load(); }
+    /// The writer's Lifespan QoS; nullopt when it is infinite.
+    std::optional<core::Duration> lifespan() const;
+
+  private:
+    eprosima::fastdds::dds::DataWriter* writer_;
+    std::unique_ptr<WriterMatchCounter> matches_;
+    const std::string topic_;
+    const bool keyed_;
+    std::atomic<bool> failure_reported_{false};
+};
+
+}  // namespace tgw::dds

@@ -3,8 +3,6 @@
 // the gateway's on-robot log where every missing sample went.
 #include <CLI/CLI.hpp>
 
-#include <atomic>
-#include <csignal>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -17,16 +15,11 @@
 #include "basecamp/relay.hpp"
 #include "basecamp/report.hpp"
 #include "basecamp/sample_store.hpp"
+#include "basecamp/subcommand.hpp"
 #include "gateway/core/config_error.hpp"
 #include "gateway/dds/qos_file.hpp"
 
 namespace {
-
-std::atomic<bool> g_stop{false};
-
-void on_signal(int) {
-    g_stop.store(true);
-}
 
 /// Splits "TOPIC=VALUE" at its last '='; topics may contain '='-free slashes and colons.
 template <typename T>
@@ -130,6 +123,9 @@ int main(int argc, char** argv) {
         report->add_option("--since-ns", since_ns,
                            "ignore samples (recording and log) with a source time before this, ns since the epoch");
 
+    // Subcommands in files of their own.
+    const std::vector<tgw::basecamp::Subcommand> subcommands = {};
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -137,6 +133,10 @@ int main(int argc, char** argv) {
     }
 
     try {
+        for (const tgw::basecamp::Subcommand& subcommand : subcommands) {
+            if (subcommand.command->parsed())
+                return subcommand.run();
+        }
         if (relay->parsed()) {
             if (local_domain == domain)
                 throw tgw::core::ConfigError("--local-domain: must differ from --domain (" + std::to_string(domain) +
@@ -151,12 +151,11 @@ int main(int argc, char** argv) {
                 store = std::make_unique<tgw::basecamp::SampleStore>(relay_out, "--out");
             tgw::basecamp::Relay relaying(domain, wan_qos, local_domain, local_qos, store.get(),
                                           tgw::core::from_seconds(relay_report_period_s));
-            std::signal(SIGINT, on_signal);
-            std::signal(SIGTERM, on_signal);
+            tgw::basecamp::stop_on_signals();
             std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain << std::endl;
             const auto duration =
                 relay_duration_s > 0 ? tgw::core::from_seconds(relay_duration_s) : tgw::core::Duration::max() / 2;
-            relaying.run(duration, g_stop);
+            relaying.run(duration, tgw::basecamp::stop_requested());
             if (store) {
                 store->flush();
                 std::cout << "  recorded in " << relay_out << ": " << store->rows_written() << " rows, "
@@ -167,10 +166,9 @@ int main(int argc, char** argv) {
         } else if (record->parsed()) {
             tgw::basecamp::SampleStore store(out, "--out");
             tgw::basecamp::Recorder recorder(domain, transport, store, tgw::core::from_seconds(report_period_s));
-            std::signal(SIGINT, on_signal);
-            std::signal(SIGTERM, on_signal);
+            tgw::basecamp::stop_on_signals();
             const auto duration = duration_s > 0 ? tgw::core::from_seconds(duration_s) : tgw::core::Duration::max() / 2;
-            recorder.run(duration, g_stop);
+            recorder.run(duration, tgw::basecamp::stop_requested());
             store.flush();
             std::cout << "tm-basecamp record: domain " << domain << " -> " << out << "\n";
             for (const auto& [topic, count] : recorder.received())

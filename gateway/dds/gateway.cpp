@@ -125,11 +125,24 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     topics_ = std::make_unique<TopicTable>();
     sink_ = std::make_unique<GatewaySink>(*topics_, log_.get(), clock_);
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
+    if (config_.status_period > core::Duration::zero()) {
+        // The status is scheduled like a sample of a topic with a TTL of STATUS_TTL, so its bytes leave only
+        // when the budget has room for them.
+        OfferedQos offer;
+        offer.reliable = true;  // matched by any reader's defaults
+        status_writer_ =
+            wan_->create_writer(STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true, STATUS_TTL, offer);
+        if (status_writer_ == nullptr) {
+            throw core::ConfigError("--status-period: cannot create the writer of " + std::string(STATUS_TOPIC));
+        }
+        status_topic_ = loop_->add_topic(core::TopicConfig{STATUS_TOPIC, STATUS_TTL});
+        sink_->set_status_route(status_topic_, status_writer_);
+    }
     loop_->start();
     if (config_.receiver_reports) {
         // After the loop: each report is compared with what the loop had forwarded when it came.
-        reports_ = std::make_unique<ReceiverReportReader>(wan_->guid_prefix(),
-                                                          [this] { return loop_->total_counters().forwarded; });
+        reports_ =
+            std::make_unique<ReceiverReportReader>(wan_->guid_prefix(), [this] { return forwarded_robot_samples(); });
         if (!wan_->subscribe_receiver_reports(reports_.get())) {
             throw core::ConfigError("--receiver-reports: cannot subscribe to the base camp's reports");
         }
@@ -143,11 +156,6 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     discovery_->ignore_participant(wan_->guid_prefix());
     worker_ = std::thread([this] { run_worker(); });
     if (config_.status_period > core::Duration::zero()) {
-        status_writer_ = wan_->create_status_writer();
-        if (status_writer_ == nullptr) {
-            stop();
-            throw core::ConfigError("--status-period: cannot create the writer of " + std::string(STATUS_TOPIC));
-        }
         // The first after one period: by then the sensor has been described and read.
         post_at(std::chrono::steady_clock::now() +
                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(config_.status_period),
@@ -433,7 +441,7 @@ void Gateway::publish_status_nts() {
         all_readers += t.matched_readers();
         status.topics().push_back(std::move(t));
     }
-    status.matched_readers(all_readers);
+    status.matched_readers(all_readers + status_writer_->matched_readers());
 
     // At most STATUS_RATE_SHARE of the rate: a status and its headers on the wire, alone in a datagram.
     idl::GatewayStatusPubSubType type;
@@ -444,12 +452,35 @@ void Gateway::publish_status_nts() {
         period = std::max(period, core::from_seconds(wire_bits / (STATUS_RATE_SHARE * rate)));
     }
     status.status_period_s(core::to_seconds(period));
-    // Written outside any scheduled write: the WAN transport charges its bytes to the budget as they leave.
-    if (status_writer_->write(&status)) {
+
+    core::Sample sample;
+    sample.topic = status_topic_;
+    sample.source_time = clock_.wall_now();
+    eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&status)());
+    eprosima::fastrtps::rtps::InstanceHandle_t instance;
+    if (type.serialize(&status, &payload) && type.getKey(&status, &instance, false)) {
+        sample.payload.assign(payload.data, payload.data + payload.length);
+        for (std::size_t i = 0; i < sample.key.bytes.size(); ++i) {
+            sample.key.bytes[i] = instance.value[i];
+        }
+        sample.key.valid = true;
+        loop_->submit(std::move(sample));
         statuses_published_.fetch_add(1, std::memory_order_relaxed);
     }
     post_at(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(period),
             [this] { publish_status_nts(); });
+}
+
+std::uint64_t Gateway::forwarded_robot_samples() const {
+    std::uint64_t forwarded = 0;
+    for (const TopicBridge* bridge : topics_->all()) {
+        forwarded += loop_->counters(bridge->id()).forwarded;
+    }
+    return forwarded;
+}
+
+core::TopicCounters Gateway::status_counters() const {
+    return status_writer_ ? loop_->counters(status_topic_) : core::TopicCounters{};
 }
 
 std::uint64_t Gateway::suppressed_heartbeats() const {

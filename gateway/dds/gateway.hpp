@@ -70,8 +70,9 @@ struct GatewayConfig {
     /// See WanConfig::heartbeat_spacing_bytes.
     std::uint32_t wan_heartbeat_bytes = DEFAULT_HEARTBEAT_SPACING_BYTES;
     static constexpr std::chrono::microseconds MAX_COALESCE_WINDOW{100'000};
-    /// How often the gateway publishes its status (STATUS_TOPIC) at most; zero: never. On a slow link it comes
-    /// less often, so that it takes at most STATUS_RATE_SHARE of the sensed rate.
+    /// How often the gateway publishes its status (STATUS_TOPIC) at most; zero: never (telemetry-gateway's
+    /// --status-period defaults to 1 s). On a slow link it comes less often, so that it takes at most
+    /// STATUS_RATE_SHARE of the sensed rate.
     core::Duration status_period = core::Duration::zero();
 
     /// Throws core::ConfigError naming the flag at fault. Checks what needs no file or network.
@@ -105,8 +106,10 @@ class Gateway {
     void apply_reading(const sensor::RateReading& reading);
     /// The sensor's SPEC, for the status.
     void set_sensor_description(std::string description);
-    /// Status samples written so far.
+    /// Status samples made so far (each goes through the schedule; status_counters() says what became of them).
     std::uint64_t statuses_published() const { return statuses_published_.load(); }
+    /// The status topic's counters in the schedule; all zero without --status-period.
+    core::TopicCounters status_counters() const;
     /// The rate the scheduler budgets with (before its budget fraction).
     double rate_bps() const;
 
@@ -160,6 +163,9 @@ class Gateway {
     /// A publisher left: if it was its lane's last, the lane is retired once its queued samples are past.
     void forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer);
     void stop_worker();
+    /// Samples of the robot's topics written to the WAN so far: what base-camp receiver reports count (the
+    /// status is not among them).
+    std::uint64_t forwarded_robot_samples() const;
     /// Writes the status and schedules the next one.
     void publish_status_nts();  // the worker thread only
     /// Counts traffic the WAN transport sent outside the schedule and has the worker charge it to the loop.
@@ -188,7 +194,8 @@ class Gateway {
 
     std::unique_ptr<RobotParticipant> robot_;
     std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};
-    eprosima::fastdds::dds::DataWriter* status_writer_ = nullptr;  ///< owned by the WAN participant
+    std::shared_ptr<WanWriter> status_writer_;
+    core::TopicId status_topic_ = 0;  ///< meaningful with status_writer_
     std::atomic<std::uint64_t> statuses_published_{0};
     std::mutex sensor_mutex_;
     std::string sensor_description_;

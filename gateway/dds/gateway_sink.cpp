@@ -7,9 +7,19 @@ namespace tgw::dds {
 GatewaySink::GatewaySink(const TopicTable& topics, log::RobotLog* log, const core::Clock& clock)
     : topics_(topics), log_(log), clock_(clock) {}
 
+void GatewaySink::set_status_route(core::TopicId id, std::shared_ptr<WanWriter> writer) {
+    status_topic_ = id;
+    status_writer_ = std::move(writer);
+}
+
 bool GatewaySink::forward(core::Sample&& sample) {
-    const TopicBridge* bridge = topics_.find(sample.topic);
-    if (bridge == nullptr || bridge->write(sample) != WriteResult::ok) {
+    WriteResult result = WriteResult::unknown_topic;
+    if (sample.topic == status_topic_) {
+        result = status_writer_->write(sample);
+    } else if (const TopicBridge* bridge = topics_.find(sample.topic)) {
+        result = bridge->write(sample);
+    }
+    if (result != WriteResult::ok) {
         // The payload is still ours: keep it, so that a refused write is never silently lost.
         wan_write_failures_.fetch_add(1, std::memory_order_relaxed);
         drop(std::move(sample), core::DropReason::write_failed);
@@ -20,7 +30,7 @@ bool GatewaySink::forward(core::Sample&& sample) {
 }
 
 void GatewaySink::drop(core::Sample&& sample, core::DropReason reason) {
-    if (log_ == nullptr) {
+    if (log_ == nullptr || sample.topic == status_topic_) {
         return;
     }
     log::LogRecord record;

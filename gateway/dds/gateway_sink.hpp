@@ -2,6 +2,8 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
+#include <optional>
 
 #include "gateway/core/clock.hpp"
 #include "gateway/core/latency_histogram.hpp"
@@ -20,6 +22,10 @@ class GatewaySink final : public core::SampleSink {
     /// `log` may be null (no --log): dropped samples are then only counted.
     GatewaySink(const TopicTable& topics, log::RobotLog* log, const core::Clock& clock);
 
+    /// Samples of topic `id` are the gateway's own status, written through `writer`; one that misses its
+    /// deadline is not logged (the next status carries its counts). Call before the loop starts.
+    void set_status_route(core::TopicId id, std::shared_ptr<WanWriter> writer);
+
     bool forward(core::Sample&& sample) override;
     void drop(core::Sample&& sample, core::DropReason reason) override;
 
@@ -33,6 +39,8 @@ class GatewaySink final : public core::SampleSink {
     core::WallTime to_wall(core::SteadyTime t) const;
 
     const TopicTable& topics_;
+    std::optional<core::TopicId> status_topic_;
+    std::shared_ptr<WanWriter> status_writer_;
     log::RobotLog* log_;
     const core::Clock& clock_;
     std::atomic<std::uint64_t> wan_write_failures_{0};

@@ -12,7 +12,6 @@
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
-#include "GatewayStatusPubSubTypes.h"
 #include "ReceiverReportPubSubTypes.h"
 #include "gateway/core/config_error.hpp"
 #include "gateway/core/wire_model.hpp"
@@ -21,7 +20,6 @@
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
-#include "gateway/dds/status_topic.hpp"
 
 namespace tgw::dds {
 
@@ -181,32 +179,6 @@ std::shared_ptr<WanWriter> WanRouter::create_writer(const std::string& topic, co
 
 std::size_t WanRouter::remote_participants() const {
     return static_cast<std::size_t>(std::max(0, participants_->count.load()));
-}
-
-fdds::DataWriter* WanRouter::create_status_writer() {
-    fdds::TypeSupport type(new idl::GatewayStatusPubSubType());
-    if (participant_->register_type(type) != ReturnCode_t::RETCODE_OK) {
-        std::cerr << "telemetry-gateway: cannot register the status type\n";
-        return nullptr;
-    }
-    fdds::Topic* topic = participant_->create_topic(STATUS_TOPIC, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
-    if (topic == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create " << STATUS_TOPIC << '\n';
-        return nullptr;
-    }
-    fdds::DataWriterQos qos = publisher_->get_default_datawriter_qos();
-    // Matched by any reader's defaults; only the latest counts, and it is stale after a second.
-    qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-    qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
-    qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = 1;
-    qos.lifespan().duration = eprosima::fastrtps::Duration_t(1, 0);
-    qos.data_sharing().off();
-    fdds::DataWriter* writer = publisher_->create_datawriter(topic, qos);
-    if (writer == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create the writer of " << STATUS_TOPIC << '\n';
-    }
-    return writer;
 }
 
 bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {

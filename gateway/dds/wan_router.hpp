@@ -88,10 +88,6 @@ class WanRouter {
 
     /// Creates a reader of dds::RECEIVER_REPORT_TOPIC for `listener`, which must outlive the router. False
     /// (after logging it) when Fast DDS refuses.
-    /// The writer of the gateway's status (STATUS_TOPIC, idl/GatewayStatus.idl): reliable, volatile, the latest
-    /// per gateway, Lifespan 1 s. nullptr (after logging it) when Fast DDS refuses. The participant owns it.
-    eprosima::fastdds::dds::DataWriter* create_status_writer();
-
     bool subscribe_receiver_reports(eprosima::fastdds::dds::DataReaderListener* listener);
 
     /// Base-camp participants discovered now.

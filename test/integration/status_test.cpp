@@ -83,22 +83,50 @@ TEST_F(StatusTest, SaysWhatTheGatewayCountsAboutEachTopic) {
     const auto prefix = gateway_->wan_guid_prefix();
     EXPECT_TRUE(std::equal(std::begin(prefix.value), std::end(prefix.value), last->gateway_prefix().begin()));
     EXPECT_GE(gateway_->statuses_published(), statuses.count());
+    const core::TopicCounters sent = gateway_->status_counters();
+    EXPECT_GE(sent.forwarded, statuses.count()) << "every status received went through the schedule";
+    EXPECT_GT(sent.forwarded_wire_bytes, 0u) << "and was charged to the budget";
 }
 
 // At 10,000 bit/s a status every second would take a tenth of the link: it comes less often, at 2 % of the rate.
 TEST_F(StatusTest, ComesLessOftenOnASlowLink) {
     GatewayConfig c = config();
-    c.status_period = 1s;  // the first comes after it, once the reader has matched
+    // The first comes after it: by then the reader has matched, and the link has carried the discovery that
+    // would otherwise keep a status with a TTL of 1 s from making it.
+    c.status_period = 3s;
     c.scheduler.initial_rate_bps = 10'000;
     auto& statuses = status_reader();
     start_gateway(c);
-    ASSERT_TRUE(wait_until([&] { return statuses.count() >= 1; })) << "no status";
+    ASSERT_TRUE(wait_until([&] { return statuses.count() >= 1; }))
+        << "no status: " << gateway_->status_counters().received << " made, " << gateway_->status_counters().forwarded
+        << " forwarded, " << gateway_->status_counters().queued << " queued, "
+        << gateway_->status_counters().dropped_for(core::DropReason::expired) << " expired, "
+        << gateway_->status_counters().dropped_for(core::DropReason::doomed) << " doomed";
     const double period = statuses.received().front().data.status_period_s();
     // A status with no topic is about 100 bytes of payload, 238 on the wire: 1,904 bits / 200 bit/s.
     EXPECT_GT(period, 5.0);
     EXPECT_LT(period, 20.0);
     std::this_thread::sleep_for(1s);
     EXPECT_EQ(gateway_->statuses_published(), 1u) << "the next status came before its period";
+}
+
+// The status is scheduled like a sample with a TTL of 1 s: at 1,000 bit/s its 238 bytes on the wire would take
+// 1.9 s, so it cannot arrive in time and is not sent at all (it used to leave outside the schedule regardless).
+TEST_F(StatusTest, IsNotSentWhenTheLinkCannotCarryItWithinItsTtl) {
+    GatewayConfig c = config();
+    c.status_period = 100ms;
+    c.scheduler.initial_rate_bps = 1'000;
+    auto& statuses = status_reader();
+    start_gateway(c);
+    ASSERT_TRUE(wait_until([&] { return gateway_->status_counters().received >= 1; })) << "no status made";
+    ASSERT_TRUE(wait_until([&] { return gateway_->status_counters().queued == 0; })) << "the status stayed queued";
+    const core::TopicCounters sent = gateway_->status_counters();
+    EXPECT_EQ(sent.forwarded, 0u);
+    EXPECT_EQ(sent.received, 1u);
+    EXPECT_EQ(sent.dropped_for(core::DropReason::doomed) + sent.dropped_for(core::DropReason::oversize) +
+                  sent.dropped_for(core::DropReason::expired),
+              1u);
+    EXPECT_EQ(statuses.count(), 0u);
 }
 
 }  // namespace

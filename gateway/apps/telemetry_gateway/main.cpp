@@ -67,8 +67,15 @@ void print_summary(const tgw::dds::Gateway& gateway) {
         static_cast<unsigned long long>(gateway.unscheduled_wire_bytes()),
         static_cast<unsigned long long>(gateway.suppressed_heartbeats()));
     if (gateway.statuses_published() > 0) {
-        std::printf("status samples published on tgw/status: %llu\n",
-                    static_cast<unsigned long long>(gateway.statuses_published()));
+        const tgw::core::TopicCounters status = gateway.status_counters();
+        std::printf(
+            "status on tgw/status: %llu made, %llu forwarded, %llu past their 1 s TTL, %llu held back as "
+            "too long for the link\n",
+            static_cast<unsigned long long>(gateway.statuses_published()),
+            static_cast<unsigned long long>(status.forwarded),
+            static_cast<unsigned long long>(status.dropped_for(tgw::core::DropReason::expired) +
+                                            status.dropped_for(tgw::core::DropReason::doomed)),
+            static_cast<unsigned long long>(status.dropped_for(tgw::core::DropReason::oversize)));
     }
     if (const auto report = gateway.receiver_report()) {
         std::printf(
@@ -144,11 +151,10 @@ int main(int argc, char** argv) {
                    "a reliable WAN writer piggy-backs a HEARTBEAT (and draws an ACKNACK from each reader) once "
                    "per this many bytes it sends; 0: with every sample, so a lost one is repaired a sample later")
         ->capture_default_str();
-    double status_period_s = 0.0;
+    double status_period_s = 1.0;
     app.add_option("--status-period", status_period_s,
                    "seconds between the gateway's status samples on tgw/status (less often where that would take "
-                   "more than 2 % of the sensed rate); 0, the default for now: none (each status leaves as one "
-                   "burst outside the schedule)")
+                   "more than 2 % of the sensed rate; scheduled like a sample with a TTL of 1 s); 0: none")
         ->check(tgw::cli::non_negative())
         ->capture_default_str();
     bool robot_udp_only = false;

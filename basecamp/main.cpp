@@ -15,6 +15,8 @@
 #include "basecamp/relay.hpp"
 #include "basecamp/report.hpp"
 #include "basecamp/sample_store.hpp"
+#include "basecamp/stats_command.hpp"
+#include "basecamp/status_command.hpp"
 #include "basecamp/subcommand.hpp"
 #include "gateway/core/config_error.hpp"
 #include "gateway/dds/qos_file.hpp"
@@ -124,7 +126,10 @@ int main(int argc, char** argv) {
                            "ignore samples (recording and log) with a source time before this, ns since the epoch");
 
     // Subcommands in files of their own.
-    const std::vector<tgw::basecamp::Subcommand> subcommands = {};
+    const std::vector<tgw::basecamp::Subcommand> subcommands = {
+        tgw::basecamp::add_stats_command(app),
+        tgw::basecamp::add_status_command(app),
+    };
 
     try {
         app.parse(argc, argv);

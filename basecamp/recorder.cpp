@@ -28,7 +28,7 @@ namespace fdds = eprosima::fastdds::dds;
 /// The reader of one topic and its listener: takes every sample and hands it to the store.
 class Recorder::TopicReader final : public fdds::DataReaderListener {
   public:
-    TopicReader(const dds::DiscoveredPublisher& publisher, SampleStore& store, DeliveryTally& tally)
+    TopicReader(const dds::DiscoveredPublisher& publisher, SampleConsumer& store, DeliveryTally& tally)
         : topic_(topic_record(publisher)), store_(store), tally_(tally) {}
 
     void on_data_available(fdds::DataReader* reader) override {
@@ -49,11 +49,11 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
 
   private:
     TopicRecord topic_;
-    SampleStore& store_;
+    SampleConsumer& store_;
     DeliveryTally& tally_;
 };
 
-Recorder::Recorder(int domain, const PeerTransport& transport, SampleStore& store, core::Duration report_period)
+Recorder::Recorder(int domain, const PeerTransport& transport, SampleConsumer& store, core::Duration report_period)
     : store_(store), report_period_(report_period) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
@@ -82,6 +82,8 @@ Recorder::~Recorder() {
 void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
     // Other receivers' reports are for their gateways, not a recording.
     if (readers_.count(publisher.topic) != 0 || publisher.topic == dds::RECEIVER_REPORT_TOPIC)
+        return;
+    if (!only_.empty() && std::find(only_.begin(), only_.end(), publisher.topic) == only_.end())
         return;
     fdds::Topic* topic = dds::passthrough_topic(participant_, publisher.topic, publisher.type_name, publisher.keyed);
     if (topic == nullptr) {

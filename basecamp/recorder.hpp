@@ -8,11 +8,12 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "basecamp/delivery_tally.hpp"
 #include "basecamp/discovery_queue.hpp"
 #include "basecamp/peer_transport.hpp"
-#include "basecamp/sample_store.hpp"
+#include "basecamp/sample_consumer.hpp"
 #include "gateway/core/time.hpp"
 #include "gateway/dds/discovery.hpp"
 
@@ -27,17 +28,20 @@ namespace tgw::basecamp {
 class ReceiverReporter;
 
 /// Subscribes to every topic that appears on a domain, whatever its type (tgw::dds::PassthroughType), and
-/// writes each received sample to a SampleStore. Every `report_period` it tells each sending gateway what
-/// arrived and what was lost on the way (ReceiverReporter, DeliveryTally).
+/// hands each received sample to a SampleConsumer (a recording, live statistics). Every `report_period` it tells each
+/// sending gateway what arrived and what was lost on the way (ReceiverReporter, DeliveryTally).
 class Recorder {
   public:
     /// Creates the participant. `report_period` zero: no receiver reports. Throws core::ConfigError when DDS
     /// refuses it.
-    Recorder(int domain, const PeerTransport& transport, SampleStore& store,
+    Recorder(int domain, const PeerTransport& transport, SampleConsumer& store,
              core::Duration report_period = std::chrono::seconds(1));
     ~Recorder();
     Recorder(const Recorder&) = delete;
     Recorder& operator=(const Recorder&) = delete;
+
+    /// Subscribes to these topics only (before run()); by default to every topic.
+    void only(std::vector<std::string> topics) { only_ = std::move(topics); }
 
     /// Creates readers for topics as they are discovered, until `duration` has passed or `stop` turns true.
     void run(core::Duration duration, const std::atomic<bool>& stop);
@@ -52,7 +56,7 @@ class Recorder {
 
     void subscribe(const dds::DiscoveredPublisher& publisher);
 
-    SampleStore& store_;
+    SampleConsumer& store_;
     DeliveryTally tally_;
     core::Duration report_period_;
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
@@ -60,6 +64,7 @@ class Recorder {
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
     std::map<std::string, std::unique_ptr<TopicReader>> readers_;
+    std::vector<std::string> only_;
     std::unique_ptr<ReceiverReporter> reporter_;
 };
 

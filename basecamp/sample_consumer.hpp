@@ -1,0 +1,18 @@
+// Where a base-camp subscriber (Recorder) hands what it takes off a domain: a recording (SampleStore), live
+// statistics (TopicStats), ...
+#pragma once
+
+#include "basecamp/sample_record.hpp"
+
+namespace tgw::basecamp {
+
+/// Called from DDS threads, several at once: implementations are thread-safe and return quickly.
+class SampleConsumer {
+  public:
+    virtual ~SampleConsumer() = default;
+    /// A topic whose writer was discovered, before its first sample.
+    virtual void add_topic(TopicRecord topic) = 0;
+    virtual void add(SampleRecord sample) = 0;
+};
+
+}  // namespace tgw::basecamp

@@ -1,0 +1,33 @@
+// What the base camp keeps of a topic and of each sample it receives: a recording's rows, and what live tools
+// (stats, echo) are given.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tgw::basecamp {
+
+/// A topic as discovery described its writer.
+struct TopicRecord {
+    std::string topic;
+    std::string type_name;
+    std::optional<std::int64_t> lifespan_ns;  ///< the writer's declared Lifespan; empty when infinite
+    bool keyed = false;
+    bool reliable = false;
+    std::int64_t discovered_ns = 0;  ///< wall clock
+};
+
+/// One received sample. Times are wall clock, nanoseconds since the Unix epoch.
+struct SampleRecord {
+    std::string topic;
+    std::string type_name;
+    std::vector<std::uint8_t> payload;  ///< serialized, as received, encapsulation header included
+    std::int64_t source_ns = 0;
+    std::int64_t receive_ns = 0;
+    std::optional<std::int64_t> lifespan_ns;
+    std::vector<std::uint8_t> instance;  ///< 16-byte instance handle of keyed topics, else empty
+};
+
+}  // namespace tgw::basecamp

@@ -1,0 +1,87 @@
+#include "basecamp/status_command.hpp"
+
+#include <unistd.h>
+
+#include <iostream>
+#include <memory>
+
+#include "basecamp/peer_transport.hpp"
+#include "basecamp/recorder.hpp"
+#include "basecamp/status_view.hpp"
+#include "gateway/dds/status_topic.hpp"
+
+namespace tgw::basecamp {
+
+namespace {
+
+struct StatusOptions {
+    int domain = 1;
+    PeerTransport transport;
+    double minutes = 5.0;
+    bool once = false;
+    double timeout_s = 60.0;
+    double duration_s = 0.0;
+};
+
+int run_status(const StatusOptions& options) {
+    StatusView view(core::from_seconds(60.0 * options.minutes));
+    Recorder subscriber(options.domain, options.transport, view, core::Duration::zero());
+    subscriber.only({dds::STATUS_TOPIC});
+    stop_on_signals();
+    const auto now_ns = [] { return core::to_ns(core::WallClock::now()); };
+    if (options.once) {
+        // On a slow link a status comes every 10 s or more (it takes at most 2 % of the rate).
+        const auto give_up = core::SteadyClock::now() + core::from_seconds(options.timeout_s);
+        while (view.statuses() == 0 && !stop_requested().load() && core::SteadyClock::now() < give_up) {
+            subscriber.run(std::chrono::milliseconds(200), stop_requested());
+        }
+        if (view.statuses() == 0) {
+            std::cerr << "tm-basecamp status: no status on " << dds::STATUS_TOPIC << " of domain " << options.domain
+                      << " within " << options.timeout_s << " s (--timeout)\n";
+            return 1;
+        }
+        view.render(std::cout, now_ns());
+        return 0;
+    }
+    const bool terminal = isatty(STDOUT_FILENO) != 0;
+    const auto end = options.duration_s > 0 ? core::SteadyClock::now() + core::from_seconds(options.duration_s)
+                                            : core::SteadyTime::max();
+    while (!stop_requested().load() && core::SteadyClock::now() < end) {
+        subscriber.run(std::chrono::seconds(1), stop_requested());
+        if (terminal) {
+            std::cout << "\x1b[H\x1b[2J";  // one screen, redrawn
+        }
+        view.render(std::cout, now_ns());
+        std::cout << std::flush;
+    }
+    return 0;
+}
+
+}  // namespace
+
+Subcommand add_status_command(CLI::App& app) {
+    auto options = std::make_shared<StatusOptions>();
+    CLI::App* command = app.add_subcommand(
+        "status",
+        "the gateways' status (tgw/status) live: sensed rate over the last minutes, queue depth per topic, "
+        "drops by reason; one screen refreshed every second");
+    command->add_option("--domain", options->domain, "DDS domain id (the WAN domain, or the camp's behind a relay)")
+        ->check(CLI::Range(0, 232))
+        ->capture_default_str();
+    command->add_option("--peer", options->transport.peers,
+                        "IPv4 address of the robot (repeatable): UDP unicast only, no multicast, no shared memory");
+    command->add_option("--interface", options->transport.interface,
+                        "interface name or IPv4 address to bind every socket to");
+    command->add_option("--minutes", options->minutes, "how far back the rate graph goes")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    command->add_flag("--once", options->once, "wait for a status, print one screen and exit (for scripts)");
+    command->add_option("--timeout", options->timeout_s, "with --once: seconds to wait for a status (exit 1 after)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    command->add_option("--duration", options->duration_s, "seconds to run; until Ctrl-C without it")
+        ->check(CLI::PositiveNumber);
+    return {command, [options] { return run_status(*options); }};
+}
+
+}  // namespace tgw::basecamp

@@ -1,0 +1,80 @@
+#include "basecamp/status_view.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "gateway/dds/status_topic.hpp"
+#include "status_samples.hpp"
+
+namespace tgw::basecamp {
+namespace {
+
+constexpr std::int64_t S = 1'000'000'000;
+constexpr std::int64_t T0 = 1'700'000'000 * S;
+
+SampleRecord status_at(std::int64_t sent_ns, double rate_bps, std::uint8_t gateway = 1) {
+    idl::GatewayStatus status;
+    status.gateway_prefix()[0] = gateway;
+    status.sent_ns(static_cast<std::uint64_t>(sent_ns));
+    status.sensed_rate_bps(rate_bps);
+    status.sensor("qdisc:veth0");
+    status.topics().push_back(test::topic_status("telemetry/A", 1000, 150, 2));
+    SampleRecord r;
+    r.topic = dds::STATUS_TOPIC;
+    r.receive_ns = sent_ns + S / 10;
+    r.source_ns = sent_ns;
+    r.payload = test::serialized(status);
+    return r;
+}
+
+class StatusViewTest : public ::testing::Test {
+  protected:
+    StatusView sut{std::chrono::minutes(1)};
+};
+
+TEST_F(StatusViewTest, DrawsTheRateOfTheLastMinutesAndTheLatestCountsPerTopic) {
+    // 20,000 bit/s for 30 s, then 10,000 for 30 s, a status every 10 s.
+    for (int i = 0; i <= 6; ++i) {
+        sut.add(status_at(T0 + i * 10 * S, i < 3 ? 20'000 : 10'000));
+    }
+    EXPECT_EQ(sut.statuses(), 7u);
+    std::ostringstream out;
+    sut.render(out, T0 + 61 * S, 6);
+    const std::string screen = out.str();
+    EXPECT_NE(screen.find("sensor qdisc:veth0"), std::string::npos) << screen;
+    // One column per 10 s: the oldest status fell out of the minute; then 20,000 twice, 10,000 four times.
+    EXPECT_NE(screen.find("|██▅▅▅▅|"), std::string::npos) << screen;
+    EXPECT_NE(screen.find("telemetry/A"), std::string::npos) << screen;
+    std::istringstream lines(screen);
+    std::string line;
+    while (std::getline(lines, line) && line.find("  telemetry/A") != 0) {
+    }
+    std::istringstream fields(line);
+    std::vector<std::string> f{std::istream_iterator<std::string>(fields), std::istream_iterator<std::string>()};
+    ASSERT_GE(f.size(), 7u) << line;
+    EXPECT_EQ(f[4], "152") << "received";
+    EXPECT_EQ(f[5], "150") << "forwarded";
+    EXPECT_EQ(f[6], "2") << "expired";
+}
+
+TEST_F(StatusViewTest, KeepsEachGatewayApartAndCountsMalformedSamples) {
+    sut.add(status_at(T0, 20'000, 1));
+    sut.add(status_at(T0, 30'000, 2));
+    SampleRecord bad = status_at(T0, 1);
+    bad.payload.resize(7);
+    sut.add(bad);
+    EXPECT_EQ(sut.statuses(), 2u);
+    EXPECT_EQ(sut.malformed(), 1u);
+    std::ostringstream out;
+    sut.render(out, T0 + S);
+    EXPECT_NE(out.str().find("gateway 01."), std::string::npos);
+    EXPECT_NE(out.str().find("gateway 02."), std::string::npos);
+}
+
+TEST(SparklineTest, ScalesFromTheLowestToTheHighestBlockAndLeavesGapsBlank) {
+    EXPECT_EQ(sparkline({0.0, 50.0, 100.0, std::nullopt, 200.0}, 100.0), "▁▅█ █");
+}
+
+}  // namespace
+}  // namespace tgw::basecamp

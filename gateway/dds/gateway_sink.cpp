@@ -14,9 +14,11 @@ void GatewaySink::set_status_route(core::TopicId id, std::shared_ptr<WanWriter> 
 
 bool GatewaySink::forward(core::Sample&& sample) {
     WriteResult result = WriteResult::unknown_topic;
-    if (sample.topic == status_topic_) {
+    const bool status = sample.topic == status_topic_;
+    const TopicBridge* bridge = status ? nullptr : topics_.find(sample.topic);
+    if (status) {
         result = status_writer_->write(sample);
-    } else if (const TopicBridge* bridge = topics_.find(sample.topic)) {
+    } else if (bridge != nullptr) {
         result = bridge->write(sample);
     }
     if (result != WriteResult::ok) {
@@ -25,7 +27,26 @@ bool GatewaySink::forward(core::Sample&& sample) {
         drop(std::move(sample), core::DropReason::write_failed);
         return false;
     }
-    processing_latency_.record(clock_.now() - sample.arrival);
+    const core::SteadyTime written = clock_.now();
+    processing_latency_.record(written - sample.arrival);
+    // The log says what left the robot, so that the mission archive can tell lost on the link from never produced.
+    // Not the status (the gateway's own, not telemetry), nor a dispose or unregister: the base camp records data
+    // samples only, so one could never be matched.
+    if (log_ != nullptr && bridge != nullptr && sample.kind == core::SampleKind::data) {
+        // One reading of each clock for the three times: this runs for every sample sent.
+        const core::WallTime written_wall = clock_.wall_now();
+        const auto wall = [&](core::SteadyTime t) {
+            return written_wall + std::chrono::duration_cast<core::WallClock::duration>(t - written);
+        };
+        log::ForwardRecord record;
+        record.topic = bridge->name();
+        record.type_name = bridge->type_name();
+        record.sample = &sample;
+        record.arrival = wall(sample.arrival);
+        record.deadline = wall(sample.deadline);
+        record.forwarded_at = written_wall;
+        log_->append_forwarded(record);
+    }
     return true;
 }
 

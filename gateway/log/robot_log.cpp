@@ -22,7 +22,8 @@ constexpr int SCHEMA_VERSION = 1;
 constexpr std::size_t BATCH_ROWS = 1000;
 constexpr auto BATCH_DELAY = std::chrono::milliseconds(50);
 /// Past this much buffered payload (the disk stalled, or is far slower than the drops), further rows are
-/// refused and counted as write errors rather than letting the gateway run out of memory.
+/// refused and counted as write errors rather than letting the gateway run out of memory. A forwarded row has
+/// no payload and counts for its own size instead.
 constexpr std::size_t MAX_BUFFERED_BYTES = std::size_t{256} << 20;
 /// How long a write waits for a reader of the file (sqlite3, tm-basecamp) to let go of a lock.
 constexpr int BUSY_TIMEOUT_MS = 2000;
@@ -41,11 +42,26 @@ constexpr const char* SCHEMA_SQL =
     "  arrival_ns INTEGER NOT NULL,"
     "  deadline_ns INTEGER NOT NULL,"
     "  logged_ns INTEGER NOT NULL,"
-    "  reason TEXT NOT NULL);";
+    "  reason TEXT NOT NULL);"
+    // Added after the first logs were written: IF NOT EXISTS gives an older file the table when it is reopened.
+    "CREATE TABLE IF NOT EXISTS forwarded_samples ("
+    "  id INTEGER PRIMARY KEY,"
+    "  topic TEXT NOT NULL,"
+    "  type_name TEXT NOT NULL,"
+    "  instance_key BLOB,"
+    "  source_time_ns INTEGER NOT NULL,"
+    "  arrival_ns INTEGER NOT NULL,"
+    "  deadline_ns INTEGER NOT NULL,"
+    "  forwarded_ns INTEGER NOT NULL,"
+    "  payload_bytes INTEGER NOT NULL);";
 
 constexpr const char* INSERT_SQL =
     "INSERT INTO dropped_samples (topic, type_name, payload, instance_key, source_time_ns, arrival_ns, "
     "deadline_ns, logged_ns, reason) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9);";
+
+constexpr const char* INSERT_FORWARDED_SQL =
+    "INSERT INTO forwarded_samples (topic, type_name, instance_key, source_time_ns, arrival_ns, deadline_ns, "
+    "forwarded_ns, payload_bytes) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8);";
 
 struct DbCloser {
     void operator()(sqlite3* db) const { sqlite3_close_v2(db); }
@@ -56,16 +72,18 @@ struct StmtFinalizer {
 using DbPtr = std::unique_ptr<sqlite3, DbCloser>;
 using StmtPtr = std::unique_ptr<sqlite3_stmt, StmtFinalizer>;
 
-/// A record copied out of the caller's sample, owned by the buffer.
+/// A record copied out of the caller's sample, owned by the buffer: a dropped sample, or a forwarded one.
 struct Row {
+    bool forwarded = false;
     std::string topic;
     std::string type_name;
-    std::vector<std::uint8_t> payload;
+    std::vector<std::uint8_t> payload;  ///< dropped rows only
+    std::size_t payload_bytes = 0;      ///< forwarded rows only
     std::optional<core::InstanceKey> key;
     std::int64_t source_time_ns = 0;
     std::int64_t arrival_ns = 0;
     std::int64_t deadline_ns = 0;
-    std::int64_t logged_ns = 0;
+    std::int64_t logged_ns = 0;  ///< dropped: when logged; forwarded: when written to the WAN
     core::DropReason reason = core::DropReason::expired;
 };
 
@@ -86,6 +104,7 @@ class RobotLog::Impl {
         wake_writer_.notify_one();
         writer_.join();  // the writer commits everything still buffered before it returns
         insert_.reset();
+        insert_forwarded_.reset();
         db_.reset();
         if (write_errors_ > 0)
             std::fprintf(stderr, "on-robot log %s: %llu row(s) could not be written\n", path_.c_str(),
@@ -94,39 +113,29 @@ class RobotLog::Impl {
 
     void append(const LogRecord& record) noexcept {
         try {
-            Row row;
-            row.topic.assign(record.topic.data(), record.topic.size());
-            row.type_name.assign(record.type_name.data(), record.type_name.size());
-            if (record.sample != nullptr) {
+            Row row = common_row(record.topic, record.type_name, record.sample, record.arrival, record.deadline,
+                                 record.logged_at);
+            if (record.sample != nullptr)
                 row.payload = record.sample->payload;
-                if (record.sample->key.valid)
-                    row.key = record.sample->key;
-                row.source_time_ns = core::to_ns(record.sample->source_time);
-            }
-            row.arrival_ns = core::to_ns(record.arrival);
-            row.deadline_ns = core::to_ns(record.deadline);
-            row.logged_ns = core::to_ns(record.logged_at);
             row.reason = record.reason;
-
-            std::unique_lock<std::mutex> lock(mutex_);
-            if (buffered_bytes_ + row.payload.size() > MAX_BUFFERED_BYTES) {
-                lock.unlock();
-                fail_rows(1, "buffer full: the disk is not keeping up");
-                return;
-            }
             const std::size_t payload_bytes = row.payload.size();
-            pending_.push_back(std::move(row));
-            ++appended_;
-            buffered_bytes_ += payload_bytes;
-            if (pending_.size() == 1)
-                first_pending_at_ = std::chrono::steady_clock::now();
-            // The writer waits for the first row, then for a full batch or the batch delay; wake it only then.
-            const bool wake = pending_.size() == 1 || pending_.size() == BATCH_ROWS;
-            lock.unlock();
-            if (wake)
-                wake_writer_.notify_one();
+            enqueue(std::move(row), payload_bytes);
         } catch (const std::exception& e) {
             // Only allocation can fail here, before the row reached the buffer: it is lost, counted, reported once.
+            fail_rows(1, e.what());
+        }
+    }
+
+    void append_forwarded(const ForwardRecord& record) noexcept {
+        try {
+            Row row = common_row(record.topic, record.type_name, record.sample, record.arrival, record.deadline,
+                                 record.forwarded_at);
+            row.forwarded = true;
+            if (record.sample != nullptr)
+                row.payload_bytes = record.sample->payload.size();
+            const std::size_t footprint = sizeof(Row) + row.topic.size() + row.type_name.size();
+            enqueue(std::move(row), footprint);
+        } catch (const std::exception& e) {
             fail_rows(1, e.what());
         }
     }
@@ -150,6 +159,42 @@ class RobotLog::Impl {
     const std::string& path() const { return path_; }
 
   private:
+    static Row common_row(std::string_view topic, std::string_view type_name, const core::Sample* sample,
+                          core::WallTime arrival, core::WallTime deadline, core::WallTime logged_at) {
+        Row row;
+        row.topic.assign(topic.data(), topic.size());
+        row.type_name.assign(type_name.data(), type_name.size());
+        if (sample != nullptr) {
+            if (sample->key.valid)
+                row.key = sample->key;
+            row.source_time_ns = core::to_ns(sample->source_time);
+        }
+        row.arrival_ns = core::to_ns(arrival);
+        row.deadline_ns = core::to_ns(deadline);
+        row.logged_ns = core::to_ns(logged_at);
+        return row;
+    }
+
+    /// Hands the row to the writer, or refuses it (counted) when `charge_bytes` more would overfill the buffer.
+    void enqueue(Row&& row, std::size_t charge_bytes) {
+        std::unique_lock<std::mutex> lock(mutex_);
+        if (buffered_bytes_ + charge_bytes > MAX_BUFFERED_BYTES) {
+            lock.unlock();
+            fail_rows(1, "buffer full: the disk is not keeping up");
+            return;
+        }
+        pending_.push_back(std::move(row));
+        ++appended_;
+        buffered_bytes_ += charge_bytes;
+        if (pending_.size() == 1)
+            first_pending_at_ = std::chrono::steady_clock::now();
+        // The writer waits for the first row, then for a full batch or the batch delay; wake it only then.
+        const bool wake = pending_.size() == 1 || pending_.size() == BATCH_ROWS;
+        lock.unlock();
+        if (wake)
+            wake_writer_.notify_one();
+    }
+
     [[noreturn]] void fail_open(const std::string& what) const {
         std::string message = "on-robot log " + path_ + ": " + what;
         if (db_ != nullptr)
@@ -201,6 +246,10 @@ class RobotLog::Impl {
         if (sqlite3_prepare_v3(db_.get(), INSERT_SQL, -1, SQLITE_PREPARE_PERSISTENT, &raw_stmt, nullptr) != SQLITE_OK)
             fail_open("cannot prepare the insert statement");
         insert_.reset(raw_stmt);
+        if (sqlite3_prepare_v3(db_.get(), INSERT_FORWARDED_SQL, -1, SQLITE_PREPARE_PERSISTENT, &raw_stmt, nullptr) !=
+            SQLITE_OK)
+            fail_open("cannot prepare the insert statement");
+        insert_forwarded_.reset(raw_stmt);
     }
 
     void check_schema_version() {
@@ -256,7 +305,7 @@ class RobotLog::Impl {
         }
         std::size_t inserted = 0;
         for (const Row& row : batch) {
-            if (insert(row)) {
+            if (row.forwarded ? insert_forwarded(row) : insert(row)) {
                 ++inserted;
             } else {
                 fail_rows(1, sqlite3_errmsg(db));
@@ -279,16 +328,39 @@ class RobotLog::Impl {
         // A zero-length blob, not NULL, for an empty payload: the column is NOT NULL.
         sqlite3_bind_blob(stmt, 3, row.payload.empty() ? "" : static_cast<const void*>(row.payload.data()),
                           static_cast<int>(row.payload.size()), SQLITE_STATIC);
-        if (row.key)
-            sqlite3_bind_blob(stmt, 4, row.key->bytes.data(), static_cast<int>(row.key->bytes.size()), SQLITE_STATIC);
-        else
-            sqlite3_bind_null(stmt, 4);
+        bind_key(stmt, 4, row);
         sqlite3_bind_int64(stmt, 5, row.source_time_ns);
         sqlite3_bind_int64(stmt, 6, row.arrival_ns);
         sqlite3_bind_int64(stmt, 7, row.deadline_ns);
         sqlite3_bind_int64(stmt, 8, row.logged_ns);
         const std::string_view reason = core::to_string(row.reason);
         sqlite3_bind_text(stmt, 9, reason.data(), static_cast<int>(reason.size()), SQLITE_STATIC);
+        return step(stmt);
+    }
+
+    bool insert_forwarded(const Row& row) {
+        sqlite3_stmt* stmt = insert_forwarded_.get();
+        sqlite3_reset(stmt);
+        sqlite3_bind_text(stmt, 1, row.topic.data(), static_cast<int>(row.topic.size()), SQLITE_STATIC);
+        sqlite3_bind_text(stmt, 2, row.type_name.data(), static_cast<int>(row.type_name.size()), SQLITE_STATIC);
+        bind_key(stmt, 3, row);
+        sqlite3_bind_int64(stmt, 4, row.source_time_ns);
+        sqlite3_bind_int64(stmt, 5, row.arrival_ns);
+        sqlite3_bind_int64(stmt, 6, row.deadline_ns);
+        sqlite3_bind_int64(stmt, 7, row.logged_ns);
+        sqlite3_bind_int64(stmt, 8, static_cast<sqlite3_int64>(row.payload_bytes));
+        return step(stmt);
+    }
+
+    static void bind_key(sqlite3_stmt* stmt, int index, const Row& row) {
+        if (row.key)
+            sqlite3_bind_blob(stmt, index, row.key->bytes.data(), static_cast<int>(row.key->bytes.size()),
+                              SQLITE_STATIC);
+        else
+            sqlite3_bind_null(stmt, index);
+    }
+
+    static bool step(sqlite3_stmt* stmt) {
         const bool ok = sqlite3_step(stmt) == SQLITE_DONE;
         sqlite3_reset(stmt);
         sqlite3_clear_bindings(stmt);
@@ -313,6 +385,7 @@ class RobotLog::Impl {
     const std::string path_;
     DbPtr db_;
     StmtPtr insert_;
+    StmtPtr insert_forwarded_;
 
     mutable std::mutex mutex_;
     std::condition_variable wake_writer_;
@@ -335,6 +408,10 @@ RobotLog::~RobotLog() = default;
 
 void RobotLog::append(const LogRecord& record) {
     impl_->append(record);
+}
+
+void RobotLog::append_forwarded(const ForwardRecord& record) {
+    impl_->append_forwarded(record);
 }
 
 void RobotLog::flush() {

@@ -22,10 +22,23 @@ struct LogRecord {
     core::WallTime logged_at;
 };
 
-/// The on-robot log: an SQLite file with one row per sample not sent (topic, type name, payload, instance
-/// key, source time, arrival, deadline, logged time, reason). Appends are buffered and written in batched
-/// transactions by a background thread, so the gateway's path never waits on the disk; flush() and the
-/// destructor write everything still buffered.
+/// One sample written to the WAN, with its times on the wall clock. Its payload is not kept: the row only has to
+/// say that the sample left the robot, so that the base camp's recording can tell a sample lost on the link from
+/// one never produced (tm-basecamp merge), and a row without payload costs the forwarding path little.
+struct ForwardRecord {
+    std::string_view topic;
+    std::string_view type_name;
+    const core::Sample* sample = nullptr;  ///< instance key, source time and payload size; not owned
+    core::WallTime arrival;
+    core::WallTime deadline;
+    core::WallTime forwarded_at;
+};
+
+/// The on-robot log: an SQLite file with one row per sample not sent (table dropped_samples: topic, type name,
+/// payload, instance key, source time, arrival, deadline, logged time, reason) and one per sample sent (table
+/// forwarded_samples: the same without payload and reason, with the payload's size and the time it was
+/// written). Appends are buffered and written in batched transactions by a background thread, so the gateway's
+/// path never waits on the disk; flush() and the destructor write everything still buffered.
 class RobotLog {
   public:
     /// Opens or creates `path` (WAL mode). Throws core::ConfigError naming the file if it cannot.
@@ -37,9 +50,13 @@ class RobotLog {
 
     /// Copies the record into the buffer. Never throws; a failed write is counted and reported once.
     void append(const LogRecord& record);
+    /// Copies the record, without the payload, into the buffer. Never throws; a failed write is counted and
+    /// reported once, as for append().
+    void append_forwarded(const ForwardRecord& record);
     /// Blocks until everything appended so far is committed to the file.
     void flush();
 
+    /// Rows committed, of both tables.
     std::uint64_t rows_written() const;
     std::uint64_t write_errors() const;
     const std::string& path() const;

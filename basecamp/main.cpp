@@ -12,6 +12,7 @@
 
 #include "basecamp/merge_command.hpp"
 #include "basecamp/peer_transport.hpp"
+#include "basecamp/progress_line.hpp"
 #include "basecamp/recorder.hpp"
 #include "basecamp/relay.hpp"
 #include "basecamp/report.hpp"
@@ -23,6 +24,14 @@
 #include "gateway/dds/qos_file.hpp"
 
 namespace {
+
+/// "4 topics, 1234 samples" for a progress line.
+std::string topics_and_samples(const std::map<std::string, std::uint64_t>& counts) {
+    std::uint64_t samples = 0;
+    for (const auto& [topic, count] : counts)
+        samples += count;
+    return std::to_string(counts.size()) + " topics, " + std::to_string(samples) + " samples";
+}
 
 /// Splits "TOPIC=VALUE" at its last '='; topics may contain '='-free slashes and colons.
 template <typename T>
@@ -162,7 +171,10 @@ int main(int argc, char** argv) {
             std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain << std::endl;
             const auto duration =
                 relay_duration_s > 0 ? tgw::core::from_seconds(relay_duration_s) : tgw::core::Duration::max() / 2;
-            relaying.run(duration, tgw::basecamp::stop_requested());
+            tgw::basecamp::run_with_progress(
+                duration, tgw::basecamp::stop_requested(),
+                [&](tgw::core::Duration slice) { relaying.run(slice, tgw::basecamp::stop_requested()); },
+                [&] { return "relaying: " + topics_and_samples(relaying.relayed()); });
             if (store) {
                 store->flush();
                 std::cout << "  recorded in " << relay_out << ": " << store->rows_written() << " rows, "
@@ -175,7 +187,10 @@ int main(int argc, char** argv) {
             tgw::basecamp::Recorder recorder(domain, transport, store, tgw::core::from_seconds(report_period_s));
             tgw::basecamp::stop_on_signals();
             const auto duration = duration_s > 0 ? tgw::core::from_seconds(duration_s) : tgw::core::Duration::max() / 2;
-            recorder.run(duration, tgw::basecamp::stop_requested());
+            tgw::basecamp::run_with_progress(
+                duration, tgw::basecamp::stop_requested(),
+                [&](tgw::core::Duration slice) { recorder.run(slice, tgw::basecamp::stop_requested()); },
+                [&] { return "recording into " + out + ": " + topics_and_samples(recorder.received()); });
             store.flush();
             std::cout << "tm-basecamp record: domain " << domain << " -> " << out << "\n";
             for (const auto& [topic, count] : recorder.received())

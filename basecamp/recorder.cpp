@@ -119,13 +119,12 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
 
 void Recorder::run(core::Duration duration, const std::atomic<bool>& stop) {
     const auto end = core::SteadyClock::now() + duration;
-    auto next_report = core::SteadyClock::now() + report_period_;
     while (!stop.load() && core::SteadyClock::now() < end) {
         for (const dds::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
             subscribe(publisher);
         }
-        if (reporter_ && core::SteadyClock::now() >= next_report) {
-            next_report += report_period_;
+        if (reporter_ && core::SteadyClock::now() >= next_report_) {
+            next_report_ += report_period_;
             reporter_->publish(tally_.totals());
         }
     }

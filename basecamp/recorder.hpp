@@ -59,6 +59,8 @@ class Recorder {
     SampleConsumer& store_;
     DeliveryTally tally_;
     core::Duration report_period_;
+    /// Kept across run() calls, so that a caller may run in slices.
+    core::SteadyTime next_report_ = core::SteadyClock::now() + report_period_;
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;

@@ -77,6 +77,8 @@ class Relay {
     SampleStore* store_;
     DeliveryTally tally_;
     core::Duration report_period_;
+    /// Kept across run() calls, so that a caller may run in slices.
+    core::SteadyTime next_report_ = core::SteadyClock::now() + report_period_;
     std::unique_ptr<ReceiverReporter> reporter_;
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
     std::unique_ptr<dds::Discovery> discovery_;

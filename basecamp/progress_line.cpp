@@ -1,0 +1,44 @@
+#include "basecamp/progress_line.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace tgw::basecamp {
+
+ProgressLine::ProgressLine() : terminal_(isatty(STDERR_FILENO) != 0) {}
+
+ProgressLine::~ProgressLine() {
+    if (shown_) {
+        std::fputc('\n', stderr);
+    }
+}
+
+void ProgressLine::show(const std::string& text) {
+    if (!terminal_) {
+        return;
+    }
+    // Back to the start of the line, clear it, write; no newline until the end.
+    std::fprintf(stderr, "\r\x1b[K%s", text.c_str());
+    std::fflush(stderr);
+    shown_ = true;
+}
+
+void run_with_progress(core::Duration duration, const std::atomic<bool>& stop,
+                       const std::function<void(core::Duration)>& step, const std::function<std::string()>& line) {
+    ProgressLine progress;
+    const core::SteadyTime start = core::SteadyClock::now();
+    const core::SteadyTime end =
+        duration >= core::SteadyTime::max() - start ? core::SteadyTime::max() : start + duration;
+    while (!stop.load()) {
+        const core::SteadyTime now = core::SteadyClock::now();
+        if (now >= end) {
+            break;
+        }
+        step(std::min<core::Duration>(std::chrono::seconds(1), end - now));
+        progress.show(line());
+    }
+}
+
+}  // namespace tgw::basecamp

@@ -10,6 +10,7 @@
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
+#include "basecamp/echo_command.hpp"
 #include "basecamp/merge_command.hpp"
 #include "basecamp/peer_transport.hpp"
 #include "basecamp/progress_line.hpp"
@@ -137,6 +138,7 @@ int main(int argc, char** argv) {
 
     // Subcommands in files of their own.
     const std::vector<tgw::basecamp::Subcommand> subcommands = {
+        tgw::basecamp::add_echo_command(app),
         tgw::basecamp::add_merge_command(app),
         tgw::basecamp::add_stats_command(app),
         tgw::basecamp::add_status_command(app),

@@ -1,0 +1,188 @@
+#include "basecamp/echo.hpp"
+
+#include <cstdio>
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+
+#include "gateway/core/config_error.hpp"
+#include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/passthrough_qos.hpp"
+#include "gateway/dds/passthrough_type.hpp"
+
+namespace tgw::basecamp {
+
+namespace fdds = eprosima::fastdds::dds;
+
+namespace {
+
+constexpr std::size_t KEY_HASH_BYTES = 16;
+
+}  // namespace
+
+/// The reader of one QoS offer of the topic; its listener queues each sample of the writers assigned to it.
+class Echo::Lane final : public fdds::DataReaderListener {
+  public:
+    Lane(Echo& echo, std::uint16_t index) : echo_(echo), index_(index) {}
+
+    ~Lane() override {
+        if (reader != nullptr) {
+            reader->set_listener(nullptr);
+            const_cast<fdds::Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
+        }
+    }
+
+    void on_data_available(fdds::DataReader* from) override {
+        dds::PassthroughData data;
+        fdds::SampleInfo info;
+        while (from->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
+            // Disposes and unregisters carry no sample to print.
+            if (!info.valid_data || !echo_.writers_.carries(info.publication_handle, index_))
+                continue;
+            ReceivedSample sample;
+            sample.payload = std::move(data.payload);
+            sample.source = dds::to_wall_time(info.source_timestamp);
+            if (echo_.keyed_ && info.instance_handle == dds::PassthroughType::UNKNOWN_INSTANCE) {
+                sample.instance = "unknown (the writer sent no key hash)";
+            } else if (echo_.keyed_ && info.instance_handle.isDefined()) {
+                // The handle's value holds a flag after the 16 bytes of the key hash.
+                std::uint8_t key_hash[KEY_HASH_BYTES];
+                for (std::size_t i = 0; i < KEY_HASH_BYTES; ++i)
+                    key_hash[i] = info.instance_handle.value[i];
+                sample.instance = hex_text(key_hash, KEY_HASH_BYTES);
+            }
+            echo_.push(std::move(sample));
+        }
+    }
+
+    fdds::DataReader* reader = nullptr;
+    dds::OfferedQos offer;
+
+  private:
+    Echo& echo_;
+    const std::uint16_t index_;
+};
+
+Echo::Echo(int domain, const PeerTransport& transport, std::string topic, const TypeLibrary& types,
+           SamplePrinter::Format format, std::ostream& out)
+    : topic_(std::move(topic)), types_(types), format_(format), out_(out) {
+    discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
+    fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
+    qos.name("tm-basecamp echo");
+    apply_peer_transport(qos, transport);
+    participant_ = factory->create_participant(domain, qos, discovery_.get(), fdds::StatusMask::none());
+    if (participant_ == nullptr)
+        throw core::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));
+    discovery_->ignore_participant(participant_->guid().guidPrefix);
+}
+
+Echo::~Echo() {
+    if (participant_ == nullptr)
+        return;
+    participant_->set_listener(nullptr);
+    lanes_.clear();  // each reader before the participant goes
+    participant_->delete_contained_entities();
+    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+}
+
+std::string Echo::type_name() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return type_name_;
+}
+
+fdds::Subscriber* Echo::subscriber_for(const dds::OfferedQos& offer) {
+    auto& subscriber = subscribers_[offer.partitions];
+    if (subscriber == nullptr) {
+        fdds::SubscriberQos qos = participant_->get_default_subscriber_qos();
+        qos.partition() = offer.partition_policy();
+        subscriber = participant_->create_subscriber(qos);
+    }
+    return subscriber;
+}
+
+void Echo::subscribe(const dds::DiscoveredPublisher& publisher) {
+    if (publisher.topic != topic_)
+        return;
+    if (!printer_) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            type_name_ = publisher.type_name;
+        }
+        keyed_ = publisher.keyed;
+        printer_.emplace(types_, type_name_, format_);
+        std::fprintf(stderr, "tm-basecamp echo: '%s' of type %s%s\n", topic_.c_str(), type_name_.c_str(),
+                     types_.find(type_name_) != nullptr
+                         ? ""
+                         : ": no IDL for it, samples print as size and hex (--idl DIR adds IDL files)");
+    } else if (publisher.type_name != type_name_) {
+        std::fprintf(stderr, "tm-basecamp echo: ignoring a publisher of '%s' with another type (%s, not %s)\n",
+                     topic_.c_str(), publisher.type_name.c_str(), type_name_.c_str());
+        return;
+    }
+    for (std::size_t i = 0; i < lanes_.size(); ++i) {
+        if (lanes_[i]->offer == publisher.qos) {
+            writers_.assign(publisher.writer, static_cast<std::uint16_t>(i));
+            return;
+        }
+    }
+    const auto index = static_cast<std::uint16_t>(lanes_.size());
+    fdds::Topic* topic = dds::passthrough_topic(participant_, topic_, type_name_, keyed_);
+    fdds::Subscriber* subscriber = subscriber_for(publisher.qos);
+    auto lane = std::make_unique<Lane>(*this, index);
+    lane->offer = publisher.qos;
+    if (topic != nullptr && subscriber != nullptr) {
+        lane->reader = subscriber->create_datareader(
+            topic, dds::passthrough_reader_qos(subscriber->get_default_datareader_qos(), publisher.qos, keyed_),
+            lane.get(), fdds::StatusMask::data_available());
+    }
+    if (lane->reader == nullptr) {
+        std::fprintf(stderr, "tm-basecamp echo: cannot subscribe to '%s' (%s)\n", topic_.c_str(),
+                     publisher.qos.describe().c_str());
+        return;
+    }
+    writers_.assign(publisher.writer, index);
+    lanes_.push_back(std::move(lane));
+}
+
+void Echo::push(ReceivedSample&& sample) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        queued_.push_back(std::move(sample));
+    }
+    arrived_.notify_all();
+}
+
+std::vector<ReceivedSample> Echo::take(std::chrono::milliseconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    arrived_.wait_for(lock, timeout, [this] { return !queued_.empty(); });
+    std::vector<ReceivedSample> out(std::make_move_iterator(queued_.begin()), std::make_move_iterator(queued_.end()));
+    queued_.clear();
+    return out;
+}
+
+std::uint64_t Echo::run(std::uint64_t count, core::Duration duration, const std::atomic<bool>& stop) {
+    using std::chrono::milliseconds;
+    const auto end = core::SteadyClock::now() + duration;
+    std::uint64_t printed = 0;
+    while (!stop.load() && core::SteadyClock::now() < end && (count == 0 || printed < count)) {
+        // Before the first publisher, wait on discovery; after it, on samples.
+        for (const dds::DiscoveredPublisher& publisher : discovered_.take(milliseconds(lanes_.empty() ? 100 : 0)))
+            subscribe(publisher);
+        for (const ReceivedSample& sample : take(milliseconds(lanes_.empty() ? 0 : 100))) {
+            if (count != 0 && printed == count)
+                break;  // the rest arrived together with the last one asked for
+            printer_->print(out_, sample);
+            out_.flush();  // a pipe (jq, a test) sees each sample as it comes
+            ++printed;
+        }
+    }
+    return printed;
+}
+
+}  // namespace tgw::basecamp

@@ -1,0 +1,111 @@
+#include "basecamp/echo_command.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "basecamp/echo.hpp"
+#include "basecamp/peer_transport.hpp"
+#include "basecamp/type_library.hpp"
+#include "gateway/core/config_error.hpp"
+
+namespace tgw::basecamp {
+
+namespace {
+
+struct EchoArguments {
+    std::string topic;
+    int domain = 1;
+    PeerTransport transport;
+    std::uint64_t count = 0;
+    bool json = false;
+    std::vector<std::string> idl_dirs;
+    double timeout_s = 0.0;
+};
+
+/// CLI11's own numeric checks print their range as 309 digits; these say what is wrong in a line.
+CLI::Validator at_least_one() {
+    return CLI::Validator(
+        [](std::string& value) -> std::string {
+            std::uint64_t n = 0;
+            const char* last = value.data() + value.size();
+            const auto [end, status] = std::from_chars(value.data(), last, n);
+            if (status != std::errc() || end != last || n == 0)
+                return "expected a whole number of 1 or more, not '" + value + "'";
+            return {};
+        },
+        "N>=1");
+}
+
+CLI::Validator positive_seconds() {
+    return CLI::Validator(
+        [](std::string& value) -> std::string {
+            char* end = nullptr;
+            const double s = std::strtod(value.c_str(), &end);
+            if (value.empty() || *end != '\0' || !std::isfinite(s) || s <= 0)
+                return "expected seconds above 0, not '" + value + "'";
+            return {};
+        },
+        "S>0");
+}
+
+int run_echo(const EchoArguments& args) {
+    TypeLibrary types;
+    types.add_project_types();
+    for (const std::string& dir : args.idl_dirs)
+        types.add_idl_dir(dir, "--idl");
+    try {
+        types.check_references();
+    } catch (const core::ConfigError& e) {
+        throw core::ConfigError(std::string("--idl: ") + e.what());
+    }
+
+    Echo echo(args.domain, args.transport, args.topic, types,
+              args.json ? SamplePrinter::Format::json : SamplePrinter::Format::text, std::cout);
+    stop_on_signals();
+    const core::Duration duration = args.timeout_s > 0 ? core::from_seconds(args.timeout_s) : core::Duration::max() / 2;
+    const std::uint64_t printed = echo.run(args.count, duration, stop_requested());
+    if (args.count > 0 && printed < args.count && !stop_requested().load()) {
+        std::cerr << "tm-basecamp echo: " << printed << " of " << args.count << " samples of '" << args.topic
+                  << "' within --timeout " << args.timeout_s << " s"
+                  << (echo.type_name().empty()
+                          ? " (no publisher of it appeared on domain " + std::to_string(args.domain) + ")"
+                          : "")
+                  << "\n";
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace
+
+Subcommand add_echo_command(CLI::App& app) {
+    auto args = std::make_shared<EchoArguments>();
+    CLI::App* echo = app.add_subcommand(
+        "echo", "print each sample of a topic as it arrives: field by field for IDL types, else size and hex");
+    echo->add_option("TOPIC", args->topic, "the topic's DDS name (a ROS 2 topic /x is rt/x)")->required();
+    echo->add_option("--domain", args->domain, "DDS domain id")->check(CLI::Range(0, 232))->capture_default_str();
+    // One value per flag: a repeated flag adds one, and TOPIC after it stays TOPIC.
+    echo->add_option("--peer", args->transport.peers,
+                     "IPv4 address of the robot (repeatable): UDP unicast only, no multicast, no shared memory")
+        ->allow_extra_args(false);
+    echo->add_option("--interface", args->transport.interface,
+                     "interface name or IPv4 address to bind every socket to");
+    echo->add_option("--count", args->count, "exit after N samples")->check(at_least_one());
+    echo->add_flag("--json", args->json, "one JSON object per sample and line");
+    echo->add_option("--idl", args->idl_dirs,
+                     "a directory of IDL files (repeatable, subdirectories too) for types other than the project's")
+        ->check(CLI::ExistingDirectory)
+        ->allow_extra_args(false);
+    echo->add_option("--timeout", args->timeout_s,
+                     "seconds to wait; with --count, exit 1 if fewer samples came by then")
+        ->check(positive_seconds());
+    return {echo, [args] { return run_echo(*args); }};
+}
+
+}  // namespace tgw::basecamp

@@ -1,0 +1,93 @@
+#include "basecamp/sample_printer.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
+
+#include "basecamp/cdr_decoder.hpp"
+#include "basecamp/value_json.hpp"
+#include "basecamp/value_text.hpp"
+
+namespace tgw::basecamp {
+
+namespace {
+
+// A 60 kB camera frame in hex is no text to read: the text format shows its start, JSON all of it.
+constexpr std::size_t TEXT_HEX_BYTES = 256;
+
+}  // namespace
+
+std::string utc_text(core::WallTime time) {
+    const std::int64_t ns = core::to_ns(time);
+    std::int64_t seconds = ns / 1'000'000'000;
+    std::int64_t fraction = ns % 1'000'000'000;
+    if (fraction < 0) {
+        fraction += 1'000'000'000;
+        --seconds;
+    }
+    const std::time_t t = static_cast<std::time_t>(seconds);
+    std::tm utc{};
+    gmtime_r(&t, &utc);
+    char text[64];
+    std::snprintf(text, sizeof text, "%04d-%02d-%02dT%02d:%02d:%02d.%09lldZ", utc.tm_year + 1900, utc.tm_mon + 1,
+                  utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec, static_cast<long long>(fraction));
+    return text;
+}
+
+std::string hex_text(const std::uint8_t* bytes, std::size_t size) {
+    static const char DIGITS[] = "0123456789abcdef";
+    std::string text;
+    text.reserve(2 * size);
+    for (std::size_t i = 0; i < size; ++i) {
+        text += DIGITS[bytes[i] >> 4];
+        text += DIGITS[bytes[i] & 0xf];
+    }
+    return text;
+}
+
+SamplePrinter::SamplePrinter(const TypeLibrary& types, std::string type_name, Format format)
+    : types_(types), type_name_(std::move(type_name)), format_(format) {}
+
+void SamplePrinter::print(std::ostream& out, const ReceivedSample& sample) const {
+    const CdrDecodeResult decoded = decode_cdr(sample.payload.data(), sample.payload.size(), type_name_, types_);
+    const std::size_t size = sample.payload.size();
+    if (format_ == Format::json) {
+        out << '{';
+        const char* separator = "";
+        if (sample.source) {
+            out << "\"source_timestamp_ns\":" << core::to_ns(*sample.source);
+            separator = ",";
+        }
+        if (!sample.instance.empty()) {
+            out << separator << "\"instance\":" << json_string(sample.instance);
+            separator = ",";
+        }
+        if (decoded.value) {
+            out << separator << "\"data\":";
+            write_json(out, *decoded.value);
+        } else {
+            out << separator << "\"size_bytes\":" << size << ",\"hex\":\"" << hex_text(sample.payload.data(), size)
+                << "\",\"error\":" << json_string(decoded.error);
+        }
+        out << "}\n";
+        return;
+    }
+    if (sample.source)
+        out << "# source_timestamp: " << utc_text(*sample.source) << '\n';
+    if (!sample.instance.empty())
+        out << "# instance: " << sample.instance << '\n';
+    if (decoded.value) {
+        write_text(out, *decoded.value);
+    } else {
+        const std::size_t shown = std::min(size, TEXT_HEX_BYTES);
+        out << "# cannot decode: " << decoded.error << '\n'
+            << "size_bytes: " << size << '\n'
+            << "hex: " << hex_text(sample.payload.data(), shown);
+        if (shown < size)
+            out << "  # the first " << shown << " bytes";
+        out << '\n';
+    }
+    out << "---\n";
+}
+
+}  // namespace tgw::basecamp

@@ -6,8 +6,8 @@
 #include <memory>
 #include <set>
 
+#include "base/config_error.hpp"
 #include "basecamp/report.hpp"
-#include "gateway/core/config_error.hpp"
 
 namespace tgw::basecamp {
 
@@ -130,7 +130,7 @@ std::vector<LoggedSample> read_robot_log(const std::string& path, const std::str
     if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
         const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
         sqlite3_close(raw);
-        throw core::ConfigError(flag + ": cannot open '" + path + "': " + why);
+        throw base::ConfigError(flag + ": cannot open '" + path + "': " + why);
     }
     Db db(raw, sqlite3_close);
     sqlite3_stmt* stmt_raw = nullptr;
@@ -138,7 +138,7 @@ std::vector<LoggedSample> read_robot_log(const std::string& path, const std::str
                            "SELECT topic, type_name, payload, source_time_ns, reason FROM dropped_samples "
                            "WHERE source_time_ns >= ?1 ORDER BY id",
                            -1, &stmt_raw, nullptr) != SQLITE_OK)
-        throw core::ConfigError(flag + ": '" + path +
+        throw base::ConfigError(flag + ": '" + path +
                                 "' is not an on-robot log (table dropped_samples): " + sqlite3_errmsg(db.get()));
     Stmt stmt(stmt_raw, sqlite3_finalize);
     sqlite3_bind_int64(stmt.get(), 1, since_ns);
@@ -158,7 +158,7 @@ std::vector<LoggedSample> read_robot_log(const std::string& path, const std::str
         rows.push_back(std::move(row));
     }
     if (rc != SQLITE_DONE)
-        throw core::ConfigError(flag + ": cannot read '" + path + "': " + sqlite3_errmsg(db.get()));
+        throw base::ConfigError(flag + ": cannot read '" + path + "': " + sqlite3_errmsg(db.get()));
     return rows;
 }
 

@@ -54,7 +54,7 @@ DropAccounting account_topic(const std::vector<ReceivedSample>& received, const 
                              std::optional<std::uint64_t> forwarded);
 
 /// Reads the rows of the gateway's on-robot log whose source time is at or after `since_ns`. Throws
-/// core::ConfigError naming `flag` and the file if it is not an on-robot log.
+/// base::ConfigError naming `flag` and the file if it is not an on-robot log.
 std::vector<LoggedSample> read_robot_log(const std::string& path, const std::string& flag, std::int64_t since_ns);
 
 }  // namespace tgw::basecamp

@@ -10,7 +10,7 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
@@ -68,17 +68,17 @@ class Echo::Lane final : public fdds::DataReaderListener {
     const std::uint16_t index_;
 };
 
-Echo::Echo(int domain, const PeerTransport& transport, std::string topic, const TypeLibrary& types,
+Echo::Echo(int domain, const base::PeerTransport& transport, std::string topic, const TypeLibrary& types,
            SamplePrinter::Format format, std::ostream& out)
     : topic_(std::move(topic)), types_(types), format_(format), out_(out) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
     qos.name("tm-basecamp echo");
-    apply_peer_transport(qos, transport);
+    base::apply_peer_transport(qos, transport);
     participant_ = factory->create_participant(domain, qos, discovery_.get(), fdds::StatusMask::none());
     if (participant_ == nullptr)
-        throw core::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));
+        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));
     discovery_->ignore_participant(participant_->guid().guidPrefix);
 }
 
@@ -166,11 +166,11 @@ std::vector<ReceivedSample> Echo::take(std::chrono::milliseconds timeout) {
     return out;
 }
 
-std::uint64_t Echo::run(std::uint64_t count, core::Duration duration, const std::atomic<bool>& stop) {
+std::uint64_t Echo::run(std::uint64_t count, base::Duration duration, const std::atomic<bool>& stop) {
     using std::chrono::milliseconds;
-    const auto end = core::SteadyClock::now() + duration;
+    const auto end = base::SteadyClock::now() + duration;
     std::uint64_t printed = 0;
-    while (!stop.load() && core::SteadyClock::now() < end && (count == 0 || printed < count)) {
+    while (!stop.load() && base::SteadyClock::now() < end && (count == 0 || printed < count)) {
         // Before the first publisher, wait on discovery; after it, on samples.
         for (const dds::DiscoveredPublisher& publisher : discovered_.take(milliseconds(lanes_.empty() ? 100 : 0)))
             subscribe(publisher);

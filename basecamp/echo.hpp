@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
+#include "base/peer_transport.hpp"
+#include "base/time.hpp"
 #include "basecamp/discovery_queue.hpp"
-#include "basecamp/peer_transport.hpp"
 #include "basecamp/sample_printer.hpp"
 #include "basecamp/type_library.hpp"
-#include "gateway/core/time.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/lane_assignment.hpp"
 
@@ -33,9 +33,9 @@ namespace tgw::basecamp {
 /// relay has them), and each sample is printed once, from its writer's lane.
 class Echo {
   public:
-    /// Creates the participant. `types` and `out` must outlive the Echo. Throws core::ConfigError naming --domain,
+    /// Creates the participant. `types` and `out` must outlive the Echo. Throws base::ConfigError naming --domain,
     /// --peer or --interface when DDS refuses it.
-    Echo(int domain, const PeerTransport& transport, std::string topic, const TypeLibrary& types,
+    Echo(int domain, const base::PeerTransport& transport, std::string topic, const TypeLibrary& types,
          SamplePrinter::Format format, std::ostream& out);
     ~Echo();
     Echo(const Echo&) = delete;
@@ -43,7 +43,7 @@ class Echo {
 
     /// Subscribes as publishers of the topic appear and prints their samples, in this thread, until `count`
     /// were printed (0: no limit), `duration` has passed or `stop` turns true. The number of samples printed.
-    std::uint64_t run(std::uint64_t count, core::Duration duration, const std::atomic<bool>& stop);
+    std::uint64_t run(std::uint64_t count, base::Duration duration, const std::atomic<bool>& stop);
 
     /// The type name the topic's publishers announce; empty until one was discovered.
     std::string type_name() const;

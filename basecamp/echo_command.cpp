@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "base/config_error.hpp"
+#include "base/peer_transport.hpp"
 #include "basecamp/echo.hpp"
-#include "basecamp/peer_transport.hpp"
 #include "basecamp/type_library.hpp"
-#include "gateway/core/config_error.hpp"
 
 namespace tgw::basecamp {
 
@@ -21,7 +21,7 @@ namespace {
 struct EchoArguments {
     std::string topic;
     int domain = 1;
-    PeerTransport transport;
+    base::PeerTransport transport;
     std::uint64_t count = 0;
     bool json = false;
     std::vector<std::string> idl_dirs;
@@ -61,14 +61,14 @@ int run_echo(const EchoArguments& args) {
         types.add_idl_dir(dir, "--idl");
     try {
         types.check_references();
-    } catch (const core::ConfigError& e) {
-        throw core::ConfigError(std::string("--idl: ") + e.what());
+    } catch (const base::ConfigError& e) {
+        throw base::ConfigError(std::string("--idl: ") + e.what());
     }
 
     Echo echo(args.domain, args.transport, args.topic, types,
               args.json ? SamplePrinter::Format::json : SamplePrinter::Format::text, std::cout);
     stop_on_signals();
-    const core::Duration duration = args.timeout_s > 0 ? core::from_seconds(args.timeout_s) : core::Duration::max() / 2;
+    const base::Duration duration = args.timeout_s > 0 ? base::from_seconds(args.timeout_s) : base::Duration::max() / 2;
     const std::uint64_t printed = echo.run(args.count, duration, stop_requested());
     if (args.count > 0 && printed < args.count && !stop_requested().load()) {
         std::cerr << "tm-basecamp echo: " << printed << " of " << args.count << " samples of '" << args.topic

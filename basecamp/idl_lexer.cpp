@@ -3,7 +3,7 @@
 #include <cctype>
 #include <cstring>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
 namespace tgw::basecamp {
 
@@ -55,7 +55,7 @@ class Lexer {
 
   private:
     [[noreturn]] void fail(const std::string& what, int line) const {
-        throw core::ConfigError(file_ + ":" + std::to_string(line) + ": " + what);
+        throw base::ConfigError(file_ + ":" + std::to_string(line) + ": " + what);
     }
 
     bool starts_with(const char* prefix) const { return text_.compare(pos_, std::strlen(prefix), prefix) == 0; }

@@ -29,7 +29,7 @@ struct IdlTokens {
 };
 
 /// Splits `text` into tokens. "::" is one token; every other punctuation character is a token of its own (so
-/// that `sequence<sequence<long>>` closes twice). Throws core::ConfigError "FILE:LINE: ..." naming `file` on an
+/// that `sequence<sequence<long>>` closes twice). Throws base::ConfigError "FILE:LINE: ..." naming `file` on an
 /// unterminated comment or literal, or a character IDL does not use.
 IdlTokens tokenize_idl(const std::string& text, const std::string& file);
 

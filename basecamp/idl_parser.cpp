@@ -4,8 +4,8 @@
 #include <limits>
 #include <optional>
 
+#include "base/config_error.hpp"
 #include "basecamp/type_library.hpp"
-#include "gateway/core/config_error.hpp"
 
 namespace tgw::basecamp {
 
@@ -69,7 +69,7 @@ class Parser {
     [[noreturn]] void fail(const std::string& what) const { fail_at(what, peek().line); }
 
     [[noreturn]] void fail_at(const std::string& what, int line) const {
-        throw core::ConfigError(file_ + ":" + std::to_string(line) + ": " + what);
+        throw base::ConfigError(file_ + ":" + std::to_string(line) + ": " + what);
     }
 
     void expect(const char* text, const char* context) {

@@ -19,7 +19,7 @@ class TypeLibrary;
 /// constants are known when a bound uses them.
 using IdlIncludeHandler = std::function<void(const IdlInclude&)>;
 
-/// Parses the IDL `text` of `file` into `library`. Throws core::ConfigError "FILE:LINE: what was expected" on
+/// Parses the IDL `text` of `file` into `library`. Throws base::ConfigError "FILE:LINE: what was expected" on
 /// the first error, and on a name declared twice.
 void parse_idl(const std::string& text, const std::string& file, TypeLibrary& library,
                const IdlIncludeHandler& on_include = {});

@@ -10,9 +10,10 @@
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
+#include "base/config_error.hpp"
+#include "base/peer_transport.hpp"
 #include "basecamp/echo_command.hpp"
 #include "basecamp/merge_command.hpp"
-#include "basecamp/peer_transport.hpp"
 #include "basecamp/progress_line.hpp"
 #include "basecamp/recorder.hpp"
 #include "basecamp/relay.hpp"
@@ -21,7 +22,6 @@
 #include "basecamp/stats_command.hpp"
 #include "basecamp/status_command.hpp"
 #include "basecamp/subcommand.hpp"
-#include "gateway/core/config_error.hpp"
 #include "gateway/dds/qos_file.hpp"
 
 namespace {
@@ -41,7 +41,7 @@ std::map<std::string, T> parse_assignments(const std::vector<std::string>& items
     for (const std::string& item : items) {
         const auto eq = item.rfind('=');
         if (eq == std::string::npos || eq == 0 || eq + 1 == item.size())
-            throw tgw::core::ConfigError(flag + ": expected TOPIC=VALUE, got '" + item + "'");
+            throw tgw::base::ConfigError(flag + ": expected TOPIC=VALUE, got '" + item + "'");
         try {
             std::size_t used = 0;
             const std::string value = item.substr(eq + 1);
@@ -50,7 +50,7 @@ std::map<std::string, T> parse_assignments(const std::vector<std::string>& items
                 throw std::invalid_argument(value);
             result[item.substr(0, eq)] = static_cast<T>(number);
         } catch (const std::exception&) {
-            throw tgw::core::ConfigError(flag + ": '" + item + "': the value is not a non-negative number");
+            throw tgw::base::ConfigError(flag + ": '" + item + "': the value is not a non-negative number");
         }
     }
     return result;
@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
     int domain = 1;
     std::string out;
     double duration_s = 0.0;
-    tgw::basecamp::PeerTransport transport;
+    tgw::base::PeerTransport transport;
     record->add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
     record->add_option("--peer", transport.peers,
                        "IPv4 address of the robot (repeatable): UDP unicast only, no multicast, no shared memory");
@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
         "relay", "the camp's one participant on the WAN domain: every topic republished into the camp's own domain");
     int local_domain = 0;
     double relay_duration_s = 0.0;
-    tgw::basecamp::PeerTransport relay_transport;
+    tgw::base::PeerTransport relay_transport;
     relay->add_option("--domain", domain, "the WAN domain's id")->check(CLI::Range(0, 232));
     relay->add_option("--peer", relay_transport.peers,
                       "IPv4 address of the robot (repeatable): UDP unicast only on the WAN, no multicast");
@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
                      "the camp's own domain: every topic appears there, for programs with their vendors' defaults")
         ->check(CLI::Range(0, 232))
         ->required();
-    tgw::basecamp::PeerTransport local_transport;
+    tgw::base::PeerTransport local_transport;
     local_transport.interface_flag = "--local-interface";
     relay->add_option("--local-interface", local_transport.interface,
                       "interface name or IPv4 address the camp's domain uses (default: every interface)");
@@ -157,25 +157,25 @@ int main(int argc, char** argv) {
         }
         if (relay->parsed()) {
             if (local_domain == domain)
-                throw tgw::core::ConfigError("--local-domain: must differ from --domain (" + std::to_string(domain) +
+                throw tgw::base::ConfigError("--local-domain: must differ from --domain (" + std::to_string(domain) +
                                              "), or every sample would come back to the relay");
             auto* factory = eprosima::fastdds::dds::DomainParticipantFactory::get_instance();
             auto wan_qos = factory->get_default_participant_qos();
-            tgw::basecamp::apply_peer_transport(wan_qos, relay_transport);
+            tgw::base::apply_peer_transport(wan_qos, relay_transport);
             auto local_qos = factory->get_default_participant_qos();
-            tgw::basecamp::apply_peer_transport(local_qos, local_transport);
+            tgw::base::apply_peer_transport(local_qos, local_transport);
             std::unique_ptr<tgw::basecamp::SampleStore> store;
             if (!relay_out.empty())
                 store = std::make_unique<tgw::basecamp::SampleStore>(relay_out, "--out");
             tgw::basecamp::Relay relaying(domain, wan_qos, local_domain, local_qos, store.get(),
-                                          tgw::core::from_seconds(relay_report_period_s));
+                                          tgw::base::from_seconds(relay_report_period_s));
             tgw::basecamp::stop_on_signals();
             std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain << std::endl;
             const auto duration =
-                relay_duration_s > 0 ? tgw::core::from_seconds(relay_duration_s) : tgw::core::Duration::max() / 2;
+                relay_duration_s > 0 ? tgw::base::from_seconds(relay_duration_s) : tgw::base::Duration::max() / 2;
             tgw::basecamp::run_with_progress(
                 duration, tgw::basecamp::stop_requested(),
-                [&](tgw::core::Duration slice) { relaying.run(slice, tgw::basecamp::stop_requested()); },
+                [&](tgw::base::Duration slice) { relaying.run(slice, tgw::basecamp::stop_requested()); },
                 [&] { return "relaying: " + topics_and_samples(relaying.relayed()); });
             if (store) {
                 store->flush();
@@ -186,12 +186,12 @@ int main(int argc, char** argv) {
                 std::cout << "  " << topic << ": " << count << " samples relayed\n";
         } else if (record->parsed()) {
             tgw::basecamp::SampleStore store(out, "--out");
-            tgw::basecamp::Recorder recorder(domain, transport, store, tgw::core::from_seconds(report_period_s));
+            tgw::basecamp::Recorder recorder(domain, transport, store, tgw::base::from_seconds(report_period_s));
             tgw::basecamp::stop_on_signals();
-            const auto duration = duration_s > 0 ? tgw::core::from_seconds(duration_s) : tgw::core::Duration::max() / 2;
+            const auto duration = duration_s > 0 ? tgw::base::from_seconds(duration_s) : tgw::base::Duration::max() / 2;
             tgw::basecamp::run_with_progress(
                 duration, tgw::basecamp::stop_requested(),
-                [&](tgw::core::Duration slice) { recorder.run(slice, tgw::basecamp::stop_requested()); },
+                [&](tgw::base::Duration slice) { recorder.run(slice, tgw::basecamp::stop_requested()); },
                 [&] { return "recording into " + out + ": " + topics_and_samples(recorder.received()); });
             store.flush();
             std::cout << "tm-basecamp record: domain " << domain << " -> " << out << "\n";
@@ -210,7 +210,7 @@ int main(int argc, char** argv) {
                 tgw::dds::load_qos_file(qos_file);
                 options.profile_ttl_s = [](const std::string& topic) -> std::optional<double> {
                     const auto lifespan = tgw::dds::writer_profile_lifespan(topic);
-                    return lifespan ? std::optional<double>(tgw::core::to_seconds(*lifespan)) : std::nullopt;
+                    return lifespan ? std::optional<double>(tgw::base::to_seconds(*lifespan)) : std::nullopt;
                 };
             }
             options.offered = parse_assignments<std::uint64_t>(offered, "--offered");
@@ -219,10 +219,10 @@ int main(int argc, char** argv) {
             if (since->count() > 0)
                 options.since_ns = since_ns;
             if (!options.forwarded.empty() && robot_log.empty())
-                throw tgw::core::ConfigError("--forwarded: needs --robot-log");
+                throw tgw::base::ConfigError("--forwarded: needs --robot-log");
             tgw::basecamp::print_report(std::cout, tgw::basecamp::read_report(in, options));
         }
-    } catch (const tgw::core::ConfigError& e) {
+    } catch (const tgw::base::ConfigError& e) {
         std::cerr << "tm-basecamp: " << e.what() << "\n";
         return 2;
     }

@@ -15,7 +15,7 @@
 #include <tuple>
 #include <utility>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
 #include "gateway/dds/status_topic.hpp"
 
@@ -221,7 +221,7 @@ bool fsync_path(const std::string& path, int flags) {
 void require_file(const std::string& what, const std::string& path) {
     std::error_code error;
     if (!fs::is_regular_file(path, error))
-        throw core::ConfigError(named(what, path) + ": no such file");
+        throw base::ConfigError(named(what, path) + ": no such file");
 }
 
 /// An existing `out` is replaced only if it is a mission archive: never the recording or the log by a slip.
@@ -231,7 +231,7 @@ void require_replaceable(const std::string& out, const std::string& robot_log, c
         return;
     for (const std::string& input : {robot_log, recording}) {
         if (fs::equivalent(out, input, error))
-            throw core::ConfigError(named("archive", out) + ": is an input of the merge");
+            throw base::ConfigError(named("archive", out) + ": is an input of the merge");
     }
     sqlite3* raw = nullptr;
     const int rc = sqlite3_open_v2(out.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
@@ -246,7 +246,7 @@ void require_replaceable(const std::string& out, const std::string& robot_log, c
                          sqlite3_step(stmt) == SQLITE_ROW;
     sqlite3_finalize(stmt);
     if (!archive)
-        throw core::ConfigError(named("archive", out) + ": exists and is not a mission archive; not replacing it");
+        throw base::ConfigError(named("archive", out) + ": exists and is not a mission archive; not replacing it");
 }
 
 /// The archive being written: a temporary file next to `out`, removed unless commit() renamed it into place.
@@ -278,7 +278,7 @@ class TemporaryArchive {
     sqlite3* db() const { return db_.get(); }
 
     [[noreturn]] void fail(const std::string& what) const {
-        throw core::ConfigError(named("archive", out_) + ": " + what + ": " + sqlite3_errmsg(db_.get()));
+        throw base::ConfigError(named("archive", out_) + ": " + what + ": " + sqlite3_errmsg(db_.get()));
     }
 
     void exec(const char* sql, const std::string& what) const {
@@ -292,9 +292,9 @@ class TemporaryArchive {
             fail("cannot close " + path_);
         db_.release();
         if (!fsync_path(path_, O_RDONLY))
-            throw core::ConfigError(named("archive", out_) + ": cannot sync " + path_);
+            throw base::ConfigError(named("archive", out_) + ": cannot sync " + path_);
         if (std::rename(path_.c_str(), out_.c_str()) != 0)
-            throw core::ConfigError(named("archive", out_) + ": cannot rename " + path_ + " to it");
+            throw base::ConfigError(named("archive", out_) + ": cannot rename " + path_ + " to it");
         committed_ = true;
         // The rename itself is durable once the directory is; a failure here leaves a whole archive either way.
         fsync_path(fs::absolute(out_).parent_path().string(), O_RDONLY | O_DIRECTORY);
@@ -373,7 +373,7 @@ class Merger {
     StmtPtr prepare(const char* sql, const std::string& who) const {
         sqlite3_stmt* raw = nullptr;
         if (sqlite3_prepare_v2(db_, sql, -1, &raw, nullptr) != SQLITE_OK)
-            throw core::ConfigError(who + ": " + sqlite3_errmsg(db_));
+            throw base::ConfigError(who + ": " + sqlite3_errmsg(db_));
         return StmtPtr(raw, sqlite3_finalize);
     }
 
@@ -389,7 +389,7 @@ class Merger {
         const std::string uri = read_only_uri(path);
         sqlite3_bind_text(stmt.get(), 1, uri.c_str(), -1, SQLITE_TRANSIENT);
         if (sqlite3_step(stmt.get()) != SQLITE_DONE)
-            throw core::ConfigError(named(what, path) + ": cannot open: " + sqlite3_errmsg(db_));
+            throw base::ConfigError(named(what, path) + ": cannot open: " + sqlite3_errmsg(db_));
     }
 
     /// Throws `message` with SQLite's reason ("file is not a database", "no such table") when `probe` fails.
@@ -399,7 +399,7 @@ class Merger {
             sqlite3_finalize(raw);
             return;
         }
-        throw core::ConfigError(message + " (" + schema + ": " + sqlite3_errmsg(db_) + ")");
+        throw base::ConfigError(message + " (" + schema + ": " + sqlite3_errmsg(db_) + ")");
     }
 
     /// Reads id, topic, instance, source time and payload size of every row `sql` selects; false when stopped.
@@ -423,7 +423,7 @@ class Merger {
         if (rc == SQLITE_INTERRUPT || stopped())
             return false;
         if (rc != SQLITE_DONE)
-            throw core::ConfigError(who + ": cannot read: " + sqlite3_errmsg(db_));
+            throw base::ConfigError(who + ": cannot read: " + sqlite3_errmsg(db_));
         return true;
     }
 
@@ -460,7 +460,7 @@ class Merger {
         if (rc == SQLITE_INTERRUPT || stopped())
             return false;
         if (rc != SQLITE_DONE)
-            throw core::ConfigError("cannot merge " + named("on-robot log", robot_log_) + " and " +
+            throw base::ConfigError("cannot merge " + named("on-robot log", robot_log_) + " and " +
                                     named("recording", recording_) + ": " + sqlite3_errmsg(db_));
         return true;
     }

@@ -45,7 +45,7 @@ struct MergeCounts {
 ///
 /// The archive is written to a temporary file next to `out` and renamed into place at the end: `out` is either
 /// the previous archive or the whole new one. When `stop` turns true the merge stops, removes its temporary file
-/// and returns nothing, `out` untouched. Throws core::ConfigError naming the file for an input that is missing,
+/// and returns nothing, `out` untouched. Throws base::ConfigError naming the file for an input that is missing,
 /// unreadable or not what it should be, for an `out` that exists and is not a mission archive, and when the
 /// archive cannot be written.
 std::optional<MergeCounts> merge_mission(const std::string& robot_log, const std::string& recording,

@@ -25,18 +25,18 @@ void ProgressLine::show(const std::string& text) {
     shown_ = true;
 }
 
-void run_with_progress(core::Duration duration, const std::atomic<bool>& stop,
-                       const std::function<void(core::Duration)>& step, const std::function<std::string()>& line) {
+void run_with_progress(base::Duration duration, const std::atomic<bool>& stop,
+                       const std::function<void(base::Duration)>& step, const std::function<std::string()>& line) {
     ProgressLine progress;
-    const core::SteadyTime start = core::SteadyClock::now();
-    const core::SteadyTime end =
-        duration >= core::SteadyTime::max() - start ? core::SteadyTime::max() : start + duration;
+    const base::SteadyTime start = base::SteadyClock::now();
+    const base::SteadyTime end =
+        duration >= base::SteadyTime::max() - start ? base::SteadyTime::max() : start + duration;
     while (!stop.load()) {
-        const core::SteadyTime now = core::SteadyClock::now();
+        const base::SteadyTime now = base::SteadyClock::now();
         if (now >= end) {
             break;
         }
-        step(std::min<core::Duration>(std::chrono::seconds(1), end - now));
+        step(std::min<base::Duration>(std::chrono::seconds(1), end - now));
         progress.show(line());
     }
 }

@@ -4,7 +4,7 @@
 #include <functional>
 #include <string>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
 namespace tgw::basecamp {
 
@@ -27,7 +27,7 @@ class ProgressLine {
 
 /// Runs `step(slice)` in slices of at most a second until `duration` has passed or `stop` turns true, and shows
 /// `line()` on a ProgressLine after each slice.
-void run_with_progress(core::Duration duration, const std::atomic<bool>& stop,
-                       const std::function<void(core::Duration)>& step, const std::function<std::string()>& line);
+void run_with_progress(base::Duration duration, const std::atomic<bool>& stop,
+                       const std::function<void(base::Duration)>& step, const std::function<std::string()>& line);
 
 }  // namespace tgw::basecamp

@@ -8,8 +8,8 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "ReceiverReportPubSubTypes.h"
-#include "gateway/core/config_error.hpp"
-#include "gateway/core/time.hpp"
+#include "base/config_error.hpp"
+#include "base/time.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
 
 namespace tgw::basecamp {
@@ -19,12 +19,12 @@ namespace fdds = eprosima::fastdds::dds;
 ReceiverReporter::ReceiverReporter(fdds::DomainParticipant* participant) {
     fdds::TypeSupport type(new idl::ReceiverReportPubSubType());
     if (type.register_type(participant) != ReturnCode_t::RETCODE_OK)
-        throw core::ConfigError("cannot register the receiver report type");
+        throw base::ConfigError("cannot register the receiver report type");
     fdds::Topic* topic =
         participant->create_topic(dds::RECEIVER_REPORT_TOPIC, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
     fdds::Publisher* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     if (topic == nullptr || publisher == nullptr)
-        throw core::ConfigError(std::string("cannot create the topic ") + dds::RECEIVER_REPORT_TOPIC);
+        throw base::ConfigError(std::string("cannot create the topic ") + dds::RECEIVER_REPORT_TOPIC);
     fdds::DataWriterQos qos = publisher->get_default_datawriter_qos();
     qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
     qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
@@ -33,12 +33,12 @@ ReceiverReporter::ReceiverReporter(fdds::DomainParticipant* participant) {
     qos.data_sharing().off();
     writer_ = publisher->create_datawriter(topic, qos);
     if (writer_ == nullptr)
-        throw core::ConfigError(std::string("cannot create the writer of ") + dds::RECEIVER_REPORT_TOPIC);
+        throw base::ConfigError(std::string("cannot create the writer of ") + dds::RECEIVER_REPORT_TOPIC);
 }
 
 bool ReceiverReporter::publish(const std::map<ParticipantPrefix, DeliveryTotals>& totals) {
     bool ok = true;
-    const auto now_ns = static_cast<std::uint64_t>(core::to_ns(core::WallClock::now()));
+    const auto now_ns = static_cast<std::uint64_t>(base::to_ns(base::WallClock::now()));
     for (const auto& [prefix, t] : totals) {
         idl::ReceiverReport report;
         report.gateway_prefix(prefix);

@@ -15,7 +15,7 @@ namespace tgw::basecamp {
 /// participant), best effort: each report holds every count, so the next one makes up for a lost one.
 class ReceiverReporter {
   public:
-    /// Creates the topic and its writer on `participant`, which owns them. Throws core::ConfigError when DDS
+    /// Creates the topic and its writer on `participant`, which owns them. Throws base::ConfigError when DDS
     /// refuses.
     explicit ReceiverReporter(eprosima::fastdds::dds::DomainParticipant* participant);
 

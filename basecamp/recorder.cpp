@@ -14,9 +14,9 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include "base/config_error.hpp"
 #include "basecamp/receiver_reporter.hpp"
 #include "basecamp/wan_capture.hpp"
-#include "gateway/core/config_error.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
@@ -53,21 +53,22 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
     DeliveryTally& tally_;
 };
 
-Recorder::Recorder(int domain, const PeerTransport& transport, SampleConsumer& store, core::Duration report_period)
+Recorder::Recorder(int domain, const base::PeerTransport& transport, SampleConsumer& store,
+                   base::Duration report_period)
     : store_(store), report_period_(report_period) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
     qos.name("tm-basecamp");
-    apply_peer_transport(qos, transport);
+    base::apply_peer_transport(qos, transport);
     participant_ = factory->create_participant(domain, qos, discovery_.get(), fdds::StatusMask::none());
     if (participant_ == nullptr)
-        throw core::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));
+        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));
     discovery_->ignore_participant(participant_->guid().guidPrefix);
     subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (subscriber_ == nullptr)
-        throw core::ConfigError("cannot create a DDS subscriber");
-    if (report_period_ > core::Duration::zero())
+        throw base::ConfigError("cannot create a DDS subscriber");
+    if (report_period_ > base::Duration::zero())
         reporter_ = std::make_unique<ReceiverReporter>(participant_);
 }
 
@@ -117,13 +118,13 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
     readers_.emplace(publisher.topic, std::move(reader));
 }
 
-void Recorder::run(core::Duration duration, const std::atomic<bool>& stop) {
-    const auto end = core::SteadyClock::now() + duration;
-    while (!stop.load() && core::SteadyClock::now() < end) {
+void Recorder::run(base::Duration duration, const std::atomic<bool>& stop) {
+    const auto end = base::SteadyClock::now() + duration;
+    while (!stop.load() && base::SteadyClock::now() < end) {
         for (const dds::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
             subscribe(publisher);
         }
-        if (reporter_ && core::SteadyClock::now() >= next_report_) {
+        if (reporter_ && base::SteadyClock::now() >= next_report_) {
             next_report_ += report_period_;
             reporter_->publish(tally_.totals());
         }

@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "base/peer_transport.hpp"
+#include "base/time.hpp"
 #include "basecamp/delivery_tally.hpp"
 #include "basecamp/discovery_queue.hpp"
-#include "basecamp/peer_transport.hpp"
 #include "basecamp/sample_consumer.hpp"
-#include "gateway/core/time.hpp"
 #include "gateway/dds/discovery.hpp"
 
 namespace eprosima::fastdds::dds {
@@ -32,10 +32,10 @@ class ReceiverReporter;
 /// sending gateway what arrived and what was lost on the way (ReceiverReporter, DeliveryTally).
 class Recorder {
   public:
-    /// Creates the participant. `report_period` zero: no receiver reports. Throws core::ConfigError when DDS
+    /// Creates the participant. `report_period` zero: no receiver reports. Throws base::ConfigError when DDS
     /// refuses it.
-    Recorder(int domain, const PeerTransport& transport, SampleConsumer& store,
-             core::Duration report_period = std::chrono::seconds(1));
+    Recorder(int domain, const base::PeerTransport& transport, SampleConsumer& store,
+             base::Duration report_period = std::chrono::seconds(1));
     ~Recorder();
     Recorder(const Recorder&) = delete;
     Recorder& operator=(const Recorder&) = delete;
@@ -44,7 +44,7 @@ class Recorder {
     void only(std::vector<std::string> topics) { only_ = std::move(topics); }
 
     /// Creates readers for topics as they are discovered, until `duration` has passed or `stop` turns true.
-    void run(core::Duration duration, const std::atomic<bool>& stop);
+    void run(base::Duration duration, const std::atomic<bool>& stop);
 
     /// Samples received so far, per topic.
     std::map<std::string, std::uint64_t> received() const;
@@ -58,9 +58,9 @@ class Recorder {
 
     SampleConsumer& store_;
     DeliveryTally tally_;
-    core::Duration report_period_;
+    base::Duration report_period_;
     /// Kept across run() calls, so that a caller may run in slices.
-    core::SteadyTime next_report_ = core::SteadyClock::now() + report_period_;
+    base::SteadyTime next_report_ = base::SteadyClock::now() + report_period_;
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;

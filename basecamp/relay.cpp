@@ -14,9 +14,9 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include "base/config_error.hpp"
 #include "basecamp/receiver_reporter.hpp"
 #include "basecamp/wan_capture.hpp"
-#include "gateway/core/config_error.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
@@ -106,7 +106,7 @@ class Relay::Lane final : public fdds::DataReaderListener {
 };
 
 Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain, fdds::DomainParticipantQos local_qos,
-             SampleStore* store, core::Duration report_period)
+             SampleStore* store, base::Duration report_period)
     : store_(store), report_period_(report_period) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
@@ -115,16 +115,16 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
     // The local participant first: nothing discovered on the WAN may find it missing.
     local_ = factory->create_participant(local_domain, local_qos);
     if (local_ == nullptr) {
-        throw core::ConfigError("--local-domain: cannot create a DDS participant on domain " +
+        throw base::ConfigError("--local-domain: cannot create a DDS participant on domain " +
                                 std::to_string(local_domain));
     }
     wan_ = factory->create_participant(wan_domain, wan_qos, discovery_.get(), fdds::StatusMask::none());
     if (wan_ == nullptr) {
         factory->delete_participant(local_);
-        throw core::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(wan_domain));
+        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(wan_domain));
     }
     discovery_->ignore_participant(wan_->guid().guidPrefix);
-    if (report_period_ > core::Duration::zero()) {
+    if (report_period_ > base::Duration::zero()) {
         reporter_ = std::make_unique<ReceiverReporter>(wan_);
     }
 }
@@ -230,13 +230,13 @@ void Relay::relay(const dds::DiscoveredPublisher& publisher) {
     topic->lanes.push_back(std::move(lane));
 }
 
-void Relay::run(core::Duration duration, const std::atomic<bool>& stop) {
-    const auto end = core::SteadyClock::now() + duration;
-    while (!stop.load() && core::SteadyClock::now() < end) {
+void Relay::run(base::Duration duration, const std::atomic<bool>& stop) {
+    const auto end = base::SteadyClock::now() + duration;
+    while (!stop.load() && base::SteadyClock::now() < end) {
         for (const dds::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
             relay(publisher);
         }
-        if (reporter_ && core::SteadyClock::now() >= next_report_) {
+        if (reporter_ && base::SteadyClock::now() >= next_report_) {
             next_report_ += report_period_;
             reporter_->publish(tally_.totals());
         }

@@ -12,10 +12,10 @@
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
+#include "base/time.hpp"
 #include "basecamp/delivery_tally.hpp"
 #include "basecamp/discovery_queue.hpp"
 #include "basecamp/sample_store.hpp"
-#include "gateway/core/time.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/lane_assignment.hpp"
 
@@ -40,21 +40,21 @@ class ReceiverReporter;
 /// domain), and a writer's samples are passed on by its own lane only.
 class Relay {
   public:
-    /// Creates both participants: on `wan_domain` with `wan_qos` (made for the link: apply_peer_transport), on
+    /// Creates both participants: on `wan_domain` with `wan_qos` (made for the link: base::apply_peer_transport), on
     /// `local_domain` with `local_qos` (Fast DDS's defaults: multicast discovery, shared memory and UDP, perhaps
     /// bound to one interface). With `store`, every sample taken off the WAN is recorded there too, as `record`
     /// does. Every `report_period` (zero: never) it tells each gateway what arrived and what was lost on the way,
-    /// as `record` does: the camp's one WAN participant is the one to report. Throws core::ConfigError naming
+    /// as `record` does: the camp's one WAN participant is the one to report. Throws base::ConfigError naming
     /// the flag when DDS refuses a participant.
     Relay(int wan_domain, eprosima::fastdds::dds::DomainParticipantQos wan_qos, int local_domain,
           eprosima::fastdds::dds::DomainParticipantQos local_qos, SampleStore* store = nullptr,
-          core::Duration report_period = std::chrono::seconds(1));
+          base::Duration report_period = std::chrono::seconds(1));
     ~Relay();
     Relay(const Relay&) = delete;
     Relay& operator=(const Relay&) = delete;
 
     /// Creates lanes for topics as they are discovered, until `duration` has passed or `stop` turns true.
-    void run(core::Duration duration, const std::atomic<bool>& stop);
+    void run(base::Duration duration, const std::atomic<bool>& stop);
 
     /// Readers on the local domain matched with the topic's writers now.
     std::int32_t local_readers(const std::string& topic) const;
@@ -76,9 +76,9 @@ class Relay {
 
     SampleStore* store_;
     DeliveryTally tally_;
-    core::Duration report_period_;
+    base::Duration report_period_;
     /// Kept across run() calls, so that a caller may run in slices.
-    core::SteadyTime next_report_ = core::SteadyClock::now() + report_period_;
+    base::SteadyTime next_report_ = base::SteadyClock::now() + report_period_;
     std::unique_ptr<ReceiverReporter> reporter_;
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
     std::unique_ptr<dds::Discovery> discovery_;

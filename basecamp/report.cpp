@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
 namespace tgw::basecamp {
 
@@ -48,7 +48,7 @@ using Stmt = std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)>;
 Stmt prepare(sqlite3* db, const std::string& path, const char* sql) {
     sqlite3_stmt* stmt = nullptr;
     if (sqlite3_prepare_v2(db, sql, -1, &stmt, nullptr) != SQLITE_OK)
-        throw core::ConfigError(path + ": not a tm-basecamp recording: " + sqlite3_errmsg(db));
+        throw base::ConfigError(path + ": not a tm-basecamp recording: " + sqlite3_errmsg(db));
     return Stmt(stmt, sqlite3_finalize);
 }
 
@@ -73,7 +73,7 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
     if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
         const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
         sqlite3_close(raw);
-        throw core::ConfigError("report: cannot open '" + path + "': " + why);
+        throw base::ConfigError("report: cannot open '" + path + "': " + why);
     }
     Db db(raw, sqlite3_close);
 

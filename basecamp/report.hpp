@@ -42,7 +42,7 @@ struct ReportOptions {
 };
 
 /// Reads a recording made by `tm-basecamp record` (and, with `robot_log`, the gateway's on-robot log). Throws
-/// core::ConfigError naming the file if it cannot.
+/// base::ConfigError naming the file if it cannot.
 std::vector<TopicReport> read_report(const std::string& path, const ReportOptions& options);
 
 /// Sequence number of a serialized tgw::idl::PaperMessage (encapsulation, generated_ns, sequence, data),

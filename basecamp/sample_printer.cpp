@@ -17,8 +17,8 @@ constexpr std::size_t TEXT_HEX_BYTES = 256;
 
 }  // namespace
 
-std::string utc_text(core::WallTime time) {
-    const std::int64_t ns = core::to_ns(time);
+std::string utc_text(base::WallTime time) {
+    const std::int64_t ns = base::to_ns(time);
     std::int64_t seconds = ns / 1'000'000'000;
     std::int64_t fraction = ns % 1'000'000'000;
     if (fraction < 0) {
@@ -55,7 +55,7 @@ void SamplePrinter::print(std::ostream& out, const ReceivedSample& sample) const
         out << '{';
         const char* separator = "";
         if (sample.source) {
-            out << "\"source_timestamp_ns\":" << core::to_ns(*sample.source);
+            out << "\"source_timestamp_ns\":" << base::to_ns(*sample.source);
             separator = ",";
         }
         if (!sample.instance.empty()) {

@@ -8,15 +8,15 @@
 #include <string>
 #include <vector>
 
+#include "base/time.hpp"
 #include "basecamp/type_library.hpp"
-#include "gateway/core/time.hpp"
 
 namespace tgw::basecamp {
 
 /// One sample as it came off the wire.
 struct ReceivedSample {
     std::vector<std::uint8_t> payload;     ///< serialized, encapsulation header first
-    std::optional<core::WallTime> source;  ///< the writer's source timestamp; nullopt when it sent none
+    std::optional<base::WallTime> source;  ///< the writer's source timestamp; nullopt when it sent none
     std::string instance;                  ///< keyed topics: the instance's key hash in hex; empty otherwise
 };
 
@@ -42,7 +42,7 @@ class SamplePrinter {
 };
 
 /// `time` as UTC with nanoseconds, ISO 8601: "2026-11-24T13:41:00.123456789Z".
-std::string utc_text(core::WallTime time);
+std::string utc_text(base::WallTime time);
 
 /// `bytes` as lower-case hex digits, two a byte, without separators.
 std::string hex_text(const std::uint8_t* bytes, std::size_t size);

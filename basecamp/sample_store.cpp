@@ -9,7 +9,7 @@
 #include <mutex>
 #include <thread>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
 namespace tgw::basecamp {
 
@@ -59,14 +59,14 @@ class SampleStore::Impl {
         if (sqlite3_open(path.c_str(), &db_) != SQLITE_OK) {
             const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
             sqlite3_close(db_);
-            throw core::ConfigError(flag + ": cannot open '" + path + "': " + why);
+            throw base::ConfigError(flag + ": cannot open '" + path + "': " + why);
         }
         char* error = nullptr;
         if (sqlite3_exec(db_, SCHEMA, nullptr, nullptr, &error) != SQLITE_OK) {
             const std::string why = error ? error : "unknown error";
             sqlite3_free(error);
             sqlite3_close(db_);
-            throw core::ConfigError(flag + ": cannot create tables in '" + path + "': " + why);
+            throw base::ConfigError(flag + ": cannot create tables in '" + path + "': " + why);
         }
         sqlite3_prepare_v2(db_,
                            "INSERT INTO samples(topic, type_name, payload, source_ns, receive_ns, lifespan_ns, "

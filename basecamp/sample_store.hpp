@@ -14,7 +14,7 @@ namespace tgw::basecamp {
 /// much; the DDS threads that call add() never wait on the disk.
 class SampleStore final : public SampleConsumer {
   public:
-    /// Creates or opens `path`. Throws core::ConfigError naming `flag` and the file if it cannot.
+    /// Creates or opens `path`. Throws base::ConfigError naming `flag` and the file if it cannot.
     SampleStore(const std::string& path, const std::string& flag, int commit_period_ms = 200);
     ~SampleStore();
     SampleStore(const SampleStore&) = delete;

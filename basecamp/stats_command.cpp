@@ -7,7 +7,7 @@
 #include <iostream>
 #include <memory>
 
-#include "basecamp/peer_transport.hpp"
+#include "base/peer_transport.hpp"
 #include "basecamp/recorder.hpp"
 #include "basecamp/topic_stats.hpp"
 
@@ -17,30 +17,30 @@ namespace {
 
 struct StatsOptions {
     int domain = 1;
-    PeerTransport transport;
+    base::PeerTransport transport;
     double window_s = 10.0;
     bool once = false;
     double duration_s = 0.0;
 };
 
 std::int64_t wall_now_ns() {
-    return core::to_ns(core::WallClock::now());
+    return base::to_ns(base::WallClock::now());
 }
 
 int run_stats(const StatsOptions& options) {
-    TopicStats stats(core::from_seconds(options.window_s));
+    TopicStats stats(base::from_seconds(options.window_s));
     // An observer: it sends no receiver reports, so the gateways' view of the link is the recorder's or relay's.
-    Recorder subscriber(options.domain, options.transport, stats, core::Duration::zero());
+    Recorder subscriber(options.domain, options.transport, stats, base::Duration::zero());
     stop_on_signals();
     if (options.once) {
-        subscriber.run(core::from_seconds(options.window_s), stop_requested());
+        subscriber.run(base::from_seconds(options.window_s), stop_requested());
         print_stats_table(std::cout, stats.rows(wall_now_ns()));
         return 0;
     }
     const bool terminal = isatty(STDOUT_FILENO) != 0;
-    const auto end = options.duration_s > 0 ? core::SteadyClock::now() + core::from_seconds(options.duration_s)
-                                            : core::SteadyTime::max();
-    while (!stop_requested().load() && core::SteadyClock::now() < end) {
+    const auto end = options.duration_s > 0 ? base::SteadyClock::now() + base::from_seconds(options.duration_s)
+                                            : base::SteadyTime::max();
+    while (!stop_requested().load() && base::SteadyClock::now() < end) {
         subscriber.run(std::chrono::seconds(1), stop_requested());
         const std::time_t now = std::time(nullptr);
         char clock[16];

@@ -5,7 +5,7 @@
 #include <iostream>
 #include <memory>
 
-#include "basecamp/peer_transport.hpp"
+#include "base/peer_transport.hpp"
 #include "basecamp/recorder.hpp"
 #include "basecamp/status_view.hpp"
 #include "gateway/dds/status_topic.hpp"
@@ -16,7 +16,7 @@ namespace {
 
 struct StatusOptions {
     int domain = 1;
-    PeerTransport transport;
+    base::PeerTransport transport;
     double minutes = 5.0;
     bool once = false;
     double timeout_s = 60.0;
@@ -24,15 +24,15 @@ struct StatusOptions {
 };
 
 int run_status(const StatusOptions& options) {
-    StatusView view(core::from_seconds(60.0 * options.minutes));
-    Recorder subscriber(options.domain, options.transport, view, core::Duration::zero());
+    StatusView view(base::from_seconds(60.0 * options.minutes));
+    Recorder subscriber(options.domain, options.transport, view, base::Duration::zero());
     subscriber.only({dds::STATUS_TOPIC});
     stop_on_signals();
-    const auto now_ns = [] { return core::to_ns(core::WallClock::now()); };
+    const auto now_ns = [] { return base::to_ns(base::WallClock::now()); };
     if (options.once) {
         // On a slow link a status comes every 10 s or more (it takes at most 2 % of the rate).
-        const auto give_up = core::SteadyClock::now() + core::from_seconds(options.timeout_s);
-        while (view.statuses() == 0 && !stop_requested().load() && core::SteadyClock::now() < give_up) {
+        const auto give_up = base::SteadyClock::now() + base::from_seconds(options.timeout_s);
+        while (view.statuses() == 0 && !stop_requested().load() && base::SteadyClock::now() < give_up) {
             subscriber.run(std::chrono::milliseconds(200), stop_requested());
         }
         if (view.statuses() == 0) {
@@ -44,9 +44,9 @@ int run_status(const StatusOptions& options) {
         return 0;
     }
     const bool terminal = isatty(STDOUT_FILENO) != 0;
-    const auto end = options.duration_s > 0 ? core::SteadyClock::now() + core::from_seconds(options.duration_s)
-                                            : core::SteadyTime::max();
-    while (!stop_requested().load() && core::SteadyClock::now() < end) {
+    const auto end = options.duration_s > 0 ? base::SteadyClock::now() + base::from_seconds(options.duration_s)
+                                            : base::SteadyTime::max();
+    while (!stop_requested().load() && base::SteadyClock::now() < end) {
         subscriber.run(std::chrono::seconds(1), stop_requested());
         if (terminal) {
             std::cout << "\x1b[H\x1b[2J";  // one screen, redrawn

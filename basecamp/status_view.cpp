@@ -9,7 +9,7 @@
 
 namespace tgw::basecamp {
 
-StatusView::StatusView(core::Duration history)
+StatusView::StatusView(base::Duration history)
     : history_ns_(std::chrono::duration_cast<std::chrono::nanoseconds>(history).count()) {}
 
 void StatusView::add(SampleRecord sample) {

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "GatewayStatus.h"
+#include "base/time.hpp"
 #include "basecamp/sample_consumer.hpp"
-#include "gateway/core/time.hpp"
 
 namespace tgw::basecamp {
 
@@ -20,7 +20,7 @@ namespace tgw::basecamp {
 class StatusView final : public SampleConsumer {
   public:
     /// `history`: how far back the rate graph goes.
-    explicit StatusView(core::Duration history);
+    explicit StatusView(base::Duration history);
 
     void add_topic(TopicRecord /*topic*/) override {}
     void add(SampleRecord sample) override;

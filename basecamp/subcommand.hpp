@@ -11,7 +11,7 @@ namespace tgw::basecamp {
 
 struct Subcommand {
     CLI::App* command = nullptr;
-    /// Runs the parsed command and returns the exit code. May throw core::ConfigError (exit 2, message printed).
+    /// Runs the parsed command and returns the exit code. May throw base::ConfigError (exit 2, message printed).
     std::function<int()> run;
 };
 

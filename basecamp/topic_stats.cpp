@@ -10,7 +10,7 @@
 
 namespace tgw::basecamp {
 
-TopicStats::TopicStats(core::Duration window)
+TopicStats::TopicStats(base::Duration window)
     : window_ns_(std::chrono::duration_cast<std::chrono::nanoseconds>(window).count()) {}
 
 void TopicStats::add_topic(TopicRecord topic) {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "base/time.hpp"
 #include "basecamp/sample_consumer.hpp"
-#include "gateway/core/time.hpp"
 
 namespace tgw::basecamp {
 
@@ -33,7 +33,7 @@ struct TopicStatsRow {
 /// Thread-safe.
 class TopicStats final : public SampleConsumer {
   public:
-    explicit TopicStats(core::Duration window);
+    explicit TopicStats(base::Duration window);
 
     void add_topic(TopicRecord topic) override;
     void add(SampleRecord sample) override;

@@ -7,9 +7,9 @@
 #include <iterator>
 #include <sstream>
 
+#include "base/config_error.hpp"
 #include "basecamp/embedded_idl.hpp"
 #include "basecamp/idl_parser.hpp"
-#include "gateway/core/config_error.hpp"
 
 namespace tgw::basecamp {
 
@@ -42,14 +42,14 @@ void TypeLibrary::add_idl(std::istream& in, const std::string& file) {
 void TypeLibrary::add_idl_dir(const std::string& dir, const std::string& flag) {
     std::error_code error;
     if (!fs::is_directory(dir, error))
-        throw core::ConfigError(flag + ": '" + dir + "' is not a directory");
+        throw base::ConfigError(flag + ": '" + dir + "' is not a directory");
     std::vector<fs::path> files;
     for (fs::recursive_directory_iterator it(dir, error), end; !error && it != end; it.increment(error)) {
         if (it->path().extension() == ".idl" && it->is_regular_file(error))
             files.push_back(it->path());
     }
     if (error)
-        throw core::ConfigError(flag + ": cannot read '" + dir + "': " + error.message());
+        throw base::ConfigError(flag + ": cannot read '" + dir + "': " + error.message());
     std::sort(files.begin(), files.end());
 
     std::function<void(const fs::path&)> parse_file = [&](const fs::path& path) {
@@ -58,7 +58,7 @@ void TypeLibrary::add_idl_dir(const std::string& dir, const std::string& flag) {
             return;
         std::ifstream in(path, std::ios::binary);
         if (!in)
-            throw core::ConfigError("cannot read '" + path.string() + "'");
+            throw base::ConfigError("cannot read '" + path.string() + "'");
         const auto include = [&](const IdlInclude& target) {
             for (const fs::path& candidate : {path.parent_path() / target.target, fs::path(dir) / target.target}) {
                 if (fs::is_regular_file(candidate, error)) {
@@ -73,8 +73,8 @@ void TypeLibrary::add_idl_dir(const std::string& dir, const std::string& flag) {
     try {
         for (const fs::path& file : files)
             parse_file(file);
-    } catch (const core::ConfigError& e) {
-        throw core::ConfigError(flag + ": " + e.what());
+    } catch (const base::ConfigError& e) {
+        throw base::ConfigError(flag + ": " + e.what());
     }
 }
 
@@ -113,7 +113,7 @@ std::optional<std::int64_t> TypeLibrary::constant(const std::string& name, const
 
 void TypeLibrary::check_type(const IdlType& type) const {
     if (type.kind == IdlType::Kind::named && resolve(type.name, type.scope) == nullptr)
-        throw core::ConfigError(type.where.text() + ": unknown type '" + type.name + "'");
+        throw base::ConfigError(type.where.text() + ": unknown type '" + type.name + "'");
     if (type.element)
         check_type(*type.element);
 }
@@ -124,7 +124,7 @@ void TypeLibrary::check_references() const {
             if (declared->base) {
                 check_type(*declared->base);
                 if (!std::holds_alternative<IdlStruct>(*resolve(declared->base->name, declared->base->scope)))
-                    throw core::ConfigError(declared->base->where.text() + ": '" + declared->base->name +
+                    throw base::ConfigError(declared->base->where.text() + ": '" + declared->base->name +
                                             "' is not a struct to inherit from");
             }
             for (const IdlMember& member : declared->members)
@@ -200,7 +200,7 @@ void TypeLibrary::declare(IdlDeclaration declaration, std::size_t source) {
         return;
     }
     if (!sources_[it->second.source].replaceable || sources_[source].replaceable)
-        throw core::ConfigError(declaration_location(declaration).text() + ": " + name + " is already declared at " +
+        throw base::ConfigError(declaration_location(declaration).text() + ": " + name + " is already declared at " +
                                 declaration_location(it->second.declaration).text());
     it->second = Entry{std::move(declaration), source};
 }

@@ -21,16 +21,16 @@ class TypeLibrary {
     void add_project_types();
 
     /// Parses one IDL file's text; `file` names it in errors. #include lines are ignored: the included types
-    /// must come through another add_idl(). Throws core::ConfigError "FILE:LINE: ...".
+    /// must come through another add_idl(). Throws base::ConfigError "FILE:LINE: ...".
     void add_idl(std::istream& in, const std::string& file);
 
     /// Parses every .idl file under `dir` (subdirectories too, as ROS 2's share/PKG/msg/ layout has them), each
     /// file once however many directories name it. An #include is parsed first when it names a file under `dir`
     /// (or next to the including file). Throws
-    /// core::ConfigError "FLAG: FILE:LINE: ..." when a file does not parse, or `dir` cannot be read.
+    /// base::ConfigError "FLAG: FILE:LINE: ..." when a file does not parse, or `dir` cannot be read.
     void add_idl_dir(const std::string& dir, const std::string& flag);
 
-    /// Throws core::ConfigError "FILE:LINE: ..." naming the first type reference (a member's, a typedef's, a
+    /// Throws base::ConfigError "FILE:LINE: ..." naming the first type reference (a member's, a typedef's, a
     /// base struct's) that names no declared type.
     void check_references() const;
 
@@ -56,7 +56,7 @@ class TypeLibrary {
 
     /// Registers the text of a file being parsed; the index to declare its contents with.
     std::size_t add_source(const std::string& file, const std::string& text);
-    /// Throws core::ConfigError "FILE:LINE: NAME is already declared at FILE:LINE" on a second declaration, unless
+    /// Throws base::ConfigError "FILE:LINE: NAME is already declared at FILE:LINE" on a second declaration, unless
     /// the first came from add_project_types().
     void declare(IdlDeclaration declaration, std::size_t source);
     /// A later constant of the same name replaces the earlier (an #include parsed twice declares it twice).

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <iterator>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/status_topic.hpp"
 
@@ -17,7 +17,7 @@ TopicRecord topic_record(const dds::DiscoveredPublisher& publisher) {
         record.lifespan_ns = publisher.lifespan->count();
     record.keyed = publisher.keyed;
     record.reliable = publisher.qos.reliable;
-    record.discovered_ns = core::to_ns(core::WallClock::now());
+    record.discovered_ns = base::to_ns(base::WallClock::now());
     return record;
 }
 
@@ -28,9 +28,9 @@ SampleRecord sample_record(const TopicRecord& topic, std::vector<std::uint8_t> p
     record.type_name = topic.type_name;
     record.payload = std::move(payload);
     const auto source = dds::to_wall_time(info.source_timestamp);
-    record.source_ns = source ? core::to_ns(*source) : 0;
+    record.source_ns = source ? base::to_ns(*source) : 0;
     const auto reception = dds::to_wall_time(info.reception_timestamp);
-    record.receive_ns = reception ? core::to_ns(*reception) : core::to_ns(core::WallClock::now());
+    record.receive_ns = reception ? base::to_ns(*reception) : base::to_ns(base::WallClock::now());
     record.lifespan_ns = topic.lifespan_ns;
     if (topic.keyed) {
         for (std::size_t i = 0; i < 16; ++i)

@@ -3,7 +3,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
 namespace tgw::sensor {
 
@@ -47,17 +47,17 @@ bool ConfigLineReader::next() {
 }
 
 void ConfigLineReader::fail(const std::string& what) const {
-    throw core::ConfigError(file_name_ + ":" + std::to_string(line_number_) + ": " + what);
+    throw base::ConfigError(file_name_ + ":" + std::to_string(line_number_) + ": " + what);
 }
 
 void ConfigLineReader::fail_file(const std::string& what) const {
-    throw core::ConfigError(file_name_ + ": " + what);
+    throw base::ConfigError(file_name_ + ": " + what);
 }
 
 std::ifstream open_config_file(const std::string& path) {
     std::ifstream in(path);
     if (!in)
-        throw core::ConfigError(path + ": cannot open: " + std::strerror(errno));
+        throw base::ConfigError(path + ": cannot open: " + std::strerror(errno));
     return in;
 }
 

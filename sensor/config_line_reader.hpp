@@ -12,12 +12,12 @@ namespace tgw::sensor {
 
 /// Reads a line-based configuration file (a rate trace, a link quality table) field by field: `#` starts a comment
 /// to the end of the line, lines without a field are skipped, fields are separated by blanks (so CRLF line ends
-/// are allowed). Errors are core::ConfigError naming the file and line.
+/// are allowed). Errors are base::ConfigError naming the file and line.
 class ConfigLineReader {
   public:
     ConfigLineReader(std::istream& in, std::string file_name) : in_(in), file_name_(std::move(file_name)) {}
 
-    /// Moves to the next line with a field; false at the end. Throws core::ConfigError "FILE: read error after
+    /// Moves to the next line with a field; false at the end. Throws base::ConfigError "FILE: read error after
     /// line N" if the stream failed.
     bool next();
 
@@ -26,10 +26,10 @@ class ConfigLineReader {
 
     std::size_t line_number() const { return line_number_; }
 
-    /// Throws core::ConfigError "FILE:LINE: what", for the current line.
+    /// Throws base::ConfigError "FILE:LINE: what", for the current line.
     [[noreturn]] void fail(const std::string& what) const;
 
-    /// Throws core::ConfigError "FILE: what", for the file as a whole.
+    /// Throws base::ConfigError "FILE: what", for the file as a whole.
     [[noreturn]] void fail_file(const std::string& what) const;
 
   private:
@@ -40,7 +40,7 @@ class ConfigLineReader {
     std::size_t line_number_ = 0;
 };
 
-/// Opens `path` for reading; throws core::ConfigError "PATH: cannot open: REASON" if it cannot.
+/// Opens `path` for reading; throws base::ConfigError "PATH: cannot open: REASON" if it cannot.
 std::ifstream open_config_file(const std::string& path);
 
 }  // namespace tgw::sensor

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <utility>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
 namespace tgw::sensor {
 
@@ -30,10 +30,10 @@ const char* verdict_name(LinkVerdict verdict) {
 }  // namespace
 
 DeliveredRateCheck::DeliveredRateCheck(std::unique_ptr<RateSensor> inner, DeliveredRateSources sources,
-                                       DeliveredRateConfig config, const core::Clock& clock, SensorLog log)
+                                       DeliveredRateConfig config, const base::Clock& clock, SensorLog log)
     : inner_(std::move(inner)), sources_(std::move(sources)), estimator_(config, clock), log_(std::move(log)) {
     if (!sources_.kernel)
-        throw core::ConfigError("delivered-rate check: no source of kernel counters");
+        throw base::ConfigError("delivered-rate check: no source of kernel counters");
 }
 
 RateReading DeliveredRateCheck::read() {

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "sensor/delivered_rate_estimator.hpp"
 #include "sensor/guarded_sensor.hpp"
 #include "sensor/link_counter_reader.hpp"
@@ -30,10 +30,10 @@ struct DeliveredRateSources {
 /// logged once. Not thread-safe.
 class DeliveredRateCheck final : public RateSensor {
   public:
-    /// `clock` must outlive the check; `log` may be empty. Throws core::ConfigError when `config` is invalid or
+    /// `clock` must outlive the check; `log` may be empty. Throws base::ConfigError when `config` is invalid or
     /// `sources.kernel` is empty.
     DeliveredRateCheck(std::unique_ptr<RateSensor> inner, DeliveredRateSources sources, DeliveredRateConfig config,
-                       const core::Clock& clock, SensorLog log);
+                       const base::Clock& clock, SensorLog log);
 
     /// The inner sensor's reading with its rate capped where the link delivers less; `detail` gains the
     /// delivered rate and the cap.
@@ -58,7 +58,7 @@ class DeliveredRateCheck final : public RateSensor {
 };
 
 /// The sources for `interface` in the caller's network namespace: a LinkCounterReader (shared by the
-/// returned function) and `sent_bytes`. Throws core::ConfigError naming the interface when it does not exist.
+/// returned function) and `sent_bytes`. Throws base::ConfigError naming the interface when it does not exist.
 DeliveredRateSources kernel_sources(const std::string& interface, std::function<std::uint64_t()> sent_bytes);
 
 }  // namespace tgw::sensor

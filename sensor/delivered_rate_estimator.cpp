@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
 namespace tgw::sensor {
 
@@ -23,23 +23,23 @@ std::string DeliveredRateConfig::validate() const {
         return "decrease_factor must be in (0, 1)";
     if (!(increase_fraction_per_s > 0.0 && std::isfinite(increase_fraction_per_s)))
         return "increase_fraction_per_s must be above 0";
-    if (max_queue_delay <= core::Duration::zero())
+    if (max_queue_delay <= base::Duration::zero())
         return "max_queue_delay must be above 0";
-    if (decrease_interval < core::Duration::zero())
+    if (decrease_interval < base::Duration::zero())
         return "decrease_interval must not be negative";
     if (!(min_cap_fraction > 0.0 && min_cap_fraction <= 1.0))
         return "min_cap_fraction must be in (0, 1]";
     if (!(min_utilisation >= 0.0 && min_utilisation <= 1.0))
         return "min_utilisation must be in [0, 1]";
-    if (delivered_window <= core::Duration::zero())
+    if (delivered_window <= base::Duration::zero())
         return "delivered_window must be above 0";
     return {};
 }
 
-DeliveredRateEstimator::DeliveredRateEstimator(DeliveredRateConfig config, const core::Clock& clock)
+DeliveredRateEstimator::DeliveredRateEstimator(DeliveredRateConfig config, const base::Clock& clock)
     : config_(config), clock_(clock) {
     if (auto error = config_.validate(); !error.empty())
-        throw core::ConfigError("delivered-rate check: " + error);
+        throw base::ConfigError("delivered-rate check: " + error);
 }
 
 double DeliveredRateEstimator::budget(double claimed_bps) const {
@@ -47,7 +47,7 @@ double DeliveredRateEstimator::budget(double claimed_bps) const {
 }
 
 double DeliveredRateEstimator::update(const LinkCounters& counters, double claimed_bps) {
-    const core::SteadyTime now = clock_.now();
+    const base::SteadyTime now = clock_.now();
     if (!std::isfinite(claimed_bps) || claimed_bps < 0.0)
         return 0.0;
     if (!previous_ || any_went_back(counters, previous_->counters) || now <= previous_->at) {
@@ -60,18 +60,18 @@ double DeliveredRateEstimator::update(const LinkCounters& counters, double claim
     }
     const Sample before = *previous_;
     previous_ = Sample{now, counters};
-    const double interval_s = core::to_seconds(now - before.at);
+    const double interval_s = base::to_seconds(now - before.at);
     const double sent_bps = BITS_PER_BYTE *
                             static_cast<double>(counters.gateway_sent_bytes - before.counters.gateway_sent_bytes) /
                             interval_s;
     if (now - window_start_->at >= config_.delivered_window) {
         delivered_bps_ = BITS_PER_BYTE * static_cast<double>(counters.tx_bytes - window_start_->counters.tx_bytes) /
-                         core::to_seconds(now - window_start_->at);
+                         base::to_seconds(now - window_start_->at);
         window_start_ = previous_;
     }
 
     const double effective_bps = budget(claimed_bps);
-    const double drain_bytes = effective_bps / BITS_PER_BYTE * core::to_seconds(config_.max_queue_delay);
+    const double drain_bytes = effective_bps / BITS_PER_BYTE * base::to_seconds(config_.max_queue_delay);
     const double backlog_limit = std::max(drain_bytes, static_cast<double>(config_.min_backlog_bytes));
     const bool dropped = counters.drops > before.counters.drops;
     const bool long_queue = static_cast<double>(counters.backlog_bytes) > backlog_limit;

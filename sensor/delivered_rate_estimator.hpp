@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 
 namespace tgw::sensor {
 
@@ -25,17 +25,17 @@ struct DeliveredRateConfig {
     /// Additive increase, as a fraction of the sensor's rate per second of congestion-free sending.
     double increase_fraction_per_s = 0.02;
     /// A backlog the link needs longer than this to drain (at the budget's rate) is congestion...
-    core::Duration max_queue_delay = std::chrono::milliseconds(250);
+    base::Duration max_queue_delay = std::chrono::milliseconds(250);
     /// ...but never less than this many bytes: two full Ethernet frames queued are normal on a slow link.
     std::uint64_t min_backlog_bytes = 3'028;
     /// At most one decrease per interval: the queue needs time to drain before the last cut can show.
-    core::Duration decrease_interval = std::chrono::seconds(1);
+    base::Duration decrease_interval = std::chrono::seconds(1);
     /// The cap never goes below this fraction of the sensor's rate, in (0, 1].
     double min_cap_fraction = 0.1;
     /// Raise the cap only when the gateway sent at least this fraction of it: an idle link proves nothing.
     double min_utilisation = 0.5;
     /// The delivered rate is measured over windows at least this long: shorter ones see a shaper's bursts.
-    core::Duration delivered_window = std::chrono::seconds(1);
+    base::Duration delivered_window = std::chrono::seconds(1);
 
     /// "" when usable, else what is wrong, naming the field.
     std::string validate() const;
@@ -57,8 +57,8 @@ enum class LinkVerdict {
 /// counters come from the caller.
 class DeliveredRateEstimator {
   public:
-    /// Throws core::ConfigError when `config` is invalid. `clock` must outlive the estimator.
-    DeliveredRateEstimator(DeliveredRateConfig config, const core::Clock& clock);
+    /// Throws base::ConfigError when `config` is invalid. `clock` must outlive the estimator.
+    DeliveredRateEstimator(DeliveredRateConfig config, const base::Clock& clock);
 
     /// Takes one sample at clock.now() with the sensor's current rate; returns the rate the budget should use:
     /// the claim, or the cap when that is lower. A claim that is not a finite rate >= 0 gives 0 and leaves the state as
@@ -73,19 +73,19 @@ class DeliveredRateEstimator {
 
   private:
     struct Sample {
-        core::SteadyTime at;
+        base::SteadyTime at;
         LinkCounters counters;
     };
 
     double budget(double claimed_bps) const;
 
     DeliveredRateConfig config_;
-    const core::Clock& clock_;
+    const base::Clock& clock_;
     std::optional<Sample> previous_;
     std::optional<Sample> window_start_;
     std::optional<double> cap_bps_;
     std::optional<double> delivered_bps_;
-    std::optional<core::SteadyTime> last_decrease_;
+    std::optional<base::SteadyTime> last_decrease_;
     LinkVerdict verdict_ = LinkVerdict::unknown;
 };
 

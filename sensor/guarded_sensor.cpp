@@ -5,7 +5,7 @@
 #include <sstream>
 #include <utility>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
 namespace tgw::sensor {
 
@@ -29,17 +29,17 @@ std::string bps_text(double rate_bps) {
     return std::to_string(static_cast<long long>(std::llround(rate_bps))) + " bit/s";
 }
 
-std::string seconds_text(core::Duration d) {
+std::string seconds_text(base::Duration d) {
     std::ostringstream out;
     out.precision(3);
-    out << core::to_seconds(d) << " s";
+    out << base::to_seconds(d) << " s";
     return out.str();
 }
 
 }  // namespace
 
 std::string GuardConfig::validate() const {
-    if (hold < core::Duration::zero())
+    if (hold < base::Duration::zero())
         return "hold must not be negative";
     if (!std::isfinite(floor_bps) || floor_bps < 0.0)
         return "floor_bps must be a rate >= 0 bit/s";
@@ -50,13 +50,13 @@ std::string GuardConfig::validate() const {
     return {};
 }
 
-GuardedSensor::GuardedSensor(std::unique_ptr<RateSensor> inner, GuardConfig config, const core::Clock& clock,
+GuardedSensor::GuardedSensor(std::unique_ptr<RateSensor> inner, GuardConfig config, const base::Clock& clock,
                              SensorLog log)
     : inner_(std::move(inner)), config_(config), clock_(clock), log_(std::move(log)) {
     if (!inner_)
-        throw core::ConfigError("guarded sensor: no sensor to guard");
+        throw base::ConfigError("guarded sensor: no sensor to guard");
     if (auto error = config_.validate(); !error.empty())
-        throw core::ConfigError("sensor " + inner_->describe() + ": " + error);
+        throw base::ConfigError("sensor " + inner_->describe() + ": " + error);
 }
 
 void GuardedSensor::log(SensorLogLevel level, const std::string& message) const {
@@ -64,7 +64,7 @@ void GuardedSensor::log(SensorLogLevel level, const std::string& message) const 
         log_(level, "sensor " + inner_->describe() + ": " + message);
 }
 
-void GuardedSensor::failure_ended(core::SteadyTime now) {
+void GuardedSensor::failure_ended(base::SteadyTime now) {
     if (failure_.empty())
         return;
     log(SensorLogLevel::info, "failure ended after " + seconds_text(now - failure_start_) + ": " + failure_);
@@ -72,7 +72,7 @@ void GuardedSensor::failure_ended(core::SteadyTime now) {
     failure_kind_.clear();
 }
 
-RateReading GuardedSensor::fallback(const std::string& error, core::SteadyTime now) {
+RateReading GuardedSensor::fallback(const std::string& error, base::SteadyTime now) {
     const std::string kind = kind_of(error);
     const bool new_episode = kind != failure_kind_;
     if (new_episode) {
@@ -111,7 +111,7 @@ RateReading GuardedSensor::fallback(const std::string& error, core::SteadyTime n
 }
 
 RateReading GuardedSensor::read() {
-    const core::SteadyTime now = clock_.now();
+    const base::SteadyTime now = clock_.now();
     RateReading raw = inner_->read();
     if (raw.ok && !(std::isfinite(raw.rate_bps) && raw.rate_bps >= 0.0)) {
         raw.ok = false;

@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "sensor/rate_sensor.hpp"
 
 namespace tgw::sensor {
@@ -14,7 +14,7 @@ namespace tgw::sensor {
 struct GuardConfig {
     /// How long after the last good reading its value still stands in for failed ones. A few polls: long enough
     /// to ride out a lost netlink reply or an access point's roam, short enough not to trust a stale rate.
-    core::Duration hold = std::chrono::seconds(10);
+    base::Duration hold = std::chrono::seconds(10);
     /// The rate used once the hold is over (or before any good reading), in bit/s. 10 kbit/s is the bottom of
     /// the paper's range: enough for the shortest-TTL topics of its workload. Set it to what the radio always
     /// carries.
@@ -47,8 +47,8 @@ using SensorLog = std::function<void(SensorLogLevel, const std::string&)>;
 /// starts and when it ends. Pure logic: time comes from the injected clock. Not thread-safe.
 class GuardedSensor final : public RateSensor {
   public:
-    /// `clock` must outlive the sensor; `log` may be empty. Throws core::ConfigError when `config` is invalid.
-    GuardedSensor(std::unique_ptr<RateSensor> inner, GuardConfig config, const core::Clock& clock, SensorLog log);
+    /// `clock` must outlive the sensor; `log` may be empty. Throws base::ConfigError when `config` is invalid.
+    GuardedSensor(std::unique_ptr<RateSensor> inner, GuardConfig config, const base::Clock& clock, SensorLog log);
 
     /// Always ok, with a rate >= 0. `detail` is the inner sensor's, plus what the guard did ("holding ...",
     /// "floor ...") and why; queued_bytes is passed on from a good reading.
@@ -60,25 +60,25 @@ class GuardedSensor final : public RateSensor {
 
   private:
     void log(SensorLogLevel level, const std::string& message) const;
-    void failure_ended(core::SteadyTime now);
-    RateReading fallback(const std::string& error, core::SteadyTime now);
+    void failure_ended(base::SteadyTime now);
+    RateReading fallback(const std::string& error, base::SteadyTime now);
 
     std::unique_ptr<RateSensor> inner_;
     GuardConfig config_;
-    const core::Clock& clock_;
+    const base::Clock& clock_;
     SensorLog log_;
 
     GuardState state_ = GuardState::floor;
     std::optional<double> smoothed_bps_;  ///< before the margin
-    std::optional<core::SteadyTime> last_good_;
+    std::optional<base::SteadyTime> last_good_;
     std::string failure_;       ///< the error of the current failure episode, "" when none
     std::string failure_kind_;  ///< failure_ with its digits left out
-    core::SteadyTime failure_start_{};
+    base::SteadyTime failure_start_{};
 };
 
 /// make_sensor(spec, clock) wrapped in a GuardedSensor: what the gateway uses for `--sensor SPEC` with a guard.
-/// Throws core::ConfigError as make_sensor does, or naming the field of an invalid `config`.
+/// Throws base::ConfigError as make_sensor does, or naming the field of an invalid `config`.
 std::unique_ptr<RateSensor> make_guarded_sensor(const std::string& spec, const GuardConfig& config,
-                                                const core::Clock& clock, SensorLog log);
+                                                const base::Clock& clock, SensorLog log);
 
 }  // namespace tgw::sensor

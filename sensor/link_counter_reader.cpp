@@ -8,7 +8,7 @@
 
 #include <utility>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "sensor/netlink_handles.hpp"
 
 namespace tgw::sensor {
@@ -26,13 +26,13 @@ KernelCountersReading failure(std::string error) {
 LinkCounterReader::LinkCounterReader(std::string interface)
     : interface_(std::move(interface)), socket_(nl_socket_alloc()) {
     if (interface_.empty())
-        throw core::ConfigError("no interface given for the delivered-rate check");
+        throw base::ConfigError("no interface given for the delivered-rate check");
     if (!socket_)
-        throw core::ConfigError("cannot allocate a netlink socket");
+        throw base::ConfigError("cannot allocate a netlink socket");
     if (const int err = nl_connect(socket_.get(), NETLINK_ROUTE); err < 0)
-        throw core::ConfigError(std::string("cannot open rtnetlink: ") + nl_geterror(err));
+        throw base::ConfigError(std::string("cannot open rtnetlink: ") + nl_geterror(err));
     if (const KernelCountersReading first = read(); !first.ok)
-        throw core::ConfigError(first.error);
+        throw base::ConfigError(first.error);
 }
 
 LinkCounterReader::~LinkCounterReader() = default;

@@ -24,7 +24,7 @@ struct KernelCountersReading {
 /// the delivered-rate check. Reads the network namespace of the thread that built it. Not thread-safe.
 class LinkCounterReader {
   public:
-    /// Throws core::ConfigError naming the interface when it does not exist.
+    /// Throws base::ConfigError naming the interface when it does not exist.
     explicit LinkCounterReader(std::string interface);
     ~LinkCounterReader();
 

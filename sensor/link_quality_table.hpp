@@ -35,10 +35,10 @@ class LinkQualityTable {
 };
 
 /// Parses lines of `quality bits_per_second` (the rate may carry a k, M or G suffix); `#` starts a comment,
-/// blank lines are allowed; qualities strictly increasing. Throws core::ConfigError "FILE:LINE: what is wrong".
+/// blank lines are allowed; qualities strictly increasing. Throws base::ConfigError "FILE:LINE: what is wrong".
 LinkQualityTable parse_link_quality_table(std::istream& in, const std::string& file_name);
 
-/// Opens `path` and parses it; throws core::ConfigError naming the file if it cannot be read or is malformed.
+/// Opens `path` and parses it; throws base::ConfigError naming the file if it cannot be read or is malformed.
 LinkQualityTable load_link_quality_table(const std::string& path);
 
 }  // namespace tgw::sensor

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "sensor/netlink_handles.hpp"
 
 namespace tgw::sensor {
@@ -46,18 +46,18 @@ struct Nl80211Sensor::Dump {
 Nl80211Sensor::Nl80211Sensor(std::string interface, std::optional<MacAddress> peer)
     : interface_(std::move(interface)), peer_(peer) {
     if (interface_.empty())
-        throw core::ConfigError("no interface given (nl80211:IFACE[:PEER_MAC])");
+        throw base::ConfigError("no interface given (nl80211:IFACE[:PEER_MAC])");
     const unsigned ifindex = if_nametoindex(interface_.c_str());
     if (ifindex == 0)
-        throw core::ConfigError("no interface " + interface_);
+        throw base::ConfigError("no interface " + interface_);
     if (auto error = connect(); !error.empty())
-        throw core::ConfigError(error);
+        throw base::ConfigError(error);
     const Dump dump = dump_stations(static_cast<int>(ifindex));
     if (means_not_wireless(dump.nl_error))
-        throw core::ConfigError(interface_ + " is not a wireless interface: nl80211 does not know it (" +
+        throw base::ConfigError(interface_ + " is not a wireless interface: nl80211 does not know it (" +
                                 nl_geterror(dump.nl_error) + ")");
     if (dump.nl_error < 0)
-        throw core::ConfigError("cannot list the stations of " + interface_ + ": " + nl_geterror(dump.nl_error));
+        throw base::ConfigError("cannot list the stations of " + interface_ + ": " + nl_geterror(dump.nl_error));
 }
 
 Nl80211Sensor::~Nl80211Sensor() = default;

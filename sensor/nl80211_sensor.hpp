@@ -15,7 +15,7 @@ namespace tgw::sensor {
 /// Reads the network namespace of the thread that built it. Not thread-safe: one poller at a time.
 class Nl80211Sensor final : public RateSensor {
   public:
-    /// Throws core::ConfigError naming the interface when it does not exist, or is not a wireless interface (the
+    /// Throws base::ConfigError naming the interface when it does not exist, or is not a wireless interface (the
     /// kernel has no nl80211, or nl80211 does not know the interface). Not being associated yet is no error: the
     /// readings fail until it is.
     Nl80211Sensor(std::string interface, std::optional<MacAddress> peer);

@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <utility>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "sensor/netlink_handles.hpp"
 
 namespace tgw::sensor {
@@ -97,14 +97,14 @@ RateReading read_root_shaper(nl_sock* socket, const std::string& interface) {
 
 QdiscSensor::QdiscSensor(std::string interface) : interface_(std::move(interface)), socket_(nl_socket_alloc()) {
     if (interface_.empty())
-        throw core::ConfigError("no interface given (qdisc:IFACE)");
+        throw base::ConfigError("no interface given (qdisc:IFACE)");
     if (!socket_)
-        throw core::ConfigError("cannot allocate a netlink socket");
+        throw base::ConfigError("cannot allocate a netlink socket");
     if (const int err = nl_connect(socket_.get(), NETLINK_ROUTE); err < 0)
-        throw core::ConfigError(std::string("cannot open rtnetlink: ") + nl_geterror(err));
+        throw base::ConfigError(std::string("cannot open rtnetlink: ") + nl_geterror(err));
     const RateReading first = read();
     if (!first.ok)
-        throw core::ConfigError(first.error);
+        throw base::ConfigError(first.error);
 }
 
 QdiscSensor::~QdiscSensor() = default;

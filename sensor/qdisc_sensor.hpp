@@ -13,7 +13,7 @@ namespace tgw::sensor {
 /// it. Not thread-safe: one poller at a time.
 class QdiscSensor final : public RateSensor {
   public:
-    /// Throws core::ConfigError naming the interface when it does not exist or has no shaper we understand.
+    /// Throws base::ConfigError naming the interface when it does not exist or has no shaper we understand.
     explicit QdiscSensor(std::string interface);
     ~QdiscSensor() override;
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 
 namespace tgw::sensor {
 
@@ -38,8 +38,8 @@ class RateSensor {
     virtual std::string describe() const = 0;
 };
 
-/// Builds a sensor from a SPEC of DESIGN section 6 (`fixed:BPS`, `trace:FILE`, ...). Throws core::ConfigError
+/// Builds a sensor from a SPEC of DESIGN section 6 (`fixed:BPS`, `trace:FILE`, ...). Throws base::ConfigError
 /// naming the spec, file and line when it is malformed or the sensor cannot start.
-std::unique_ptr<RateSensor> make_sensor(const std::string& spec, const core::Clock& clock);
+std::unique_ptr<RateSensor> make_sensor(const std::string& spec, const base::Clock& clock);
 
 }  // namespace tgw::sensor

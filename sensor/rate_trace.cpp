@@ -30,9 +30,9 @@ std::optional<double> parse_seconds(std::string_view text) {
     return value;
 }
 
-std::string format_seconds(core::Duration d) {
+std::string format_seconds(base::Duration d) {
     std::ostringstream out;
-    out << core::to_seconds(d);
+    out << base::to_seconds(d);
     return out.str();
 }
 
@@ -63,7 +63,7 @@ RateTrace parse_rate_trace(std::istream& in, const std::string& file_name) {
         if (*rate < 0.0)
             lines.fail("rate " + rate_text + " is negative");
 
-        const core::Duration at = core::from_seconds(*seconds);
+        const base::Duration at = base::from_seconds(*seconds);
         if (!steps.empty() && at <= steps.back().at)
             lines.fail("time " + time_text + " s is not after the previous step's " + format_seconds(steps.back().at) +
                        " s");

@@ -2,7 +2,7 @@
 #include <optional>
 #include <string_view>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "sensor/bit_rate.hpp"
 #include "sensor/fixed_sensor.hpp"
 #include "sensor/guarded_sensor.hpp"
@@ -21,7 +21,7 @@ constexpr const char* KNOWN_SPECS =
     "fixed:BPS, trace:FILE, qdisc:IFACE, nl80211:IFACE[:PEER_MAC], wireless:IFACE[:table=FILE]";
 
 [[noreturn]] void fail(const std::string& spec, const std::string& what) {
-    throw core::ConfigError("sensor " + spec + ": " + what);
+    throw base::ConfigError("sensor " + spec + ": " + what);
 }
 
 std::unique_ptr<RateSensor> make_fixed(const std::string& spec, std::string_view arg) {
@@ -33,14 +33,14 @@ std::unique_ptr<RateSensor> make_fixed(const std::string& spec, std::string_view
     return std::make_unique<FixedSensor>(*rate);
 }
 
-std::unique_ptr<RateSensor> make_trace(const std::string& spec, std::string_view arg, const core::Clock& clock) {
+std::unique_ptr<RateSensor> make_trace(const std::string& spec, std::string_view arg, const base::Clock& clock) {
     if (arg.empty())
         fail(spec, "no trace file given (trace:FILE)");
     const std::string file(arg);
     // load_rate_trace's message names the file and line; prefix the spec so the flag is named too.
     try {
         return std::make_unique<TraceSensor>(load_rate_trace(file), file, clock);
-    } catch (const core::ConfigError& e) {
+    } catch (const base::ConfigError& e) {
         fail(spec, e.what());
     }
 }
@@ -48,7 +48,7 @@ std::unique_ptr<RateSensor> make_trace(const std::string& spec, std::string_view
 std::unique_ptr<RateSensor> make_qdisc(const std::string& spec, std::string_view arg) {
     try {
         return std::make_unique<QdiscSensor>(std::string(arg));
-    } catch (const core::ConfigError& e) {
+    } catch (const base::ConfigError& e) {
         fail(spec, e.what());
     }
 }
@@ -66,7 +66,7 @@ std::unique_ptr<RateSensor> make_nl80211(const std::string& spec, std::string_vi
     }
     try {
         return std::make_unique<Nl80211Sensor>(interface, peer);
-    } catch (const core::ConfigError& e) {
+    } catch (const base::ConfigError& e) {
         fail(spec, e.what());
     }
 }
@@ -88,16 +88,16 @@ std::unique_ptr<RateSensor> make_wireless(const std::string& spec, std::string_v
             interface, table_file.empty() ? LinkQualityTable::default_table() : load_link_quality_table(table_file));
         sensor->set_table_name(table_file);
         return sensor;
-    } catch (const core::ConfigError& e) {
+    } catch (const base::ConfigError& e) {
         fail(spec, e.what());
     }
 }
 
 }  // namespace
 
-std::unique_ptr<RateSensor> make_sensor(const std::string& spec, const core::Clock& clock) {
+std::unique_ptr<RateSensor> make_sensor(const std::string& spec, const base::Clock& clock) {
     if (spec.empty())
-        throw core::ConfigError(std::string("sensor: empty SPEC, expected one of ") + KNOWN_SPECS);
+        throw base::ConfigError(std::string("sensor: empty SPEC, expected one of ") + KNOWN_SPECS);
     const auto colon = spec.find(':');
     if (colon == std::string::npos)
         fail(spec, std::string("expected KIND:ARGUMENT, one of ") + KNOWN_SPECS);
@@ -117,7 +117,7 @@ std::unique_ptr<RateSensor> make_sensor(const std::string& spec, const core::Clo
 }
 
 std::unique_ptr<RateSensor> make_guarded_sensor(const std::string& spec, const GuardConfig& config,
-                                                const core::Clock& clock, SensorLog log) {
+                                                const base::Clock& clock, SensorLog log) {
     // Before the sensor is built: a bad guard should not cost a netlink round trip, and names the spec as given.
     if (auto error = config.validate(); !error.empty())
         fail(spec, error);

@@ -7,16 +7,16 @@
 #include <iostream>
 #include <thread>
 
-#include "gateway/apps/cli_checks.hpp"
-#include "gateway/core/config_error.hpp"
+#include "base/cli_checks.hpp"
+#include "base/config_error.hpp"
 #include "sensor/delivered_rate_check.hpp"
 #include "sensor/guarded_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
 
 namespace {
 
-std::string wall_time_text(tgw::core::WallTime t) {
-    const std::time_t seconds = tgw::core::WallClock::to_time_t(t);
+std::string wall_time_text(tgw::base::WallTime t) {
+    const std::time_t seconds = tgw::base::WallClock::to_time_t(t);
     const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count() % 1000;
     std::tm tm{};
     gmtime_r(&seconds, &tm);
@@ -37,12 +37,12 @@ int main(int argc, char** argv) {
     app.add_option("--sensor", spec,
                    "fixed:BPS, trace:FILE, qdisc:IFACE, nl80211:IFACE[:PEER_MAC], wireless:IFACE[:table=FILE]")
         ->required();
-    app.add_option("--interval", interval_ms, "milliseconds between readings")->check(tgw::cli::positive());
-    app.add_option("--count", count, "readings to print, 0 = until interrupted")->check(tgw::cli::non_negative());
+    app.add_option("--interval", interval_ms, "milliseconds between readings")->check(tgw::base::positive());
+    app.add_option("--count", count, "readings to print, 0 = until interrupted")->check(tgw::base::non_negative());
     // The guard the gateway can put around its sensor, to see what the budget would get.
     bool guard = false;
     tgw::sensor::GuardConfig guard_config;
-    double hold_s = tgw::core::to_seconds(guard_config.hold);
+    double hold_s = tgw::base::to_seconds(guard_config.hold);
     app.add_flag("--guard", guard, "hold, floor, smooth and discount the readings as the gateway's guard does");
     app.add_option("--hold", hold_s, "with --guard: seconds a failed sensor keeps its last good rate")
         ->capture_default_str();
@@ -60,11 +60,11 @@ int main(int argc, char** argv) {
         return app.exit(e) == 0 ? 0 : 2;
     }
 
-    tgw::core::SystemClock clock;
+    tgw::base::SystemClock clock;
     std::unique_ptr<tgw::sensor::RateSensor> sensor;
     try {
         if (guard) {
-            guard_config.hold = tgw::core::from_seconds(hold_s);
+            guard_config.hold = tgw::base::from_seconds(hold_s);
             sensor = tgw::sensor::make_guarded_sensor(spec, guard_config, clock,
                                                       [](tgw::sensor::SensorLogLevel, const std::string& message) {
                                                           std::cerr << "tm-sense: " << message << std::endl;
@@ -76,8 +76,8 @@ int main(int argc, char** argv) {
             tgw::sensor::DeliveredRateSources sources;
             try {
                 sources = tgw::sensor::kernel_sources(delivered_interface, {});
-            } catch (const tgw::core::ConfigError& e) {
-                throw tgw::core::ConfigError(std::string("delivered-check: ") + e.what());
+            } catch (const tgw::base::ConfigError& e) {
+                throw tgw::base::ConfigError(std::string("delivered-check: ") + e.what());
             }
             sensor = std::make_unique<tgw::sensor::DeliveredRateCheck>(
                 std::move(sensor), std::move(sources), tgw::sensor::DeliveredRateConfig{}, clock,
@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
                     std::cerr << "tm-sense: " << message << std::endl;
                 });
         }
-    } catch (const tgw::core::ConfigError& e) {
+    } catch (const tgw::base::ConfigError& e) {
         std::cerr << "tm-sense: --" << e.what() << "\n";  // the message starts "sensor SPEC: "
         return 2;
     }

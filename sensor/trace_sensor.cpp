@@ -4,7 +4,7 @@
 
 namespace tgw::sensor {
 
-TraceSensor::TraceSensor(RateTrace trace, std::string file_name, const core::Clock& clock)
+TraceSensor::TraceSensor(RateTrace trace, std::string file_name, const base::Clock& clock)
     : trace_(std::move(trace)), file_name_(std::move(file_name)), clock_(clock), start_(clock.now()) {}
 
 RateReading TraceSensor::read() {

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "sensor/rate_sensor.hpp"
 #include "sensor/rate_trace.hpp"
 
@@ -13,7 +13,7 @@ namespace tgw::sensor {
 class TraceSensor final : public RateSensor {
   public:
     /// `clock` must outlive the sensor. `file_name` is only for describe().
-    TraceSensor(RateTrace trace, std::string file_name, const core::Clock& clock);
+    TraceSensor(RateTrace trace, std::string file_name, const base::Clock& clock);
 
     RateReading read() override;
     std::string describe() const override;
@@ -21,8 +21,8 @@ class TraceSensor final : public RateSensor {
   private:
     RateTrace trace_;
     std::string file_name_;
-    const core::Clock& clock_;
-    core::SteadyTime start_;
+    const base::Clock& clock_;
+    base::SteadyTime start_;
 };
 
 }  // namespace tgw::sensor

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "sensor/proc_net_wireless.hpp"
 
 namespace tgw::sensor {
@@ -24,19 +24,19 @@ std::string number_text(double value) {
 WirelessSensor::WirelessSensor(std::string interface, LinkQualityTable table, std::string proc_path)
     : interface_(std::move(interface)), table_(std::move(table)), proc_path_(std::move(proc_path)) {
     if (interface_.empty())
-        throw core::ConfigError("no interface given (wireless:IFACE[:table=FILE])");
+        throw base::ConfigError("no interface given (wireless:IFACE[:table=FILE])");
     std::ifstream in(proc_path_);
     if (!in)
-        throw core::ConfigError(interface_ + " is not a wireless interface: cannot read " + proc_path_ + " (" +
+        throw base::ConfigError(interface_ + " is not a wireless interface: cannot read " + proc_path_ + " (" +
                                 std::strerror(errno) + "; no wireless extensions in this kernel)");
     const WirelessTable listed = parse_proc_net_wireless(in);
     if (!listed.ok)
-        throw core::ConfigError(proc_path_ + ": " + listed.error);
+        throw base::ConfigError(proc_path_ + ": " + listed.error);
     for (const WirelessStatus& status : listed.interfaces) {
         if (status.interface == interface_)
             return;
     }
-    throw core::ConfigError(interface_ + " is not a wireless interface: " + proc_path_ + " does not list it");
+    throw base::ConfigError(interface_ + " is not a wireless interface: " + proc_path_ + " does not list it");
 }
 
 RateReading WirelessSensor::read() {

@@ -14,7 +14,7 @@ class WirelessSensor final : public RateSensor {
     /// The default for `proc_path`; tests give their own file.
     static constexpr const char* PROC_NET_WIRELESS = "/proc/net/wireless";
 
-    /// Throws core::ConfigError naming the interface when `proc_path` cannot be read (no wireless extensions)
+    /// Throws base::ConfigError naming the interface when `proc_path` cannot be read (no wireless extensions)
     /// or does not list it (not a wireless interface).
     WirelessSensor(std::string interface, LinkQualityTable table, std::string proc_path = PROC_NET_WIRELESS);
 

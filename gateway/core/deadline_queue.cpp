@@ -207,7 +207,7 @@ DeadlineQueue::Slot DeadlineQueue::earliest_deadline() const {
 
 DeadlineQueue::Peek DeadlineQueue::at(Slot slot) const {
     const Record& r = record(slot);
-    return Peek{lanes_[r.lane_and_flags & LANE_MASK].topic, SteadyTime(SteadyTime::duration(r.deadline)),
+    return Peek{lanes_[r.lane_and_flags & LANE_MASK].topic, base::SteadyTime(base::SteadyTime::duration(r.deadline)),
                 r.payload.size(), r.sequence};
 }
 
@@ -220,9 +220,9 @@ Sample DeadlineQueue::take(Slot slot) {
     r.payload = {};
     sample.key.bytes = r.key_bytes;
     sample.key.valid = (r.lane_and_flags & KEY_VALID) != 0;
-    sample.source_time = WallTime(WallTime::duration(r.source_time));
-    sample.arrival = SteadyTime(SteadyTime::duration(r.arrival));
-    sample.deadline = SteadyTime(SteadyTime::duration(r.deadline));
+    sample.source_time = base::WallTime(base::WallTime::duration(r.source_time));
+    sample.arrival = base::SteadyTime(base::SteadyTime::duration(r.arrival));
+    sample.deadline = base::SteadyTime(base::SteadyTime::duration(r.deadline));
     sample.sequence = r.sequence;
     sample.route = r.output.route;
     sample.kind = r.output.kind;

@@ -28,7 +28,7 @@ class DeadlineQueue {
     /// What the scheduler reads of a queued sample without taking it.
     struct Peek {
         TopicId topic;
-        SteadyTime deadline;
+        base::SteadyTime deadline;
         std::size_t payload_bytes;
         std::uint64_t sequence;
     };
@@ -40,9 +40,9 @@ class DeadlineQueue {
     struct Record {
         std::vector<std::uint8_t> payload;
         std::array<std::uint8_t, 16> key_bytes{};
-        SteadyTime::rep deadline = 0;
-        SteadyTime::rep arrival = 0;
-        WallTime::rep source_time = 0;
+        base::SteadyTime::rep deadline = 0;
+        base::SteadyTime::rep arrival = 0;
+        base::WallTime::rep source_time = 0;
         std::uint64_t sequence = 0;
         union {
             Slot next_free;  ///< while the slot is free: the next free slot
@@ -98,7 +98,7 @@ class DeadlineQueue {
     /// Order of samples: (rank, deadline, sequence), the lane breaking the remaining ties.
     struct Key {
         std::int64_t rank;
-        SteadyTime::rep deadline;
+        base::SteadyTime::rep deadline;
         std::uint64_t sequence;
         LaneId lane;
         bool operator<(const Key& o) const {

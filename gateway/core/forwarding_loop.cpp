@@ -4,7 +4,7 @@
 
 namespace tgw::core {
 
-ForwardingLoop::ForwardingLoop(const SchedulerConfig& config, const Clock& clock, SampleSink& sink)
+ForwardingLoop::ForwardingLoop(const SchedulerConfig& config, const base::Clock& clock, SampleSink& sink)
     : clock_(clock), sink_(sink), scheduler_(config) {}
 
 ForwardingLoop::~ForwardingLoop() {
@@ -35,7 +35,7 @@ TopicId ForwardingLoop::add_topic(const TopicConfig& topic) {
     return scheduler_.add_topic(topic);
 }
 
-void ForwardingLoop::set_ttl(TopicId topic, Duration ttl) {
+void ForwardingLoop::set_ttl(TopicId topic, base::Duration ttl) {
     std::lock_guard<std::mutex> lock(mutex_);
     scheduler_.set_ttl(topic, ttl);
 }
@@ -49,7 +49,7 @@ void ForwardingLoop::submit(Sample&& sample) {
             scheduler_.drain(sink_, DropReason::shutdown);
             return;
         }
-        const SteadyTime now = clock_.now();
+        const base::SteadyTime now = clock_.now();
         scheduler_.push(std::move(sample), now, clock_.wall_now(), sink_);
         scheduler_.release(now, sink_);
         // The loop thread must recompute its wake-up: the new sample may be due before what it waits for.
@@ -105,7 +105,7 @@ void ForwardingLoop::kick_nts() {
 void ForwardingLoop::run() {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!stopping_) {
-        const SteadyTime now = clock_.now();
+        const base::SteadyTime now = clock_.now();
         scheduler_.release(now, sink_);
         const auto next = scheduler_.next_wakeup(now);
         // The clock is injected, but waiting needs real time: sleep for the span the scheduler asked for.

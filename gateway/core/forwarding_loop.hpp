@@ -4,7 +4,7 @@
 #include <mutex>
 #include <thread>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "gateway/core/scheduler.hpp"
 
 namespace tgw::core {
@@ -15,7 +15,7 @@ namespace tgw::core {
 /// the scheduler and the sink happens under one lock, so the sink need not be thread-safe.
 class ForwardingLoop {
   public:
-    ForwardingLoop(const SchedulerConfig& config, const Clock& clock, SampleSink& sink);
+    ForwardingLoop(const SchedulerConfig& config, const base::Clock& clock, SampleSink& sink);
     ~ForwardingLoop();
 
     ForwardingLoop(const ForwardingLoop&) = delete;
@@ -26,7 +26,7 @@ class ForwardingLoop {
     void stop();
 
     TopicId add_topic(const TopicConfig& topic);
-    void set_ttl(TopicId topic, Duration ttl);
+    void set_ttl(TopicId topic, base::Duration ttl);
     void submit(Sample&& sample);
     void set_rate(double rate_bps);
     /// See Scheduler::charge_link.
@@ -43,7 +43,7 @@ class ForwardingLoop {
     void run();
     void kick_nts();  // the lock is held
 
-    const Clock& clock_;
+    const base::Clock& clock_;
     SampleSink& sink_;
     mutable std::mutex mutex_;
     std::condition_variable wake_;

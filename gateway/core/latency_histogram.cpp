@@ -41,7 +41,7 @@ std::uint64_t LatencyHistogram::bucket_upper_ns(std::size_t bucket) noexcept {
     return bucket_lower_ns(bucket + 1);
 }
 
-void LatencyHistogram::record(Duration latency) noexcept {
+void LatencyHistogram::record(base::Duration latency) noexcept {
     const std::int64_t ns = std::max<std::int64_t>(latency.count(), 0);
     buckets_[bucket_of(static_cast<std::uint64_t>(ns))].fetch_add(1, std::memory_order_relaxed);
     sum_ns_.fetch_add(ns, std::memory_order_relaxed);
@@ -57,17 +57,17 @@ LatencyHistogram::Snapshot LatencyHistogram::snapshot() const {
         s.buckets[i] = buckets_[i].load(std::memory_order_relaxed);
         s.count += s.buckets[i];
     }
-    s.sum = Duration(sum_ns_.load(std::memory_order_relaxed));
-    s.max = Duration(max_ns_.load(std::memory_order_relaxed));
+    s.sum = base::Duration(sum_ns_.load(std::memory_order_relaxed));
+    s.max = base::Duration(max_ns_.load(std::memory_order_relaxed));
     if (s.count == 0) {
         s.buckets.clear();
     }
     return s;
 }
 
-Duration LatencyHistogram::Snapshot::percentile(double q) const {
+base::Duration LatencyHistogram::Snapshot::percentile(double q) const {
     if (count == 0) {
-        return Duration::zero();
+        return base::Duration::zero();
     }
     // Nearest rank: the smallest value with at least q * count samples at or below it.
     const double clamped = std::clamp(q, 0.0, 1.0);
@@ -82,7 +82,7 @@ Duration LatencyHistogram::Snapshot::percentile(double q) const {
             const std::uint64_t lower = bucket_lower_ns(i);
             const std::uint64_t upper = bucket_upper_ns(i);
             const std::uint64_t mid = lower + (upper - lower - 1) / 2;
-            return std::min(Duration(static_cast<std::int64_t>(std::min<std::uint64_t>(
+            return std::min(base::Duration(static_cast<std::int64_t>(std::min<std::uint64_t>(
                                 mid, static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())))),
                             max);
         }
@@ -90,8 +90,8 @@ Duration LatencyHistogram::Snapshot::percentile(double q) const {
     return max;
 }
 
-Duration LatencyHistogram::Snapshot::mean() const {
-    return count == 0 ? Duration::zero() : Duration(sum.count() / static_cast<std::int64_t>(count));
+base::Duration LatencyHistogram::Snapshot::mean() const {
+    return count == 0 ? base::Duration::zero() : base::Duration(sum.count() / static_cast<std::int64_t>(count));
 }
 
 LatencyHistogram::Snapshot LatencyHistogram::Snapshot::since(const Snapshot& earlier) const {
@@ -110,8 +110,8 @@ LatencyHistogram::Snapshot LatencyHistogram::Snapshot::since(const Snapshot& ear
     s.sum = sum - earlier.sum;
     if (s.count == 0) {
         s.buckets.clear();
-        s.sum = Duration::zero();
-        s.max = Duration::zero();
+        s.sum = base::Duration::zero();
+        s.max = base::Duration::zero();
         return s;
     }
     // The exact maximum of the later records is unknown: take the top of the highest bucket they used.
@@ -121,7 +121,7 @@ LatencyHistogram::Snapshot LatencyHistogram::Snapshot::since(const Snapshot& ear
     }
     const std::uint64_t top_ns = bucket_upper_ns(top) - 1;
     if (top_ns < static_cast<std::uint64_t>(max.count())) {
-        s.max = Duration(static_cast<std::int64_t>(top_ns));
+        s.max = base::Duration(static_cast<std::int64_t>(top_ns));
     }
     return s;
 }

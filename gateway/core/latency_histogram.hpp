@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
 namespace tgw::core {
 
@@ -26,22 +26,22 @@ class LatencyHistogram {
     struct Snapshot {
         std::vector<std::uint64_t> buckets;  ///< BUCKET_COUNT counts, or empty when nothing was recorded
         std::uint64_t count = 0;
-        Duration sum{0};
+        base::Duration sum{0};
         /// Exact in a snapshot(); in one made by since(), the top of the highest bucket used (within resolution).
-        Duration max{0};
+        base::Duration max{0};
 
         /// The latency below or at which a fraction `q` (0 to 1) of the samples fall, as the midpoint of its
         /// bucket and never above max (percentile(1) is max); zero when empty.
-        Duration percentile(double q) const;
-        Duration median() const { return percentile(0.5); }
+        base::Duration percentile(double q) const;
+        base::Duration median() const { return percentile(0.5); }
         /// Zero when empty.
-        Duration mean() const;
+        base::Duration mean() const;
         /// What was recorded after `earlier` (a snapshot of the same histogram), for leaving a warm-up out.
         Snapshot since(const Snapshot& earlier) const;
     };
 
     /// Counts one latency; a negative one (a clock stepped back) counts as zero.
-    void record(Duration latency) noexcept;
+    void record(base::Duration latency) noexcept;
     Snapshot snapshot() const;
 
     /// The bucket a value in nanoseconds falls in, and that bucket's bounds [lower, upper).

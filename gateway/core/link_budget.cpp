@@ -4,16 +4,16 @@
 
 namespace tgw::core {
 
-LinkBudget::LinkBudget(double rate_bps, Duration lead) : rate_bps_(rate_bps), lead_(lead) {}
+LinkBudget::LinkBudget(double rate_bps, base::Duration lead) : rate_bps_(rate_bps), lead_(lead) {}
 
-Duration LinkBudget::transmit_time(std::uint64_t bits) const {
+base::Duration LinkBudget::transmit_time(std::uint64_t bits) const {
     if (rate_bps_ <= 0.0) {
-        return Duration::max();
+        return base::Duration::max();
     }
-    return from_seconds(static_cast<double>(bits) / rate_bps_);
+    return base::from_seconds(static_cast<double>(bits) / rate_bps_);
 }
 
-SteadyTime LinkBudget::charge(SteadyTime now, std::uint64_t bits) {
+base::SteadyTime LinkBudget::charge(base::SteadyTime now, std::uint64_t bits) {
     busy_until_ = std::max(now, busy_until_) + transmit_time(bits);
     return busy_until_;
 }

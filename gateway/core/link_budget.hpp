@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
 namespace tgw::core {
 
@@ -13,37 +13,37 @@ namespace tgw::core {
 /// link never idles while the queue holds something (a token bucket whose depth is lead x rate).
 class LinkBudget {
   public:
-    LinkBudget(double rate_bps, Duration lead);
+    LinkBudget(double rate_bps, base::Duration lead);
 
     /// Follow a new sensed rate. What was already charged keeps its old wire time.
     void set_rate(double rate_bps) { rate_bps_ = rate_bps; }
     double rate_bps() const { return rate_bps_; }
 
     /// Time to put `bits` on the wire at the current rate; Duration::max() when the rate is 0.
-    Duration transmit_time(std::uint64_t bits) const;
+    base::Duration transmit_time(std::uint64_t bits) const;
 
     /// True if a sample may be handed to the link now.
-    bool can_send(SteadyTime now) const { return rate_bps_ > 0.0 && busy_until_ <= now + lead_; }
+    bool can_send(base::SteadyTime now) const { return rate_bps_ > 0.0 && busy_until_ <= now + lead_; }
 
     /// When the link will have drained what was charged.
-    SteadyTime busy_until() const { return busy_until_; }
+    base::SteadyTime busy_until() const { return busy_until_; }
 
     /// When the next sample may be handed to the link.
-    SteadyTime next_send_time() const { return busy_until_ - lead_; }
+    base::SteadyTime next_send_time() const { return busy_until_ - lead_; }
 
     /// The link is seen busy until at least `t` (a queue the budget did not fill itself).
-    void hold_until(SteadyTime t) { busy_until_ = std::max(busy_until_, t); }
+    void hold_until(base::SteadyTime t) { busy_until_ = std::max(busy_until_, t); }
 
     /// What was charged beyond `t` never reaches the link (a queue dropped it): free from `t` on.
-    void release_to(SteadyTime t) { busy_until_ = std::min(busy_until_, t); }
+    void release_to(base::SteadyTime t) { busy_until_ = std::min(busy_until_, t); }
 
     /// Charge `bits` sent at `now`; returns when they will have left the link.
-    SteadyTime charge(SteadyTime now, std::uint64_t bits);
+    base::SteadyTime charge(base::SteadyTime now, std::uint64_t bits);
 
   private:
     double rate_bps_;
-    Duration lead_;
-    SteadyTime busy_until_{};
+    base::Duration lead_;
+    base::SteadyTime busy_until_{};
 };
 
 }  // namespace tgw::core

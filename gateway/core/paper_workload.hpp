@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
 namespace tgw::core {
 
@@ -13,7 +13,7 @@ struct MessageStream {
     std::string type;   ///< short name used in tables: "A"
     std::string topic;  ///< DDS topic: "telemetry/A"
     std::size_t data_bytes = 0;
-    Duration ttl{};
+    base::Duration ttl{};
     double rate_hz = 5.0;
 };
 

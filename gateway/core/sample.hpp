@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
 namespace tgw::core {
 
@@ -30,9 +30,9 @@ struct Sample {
     /// offered); opaque to the core.
     std::uint16_t route = 0;
     SampleKind kind = SampleKind::data;
-    WallTime source_time;        ///< the publisher's source timestamp
-    SteadyTime arrival;          ///< set by the scheduler on push
-    SteadyTime deadline;         ///< set by the scheduler on push: source (or arrival) time + the topic's TTL
+    base::WallTime source_time;  ///< the publisher's source timestamp
+    base::SteadyTime arrival;    ///< set by the scheduler on push
+    base::SteadyTime deadline;   ///< set by the scheduler on push: source (or arrival) time + the topic's TTL
     std::uint64_t sequence = 0;  ///< set by the scheduler on push: arrival order, breaks ties
 };
 

@@ -5,7 +5,7 @@
 
 namespace tgw::core {
 
-void Scheduler::ProtectedTopics::offer(TopicId topic, Duration limit) {
+void Scheduler::ProtectedTopics::offer(TopicId topic, base::Duration limit) {
     if (limit < first_limit) {
         second_topic = first_topic;
         second_limit = first_limit;
@@ -17,7 +17,7 @@ void Scheduler::ProtectedTopics::offer(TopicId topic, Duration limit) {
     }
 }
 
-bool Scheduler::ProtectedTopics::update(TopicId topic, Duration limit) {
+bool Scheduler::ProtectedTopics::update(TopicId topic, base::Duration limit) {
     if (topic == first_topic) {
         if (limit > second_limit)
             return false;  // the new second is unknown
@@ -58,22 +58,22 @@ TopicId Scheduler::add_topic(const TopicConfig& topic) {
     return static_cast<TopicId>(topics_.size() - 1);
 }
 
-void Scheduler::set_ttl(TopicId topic, Duration ttl) {
+void Scheduler::set_ttl(TopicId topic, base::Duration ttl) {
     topics_[topic].config.ttl = ttl;
     protect_valid_ = false;
 }
 
-bool Scheduler::active(TopicId topic, SteadyTime now) const {
+bool Scheduler::active(TopicId topic, base::SteadyTime now) const {
     const TopicState& t = topics_[topic];
     return t.seen && now - t.last_arrival <= t.config.ttl;
 }
 
-Duration Scheduler::protect_limit(TopicId topic) const {
+base::Duration Scheduler::protect_limit(TopicId topic) const {
     const TopicState& t = topics_[topic];
     return t.config.ttl - budget_.transmit_time(t.last_wire_bits);
 }
 
-const Scheduler::ProtectedTopics& Scheduler::protected_topics(SteadyTime now) {
+const Scheduler::ProtectedTopics& Scheduler::protected_topics(base::SteadyTime now) {
     // Only a push (handled there), a TTL or a rate change can bring a topic in; the two fall out by going
     // inactive. Time running backwards could make topics active again.
     const bool still_valid = protect_valid_ && now >= protect_built_at_ &&
@@ -106,15 +106,15 @@ std::int64_t Scheduler::rank_of(TopicId topic) const {
     return 0;
 }
 
-void Scheduler::push(Sample&& sample, SteadyTime now, WallTime wall_now, SampleSink& sink) {
+void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_now, SampleSink& sink) {
     TopicState& topic = topics_[sample.topic];
     ++topic.counters.received;
     sample.arrival = now;
     sample.sequence = next_sequence_++;
     // A sample cannot be born after it arrived: a source clock running ahead must not lengthen its life.
-    SteadyTime origin = now;
+    base::SteadyTime origin = now;
     if (config_.trust_source_clock) {
-        origin = std::min(now, now + std::chrono::duration_cast<Duration>(sample.source_time - wall_now));
+        origin = std::min(now, now + std::chrono::duration_cast<base::Duration>(sample.source_time - wall_now));
     }
     sample.deadline = origin + topic.config.ttl;
     const std::uint64_t wire_bits = this->wire_bits(sample.payload.size());
@@ -143,7 +143,7 @@ void Scheduler::push(Sample&& sample, SteadyTime now, WallTime wall_now, SampleS
     evict_over_cap(sink);
 }
 
-void Scheduler::release(SteadyTime now, SampleSink& sink) {
+void Scheduler::release(base::SteadyTime now, SampleSink& sink) {
     expire(now, sink);
     switch (config_.policy) {
         case PolicyKind::ttl:
@@ -183,7 +183,7 @@ void Scheduler::drop(Sample&& sample, DropReason reason, SampleSink& sink) {
     sink.drop(std::move(sample), reason);
 }
 
-void Scheduler::expire(SteadyTime now, SampleSink& sink) {
+void Scheduler::expire(base::SteadyTime now, SampleSink& sink) {
     while (!queue_.empty() && queue_.at(queue_.earliest_deadline()).deadline <= now) {
         drop(take(queue_.earliest_deadline()), DropReason::expired, sink);
     }
@@ -195,7 +195,7 @@ void Scheduler::evict_over_cap(SampleSink& sink) {
     }
 }
 
-void Scheduler::release_by_deadline(SteadyTime now, SampleSink& sink) {
+void Scheduler::release_by_deadline(base::SteadyTime now, SampleSink& sink) {
     blocked_wakeup_.reset();
     if (queue_.empty() || !budget_.can_send(now)) {
         return;
@@ -205,12 +205,12 @@ void Scheduler::release_by_deadline(SteadyTime now, SampleSink& sink) {
     const ProtectedTopics& protect = protected_topics(now);
 
     while (!queue_.empty() && budget_.can_send(now)) {
-        const SteadyTime start = std::max(now, budget_.busy_until());
+        const base::SteadyTime start = std::max(now, budget_.busy_until());
         bool sent = false;
         queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
             const DeadlineQueue::Peek sample = queue_.at(slot);
             const std::uint64_t bits = wire_bits(sample.payload_bytes);
-            const Duration tx = budget_.transmit_time(bits);
+            const base::Duration tx = budget_.transmit_time(bits);
             const bool blocks_urgent = tx > protect.limit_for(sample.topic);
             if (start + tx + config_.link_latency > sample.deadline) {
                 drop(take(slot), blocks_urgent ? DropReason::oversize : DropReason::doomed, sink);
@@ -218,7 +218,7 @@ void Scheduler::release_by_deadline(SteadyTime now, SampleSink& sink) {
             }
             if (blocks_urgent) {
                 // Wait for a faster link; give up once it could no longer make its deadline.
-                const SteadyTime give_up = sample.deadline - tx - config_.link_latency + Duration(1);
+                const base::SteadyTime give_up = sample.deadline - tx - config_.link_latency + base::Duration(1);
                 blocked_wakeup_ = blocked_wakeup_ ? std::min(*blocked_wakeup_, give_up) : give_up;
                 return true;
             }
@@ -233,7 +233,7 @@ void Scheduler::release_by_deadline(SteadyTime now, SampleSink& sink) {
     }
 }
 
-void Scheduler::release_paper_period(SteadyTime now, SampleSink& sink) {
+void Scheduler::release_paper_period(base::SteadyTime now, SampleSink& sink) {
     if (!paper_started_) {
         next_paper_period_ = now;
         paper_started_ = true;
@@ -244,7 +244,7 @@ void Scheduler::release_paper_period(SteadyTime now, SampleSink& sink) {
     // The paper's filter: walk the list by TTL and mark what fits in rate x period, counting only payload
     // (plus an assumed overhead factor); send the marked at once. The rest waits for the next period.
     // The paper spends the whole sensed rate; its only margin is the assumed overhead.
-    double remaining_bits = sensed_rate_bps_ * to_seconds(config_.paper_period);
+    double remaining_bits = sensed_rate_bps_ * base::to_seconds(config_.paper_period);
     std::vector<DeadlineQueue::Slot> marked;
     queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
         const double bits = 8.0 * static_cast<double>(queue_.at(slot).payload_bytes) * (1.0 + config_.paper_overhead);
@@ -266,11 +266,11 @@ void Scheduler::release_paper_period(SteadyTime now, SampleSink& sink) {
     }
 }
 
-std::optional<SteadyTime> Scheduler::next_wakeup(SteadyTime now) const {
+std::optional<base::SteadyTime> Scheduler::next_wakeup(base::SteadyTime now) const {
     if (queue_.empty()) {
         return std::nullopt;
     }
-    SteadyTime next = queue_.at(queue_.earliest_deadline()).deadline;
+    base::SteadyTime next = queue_.at(queue_.earliest_deadline()).deadline;
     switch (config_.policy) {
         case PolicyKind::ttl:
         case PolicyKind::edf:
@@ -291,14 +291,14 @@ std::optional<SteadyTime> Scheduler::next_wakeup(SteadyTime now) const {
     return std::max(next, now);
 }
 
-void Scheduler::charge_link(SteadyTime now, std::uint64_t bits) {
+void Scheduler::charge_link(base::SteadyTime now, std::uint64_t bits) {
     if (budget_.rate_bps() <= 0.0) {
         return;
     }
     const double reserve_bps = std::max(0.0, sensed_rate_bps_ - budget_.rate_bps());
     if (now > reserve_time_) {
-        reserve_bits_ = std::min(reserve_bits_ + reserve_bps * to_seconds(now - reserve_time_),
-                                 reserve_bps * to_seconds(config_.reserve_window));
+        reserve_bits_ = std::min(reserve_bits_ + reserve_bps * base::to_seconds(now - reserve_time_),
+                                 reserve_bps * base::to_seconds(config_.reserve_window));
         reserve_time_ = now;
     }
     const double covered = std::min(reserve_bits_, static_cast<double>(bits));
@@ -307,17 +307,17 @@ void Scheduler::charge_link(SteadyTime now, std::uint64_t bits) {
     if (bits == 0) {
         return;
     }
-    const SteadyTime before = budget_.busy_until();
-    const SteadyTime after = budget_.charge(now, bits);
-    const SteadyTime bound = std::max(before, now + config_.link_queue);
+    const base::SteadyTime before = budget_.busy_until();
+    const base::SteadyTime after = budget_.charge(now, bits);
+    const base::SteadyTime bound = std::max(before, now + config_.link_queue);
     if (after > bound) {
         budget_.release_to(bound);
     }
 }
 
-void Scheduler::observe_link_backlog(SteadyTime now, std::uint64_t bits) {
+void Scheduler::observe_link_backlog(base::SteadyTime now, std::uint64_t bits) {
     if (sensed_rate_bps_ > 0.0) {
-        budget_.hold_until(now + from_seconds(static_cast<double>(bits) / sensed_rate_bps_));
+        budget_.hold_until(now + base::from_seconds(static_cast<double>(bits) / sensed_rate_bps_));
     }
 }
 

@@ -23,28 +23,28 @@ struct SchedulerConfig {
     double budget_fraction = 0.95;
     /// How long the unspent rest of the rate is saved up for traffic charged from outside (charge_link): a
     /// participant announcing itself every 20 s fits in it, a burst beyond it holds the budget.
-    Duration reserve_window = std::chrono::seconds(20);
+    base::Duration reserve_window = std::chrono::seconds(20);
     WireModel wire;
     std::size_t memory_cap_bytes = 64u << 20;
     /// How early the next sample may be handed to the link before the previous one has drained.
-    Duration lead = std::chrono::milliseconds(2);
+    base::Duration lead = std::chrono::milliseconds(2);
     /// One-way latency of the link beyond transmission, counted when judging whether a sample can still arrive.
-    Duration link_latency = Duration::zero();
+    base::Duration link_latency = base::Duration::zero();
     /// The longest a link queue holds (its depth in time at the sensed rate). Traffic the gateway does not
     /// schedule may come in bursts larger than that (discovery at start-up); what overflows the queue is
     /// dropped on the way, not delayed, so charge_link holds the budget no further than this ahead.
-    Duration link_queue = std::chrono::seconds(1);
+    base::Duration link_queue = std::chrono::seconds(1);
     /// Deadlines from the publisher's source timestamp (true) or from the arrival at the gateway (false).
     bool trust_source_clock = true;
     /// `paper` only: the filter's period, and the overhead it assumes on top of the payload (0.25 = 25 %).
-    Duration paper_period = std::chrono::seconds(1);
+    base::Duration paper_period = std::chrono::seconds(1);
     double paper_overhead = 0.0;
 };
 
 /// The per-topic facts the scheduler needs.
 struct TopicConfig {
     std::string name;
-    Duration ttl = std::chrono::seconds(5);
+    base::Duration ttl = std::chrono::seconds(5);
 };
 
 /// The scheduling core: a pure step machine with no clock and no threads of its own. Samples come in with
@@ -56,20 +56,20 @@ class Scheduler {
     explicit Scheduler(const SchedulerConfig& config);
 
     TopicId add_topic(const TopicConfig& topic);
-    void set_ttl(TopicId topic, Duration ttl);
+    void set_ttl(TopicId topic, base::Duration ttl);
     const TopicConfig& topic(TopicId id) const { return topics_[id].config; }
     std::size_t topic_count() const { return topics_.size(); }
 
     /// Take a sample in. `now` and `wall_now` are the same instant on the two clocks. Samples already
     /// expired, and the least urgent when over the memory cap, go to `sink.drop`; under `fifo` the sample is
     /// forwarded at once.
-    void push(Sample&& sample, SteadyTime now, WallTime wall_now, SampleSink& sink);
+    void push(Sample&& sample, base::SteadyTime now, base::WallTime wall_now, SampleSink& sink);
 
     /// One scheduling step at `now`.
-    void release(SteadyTime now, SampleSink& sink);
+    void release(base::SteadyTime now, SampleSink& sink);
 
     /// When release() has something to do next, absent new samples or rate changes; nullopt if nothing.
-    std::optional<SteadyTime> next_wakeup(SteadyTime now) const;
+    std::optional<base::SteadyTime> next_wakeup(base::SteadyTime now) const;
 
     /// Follow a new reading of the rate sensor.
     void set_rate(double sensed_rate_bps);
@@ -82,12 +82,12 @@ class Scheduler {
     /// heartbeats and repairs). What the reserve (the rate the budget does not spend, saved up over
     /// reserve_window) covers costs nothing more; beyond it the link is busy with it before the next sample
     /// goes, up to link_queue ahead.
-    void charge_link(SteadyTime now, std::uint64_t bits);
+    void charge_link(base::SteadyTime now, std::uint64_t bits);
 
     /// The link's own queue holds `bits` now (a shaper's backlog, read by the rate sensor). Nothing more is
     /// released until it has drained at the sensed rate, so a queue that discovery traffic or a sensor reading
     /// high left behind drains instead of standing.
-    void observe_link_backlog(SteadyTime now, std::uint64_t bits);
+    void observe_link_backlog(base::SteadyTime now, std::uint64_t bits);
 
     /// Everything still queued goes to `sink.drop` with `reason` (shutdown).
     void drain(SampleSink& sink, DropReason reason = DropReason::shutdown);
@@ -105,7 +105,7 @@ class Scheduler {
     struct TopicState {
         TopicConfig config;
         TopicCounters counters;
-        SteadyTime last_arrival{};
+        base::SteadyTime last_arrival{};
         std::uint64_t last_wire_bits = 0;
         bool seen = false;
         /// protect_epoch_ when this topic's present limit was last offered to protect_.
@@ -119,26 +119,28 @@ class Scheduler {
         static constexpr TopicId NONE = static_cast<TopicId>(-1);
         TopicId first_topic = NONE;
         TopicId second_topic = NONE;
-        Duration first_limit = Duration::max();
-        Duration second_limit = Duration::max();
+        base::Duration first_limit = base::Duration::max();
+        base::Duration second_limit = base::Duration::max();
 
-        void offer(TopicId topic, Duration limit);
+        void offer(TopicId topic, base::Duration limit);
         /// False if the two can no longer be told without a rebuild.
-        bool update(TopicId topic, Duration limit);
-        Duration limit_for(TopicId candidate) const { return candidate == first_topic ? second_limit : first_limit; }
+        bool update(TopicId topic, base::Duration limit);
+        base::Duration limit_for(TopicId candidate) const {
+            return candidate == first_topic ? second_limit : first_limit;
+        }
     };
 
-    bool active(TopicId topic, SteadyTime now) const;
-    Duration protect_limit(TopicId topic) const;
-    const ProtectedTopics& protected_topics(SteadyTime now);
+    bool active(TopicId topic, base::SteadyTime now) const;
+    base::Duration protect_limit(TopicId topic) const;
+    const ProtectedTopics& protected_topics(base::SteadyTime now);
     std::int64_t rank_of(TopicId topic) const;
     Sample take(DeadlineQueue::Slot slot);
     void forward(Sample&& sample, std::uint64_t wire_bits, SampleSink& sink);
     void drop(Sample&& sample, DropReason reason, SampleSink& sink);
-    void expire(SteadyTime now, SampleSink& sink);
+    void expire(base::SteadyTime now, SampleSink& sink);
     void evict_over_cap(SampleSink& sink);
-    void release_by_deadline(SteadyTime now, SampleSink& sink);
-    void release_paper_period(SteadyTime now, SampleSink& sink);
+    void release_by_deadline(base::SteadyTime now, SampleSink& sink);
+    void release_paper_period(base::SteadyTime now, SampleSink& sink);
 
     SchedulerConfig config_;
     std::vector<TopicState> topics_;
@@ -146,16 +148,16 @@ class Scheduler {
     double sensed_rate_bps_;
     LinkBudget budget_;
     double reserve_bits_ = 0.0;  ///< saved for charge_link, as of reserve_time_
-    SteadyTime reserve_time_{};
+    base::SteadyTime reserve_time_{};
     std::uint64_t next_sequence_ = 0;
-    SteadyTime next_paper_period_{};
+    base::SteadyTime next_paper_period_{};
     bool paper_started_ = false;
     ProtectedTopics protect_;
     bool protect_valid_ = false;
     std::uint64_t protect_epoch_ = 0;
-    SteadyTime protect_built_at_{};
+    base::SteadyTime protect_built_at_{};
     /// When a sample held back by the non-preemptive rule must be looked at again; set by release().
-    std::optional<SteadyTime> blocked_wakeup_;
+    std::optional<base::SteadyTime> blocked_wakeup_;
 };
 
 }  // namespace tgw::core

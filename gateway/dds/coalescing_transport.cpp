@@ -70,7 +70,7 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     }
     const bool scheduled_write = DatagramCoalescer::DeferScope::current() != 0;
     if (!scheduled_write && descriptor_.heartbeat_throttle &&
-        !descriptor_.heartbeat_throttle->admit(destination, send_buffer, send_buffer_size, core::SteadyClock::now())) {
+        !descriptor_.heartbeat_throttle->admit(destination, send_buffer, send_buffer_size, base::SteadyClock::now())) {
         return true;  // the same HEARTBEAT went there a moment ago
     }
     // A scheduled write was charged for one copy of its message, without the HEARTBEAT a reliable writer may

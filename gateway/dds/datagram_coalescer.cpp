@@ -25,7 +25,7 @@ std::uint64_t DatagramCoalescer::DeferScope::current() {
 }
 
 DatagramCoalescer::DatagramCoalescer(std::chrono::microseconds window, std::size_t max_datagram_bytes,
-                                     const core::Clock& clock)
+                                     const base::Clock& clock)
     : window_(window), max_datagram_bytes_(max_datagram_bytes), clock_(clock) {}
 
 DatagramCoalescer::~DatagramCoalescer() {
@@ -52,7 +52,7 @@ void DatagramCoalescer::stop() {
         thread_.join();
     }
     std::lock_guard<std::mutex> lock(mutex_);
-    const core::SteadyTime now = clock_.now();
+    const base::SteadyTime now = clock_.now();
     for (auto& batch : batches_) {
         flush_nts(*batch, now);
     }
@@ -83,13 +83,13 @@ DatagramCoalescer::Batch& DatagramCoalescer::batch_for_nts(DatagramSender& sende
     return *batches_.back();
 }
 
-bool DatagramCoalescer::send_now_nts(Batch& batch, const std::uint8_t* bytes, std::size_t size, core::SteadyTime now) {
+bool DatagramCoalescer::send_now_nts(Batch& batch, const std::uint8_t* bytes, std::size_t size, base::SteadyTime now) {
     batch.last_sent = now;
     ++counts_.datagrams;
     return batch.sender->send_datagram(batch.destination, bytes, size);
 }
 
-void DatagramCoalescer::flush_nts(Batch& batch, core::SteadyTime now) {
+void DatagramCoalescer::flush_nts(Batch& batch, base::SteadyTime now) {
     if (batch.datagram.empty()) {
         return;
     }
@@ -111,7 +111,7 @@ bool DatagramCoalescer::send(DatagramSender& sender, const DatagramDestination& 
         return sender.send_datagram(destination, message, size);
     }
     Batch& batch = batch_for_nts(sender, destination);
-    const core::SteadyTime now = clock_.now();
+    const base::SteadyTime now = clock_.now();
     ++counts_.messages;
     // A sample that comes alone goes at once, all its fragments; with a zero window every sample does.
     if (batch.datagram.empty() && (now - batch.last_sent >= window_ || batch.sent_at_once_scope == scope)) {
@@ -138,7 +138,7 @@ void DatagramCoalescer::flush_due() {
     flush_due_nts(clock_.now());
 }
 
-void DatagramCoalescer::flush_due_nts(core::SteadyTime now) {
+void DatagramCoalescer::flush_due_nts(base::SteadyTime now) {
     for (auto& batch : batches_) {
         if (!batch->datagram.empty() && batch->deadline <= now) {
             flush_nts(*batch, now);
@@ -149,7 +149,7 @@ void DatagramCoalescer::flush_due_nts(core::SteadyTime now) {
 void DatagramCoalescer::run() {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!stopping_) {
-        std::optional<core::SteadyTime> next;
+        std::optional<base::SteadyTime> next;
         for (const auto& batch : batches_) {
             if (!batch->datagram.empty() && (!next || batch->deadline < *next)) {
                 next = batch->deadline;

@@ -12,7 +12,7 @@
 
 #include <fastdds/rtps/common/Locator.h>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "gateway/dds/rtps_datagram.hpp"
 
 namespace tgw::dds {
@@ -64,7 +64,7 @@ class DatagramCoalescer {
     static constexpr std::chrono::microseconds DEFAULT_WINDOW{100};
 
     /// `window` 0 sends everything at once. `max_datagram_bytes`: the low-level transport's message size.
-    DatagramCoalescer(std::chrono::microseconds window, std::size_t max_datagram_bytes, const core::Clock& clock);
+    DatagramCoalescer(std::chrono::microseconds window, std::size_t max_datagram_bytes, const base::Clock& clock);
     ~DatagramCoalescer();
 
     DatagramCoalescer(const DatagramCoalescer&) = delete;
@@ -97,22 +97,22 @@ class DatagramCoalescer {
         DatagramSender* sender = nullptr;
         DatagramDestination destination;
         RtpsDatagram datagram;
-        core::SteadyTime deadline{};
-        core::SteadyTime last_sent{};
+        base::SteadyTime deadline{};
+        base::SteadyTime last_sent{};
         std::uint64_t sent_at_once_scope = 0;  ///< the last write whose messages went at once
         explicit Batch(std::size_t max_bytes) : datagram(max_bytes) {}
     };
 
     Batch& batch_for_nts(DatagramSender& sender, const DatagramDestination& destination);
     Batch* find_nts(const DatagramSender& sender, const DatagramDestination& destination);
-    bool send_now_nts(Batch& batch, const std::uint8_t* bytes, std::size_t size, core::SteadyTime now);
-    void flush_nts(Batch& batch, core::SteadyTime now);
-    void flush_due_nts(core::SteadyTime now);
+    bool send_now_nts(Batch& batch, const std::uint8_t* bytes, std::size_t size, base::SteadyTime now);
+    void flush_nts(Batch& batch, base::SteadyTime now);
+    void flush_due_nts(base::SteadyTime now);
     void run();
 
     const std::chrono::microseconds window_;
     const std::size_t max_datagram_bytes_;
-    const core::Clock& clock_;
+    const base::Clock& clock_;
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;

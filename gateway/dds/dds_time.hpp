@@ -5,39 +5,39 @@
 
 #include <fastdds/rtps/common/Time_t.h>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
 namespace tgw::dds {
 
 /// Conversions between Fast DDS times and the core's, at the edge (STYLE: Time).
 
 /// A QoS duration (lifespan, lease) as a core Duration; nullopt when infinite or invalid.
-inline std::optional<core::Duration> to_duration(const eprosima::fastrtps::Duration_t& d) {
+inline std::optional<base::Duration> to_duration(const eprosima::fastrtps::Duration_t& d) {
     if (d == eprosima::fastrtps::c_TimeInfinite || d.seconds < 0) {
         return std::nullopt;
     }
     return std::chrono::seconds(d.seconds) + std::chrono::nanoseconds(d.nanosec);
 }
 
-inline eprosima::fastrtps::Duration_t to_dds_duration(core::Duration d) {
+inline eprosima::fastrtps::Duration_t to_dds_duration(base::Duration d) {
     const std::int64_t ns = d.count();
     return eprosima::fastrtps::Duration_t(static_cast<std::int32_t>(ns / 1'000'000'000),
                                           static_cast<std::uint32_t>(ns % 1'000'000'000));
 }
 
 /// A source timestamp as wall time; nullopt when the writer sent none.
-inline std::optional<core::WallTime> to_wall_time(const eprosima::fastrtps::rtps::Time_t& t) {
+inline std::optional<base::WallTime> to_wall_time(const eprosima::fastrtps::rtps::Time_t& t) {
     if (t.seconds() <= 0 && t.nanosec() == 0) {
         return std::nullopt;
     }
     if (t == eprosima::fastrtps::rtps::c_RTPSTimeInvalid || t == eprosima::fastrtps::rtps::c_RTPSTimeInfinite) {
         return std::nullopt;
     }
-    return core::wall_from_ns(t.to_ns());
+    return base::wall_from_ns(t.to_ns());
 }
 
-inline eprosima::fastrtps::Time_t to_dds_time(core::WallTime t) {
-    const std::int64_t ns = core::to_ns(t);
+inline eprosima::fastrtps::Time_t to_dds_time(base::WallTime t) {
+    const std::int64_t ns = base::to_ns(t);
     return eprosima::fastrtps::Time_t(static_cast<std::int32_t>(ns / 1'000'000'000),
                                       static_cast<std::uint32_t>(ns % 1'000'000'000));
 }

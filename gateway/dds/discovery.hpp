@@ -10,7 +10,7 @@
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/rtps/common/GuidPrefix_t.hpp>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 #include "gateway/dds/offered_qos.hpp"
 
 namespace tgw::dds {
@@ -20,7 +20,7 @@ struct DiscoveredPublisher {
     std::string topic;
     std::string type_name;
     bool keyed = false;
-    std::optional<core::Duration> lifespan;  ///< nullopt when the writer's Lifespan is infinite
+    std::optional<base::Duration> lifespan;  ///< nullopt when the writer's Lifespan is infinite
     OfferedQos qos;
     eprosima::fastrtps::rtps::GUID_t writer;
 };

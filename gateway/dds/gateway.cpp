@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "GatewayStatusPubSubTypes.h"
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway_sink.hpp"
 #include "gateway/dds/qos_file.hpp"
@@ -26,7 +26,7 @@ constexpr int MAX_DOMAIN_ID = 232;
 
 void check_domain(const char* flag, int domain) {
     if (domain < 0 || domain > MAX_DOMAIN_ID) {
-        throw core::ConfigError(std::string(flag) + " " + std::to_string(domain) + ": must be 0 to " +
+        throw base::ConfigError(std::string(flag) + " " + std::to_string(domain) + ": must be 0 to " +
                                 std::to_string(MAX_DOMAIN_ID));
     }
 }
@@ -38,30 +38,30 @@ void GatewayConfig::validate() const {
     check_domain("--wan-domain", wan_domain);
     if (robot_domain == wan_domain) {
         // One domain would make the gateway read its own WAN writers back.
-        throw core::ConfigError("--wan-domain " + std::to_string(wan_domain) + ": must differ from --robot-domain");
+        throw base::ConfigError("--wan-domain " + std::to_string(wan_domain) + ": must differ from --robot-domain");
     }
     const std::size_t datagram = scheduler.wire.max_datagram_bytes;
     if (datagram < core::WireModel::MIN_DATAGRAM_PAYLOAD_BYTES || datagram > core::WireModel::MAX_UDP_PAYLOAD_BYTES) {
-        throw core::ConfigError("--wan-max-datagram " + std::to_string(datagram) + ": expected " +
+        throw base::ConfigError("--wan-max-datagram " + std::to_string(datagram) + ": expected " +
                                 std::to_string(core::WireModel::MIN_DATAGRAM_PAYLOAD_BYTES) + " to " +
                                 std::to_string(core::WireModel::MAX_UDP_PAYLOAD_BYTES) + " bytes");
     }
     if (robot.receive_buffer_bytes < RobotTransport::MIN_RECEIVE_BUFFER_BYTES ||
         robot.receive_buffer_bytes > RobotTransport::MAX_RECEIVE_BUFFER_BYTES) {
-        throw core::ConfigError("--robot-receive-buffer " + std::to_string(robot.receive_buffer_bytes) + ": expected " +
+        throw base::ConfigError("--robot-receive-buffer " + std::to_string(robot.receive_buffer_bytes) + ": expected " +
                                 std::to_string(RobotTransport::MIN_RECEIVE_BUFFER_BYTES) + " to " +
                                 std::to_string(RobotTransport::MAX_RECEIVE_BUFFER_BYTES) + " bytes");
     }
     if (wan_coalesce_window < std::chrono::microseconds::zero() || wan_coalesce_window > MAX_COALESCE_WINDOW) {
-        throw core::ConfigError("--wan-coalesce-us " + std::to_string(wan_coalesce_window.count()) +
+        throw base::ConfigError("--wan-coalesce-us " + std::to_string(wan_coalesce_window.count()) +
                                 ": expected 0 to " + std::to_string(MAX_COALESCE_WINDOW.count()) + " microseconds");
     }
     if (wan_peer_participants < 1 || wan_peer_participants > MAX_WAN_PEER_PARTICIPANTS) {
-        throw core::ConfigError("--wan-peer-participants " + std::to_string(wan_peer_participants) +
+        throw base::ConfigError("--wan-peer-participants " + std::to_string(wan_peer_participants) +
                                 ": expected 1 to " + std::to_string(MAX_WAN_PEER_PARTICIPANTS));
     }
-    if (default_ttl <= core::Duration::zero()) {
-        throw core::ConfigError("--default-ttl: must be positive");
+    if (default_ttl <= base::Duration::zero()) {
+        throw base::ConfigError("--default-ttl: must be positive");
     }
     for (const std::string& peer : wan_peers) {
         parse_wan_peer(peer, wan_domain);
@@ -69,7 +69,7 @@ void GatewayConfig::validate() const {
     for (const auto* globs : {&allow, &deny}) {
         for (const std::string& glob : *globs) {
             if (glob.empty()) {
-                throw core::ConfigError(std::string(globs == &allow ? "--allow" : "--deny") + ": empty glob");
+                throw base::ConfigError(std::string(globs == &allow ? "--allow" : "--deny") + ": empty glob");
             }
         }
     }
@@ -80,7 +80,7 @@ struct Gateway::UnscheduledLink {
     Gateway* gateway = nullptr;  ///< null once the Gateway is being destroyed
 };
 
-Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
+Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     : config_(std::move(config)),
       clock_(clock),
       filter_(config_.allow, config_.deny),
@@ -125,7 +125,7 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
     topics_ = std::make_unique<TopicTable>();
     sink_ = std::make_unique<GatewaySink>(*topics_, log_.get(), clock_);
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
-    if (config_.status_period > core::Duration::zero()) {
+    if (config_.status_period > base::Duration::zero()) {
         // The status is scheduled like a sample of a topic with a TTL of STATUS_TTL, so its bytes leave only
         // when the budget has room for them.
         OfferedQos offer;
@@ -133,7 +133,7 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
         status_writer_ =
             wan_->create_writer(STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true, STATUS_TTL, offer);
         if (status_writer_ == nullptr) {
-            throw core::ConfigError("--status-period: cannot create the writer of " + std::string(STATUS_TOPIC));
+            throw base::ConfigError("--status-period: cannot create the writer of " + std::string(STATUS_TOPIC));
         }
         status_topic_ = loop_->add_topic(core::TopicConfig{STATUS_TOPIC, STATUS_TTL});
         sink_->set_status_route(status_topic_, status_writer_);
@@ -144,7 +144,7 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
         reports_ =
             std::make_unique<ReceiverReportReader>(wan_->guid_prefix(), [this] { return forwarded_robot_samples(); });
         if (!wan_->subscribe_receiver_reports(reports_.get())) {
-            throw core::ConfigError("--receiver-reports: cannot subscribe to the base camp's reports");
+            throw base::ConfigError("--receiver-reports: cannot subscribe to the base camp's reports");
         }
     }
 
@@ -155,7 +155,7 @@ Gateway::Gateway(GatewayConfig config, const core::Clock& clock)
         });
     discovery_->ignore_participant(wan_->guid_prefix());
     worker_ = std::thread([this] { run_worker(); });
-    if (config_.status_period > core::Duration::zero()) {
+    if (config_.status_period > base::Duration::zero()) {
         // The first after one period: by then the sensor has been described and read.
         post_at(std::chrono::steady_clock::now() +
                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(config_.status_period),
@@ -315,7 +315,7 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
         bridge->admit(pub, false);
         return;
     }
-    std::optional<core::Duration> profile_lifespan;
+    std::optional<base::Duration> profile_lifespan;
     if (auto profile = wan_->writer_profile(pub.topic)) {
         profile_lifespan = to_duration(profile->lifespan().duration);
     }
@@ -375,7 +375,7 @@ std::size_t Gateway::wan_participants() const {
     return wan_->remote_participants();
 }
 
-std::optional<core::Duration> Gateway::wan_writer_lifespan(core::TopicId id, std::uint16_t lane) const {
+std::optional<base::Duration> Gateway::wan_writer_lifespan(core::TopicId id, std::uint16_t lane) const {
     const TopicBridge* bridge = topics_->find(id);
     return bridge != nullptr ? bridge->writer_lifespan(lane) : std::nullopt;
 }
@@ -408,7 +408,7 @@ void Gateway::publish_status_nts() {
     idl::GatewayStatus status;
     const auto prefix = wan_->guid_prefix();
     std::copy(std::begin(prefix.value), std::end(prefix.value), status.gateway_prefix().begin());
-    status.sent_ns(static_cast<std::uint64_t>(core::to_ns(clock_.wall_now())));
+    status.sent_ns(static_cast<std::uint64_t>(base::to_ns(clock_.wall_now())));
     const double rate = loop_->rate_bps();
     status.sensed_rate_bps(rate);
     status.budget_bps(rate * config_.scheduler.budget_fraction);
@@ -447,11 +447,11 @@ void Gateway::publish_status_nts() {
     idl::GatewayStatusPubSubType type;
     const std::size_t bytes = type.getSerializedSizeProvider(&status)();
     const double wire_bits = static_cast<double>(config_.scheduler.wire.wire_bits(bytes));
-    core::Duration period = config_.status_period;
+    base::Duration period = config_.status_period;
     if (rate > 0) {
-        period = std::max(period, core::from_seconds(wire_bits / (STATUS_RATE_SHARE * rate)));
+        period = std::max(period, base::from_seconds(wire_bits / (STATUS_RATE_SHARE * rate)));
     }
-    status.status_period_s(core::to_seconds(period));
+    status.status_period_s(base::to_seconds(period));
 
     core::Sample sample;
     sample.topic = status_topic_;

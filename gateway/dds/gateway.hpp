@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "gateway/core/forwarding_loop.hpp"
 #include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/scheduler.hpp"
@@ -59,7 +59,7 @@ struct GatewayConfig {
     std::string log_file;            ///< on-robot SQLite log; empty: none
     std::vector<std::string> allow;  ///< topic globs; empty: all
     std::vector<std::string> deny;
-    core::Duration default_ttl = std::chrono::seconds(5);
+    base::Duration default_ttl = std::chrono::seconds(5);
     core::SchedulerConfig scheduler;
     std::chrono::seconds wan_lease{120};
     std::chrono::seconds wan_announcement_period{20};
@@ -73,9 +73,9 @@ struct GatewayConfig {
     /// How often the gateway publishes its status (STATUS_TOPIC) at most; zero: never (telemetry-gateway's
     /// --status-period defaults to 1 s). On a slow link it comes less often, so that it takes at most
     /// STATUS_RATE_SHARE of the sensed rate.
-    core::Duration status_period = core::Duration::zero();
+    base::Duration status_period = base::Duration::zero();
 
-    /// Throws core::ConfigError naming the flag at fault. Checks what needs no file or network.
+    /// Throws base::ConfigError naming the flag at fault. Checks what needs no file or network.
     void validate() const;
 };
 
@@ -87,8 +87,8 @@ struct GatewayConfig {
 /// created and deleted in a worker thread of its own, never in Fast DDS's callbacks.
 class Gateway {
   public:
-    /// Starts everything. Throws core::ConfigError (bad flag, file, or a participant that cannot be created).
-    Gateway(GatewayConfig config, const core::Clock& clock);
+    /// Starts everything. Throws base::ConfigError (bad flag, file, or a participant that cannot be created).
+    Gateway(GatewayConfig config, const base::Clock& clock);
     ~Gateway();
 
     Gateway(const Gateway&) = delete;
@@ -128,7 +128,7 @@ class Gateway {
     eprosima::fastrtps::rtps::GuidPrefix_t wan_guid_prefix() const;
     /// Base-camp participants the WAN participant knows now.
     std::size_t wan_participants() const;
-    std::optional<core::Duration> wan_writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
+    std::optional<base::Duration> wan_writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
     std::uint64_t wan_write_failures() const;
     /// The WAN samples' RTPS messages and the datagrams that carried them.
     DatagramCoalescer::Counts wan_datagrams() const;
@@ -172,7 +172,7 @@ class Gateway {
     void charge_unscheduled(std::uint64_t frame_bytes);
 
     GatewayConfig config_;
-    const core::Clock& clock_;
+    const base::Clock& clock_;
     TopicFilter filter_;
     /// How the WAN transport's reports of unscheduled traffic reach this object while it lives.
     std::shared_ptr<UnscheduledLink> unscheduled_link_;

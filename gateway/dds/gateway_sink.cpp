@@ -4,7 +4,7 @@
 
 namespace tgw::dds {
 
-GatewaySink::GatewaySink(const TopicTable& topics, log::RobotLog* log, const core::Clock& clock)
+GatewaySink::GatewaySink(const TopicTable& topics, log::RobotLog* log, const base::Clock& clock)
     : topics_(topics), log_(log), clock_(clock) {}
 
 void GatewaySink::set_status_route(core::TopicId id, std::shared_ptr<WanWriter> writer) {
@@ -27,16 +27,16 @@ bool GatewaySink::forward(core::Sample&& sample) {
         drop(std::move(sample), core::DropReason::write_failed);
         return false;
     }
-    const core::SteadyTime written = clock_.now();
+    const base::SteadyTime written = clock_.now();
     processing_latency_.record(written - sample.arrival);
     // The log says what left the robot, so that the mission archive can tell lost on the link from never produced.
     // Not the status (the gateway's own, not telemetry), nor a dispose or unregister: the base camp records data
     // samples only, so one could never be matched.
     if (log_ != nullptr && bridge != nullptr && sample.kind == core::SampleKind::data) {
         // One reading of each clock for the three times: this runs for every sample sent.
-        const core::WallTime written_wall = clock_.wall_now();
-        const auto wall = [&](core::SteadyTime t) {
-            return written_wall + std::chrono::duration_cast<core::WallClock::duration>(t - written);
+        const base::WallTime written_wall = clock_.wall_now();
+        const auto wall = [&](base::SteadyTime t) {
+            return written_wall + std::chrono::duration_cast<base::WallClock::duration>(t - written);
         };
         log::ForwardRecord record;
         record.topic = bridge->name();
@@ -68,8 +68,8 @@ void GatewaySink::drop(core::Sample&& sample, core::DropReason reason) {
     logged_.fetch_add(1, std::memory_order_relaxed);
 }
 
-core::WallTime GatewaySink::to_wall(core::SteadyTime t) const {
-    return clock_.wall_now() + std::chrono::duration_cast<core::WallClock::duration>(t - clock_.now());
+base::WallTime GatewaySink::to_wall(base::SteadyTime t) const {
+    return clock_.wall_now() + std::chrono::duration_cast<base::WallClock::duration>(t - clock_.now());
 }
 
 }  // namespace tgw::dds

@@ -5,7 +5,7 @@
 #include <memory>
 #include <optional>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/sample_sink.hpp"
 #include "gateway/dds/topic_table.hpp"
@@ -20,7 +20,7 @@ namespace tgw::dds {
 class GatewaySink final : public core::SampleSink {
   public:
     /// `log` may be null (no --log): dropped samples are then only counted.
-    GatewaySink(const TopicTable& topics, log::RobotLog* log, const core::Clock& clock);
+    GatewaySink(const TopicTable& topics, log::RobotLog* log, const base::Clock& clock);
 
     /// Samples of topic `id` are the gateway's own status, written through `writer`; one that misses its
     /// deadline is not logged (the next status carries its counts). Call before the loop starts.
@@ -36,13 +36,13 @@ class GatewaySink final : public core::SampleSink {
     const core::LatencyHistogram& processing_latency() const { return processing_latency_; }
 
   private:
-    core::WallTime to_wall(core::SteadyTime t) const;
+    base::WallTime to_wall(base::SteadyTime t) const;
 
     const TopicTable& topics_;
     std::optional<core::TopicId> status_topic_;
     std::shared_ptr<WanWriter> status_writer_;
     log::RobotLog* log_;
-    const core::Clock& clock_;
+    const base::Clock& clock_;
     std::atomic<std::uint64_t> wan_write_failures_{0};
     std::atomic<std::uint64_t> logged_{0};
     core::LatencyHistogram processing_latency_;

@@ -98,7 +98,7 @@ bool HeartbeatThrottle::lone_heartbeat(const std::uint8_t* message, std::size_t 
 }
 
 bool HeartbeatThrottle::admit(const DatagramDestination& destination, const std::uint8_t* message, std::size_t size,
-                              core::SteadyTime now) {
+                              base::SteadyTime now) {
     Key key;
     if (!lone_heartbeat(message, size, key)) {
         return true;

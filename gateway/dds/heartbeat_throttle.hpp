@@ -6,7 +6,7 @@
 #include <mutex>
 #include <unordered_map>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 
 namespace tgw::dds {
@@ -25,13 +25,13 @@ class HeartbeatThrottle {
   public:
     /// What the scheduler lets the link queue hold (SchedulerConfig::link_queue): a HEARTBEAT sent that long
     /// ago has had time to arrive.
-    static constexpr core::Duration DEFAULT_INTERVAL = std::chrono::seconds(1);
+    static constexpr base::Duration DEFAULT_INTERVAL = std::chrono::seconds(1);
 
-    explicit HeartbeatThrottle(core::Duration interval = DEFAULT_INTERVAL) : interval_(interval) {}
+    explicit HeartbeatThrottle(base::Duration interval = DEFAULT_INTERVAL) : interval_(interval) {}
 
     /// True if `message`, an RTPS message to `destination`, may be sent at `now`.
     bool admit(const DatagramDestination& destination, const std::uint8_t* message, std::size_t size,
-               core::SteadyTime now);
+               base::SteadyTime now);
 
     /// Repeated HEARTBEATs held back so far.
     std::uint64_t suppressed() const;
@@ -50,9 +50,9 @@ class HeartbeatThrottle {
     /// The key (but its destination) of a message that carries a lone HEARTBEAT; false for any other message.
     static bool lone_heartbeat(const std::uint8_t* message, std::size_t size, Key& key);
 
-    const core::Duration interval_;
+    const base::Duration interval_;
     mutable std::mutex mutex_;
-    std::unordered_map<Key, core::SteadyTime, KeyHash> last_sent_;
+    std::unordered_map<Key, base::SteadyTime, KeyHash> last_sent_;
     std::uint64_t suppressed_ = 0;
 };
 

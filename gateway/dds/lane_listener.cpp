@@ -27,7 +27,7 @@ core::SampleKind kind_of(const fdds::SampleInfo& info) {
 }  // namespace
 
 LaneListener::LaneListener(core::TopicId topic, std::string name, std::uint16_t lane, bool keyed,
-                           const LaneAssignment& lanes, core::ForwardingLoop& loop, const core::Clock& clock)
+                           const LaneAssignment& lanes, core::ForwardingLoop& loop, const base::Clock& clock)
     : topic_(topic), name_(std::move(name)), lane_(lane), keyed_(keyed), lanes_(lanes), loop_(loop), clock_(clock) {}
 
 void LaneListener::on_data_available(fdds::DataReader* reader) {

@@ -7,7 +7,7 @@
 
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "gateway/core/forwarding_loop.hpp"
 #include "gateway/dds/lane_assignment.hpp"
 
@@ -22,7 +22,7 @@ class LaneListener final : public eprosima::fastdds::dds::DataReaderListener {
   public:
     /// `lanes` must outlive the listener. `name`: the topic's, for the warning about samples without a key hash.
     LaneListener(core::TopicId topic, std::string name, std::uint16_t lane, bool keyed, const LaneAssignment& lanes,
-                 core::ForwardingLoop& loop, const core::Clock& clock);
+                 core::ForwardingLoop& loop, const base::Clock& clock);
 
     void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
     void on_subscription_matched(eprosima::fastdds::dds::DataReader* reader,
@@ -45,7 +45,7 @@ class LaneListener final : public eprosima::fastdds::dds::DataReaderListener {
     const bool keyed_;
     const LaneAssignment& lanes_;
     core::ForwardingLoop& loop_;
-    const core::Clock& clock_;
+    const base::Clock& clock_;
     std::atomic<std::int32_t> matched_{0};
     std::atomic<std::uint64_t> stamped_on_arrival_{0};
     std::atomic<std::uint64_t> without_key_hash_{0};

@@ -11,7 +11,7 @@ namespace fdds = eprosima::fastdds::dds;
 
 namespace {
 
-eprosima::fastrtps::Duration_t to_dds(const std::optional<core::Duration>& d) {
+eprosima::fastrtps::Duration_t to_dds(const std::optional<base::Duration>& d) {
     return d ? to_dds_duration(*d) : eprosima::fastrtps::c_TimeInfinite;
 }
 
@@ -27,7 +27,7 @@ fdds::LivelinessQosPolicyKind to_dds(OfferedQos::Liveliness kind) {
     return fdds::AUTOMATIC_LIVELINESS_QOS;
 }
 
-std::string seconds_text(core::Duration d) {
+std::string seconds_text(base::Duration d) {
     std::ostringstream out;
     out << std::chrono::duration<double>(d).count() << 's';
     return out.str();

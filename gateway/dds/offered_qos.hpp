@@ -13,7 +13,7 @@
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/subscriber/qos/SubscriberQos.hpp>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
 namespace tgw::dds {
 
@@ -28,9 +28,9 @@ struct OfferedQos {
     bool reliable = false;
     bool transient_local = false;         ///< TRANSIENT_LOCAL or stronger ("latched")
     std::vector<std::string> partitions;  ///< sorted; empty: the default partition
-    std::optional<core::Duration> deadline;
+    std::optional<base::Duration> deadline;
     Liveliness liveliness = Liveliness::automatic;
-    std::optional<core::Duration> liveliness_lease;
+    std::optional<base::Duration> liveliness_lease;
     bool exclusive_ownership = false;
     std::uint32_t ownership_strength = 0;
     bool xcdr2 = false;  ///< the publisher writes XCDR2 (its first data representation)

@@ -39,7 +39,7 @@ fdds::DataReaderQos passthrough_reader_qos(fdds::DataReaderQos base, const Offer
 }
 
 fdds::DataWriterQos passthrough_writer_qos(fdds::DataWriterQos base, const OfferedQos& offer, bool keyed,
-                                           std::optional<core::Duration> lifespan) {
+                                           std::optional<base::Duration> lifespan) {
     offer.apply_to_wan_writer(base);
     base.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
     base.history().depth = offer.reliable && !offer.transient_local ? RELIABLE_WRITER_HISTORY_DEPTH : 1;

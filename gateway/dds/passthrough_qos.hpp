@@ -7,7 +7,7 @@
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 #include "gateway/dds/offered_qos.hpp"
 
 namespace tgw::dds {
@@ -24,6 +24,6 @@ eprosima::fastdds::dds::DataReaderQos passthrough_reader_qos(eprosima::fastdds::
 /// keyed topics preallocate payloads, as the reader does.
 eprosima::fastdds::dds::DataWriterQos passthrough_writer_qos(eprosima::fastdds::dds::DataWriterQos base,
                                                              const OfferedQos& offer, bool keyed,
-                                                             std::optional<core::Duration> lifespan);
+                                                             std::optional<base::Duration> lifespan);
 
 }  // namespace tgw::dds

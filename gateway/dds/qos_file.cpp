@@ -6,7 +6,7 @@
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "gateway/dds/dds_time.hpp"
 
 namespace tgw::dds {
@@ -20,26 +20,26 @@ void load_qos_file(const std::string& path) {
     const tinyxml2::XMLError err = doc.LoadFile(path.c_str());
     if (err == tinyxml2::XML_ERROR_FILE_NOT_FOUND || err == tinyxml2::XML_ERROR_FILE_COULD_NOT_BE_OPENED ||
         err == tinyxml2::XML_ERROR_FILE_READ_ERROR) {
-        throw core::ConfigError("--qos " + path + ": cannot read the file");
+        throw base::ConfigError("--qos " + path + ": cannot read the file");
     }
     if (err != tinyxml2::XML_SUCCESS) {
-        throw core::ConfigError("--qos " + path + ":" + std::to_string(doc.ErrorLineNum()) + ": malformed XML (" +
+        throw base::ConfigError("--qos " + path + ":" + std::to_string(doc.ErrorLineNum()) + ": malformed XML (" +
                                 doc.ErrorStr() + ")");
     }
     if (fdds::DomainParticipantFactory::get_instance()->load_XML_profiles_file(path) != ReturnCode_t::RETCODE_OK) {
-        throw core::ConfigError("--qos " + path + ": Fast DDS rejected the profiles (its log above names the element)");
+        throw base::ConfigError("--qos " + path + ": Fast DDS rejected the profiles (its log above names the element)");
     }
 }
 
-std::optional<core::Duration> writer_profile_lifespan(const std::string& topic) {
+std::optional<base::Duration> writer_profile_lifespan(const std::string& topic) {
     using eprosima::fastrtps::xmlparser::XMLP_ret;
     using eprosima::fastrtps::xmlparser::XMLProfileManager;
     eprosima::fastrtps::PublisherAttributes attributes;
     if (XMLProfileManager::fillPublisherAttributes(topic, attributes, false) != XMLP_ret::XML_OK) {
         return std::nullopt;
     }
-    const std::optional<core::Duration> lifespan = to_duration(attributes.qos.m_lifespan.duration);
-    if (!lifespan || *lifespan <= core::Duration::zero()) {
+    const std::optional<base::Duration> lifespan = to_duration(attributes.qos.m_lifespan.duration);
+    if (!lifespan || *lifespan <= base::Duration::zero()) {
         return std::nullopt;
     }
     return lifespan;
@@ -56,7 +56,7 @@ std::vector<DeclaredTopic> declared_topics(const std::string& path) {
     using eprosima::fastrtps::xmlparser::XMLProfileManager;
     tinyxml2::XMLDocument doc;
     if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS) {
-        throw core::ConfigError("--qos " + path + ": cannot read the file");
+        throw base::ConfigError("--qos " + path + ": cannot read the file");
     }
     std::vector<DeclaredTopic> topics;
     const tinyxml2::XMLElement* root = doc.RootElement();
@@ -73,7 +73,7 @@ std::vector<DeclaredTopic> declared_topics(const std::string& path) {
         }
         const std::string topic_name = attributes.topic.topicName.to_string();
         if (topic_name != UNDEFINED && topic_name != name) {
-            throw core::ConfigError("--qos " + path + ":" + std::to_string(writer->GetLineNum()) +
+            throw base::ConfigError("--qos " + path + ":" + std::to_string(writer->GetLineNum()) +
                                     ": data_writer profile '" + name + "' names topic '" + topic_name +
                                     "': a profile applies to the topic of its profile_name");
         }

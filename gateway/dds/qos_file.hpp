@@ -8,7 +8,7 @@
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
 namespace tgw::dds {
 
@@ -18,12 +18,12 @@ inline constexpr const char* ROBOT_PARTICIPANT_PROFILE = "tgw_robot_participant"
 inline constexpr const char* WAN_PARTICIPANT_PROFILE = "tgw_wan_participant";
 
 /// Loads a Fast DDS XML profiles file into the process (DomainParticipantFactory::load_XML_profiles_file).
-/// Throws core::ConfigError naming the file, and the line for malformed XML, when it does not load.
+/// Throws base::ConfigError naming the file, and the line for malformed XML, when it does not load.
 void load_qos_file(const std::string& path);
 
 /// The Lifespan of the data_writer profile named `topic` in the loaded files: the operator's TTL for the topic
 /// (DESIGN section 4). nullopt when there is no such profile or it sets no finite Lifespan. Needs no participant.
-std::optional<core::Duration> writer_profile_lifespan(const std::string& topic);
+std::optional<base::Duration> writer_profile_lifespan(const std::string& topic);
 
 /// A topic the --qos file names with its type (a data_writer profile whose <topic> has a <dataType>): the
 /// gateway bridges it at start-up, before any publisher appears, so its WAN writer's announcement has crossed
@@ -32,11 +32,11 @@ struct DeclaredTopic {
     std::string topic;
     std::string type_name;
     bool keyed = false;
-    std::optional<core::Duration> lifespan;
+    std::optional<base::Duration> lifespan;
     eprosima::fastdds::dds::WriterQos qos;  ///< the profile's: what the early lane's reader asks for
 };
 
-/// The declared topics of a loaded --qos file, in file order. Throws core::ConfigError naming the file and
+/// The declared topics of a loaded --qos file, in file order. Throws base::ConfigError naming the file and
 /// line of a data_writer profile whose <topic> names another topic than its profile_name.
 std::vector<DeclaredTopic> declared_topics(const std::string& path);
 

@@ -8,7 +8,7 @@
 #include <fastdds/rtps/common/Guid.h>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
 namespace tgw::dds {
 

@@ -11,7 +11,7 @@
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 
@@ -65,12 +65,12 @@ RobotParticipant::RobotParticipant(int domain, fdds::DomainParticipantListener* 
     participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
         static_cast<fdds::DomainId_t>(domain), qos, listener, fdds::StatusMask::none());
     if (participant_ == nullptr) {
-        throw core::ConfigError("--robot-domain " + std::to_string(domain) +
+        throw base::ConfigError("--robot-domain " + std::to_string(domain) +
                                 ": cannot create the robot participant (see the Fast DDS log)");
     }
     if (subscriber_nts(OfferedQos{}) == nullptr) {
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
-        throw core::ConfigError("--robot-domain " + std::to_string(domain) + ": cannot create a subscriber");
+        throw base::ConfigError("--robot-domain " + std::to_string(domain) + ": cannot create a subscriber");
     }
 }
 

@@ -23,7 +23,7 @@ namespace tgw::dds {
 /// type-agnostic readers; it writes nothing.
 class RobotParticipant {
   public:
-    /// Throws core::ConfigError if the participant cannot be created. `listener` must outlive this object
+    /// Throws base::ConfigError if the participant cannot be created. `listener` must outlive this object
     /// and receives discovery callbacks from the moment the participant exists. `base` is the starting QoS
     /// (an XML participant profile, or the default); transports and name are set here. `transport.interfaces`
     /// must be addresses.

@@ -53,7 +53,7 @@ bool TopicBridge::admit(const DiscoveredPublisher& pub, bool declared) {
     // The WAN writer first, so that nothing the reader takes finds no writer.
     // Lifespan = TTL, so that base-camp readers drop what is stale themselves; but what a latched publisher
     // keeps forever (ROS 2's /tf_static, /robot_description) stays for late joiners past the TTL.
-    std::optional<core::Duration> lifespan = ttl_.ttl;
+    std::optional<base::Duration> lifespan = ttl_.ttl;
     if (pub.qos.transient_local && !pub.lifespan) {
         lifespan.reset();
     }
@@ -148,7 +148,7 @@ std::int32_t TopicBridge::matched_readers() const {
     return matched;
 }
 
-std::optional<core::Duration> TopicBridge::writer_lifespan(std::uint16_t index) const {
+std::optional<base::Duration> TopicBridge::writer_lifespan(std::uint16_t index) const {
     std::lock_guard<std::mutex> lock(mutex_);
     if (index >= lanes_.size() || !lanes_[index].writer) {
         return std::nullopt;

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "gateway/core/forwarding_loop.hpp"
 #include "gateway/core/sample.hpp"
 #include "gateway/dds/discovery.hpp"
@@ -56,7 +56,7 @@ class TopicBridge {
         RobotParticipant& robot;
         WanRouter& wan;
         core::ForwardingLoop& loop;
-        const core::Clock& clock;
+        const base::Clock& clock;
     };
 
     TopicBridge(core::TopicId id, std::string name, std::string type_name, bool keyed, ResolvedTtl ttl, Ends ends);
@@ -91,7 +91,7 @@ class TopicBridge {
     /// Base-camp readers matched now, all lanes together.
     std::int32_t matched_readers() const;
     /// The Lifespan QoS of the lane's WAN writer; nullopt without a writer or when it is infinite.
-    std::optional<core::Duration> writer_lifespan(std::uint16_t lane) const;
+    std::optional<base::Duration> writer_lifespan(std::uint16_t lane) const;
     BridgedTopic describe() const;
 
   private:

@@ -4,8 +4,8 @@ namespace tgw::dds {
 
 namespace {
 
-bool applies(const std::optional<core::Duration>& lifespan) {
-    return lifespan.has_value() && *lifespan > core::Duration::zero() && *lifespan != core::Duration::max();
+bool applies(const std::optional<base::Duration>& lifespan) {
+    return lifespan.has_value() && *lifespan > base::Duration::zero() && *lifespan != base::Duration::max();
 }
 
 }  // namespace
@@ -22,8 +22,8 @@ std::string_view to_string(TtlSource source) {
     return "?";
 }
 
-ResolvedTtl resolve_ttl(std::optional<core::Duration> profile_lifespan,
-                        std::optional<core::Duration> publisher_lifespan, core::Duration default_ttl) {
+ResolvedTtl resolve_ttl(std::optional<base::Duration> profile_lifespan,
+                        std::optional<base::Duration> publisher_lifespan, base::Duration default_ttl) {
     if (applies(profile_lifespan)) {
         return {*profile_lifespan, TtlSource::profile};
     }

@@ -3,7 +3,7 @@
 #include <optional>
 #include <string_view>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
 namespace tgw::dds {
 
@@ -17,12 +17,12 @@ enum class TtlSource {
 std::string_view to_string(TtlSource source);
 
 struct ResolvedTtl {
-    core::Duration ttl{};
+    base::Duration ttl{};
     TtlSource source = TtlSource::fallback;
 };
 
 /// Pure rule of DESIGN section 4. A lifespan that is absent, infinite or not positive does not apply.
-ResolvedTtl resolve_ttl(std::optional<core::Duration> profile_lifespan,
-                        std::optional<core::Duration> publisher_lifespan, core::Duration default_ttl);
+ResolvedTtl resolve_ttl(std::optional<base::Duration> profile_lifespan,
+                        std::optional<base::Duration> publisher_lifespan, base::Duration default_ttl);
 
 }  // namespace tgw::dds

@@ -6,7 +6,7 @@
 
 #include <memory>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
 namespace tgw::dds {
 
@@ -28,7 +28,7 @@ using IfaddrsPtr = std::unique_ptr<ifaddrs, void (*)(ifaddrs*)>;
 IfaddrsPtr list_interfaces(const std::string& name_or_address, const std::string& flag = "--wan-interface") {
     ifaddrs* list = nullptr;
     if (getifaddrs(&list) != 0) {
-        throw core::ConfigError(flag + " '" + name_or_address + "': cannot list network interfaces");
+        throw base::ConfigError(flag + " '" + name_or_address + "': cannot list network interfaces");
     }
     return IfaddrsPtr(list, freeifaddrs);
 }
@@ -55,7 +55,7 @@ WanPeer parse_wan_peer(const std::string& text, int domain) {
     const auto colon = text.rfind(':');
     peer.address = colon == std::string::npos ? text : text.substr(0, colon);
     if (!is_ipv4(peer.address)) {
-        throw core::ConfigError("--wan-peer '" + text + "': expected an IPv4 address, optionally with :PORT");
+        throw base::ConfigError("--wan-peer '" + text + "': expected an IPv4 address, optionally with :PORT");
     }
     if (colon == std::string::npos) {
         peer.port = metatraffic_unicast_port(domain, 0);
@@ -70,7 +70,7 @@ WanPeer parse_wan_peer(const std::string& text, int domain) {
         used = 0;
     }
     if (used != port_text.size() || port <= 0 || port > 65535) {
-        throw core::ConfigError("--wan-peer '" + text + "': port must be a number from 1 to 65535");
+        throw base::ConfigError("--wan-peer '" + text + "': port must be a number from 1 to 65535");
     }
     peer.port = static_cast<std::uint16_t>(port);
     peer.exact_port = true;
@@ -103,7 +103,7 @@ std::string resolve_interface_address(const std::string& name_or_address, const 
             return ipv4_text(it->ifa_addr);
         }
     }
-    throw core::ConfigError(flag + " '" + name_or_address + "': " +
+    throw base::ConfigError(flag + " '" + name_or_address + "': " +
                             (exists ? "the interface has no IPv4 address" : "no such interface or IPv4 address"));
 }
 
@@ -117,7 +117,7 @@ std::string resolve_interface_name(const std::string& name_or_address) {
             return it->ifa_name;
         }
     }
-    throw core::ConfigError("--wan-interface '" + name_or_address + "': no interface has this address");
+    throw base::ConfigError("--wan-interface '" + name_or_address + "': no interface has this address");
 }
 
 }  // namespace tgw::dds

@@ -19,7 +19,7 @@ struct WanPeer {
 std::uint16_t metatraffic_unicast_port(int domain, int participant_id);
 
 /// Parses --wan-peer "ADDR" or "ADDR:PORT" (IPv4). Without a port, `port` is participant 0's in `domain`.
-/// Throws core::ConfigError naming the flag and value.
+/// Throws base::ConfigError naming the flag and value.
 WanPeer parse_wan_peer(const std::string& text, int domain);
 
 /// The metatraffic ports the WAN participant announces itself to on `peer`: the one given, or those of
@@ -28,12 +28,12 @@ WanPeer parse_wan_peer(const std::string& text, int domain);
 std::vector<std::uint16_t> peer_ports(const WanPeer& peer, int domain, int participants);
 
 /// --wan-interface (or another `flag`) as the IPv4 address to bind to: an address is returned as is (after
-/// checking its syntax), an interface name is looked up. Throws core::ConfigError naming the flag when neither
+/// checking its syntax), an interface name is looked up. Throws base::ConfigError naming the flag when neither
 /// works.
 std::string resolve_interface_address(const std::string& name_or_address, const std::string& flag = "--wan-interface");
 
 /// --wan-interface as an interface name: a name is returned as is, an address is looked up. Throws
-/// core::ConfigError naming the flag when no interface has the address.
+/// base::ConfigError naming the flag when no interface has the address.
 std::string resolve_interface_name(const std::string& name_or_address);
 
 }  // namespace tgw::dds

@@ -13,7 +13,7 @@
 #include <fastdds/dds/topic/Topic.hpp>
 
 #include "ReceiverReportPubSubTypes.h"
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/dds_time.hpp"
@@ -102,13 +102,13 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
         static_cast<fdds::DomainId_t>(config.domain), qos, participants_.get(), discovery_only);
     if (participant_ == nullptr) {
-        throw core::ConfigError("--wan-domain " + std::to_string(config.domain) +
+        throw base::ConfigError("--wan-domain " + std::to_string(config.domain) +
                                 ": cannot create the WAN participant (check --wan-interface and --wan-peer)");
     }
     publisher_ = publisher_nts(OfferedQos{});
     if (publisher_ == nullptr) {
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
-        throw core::ConfigError("--wan-domain " + std::to_string(config.domain) + ": cannot create a publisher");
+        throw base::ConfigError("--wan-domain " + std::to_string(config.domain) + ": cannot create a publisher");
     }
     coalescer_->start();
 }
@@ -146,7 +146,7 @@ fdds::Publisher* WanRouter::publisher_nts(const OfferedQos& offer) {
 }
 
 std::shared_ptr<WanWriter> WanRouter::create_writer(const std::string& topic, const std::string& type_name, bool keyed,
-                                                    std::optional<core::Duration> lifespan, const OfferedQos& offer) {
+                                                    std::optional<base::Duration> lifespan, const OfferedQos& offer) {
     auto matches = std::make_unique<WriterMatchCounter>();
 
     std::lock_guard<std::mutex> lock(mutex_);

@@ -19,7 +19,7 @@
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "gateway/core/sample.hpp"
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
@@ -69,7 +69,7 @@ struct WanConfig {
 /// (WanConfig::on_unscheduled). It reads one topic only: the base camp's receiver reports, when asked to.
 class WanRouter {
   public:
-    /// Throws core::ConfigError when the participant cannot be created. `base`: starting QoS (an XML
+    /// Throws base::ConfigError when the participant cannot be created. `base`: starting QoS (an XML
     /// participant profile) or nullopt for Fast DDS's default; transports, locators and discovery periods
     /// are then set from `config`.
     WanRouter(const WanConfig& config, const std::optional<eprosima::fastdds::dds::DomainParticipantQos>& base);
@@ -84,7 +84,7 @@ class WanRouter {
     /// A writer of `topic` offering `offer`, with Lifespan `lifespan` (nullopt: infinite). nullptr (after
     /// logging it) when Fast DDS refuses. Every writer must be released before the router goes.
     std::shared_ptr<WanWriter> create_writer(const std::string& topic, const std::string& type_name, bool keyed,
-                                             std::optional<core::Duration> lifespan, const OfferedQos& offer);
+                                             std::optional<base::Duration> lifespan, const OfferedQos& offer);
 
     /// Creates a reader of dds::RECEIVER_REPORT_TOPIC for `listener`, which must outlive the router. False
     /// (after logging it) when Fast DDS refuses.
@@ -105,7 +105,7 @@ class WanRouter {
     /// One publisher per partition set (a publisher's QoS in Fast DDS 2.9), made on demand.
     eprosima::fastdds::dds::Publisher* publisher_nts(const OfferedQos& offer);
 
-    core::SystemClock clock_;  // datagrams wait in real time, whatever clock the scheduler runs on
+    base::SystemClock clock_;  // datagrams wait in real time, whatever clock the scheduler runs on
     std::shared_ptr<DatagramCoalescer> coalescer_;
     std::shared_ptr<HeartbeatThrottle> heartbeat_throttle_ = std::make_shared<HeartbeatThrottle>();
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;

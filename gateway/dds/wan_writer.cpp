@@ -59,7 +59,7 @@ WriteResult WanWriter::write(core::Sample& sample) {
     return WriteResult::ok;
 }
 
-std::optional<core::Duration> WanWriter::lifespan() const {
+std::optional<base::Duration> WanWriter::lifespan() const {
     return to_duration(writer_->get_qos().lifespan().duration);
 }
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "gateway/core/sample.hpp"
 #include "gateway/dds/writer_match_counter.hpp"
 
@@ -39,7 +39,7 @@ class WanWriter {
     /// Base-camp readers matched now.
     std::int32_t matched_readers() const { return matches_->matched.load(); }
     /// The writer's Lifespan QoS; nullopt when it is infinite.
-    std::optional<core::Duration> lifespan() const;
+    std::optional<base::Duration> lifespan() const;
 
   private:
     eprosima::fastdds::dds::DataWriter* writer_;

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
 namespace tgw::log {
 
@@ -160,18 +160,18 @@ class RobotLog::Impl {
 
   private:
     static Row common_row(std::string_view topic, std::string_view type_name, const core::Sample* sample,
-                          core::WallTime arrival, core::WallTime deadline, core::WallTime logged_at) {
+                          base::WallTime arrival, base::WallTime deadline, base::WallTime logged_at) {
         Row row;
         row.topic.assign(topic.data(), topic.size());
         row.type_name.assign(type_name.data(), type_name.size());
         if (sample != nullptr) {
             if (sample->key.valid)
                 row.key = sample->key;
-            row.source_time_ns = core::to_ns(sample->source_time);
+            row.source_time_ns = base::to_ns(sample->source_time);
         }
-        row.arrival_ns = core::to_ns(arrival);
-        row.deadline_ns = core::to_ns(deadline);
-        row.logged_ns = core::to_ns(logged_at);
+        row.arrival_ns = base::to_ns(arrival);
+        row.deadline_ns = base::to_ns(deadline);
+        row.logged_ns = base::to_ns(logged_at);
         return row;
     }
 
@@ -199,7 +199,7 @@ class RobotLog::Impl {
         std::string message = "on-robot log " + path_ + ": " + what;
         if (db_ != nullptr)
             message += ": " + std::string(sqlite3_errmsg(db_.get()));
-        throw core::ConfigError(message);
+        throw base::ConfigError(message);
     }
 
     void exec_or_fail(const char* sql, const char* what) {
@@ -207,10 +207,10 @@ class RobotLog::Impl {
             fail_open(what);
     }
 
-    /// Opens or creates the file, turns WAL on and checks or creates the schema. Throws core::ConfigError.
+    /// Opens or creates the file, turns WAL on and checks or creates the schema. Throws base::ConfigError.
     void open() {
         if (path_.empty())
-            throw core::ConfigError("on-robot log: the file name is empty");
+            throw base::ConfigError("on-robot log: the file name is empty");
         sqlite3* raw = nullptr;
         const int rc = sqlite3_open_v2(path_.c_str(), &raw, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr);
         db_.reset(raw);  // sqlite3_open_v2 hands out a handle even on failure, to carry the message
@@ -228,7 +228,7 @@ class RobotLog::Impl {
             fail_open("cannot switch to WAL mode");
         const auto* mode = reinterpret_cast<const char*>(sqlite3_column_text(wal.get(), 0));
         if (mode == nullptr || std::string(mode) != "wal")
-            throw core::ConfigError("on-robot log " + path_ + ": the file system does not support WAL mode (got " +
+            throw base::ConfigError("on-robot log " + path_ + ": the file system does not support WAL mode (got " +
                                     (mode ? mode : "nothing") + ")");
         wal.reset();
 
@@ -263,7 +263,7 @@ class RobotLog::Impl {
         const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(stmt.get(), 0));
         const std::string version = text ? text : "";
         if (version != std::to_string(SCHEMA_VERSION))
-            throw core::ConfigError("on-robot log " + path_ + ": schema version " + version + ", this gateway writes " +
+            throw base::ConfigError("on-robot log " + path_ + ": schema version " + version + ", this gateway writes " +
                                     std::to_string(SCHEMA_VERSION));
     }
 

@@ -17,9 +17,9 @@ struct LogRecord {
     std::string_view type_name;
     const core::Sample* sample = nullptr;  ///< payload and instance key; not owned
     core::DropReason reason = core::DropReason::expired;
-    core::WallTime arrival;
-    core::WallTime deadline;
-    core::WallTime logged_at;
+    base::WallTime arrival;
+    base::WallTime deadline;
+    base::WallTime logged_at;
 };
 
 /// One sample written to the WAN, with its times on the wall clock. Its payload is not kept: the row only has to
@@ -29,9 +29,9 @@ struct ForwardRecord {
     std::string_view topic;
     std::string_view type_name;
     const core::Sample* sample = nullptr;  ///< instance key, source time and payload size; not owned
-    core::WallTime arrival;
-    core::WallTime deadline;
-    core::WallTime forwarded_at;
+    base::WallTime arrival;
+    base::WallTime deadline;
+    base::WallTime forwarded_at;
 };
 
 /// The on-robot log: an SQLite file with one row per sample not sent (table dropped_samples: topic, type name,
@@ -41,7 +41,7 @@ struct ForwardRecord {
 /// path never waits on the disk; flush() and the destructor write everything still buffered.
 class RobotLog {
   public:
-    /// Opens or creates `path` (WAL mode). Throws core::ConfigError naming the file if it cannot.
+    /// Opens or creates `path` (WAL mode). Throws base::ConfigError naming the file if it cannot.
     explicit RobotLog(const std::string& path);
     ~RobotLog();
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "base/time.hpp"
 #include "gateway/core/drop_reason.hpp"
-#include "gateway/core/time.hpp"
 
 namespace tgw::sim {
 
@@ -18,8 +18,8 @@ struct DeliveryStats {
     std::uint64_t lost_on_link = 0;
     std::array<std::uint64_t, core::DROP_REASON_COUNT> logged{};
 
-    void record_delivery(core::Duration transmission_time, core::Duration ttl) {
-        const double s = core::to_seconds(transmission_time);
+    void record_delivery(base::Duration transmission_time, base::Duration ttl) {
+        const double s = base::to_seconds(transmission_time);
         (transmission_time <= ttl ? on_time : late) += 1;
         sum_s_ += s;
         sum_sq_s_ += s * s;

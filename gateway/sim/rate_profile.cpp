@@ -4,7 +4,7 @@
 
 namespace tgw::sim {
 
-using core::Duration;
+using base::Duration;
 
 Duration RateProfile::finish_offset(Duration offset, std::uint64_t bits) const {
     double remaining = static_cast<double>(bits);
@@ -13,11 +13,11 @@ Duration RateProfile::finish_offset(Duration offset, std::uint64_t bits) const {
         const double rate = steps()[i].rate_bps;
         const Duration step_end = i + 1 < steps().size() ? steps()[i + 1].at : Duration::max();
         if (rate > 0.0) {
-            const Duration needed = core::from_seconds(remaining / rate);
+            const Duration needed = base::from_seconds(remaining / rate);
             if (step_end == Duration::max() || t + needed <= step_end) {
                 return t + needed;
             }
-            remaining -= rate * core::to_seconds(step_end - t);
+            remaining -= rate * base::to_seconds(step_end - t);
         } else if (step_end == Duration::max()) {
             return Duration::max();
         }

@@ -3,21 +3,21 @@
 #include <cstdint>
 #include <utility>
 
-#include "gateway/core/rate_steps.hpp"
+#include "base/rate_steps.hpp"
 
 namespace tgw::sim {
 
-/// The simulated link's rate over time (core::RateSteps), and how long bits take across its steps.
-class RateProfile : public core::RateSteps {
+/// The simulated link's rate over time (base::RateSteps), and how long bits take across its steps.
+class RateProfile : public base::RateSteps {
   public:
     using RateSteps::RateSteps;
-    explicit RateProfile(core::RateSteps steps) : RateSteps(std::move(steps)) {}
+    explicit RateProfile(base::RateSteps steps) : RateSteps(std::move(steps)) {}
 
-    static RateProfile constant(double rate_bps) { return RateProfile({{core::Duration::zero(), rate_bps}}); }
+    static RateProfile constant(double rate_bps) { return RateProfile({{base::Duration::zero(), rate_bps}}); }
 
     /// When `bits` started at `offset` have left the link, integrating across rate steps (a step at 0 bit/s
     /// pauses the transmission); Duration::max() if the link never carries them.
-    core::Duration finish_offset(core::Duration offset, std::uint64_t bits) const;
+    base::Duration finish_offset(base::Duration offset, std::uint64_t bits) const;
 };
 
 }  // namespace tgw::sim

@@ -35,7 +35,7 @@ std::string ResultTable::detailed_markdown() const {
         out << "---|---|\n";
         for (std::size_t i = 0; i < workload_.size(); ++i) {
             const DeliveryStats& s = result.per_stream[i];
-            out << "| " << workload_[i].type << " | " << core::to_seconds(workload_[i].ttl) << " | " << s.offered
+            out << "| " << workload_[i].type << " | " << base::to_seconds(workload_[i].ttl) << " | " << s.offered
                 << " | " << s.on_time << " | " << format("%.1f", s.on_time_percent()) << " | " << s.late << " | "
                 << s.lost_on_link << " |";
             for (auto n : s.logged)

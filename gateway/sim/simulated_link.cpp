@@ -6,8 +6,8 @@
 
 namespace tgw::sim {
 
-using core::Duration;
-using core::SteadyTime;
+using base::Duration;
+using base::SteadyTime;
 
 SimulatedLink::SimulatedLink(RateProfile rate, SteadyTime start, Duration latency, std::uint64_t burst_bytes)
     : rate_(std::move(rate)),
@@ -19,7 +19,7 @@ SimulatedLink::SimulatedLink(RateProfile rate, SteadyTime start, Duration latenc
 
 std::uint64_t SimulatedLink::queue_limit_bytes(SteadyTime now) const {
     const double rate_bps = rate_.rate_at(now - start_);
-    return static_cast<std::uint64_t>(std::floor(rate_bps / 8.0 * core::to_seconds(latency_))) +
+    return static_cast<std::uint64_t>(std::floor(rate_bps / 8.0 * base::to_seconds(latency_))) +
            static_cast<std::uint64_t>(burst_bits_ / 8.0);
 }
 
@@ -56,14 +56,14 @@ std::optional<SteadyTime> SimulatedLink::departure(SteadyTime head_at, std::uint
     if (rate_.next_change_after(since_departure) <= head) {
         tokens = burst_bits_;
     } else {
-        tokens = std::min(burst_bits_, tokens + rate_.rate_at(head) * core::to_seconds(head - since_departure));
+        tokens = std::min(burst_bits_, tokens + rate_.rate_at(head) * base::to_seconds(head - since_departure));
     }
     SteadyTime departs = head_at;
     if (tokens < needed) {
         const double rate_bps = rate_.rate_at(head);
         const Duration change = rate_.next_change_after(head);
         const Duration filled =
-            rate_bps > 0.0 ? head + core::from_seconds((needed - tokens) / rate_bps) : Duration::max();
+            rate_bps > 0.0 ? head + base::from_seconds((needed - tokens) / rate_bps) : Duration::max();
         if (change <= filled) {
             if (change == Duration::max())
                 return std::nullopt;  // a rate of 0 that never ends

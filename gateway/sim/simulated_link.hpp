@@ -4,7 +4,7 @@
 #include <deque>
 #include <optional>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 #include "gateway/sim/rate_profile.hpp"
 
 namespace tgw::sim {
@@ -18,34 +18,34 @@ namespace tgw::sim {
 class SimulatedLink {
   public:
     /// `latency` is tbf's `latency` (the queue depth at the current rate), `burst_bytes` its bucket.
-    SimulatedLink(RateProfile rate, core::SteadyTime start, core::Duration latency, std::uint64_t burst_bytes);
+    SimulatedLink(RateProfile rate, base::SteadyTime start, base::Duration latency, std::uint64_t burst_bytes);
 
     /// Hands `bits` to the shaper at `now` (calls in non-decreasing `now`); returns when they leave it, which
     /// is when they arrive, or nullopt if the queue dropped them or the rate never lets them leave.
-    std::optional<core::SteadyTime> send(core::SteadyTime now, std::uint64_t bits);
+    std::optional<base::SteadyTime> send(base::SteadyTime now, std::uint64_t bits);
 
     /// The queue's limit in bytes at `now`: rate/8 * latency + burst, rounded down as tc does.
-    std::uint64_t queue_limit_bytes(core::SteadyTime now) const;
+    std::uint64_t queue_limit_bytes(base::SteadyTime now) const;
 
     std::uint64_t sent_bits() const { return sent_bits_; }
     std::uint64_t dropped_bits() const { return dropped_bits_; }
 
   private:
     struct Queued {
-        core::SteadyTime departs;
+        base::SteadyTime departs;
         std::uint64_t bits;
     };
 
     /// When a packet of `bits` at the head of the queue from `head_at` leaves; updates the bucket.
-    std::optional<core::SteadyTime> departure(core::SteadyTime head_at, std::uint64_t bits);
+    std::optional<base::SteadyTime> departure(base::SteadyTime head_at, std::uint64_t bits);
 
     RateProfile rate_;
-    core::SteadyTime start_;
-    core::Duration latency_;
+    base::SteadyTime start_;
+    base::Duration latency_;
     double burst_bits_;
     /// The bucket's tokens right after the last departure (negative after a packet larger than the bucket).
     double tokens_bits_;
-    core::SteadyTime last_departure_;
+    base::SteadyTime last_departure_;
     /// Packets not yet gone at the last send, in departure order, and their total.
     std::deque<Queued> queue_;
     std::uint64_t backlog_bits_ = 0;

@@ -7,8 +7,8 @@
 
 namespace tgw::sim {
 
-using core::Duration;
-using core::SteadyTime;
+using base::Duration;
+using base::SteadyTime;
 
 namespace {
 
@@ -16,7 +16,7 @@ namespace {
 class SimulationSink final : public core::SampleSink {
   public:
     SimulationSink(const SimulationConfig& config, SimulatedLink& link, std::vector<DeliveryStats>& stats,
-                   const SteadyTime& now, SteadyTime start, core::WallTime wall_start)
+                   const SteadyTime& now, SteadyTime start, base::WallTime wall_start)
         : config_(config), link_(link), stats_(stats), now_(now), start_(start), wall_start_(wall_start) {}
 
     bool forward(core::Sample&& sample) override {
@@ -53,16 +53,16 @@ class SimulationSink final : public core::SampleSink {
     std::vector<DeliveryStats>& stats_;
     const SteadyTime& now_;
     SteadyTime start_;
-    core::WallTime wall_start_;
+    base::WallTime wall_start_;
 };
 
 }  // namespace
 
 SimulationResult run_simulation(const SimulationConfig& config) {
     const SteadyTime start{std::chrono::hours(1)};
-    const core::WallTime wall_start{std::chrono::hours(24 * 365 * 50)};
+    const base::WallTime wall_start{std::chrono::hours(24 * 365 * 50)};
     const auto wall_at = [&](SteadyTime t) {
-        return wall_start + std::chrono::duration_cast<core::WallClock::duration>(t - start);
+        return wall_start + std::chrono::duration_cast<base::WallClock::duration>(t - start);
     };
 
     core::SchedulerConfig scheduler_config = config.scheduler;
@@ -75,7 +75,7 @@ SimulationResult run_simulation(const SimulationConfig& config) {
         const core::MessageStream& stream = config.workload[i];
         scheduler.add_topic({stream.topic, stream.ttl});
         longest_ttl = std::max(longest_ttl, stream.ttl);
-        periods.push_back(core::from_seconds(1.0 / stream.rate_hz));
+        periods.push_back(base::from_seconds(1.0 / stream.rate_hz));
         next_generation.push_back(start +
                                   periods.back() * static_cast<long>(i) / static_cast<long>(config.workload.size()));
     }

@@ -14,12 +14,12 @@ struct SimulationConfig {
     core::SchedulerConfig scheduler;  ///< policy, wire model, memory cap; the initial rate comes from `link`
     std::vector<core::MessageStream> workload = core::paper_workload();
     RateProfile link = RateProfile::constant(20'000);
-    core::Duration duration = std::chrono::seconds(60);
+    base::Duration duration = std::chrono::seconds(60);
     /// Publishing before the measured window starts, so that queues are in their steady state (0: the
     /// paper's fresh start).
-    core::Duration warmup = core::Duration::zero();
+    base::Duration warmup = base::Duration::zero();
     /// The shaper's queue depth (tbf `latency`): it holds link rate/8 * this + `link_burst_bytes` bytes.
-    core::Duration link_queue_limit = std::chrono::seconds(1);
+    base::Duration link_queue_limit = std::chrono::seconds(1);
     /// The shaper's token bucket (tbf `burst`), as scripts/testbed sets it.
     std::uint64_t link_burst_bytes = 1600;
     /// The link as the gateway believes it: the wire model's cost times this (1.0 = perfectly calibrated).

@@ -20,7 +20,7 @@
 #include <CLI/CLI.hpp>
 
 #include "PaperWorkloadPubSubTypes.h"
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway.hpp"
 #include "test/integration/dds_test_support.hpp"
@@ -181,7 +181,7 @@ class CountingReader final : public fdds::DataReaderListener {
             if (!keep_latencies_) {
                 continue;
             }
-            const auto received = tgw::core::WallClock::now();
+            const auto received = tgw::base::WallClock::now();
             const auto source = tgw::dds::to_wall_time(info.source_timestamp);
             if (source) {
                 std::lock_guard<std::mutex> lock(mutex_);

@@ -25,7 +25,7 @@
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 
 #include "PaperWorkloadPubSubTypes.h"
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway.hpp"
 #include "test/bench/bench_support.hpp"
@@ -79,7 +79,7 @@ class LatencyReader final : public fdds::DataReaderListener {
     void on_data_available(fdds::DataReader* reader) override {
         fdds::SampleInfo info;
         while (reader->take_next_sample(&data_, &info) == ReturnCode_t::RETCODE_OK) {
-            const auto received = tgw::core::WallClock::now();
+            const auto received = tgw::base::WallClock::now();
             if (!info.valid_data) {
                 continue;
             }
@@ -112,7 +112,7 @@ class LatencyReader final : public fdds::DataReaderListener {
     std::vector<std::int64_t> latencies_ns_;
 };
 
-double us(tgw::core::Duration d) {
+double us(tgw::base::Duration d) {
     return std::chrono::duration<double, std::micro>(d).count();
 }
 
@@ -153,7 +153,7 @@ class Bench {
                 for (DataWriter* writer : {via_writer, direct_writer}) {
                     next += period;
                     std::this_thread::sleep_until(next);
-                    message.generated_ns(static_cast<std::uint64_t>(tgw::core::to_ns(tgw::core::WallClock::now())));
+                    message.generated_ns(static_cast<std::uint64_t>(tgw::base::to_ns(tgw::base::WallClock::now())));
                     writer->write(&message);
                 }
             }
@@ -187,7 +187,7 @@ class Bench {
   private:
     Options options_;
     BenchDomains domains_;
-    tgw::core::SystemClock clock_;
+    tgw::base::SystemClock clock_;
     tgw::bench::SideBySide side_;
 };
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "gateway/apps/cli_checks.hpp"
+#include "base/cli_checks.hpp"
 #include "gateway/log/robot_log.hpp"
 
 namespace {
@@ -40,7 +40,7 @@ Result absorb(const fs::path& file, std::size_t payload_bytes, std::size_t rows)
     sample.topic = 3;
     sample.payload.assign(payload_bytes, 0xa5);
     sample.key.valid = true;
-    sample.source_time = tgw::core::WallClock::now();
+    sample.source_time = tgw::base::WallClock::now();
     std::vector<double> append_us;
     append_us.reserve(rows);
 
@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
     std::string dir = fs::temp_directory_path().string();
     app.add_option("--size", sizes, "payload bytes per row; repeatable")->capture_default_str();
     app.add_option("--rows", rows, "rows per size (fewer for payloads over 4 KiB: at most 1 GiB each)")
-        ->check(tgw::cli::positive())
+        ->check(tgw::base::positive())
         ->capture_default_str();
     app.add_option("--dir", dir, "directory for the SQLite files (removed afterwards)")->capture_default_str();
     CLI11_PARSE(app, argc, argv);

@@ -19,6 +19,7 @@
 
 namespace {
 
+using namespace tgw::base;
 using namespace tgw::core;
 
 constexpr std::size_t PAYLOAD_BYTES = 32;

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "test/bench/bench_support.hpp"
 
 namespace tgw::bench {
@@ -20,7 +20,7 @@ class SideBySide {
     /// gateway's configuration refuses.
     bool set_up(const char* bench, const BenchDomains& d, const fdds::DomainParticipantQos& publisher_qos,
                 const fdds::DomainParticipantQos& direct_qos, const tgw::dds::GatewayConfig& gateway_config,
-                const core::Clock& clock, std::uint32_t reader_receive_buffer_bytes = 0) {
+                const base::Clock& clock, std::uint32_t reader_receive_buffer_bytes = 0) {
         tgw::test::use_transports_in_process();
         publisher_ = std::make_unique<tgw::test::TestParticipant>(d.robot, publisher_qos);
         direct_ = std::make_unique<tgw::test::TestParticipant>(
@@ -34,7 +34,7 @@ class SideBySide {
         }
         try {
             gateway_ = std::make_unique<tgw::dds::Gateway>(gateway_config, clock);
-        } catch (const core::ConfigError& e) {
+        } catch (const base::ConfigError& e) {
             std::fprintf(stderr, "%s: %s\n", bench, e.what());
             return false;
         }

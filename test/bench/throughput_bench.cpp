@@ -217,7 +217,7 @@ class Bench {
 
     Options options_;
     tgw::bench::BenchDomains domains_;
-    tgw::core::SystemClock clock_;
+    tgw::base::SystemClock clock_;
     tgw::bench::SideBySide side_;
     std::uint32_t sequence_ = 0;
 };

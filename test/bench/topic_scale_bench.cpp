@@ -13,7 +13,7 @@
 #include <cstdio>
 #include <string>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "test/bench/bench_support.hpp"
 
 namespace {
@@ -50,7 +50,7 @@ int run(const Options& options) {
         std::fprintf(stderr, "topic_scale_bench: cannot create the participants\n");
         return 1;
     }
-    tgw::core::SystemClock clock;
+    tgw::base::SystemClock clock;
     tgw::dds::Gateway gateway(tgw::bench::gateway_config(domains, options.gateway), clock);
 
     fdds::TypeSupport type(new tgw::idl::PaperMessagePubSubType());
@@ -204,7 +204,7 @@ int main(int argc, char** argv) {
     }
     try {
         return run(options);
-    } catch (const tgw::core::ConfigError& e) {
+    } catch (const tgw::base::ConfigError& e) {
         std::fprintf(stderr, "topic_scale_bench: %s\n", e.what());
         return 1;
     }

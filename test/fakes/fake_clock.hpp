@@ -1,25 +1,25 @@
 #pragma once
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 
 namespace tgw::test {
 
 /// A clock that moves only when told. Both time lines advance together.
-class FakeClock final : public core::Clock {
+class FakeClock final : public base::Clock {
   public:
     FakeClock() : steady_(std::chrono::seconds(1000)), wall_(std::chrono::seconds(1'700'000'000)) {}
 
-    core::SteadyTime now() const override { return steady_; }
-    core::WallTime wall_now() const override { return wall_; }
+    base::SteadyTime now() const override { return steady_; }
+    base::WallTime wall_now() const override { return wall_; }
 
-    void advance(core::Duration d) {
+    void advance(base::Duration d) {
         steady_ += d;
-        wall_ += std::chrono::duration_cast<core::WallClock::duration>(d);
+        wall_ += std::chrono::duration_cast<base::WallClock::duration>(d);
     }
 
   private:
-    core::SteadyTime steady_;
-    core::WallTime wall_;
+    base::SteadyTime steady_;
+    base::WallTime wall_;
 };
 
 }  // namespace tgw::test

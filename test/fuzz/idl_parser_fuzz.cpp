@@ -3,10 +3,10 @@
 // arrays included).
 #include <sstream>
 
+#include "base/config_error.hpp"
 #include "basecamp/cdr_decoder.hpp"
 #include "basecamp/embedded_idl.hpp"
 #include "basecamp/type_library.hpp"
-#include "gateway/core/config_error.hpp"
 #include "test/fuzz/fuzz_target.hpp"
 
 namespace tgw::fuzz {
@@ -52,7 +52,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         std::istringstream in(text);
         types.add_idl(in, "fuzz.idl");
         types.check_references();
-    } catch (const core::ConfigError& e) {
+    } catch (const base::ConfigError& e) {
         TGW_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.idl:", 0) == 0);
         return 0;
     }

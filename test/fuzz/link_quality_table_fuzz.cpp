@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "sensor/link_quality_table.hpp"
 #include "test/fuzz/fuzz_target.hpp"
 
@@ -33,7 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             TGW_FUZZ_CHECK(table.rate_for(rows[i].min_quality) == rows[i].rate_bps);
         }
         TGW_FUZZ_CHECK(!table.rate_for(std::nextafter(rows.front().min_quality, -INFINITY)));
-    } catch (const core::ConfigError& e) {
+    } catch (const base::ConfigError& e) {
         TGW_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.table", 0) == 0);
     }
     return 0;

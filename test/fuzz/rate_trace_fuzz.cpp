@@ -2,7 +2,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "sensor/rate_trace.hpp"
 #include "test/fuzz/fuzz_target.hpp"
 
@@ -28,13 +28,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         TGW_FUZZ_CHECK(!steps.empty());
         for (std::size_t i = 0; i < steps.size(); ++i) {
             TGW_FUZZ_CHECK(std::isfinite(steps[i].rate_bps) && steps[i].rate_bps >= 0.0);
-            TGW_FUZZ_CHECK(steps[i].at >= core::Duration::zero());
+            TGW_FUZZ_CHECK(steps[i].at >= base::Duration::zero());
             TGW_FUZZ_CHECK(i == 0 || steps[i - 1].at < steps[i].at);
             TGW_FUZZ_CHECK(trace.rate_at(steps[i].at) == steps[i].rate_bps);
         }
-        TGW_FUZZ_CHECK(trace.rate_at(core::Duration::zero()) == steps.front().rate_bps);
+        TGW_FUZZ_CHECK(trace.rate_at(base::Duration::zero()) == steps.front().rate_bps);
         TGW_FUZZ_CHECK(trace.rate_at(steps.back().at + std::chrono::hours(1)) == steps.back().rate_bps);
-    } catch (const core::ConfigError& e) {
+    } catch (const base::ConfigError& e) {
         TGW_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.trace", 0) == 0);
     }
     return 0;

@@ -202,6 +202,9 @@ class CollectingReader final : public fdds::DataReaderListener {
     };
 
     void on_data_available(fdds::DataReader* reader) override {
+        // Held from take to record: two receive threads may call this at once, and without it one could record
+        // a later sample before the other records the earlier one it took.
+        std::lock_guard<std::mutex> order(take_order_);
         T data;
         fdds::SampleInfo info;
         while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
@@ -242,6 +245,7 @@ class CollectingReader final : public fdds::DataReaderListener {
     std::atomic<int> matched{0};
 
   private:
+    std::mutex take_order_;
     mutable std::mutex mutex_;
     std::vector<Received> received_;
     std::set<fdds::InstanceHandle_t> disposed_;

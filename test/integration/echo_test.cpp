@@ -249,7 +249,7 @@ TEST_F(EchoTest, EchoPrintsSizeAndHexOfATypeItHasNoIdlFor) {
     ASSERT_NE(writer, nullptr);
     basecamp::TypeLibrary types;
     types.add_project_types();
-    basecamp::PeerTransport loopback;
+    base::PeerTransport loopback;
     loopback.peers = {"127.0.0.1"};
     loopback.interface = "127.0.0.1";
     std::ostringstream out;

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "gateway/core/clock.hpp"
+#include "base/clock.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway.hpp"
 #include "test/integration/dds_test_support.hpp"
@@ -102,7 +102,7 @@ class GatewayIntegrationTest : public ::testing::Test {
         return xml;
     }
 
-    static fdds::DataWriterQos robot_writer_qos(TestParticipant& p, std::optional<core::Duration> lifespan = {}) {
+    static fdds::DataWriterQos robot_writer_qos(TestParticipant& p, std::optional<base::Duration> lifespan = {}) {
         fdds::DataWriterQos q = p.default_writer_qos();
         q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
         q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
@@ -167,9 +167,9 @@ class GatewayIntegrationTest : public ::testing::Test {
             << c.dropped_total();
     }
 
-    static eprosima::fastrtps::Time_t wall_stamp(core::WallTime t) { return dds::to_dds_time(t); }
+    static eprosima::fastrtps::Time_t wall_stamp(base::WallTime t) { return dds::to_dds_time(t); }
 
-    core::SystemClock clock_;
+    base::SystemClock clock_;
     TestDomains domains_;
     std::string topic_prefix_;
     PublisherWatcher watcher_;

@@ -44,7 +44,7 @@ class GatewayRateTest : public ::testing::Test {
     }
 
     TestNetns netns_;
-    core::SystemClock clock_;
+    base::SystemClock clock_;
     std::unique_ptr<sensor::RateSensor> sensor_;
     std::unique_ptr<dds::Gateway> sut_;
     std::unique_ptr<dds::RatePoller> poller_;

@@ -18,9 +18,9 @@
 #include "KeyedReadingPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
 #include "RosStringPubSubTypes.h"
+#include "base/clock.hpp"
 #include "basecamp/delivery_tally.hpp"
 #include "basecamp/receiver_reporter.hpp"
-#include "gateway/core/clock.hpp"
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway.hpp"
@@ -317,8 +317,8 @@ TEST_F(GatewayIntegrationTest, TakesTheTtlFromThePublishersLifespan) {
 
     const auto bridged = gateway_->find_topic(topic);
     EXPECT_EQ(bridged->ttl.source, dds::TtlSource::publisher);
-    EXPECT_EQ(bridged->ttl.ttl, core::Duration(3s));
-    EXPECT_EQ(gateway_->wan_writer_lifespan(bridged->id), core::Duration(3s));
+    EXPECT_EQ(bridged->ttl.ttl, base::Duration(3s));
+    EXPECT_EQ(gateway_->wan_writer_lifespan(bridged->id), base::Duration(3s));
     PublisherWatcher::Seen seen;
     ASSERT_TRUE(wait_until([&] { return watcher_.find(topic, seen); }));
     EXPECT_EQ(seen.lifespan, eprosima::fastrtps::Duration_t(3, 0)) << "the base camp sees another Lifespan";
@@ -336,7 +336,7 @@ TEST_F(GatewayIntegrationTest, TakesTheTtlFromAnXmlProfileNamedAfterTheTopic) {
 
     const auto bridged = gateway_->find_topic(topic);
     EXPECT_EQ(bridged->ttl.source, dds::TtlSource::profile) << "the profile must win over the publisher's 3 s";
-    EXPECT_EQ(bridged->ttl.ttl, core::Duration(7s));
+    EXPECT_EQ(bridged->ttl.ttl, base::Duration(7s));
     PublisherWatcher::Seen seen;
     ASSERT_TRUE(wait_until([&] { return watcher_.find(topic, seen); }));
     EXPECT_EQ(seen.lifespan, eprosima::fastrtps::Duration_t(7, 0));
@@ -364,7 +364,7 @@ TEST_F(GatewayIntegrationTest, BridgesATopicTheQosFileDeclaresBeforeItsPublisher
     wait_for_bridge(topic, writer_matches, wan.matched);
     ASSERT_FALSE(HasFatalFailure());
     EXPECT_EQ(gateway_->find_topic(topic)->lanes.size(), 1u) << "the reliable publisher took a lane of its own";
-    EXPECT_EQ(gateway_->find_topic(topic)->ttl.ttl, core::Duration(2s));
+    EXPECT_EQ(gateway_->find_topic(topic)->ttl.ttl, base::Duration(2s));
     for (std::uint64_t i = 0; i < 10; ++i) {
         idl::PaperMessage msg;
         msg.generated_ns(i);
@@ -385,7 +385,7 @@ TEST_F(GatewayIntegrationTest, UsesTheDefaultTtlWhenNothingElseApplies) {
     ASSERT_TRUE(gateway_->wait_for_topic(topic, MATCH_TIMEOUT));
     const auto bridged = gateway_->find_topic(topic);
     EXPECT_EQ(bridged->ttl.source, dds::TtlSource::fallback);
-    EXPECT_EQ(bridged->ttl.ttl, core::Duration(9s));
+    EXPECT_EQ(bridged->ttl.ttl, base::Duration(9s));
 }
 
 TEST_F(GatewayIntegrationTest, BridgesATopicThatAppearsAfterTheGatewayStarted) {

@@ -10,8 +10,8 @@
 
 #include "KeyedReadingPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
+#include "base/peer_transport.hpp"
 #include "basecamp/mission_archive.hpp"
-#include "basecamp/peer_transport.hpp"
 #include "basecamp/recorder.hpp"
 #include "basecamp/sample_store.hpp"
 #include "test/integration/gateway_fixture.hpp"
@@ -52,10 +52,10 @@ class MissionArchiveTest : public GatewayIntegrationTest {
     /// tm-basecamp record at the base camp: unicast to the robot on loopback, no receiver reports.
     void start_recorder(const std::string& path) {
         store_ = std::make_unique<basecamp::SampleStore>(path, "--out", 50);
-        basecamp::PeerTransport transport;
+        base::PeerTransport transport;
         transport.peers = {"127.0.0.1"};
         transport.interface = "127.0.0.1";
-        recorder_ = std::make_unique<basecamp::Recorder>(domains_.wan, transport, *store_, core::Duration::zero());
+        recorder_ = std::make_unique<basecamp::Recorder>(domains_.wan, transport, *store_, base::Duration::zero());
         recorder_thread_ = std::thread([this] { recorder_->run(std::chrono::minutes(5), stop_); });
     }
 

@@ -9,7 +9,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "gateway/dds/qos_file.hpp"
 #include "test/integration/dds_test_support.hpp"
 #include "test/integration/error_log_counter.hpp"
@@ -96,7 +96,7 @@ TEST_F(QosFilesTest, AProfileForAnotherTopicThanItsNameIsAConfigErrorNamingTheLi
     try {
         dds::declared_topics(path);
         ADD_FAILURE() << "no ConfigError";
-    } catch (const core::ConfigError& e) {
+    } catch (const base::ConfigError& e) {
         const std::string what = e.what();
         EXPECT_NE(what.find(path + ":4:"), std::string::npos) << what;
         EXPECT_NE(what.find("tgw_test/b"), std::string::npos) << what;
@@ -122,7 +122,7 @@ TEST_F(QosFilesTest, MalformedXmlNamesTheFileAndLine) {
     try {
         dds::load_qos_file(path);
         ADD_FAILURE() << "no ConfigError";
-    } catch (const core::ConfigError& e) {
+    } catch (const base::ConfigError& e) {
         const std::string what = e.what();
         EXPECT_NE(what.find(path), std::string::npos) << what;
         EXPECT_NE(what.find(":4:"), std::string::npos) << what;  // the unclosed element
@@ -131,7 +131,7 @@ TEST_F(QosFilesTest, MalformedXmlNamesTheFileAndLine) {
 }
 
 TEST_F(QosFilesTest, MissingFileIsAConfigError) {
-    EXPECT_THROW(dds::load_qos_file("/nonexistent/tgw.xml"), core::ConfigError);
+    EXPECT_THROW(dds::load_qos_file("/nonexistent/tgw.xml"), base::ConfigError);
 }
 
 }  // namespace

@@ -43,7 +43,7 @@ class RelayTest : public GatewayIntegrationTest {
         GatewayIntegrationTest::TearDown();
     }
 
-    void start_relay(basecamp::SampleStore* store = nullptr, core::Duration report_period = 1s) {
+    void start_relay(basecamp::SampleStore* store = nullptr, base::Duration report_period = 1s) {
         relay_ = std::make_unique<basecamp::Relay>(
             domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port), local_domain_,
             fdds::PARTICIPANT_QOS_DEFAULT, store, report_period);

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "gateway/apps/cli_checks.hpp"
-#include "gateway/core/config_error.hpp"
+#include "base/cli_checks.hpp"
+#include "base/config_error.hpp"
 #include "gateway/core/policy_kind.hpp"
 #include "gateway/dds/gateway.hpp"
 #include "gateway/dds/rate_poller.hpp"
@@ -23,7 +23,7 @@
 
 namespace {
 
-using tgw::core::ConfigError;
+using tgw::base::ConfigError;
 
 constexpr std::chrono::milliseconds SENSOR_POLL_INTERVAL{100};
 
@@ -41,11 +41,11 @@ void print_summary(const tgw::dds::Gateway& gateway) {
             std::printf(" %9llu", static_cast<unsigned long long>(d));
         }
         const auto source = tgw::dds::to_string(topic.ttl.source);
-        std::printf("  %.3g s (%.*s)\n", tgw::core::to_seconds(topic.ttl.ttl), static_cast<int>(source.size()),
+        std::printf("  %.3g s (%.*s)\n", tgw::base::to_seconds(topic.ttl.ttl), static_cast<int>(source.size()),
                     source.data());
     }
     const auto latency = gateway.processing_latency();
-    const auto us = [](tgw::core::Duration d) { return std::chrono::duration<double, std::micro>(d).count(); };
+    const auto us = [](tgw::base::Duration d) { return std::chrono::duration<double, std::micro>(d).count(); };
     std::printf(
         "processing per forwarded sample (arrival to WAN write, queueing included): %llu samples, median %.1f us, "
         "p99 %.1f us, max %.1f us\n",
@@ -94,7 +94,7 @@ void wait_for_end(const sigset_t& signals, double duration_s) {
         sigwait(&signals, &sig);
         return;
     }
-    const auto end = std::chrono::steady_clock::now() + tgw::core::from_seconds(duration_s);
+    const auto end = std::chrono::steady_clock::now() + tgw::base::from_seconds(duration_s);
     while (true) {
         const auto left = end - std::chrono::steady_clock::now();
         if (left <= std::chrono::nanoseconds::zero()) {
@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
     tgw::sensor::GuardConfig guard;
     guard.margin = 0.0;
     guard.smoothing = 1.0;
-    double hold_s = tgw::core::to_seconds(guard.hold);
+    double hold_s = tgw::base::to_seconds(guard.hold);
     bool arrival_clock = false;
     bool delivered_check = false;
     std::string delivered_interface;
@@ -155,7 +155,7 @@ int main(int argc, char** argv) {
     app.add_option("--status-period", status_period_s,
                    "seconds between the gateway's status samples on tgw/status (less often where that would take "
                    "more than 2 % of the sensed rate; scheduled like a sample with a TTL of 1 s); 0: none")
-        ->check(tgw::cli::non_negative())
+        ->check(tgw::base::non_negative())
         ->capture_default_str();
     bool robot_udp_only = false;
     app.add_option("--robot-interface", config.robot.interfaces,
@@ -174,10 +174,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--sensor", sensor_spec, "link rate sensor: fixed:BPS, trace:FILE, ...")->capture_default_str();
     app.add_option("--sensor-hold", hold_s, "seconds a failed sensor's last good rate still stands")
-        ->check(tgw::cli::non_negative())
+        ->check(tgw::base::non_negative())
         ->capture_default_str();
     app.add_option("--sensor-floor", guard.floor_bps, "bit/s used once the hold is over, or before any good reading")
-        ->check(tgw::cli::positive())
+        ->check(tgw::base::positive())
         ->capture_default_str();
     app.add_option("--sensor-smoothing", guard.smoothing,
                    "weight of a rising reading in the sensor's average, (0, 1]; 1 follows at once")
@@ -198,21 +198,21 @@ int main(int argc, char** argv) {
     app.add_option("--policy", policy_name, "ttl, edf, paper or fifo")->capture_default_str();
     app.add_option("--budget-fraction", config.scheduler.budget_fraction,
                    "share of the sensed rate the scheduler spends; the rest absorbs discovery traffic")
-        ->check(tgw::cli::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"))
+        ->check(tgw::base::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"))
         ->capture_default_str();
     double queue_mib = static_cast<double>(config.scheduler.memory_cap_bytes) / (1 << 20);
     app.add_option("--queue-memory", queue_mib,
                    "MiB the queue may hold (payloads and bookkeeping); past it the least urgent sample goes to the log")
-        ->check(tgw::cli::positive())
+        ->check(tgw::base::positive())
         ->capture_default_str();
     app.add_option("--qos", config.qos_file, "Fast DDS XML profiles (data_writer profiles named after topics)");
     app.add_option("--log", config.log_file, "on-robot SQLite log of samples not sent");
     app.add_option("--allow", config.allow, "bridge only topics matching this glob; repeatable");
     app.add_option("--deny", config.deny, "never bridge topics matching this glob; repeatable, wins over --allow");
     app.add_option("--duration", duration_s, "seconds to run (default: until SIGINT/SIGTERM)")
-        ->check(tgw::cli::positive());
+        ->check(tgw::base::positive());
     app.add_option("--default-ttl", default_ttl_s, "TTL in seconds of topics with no profile or Lifespan")
-        ->check(tgw::cli::positive())
+        ->check(tgw::base::positive())
         ->capture_default_str();
     auto* trust = app.add_flag("--trust-source-clock", "deadlines from the publisher's source timestamp (default)");
     app.add_flag("--arrival-clock", arrival_clock, "deadlines from the arrival at the gateway")->excludes(trust);
@@ -236,21 +236,21 @@ int main(int argc, char** argv) {
         }
         config.scheduler.policy = *policy;
         config.scheduler.trust_source_clock = !arrival_clock;
-        config.default_ttl = tgw::core::from_seconds(default_ttl_s);
+        config.default_ttl = tgw::base::from_seconds(default_ttl_s);
         config.scheduler.memory_cap_bytes = static_cast<std::size_t>(queue_mib * (1 << 20));
         config.scheduler.wire = tgw::core::WireModel::for_max_datagram(max_datagram);
         config.robot.shm = !robot_udp_only;
         config.wan_coalesce_window = std::chrono::microseconds(coalesce_us);
-        config.status_period = tgw::core::from_seconds(status_period_s);
+        config.status_period = tgw::base::from_seconds(status_period_s);
 
-        guard.hold = tgw::core::from_seconds(hold_s);
+        guard.hold = tgw::base::from_seconds(hold_s);
         if (!(guard.smoothing > 0.0 && guard.smoothing <= 1.0)) {
             throw ConfigError("--sensor-smoothing " + std::to_string(guard.smoothing) + ": must be in (0, 1]");
         }
         if (!(guard.margin >= 0.0 && guard.margin < 1.0)) {
             throw ConfigError("--sensor-margin " + std::to_string(guard.margin) + ": must be in [0, 1)");
         }
-        tgw::core::SystemClock clock;
+        tgw::base::SystemClock clock;
         const tgw::sensor::SensorLog sensor_log = [](tgw::sensor::SensorLogLevel, const std::string& message) {
             std::cerr << "telemetry-gateway: " << message << '\n';
         };

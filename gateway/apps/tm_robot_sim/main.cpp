@@ -6,10 +6,10 @@
 #include <iostream>
 #include <string>
 
-#include "gateway/apps/cli_checks.hpp"
+#include "base/cli_checks.hpp"
+#include "base/config_error.hpp"
 #include "gateway/apps/tm_robot_sim/paper_publisher.hpp"
 #include "gateway/apps/tm_robot_sim/workload_file.hpp"
-#include "gateway/core/config_error.hpp"
 
 namespace {
 
@@ -30,17 +30,17 @@ int main(int argc, char** argv) {
     double duration_s = 60.0;
     double linger_s = 1.0;
     double wait_match_s = 0.0;
-    tgw::basecamp::PeerTransport transport;
+    tgw::base::PeerTransport transport;
     app.add_option("--domain", domain, "DDS domain id to publish on")
-        ->check(tgw::cli::number_in(0, 232, "a domain id from 0 to 232", "IN [0, 232]"));
+        ->check(tgw::base::number_in(0, 232, "a domain id from 0 to 232", "IN [0, 232]"));
     app.add_option("--workload", workload, "paper, or a file of lines 'TYPE TOPIC DATA_BYTES TTL_S [RATE_HZ]'");
-    app.add_option("--rate-hz", rate_hz, "publications per second of each stream")->check(tgw::cli::positive());
-    app.add_option("--duration", duration_s, "seconds of publishing")->check(tgw::cli::positive());
+    app.add_option("--rate-hz", rate_hz, "publications per second of each stream")->check(tgw::base::positive());
+    app.add_option("--duration", duration_s, "seconds of publishing")->check(tgw::base::positive());
     app.add_option("--linger", linger_s, "seconds to wait at the end for readers to acknowledge")
-        ->check(tgw::cli::non_negative());
+        ->check(tgw::base::non_negative());
     app.add_option("--wait-match", wait_match_s,
                    "seconds to wait, before publishing, for every topic to have a subscriber (0: start at once)")
-        ->check(tgw::cli::non_negative());
+        ->check(tgw::base::non_negative());
     app.add_option("--peer", transport.peers,
                    "IPv4 address of the other end (repeatable): UDP unicast only, no multicast, no shared memory");
     app.add_option("--interface", transport.interface, "interface name or IPv4 address to bind every socket to");
@@ -56,19 +56,19 @@ int main(int argc, char** argv) {
         std::signal(SIGINT, on_signal);
         std::signal(SIGTERM, on_signal);
         if (wait_match_s > 0) {
-            if (const std::size_t unmatched = publisher.wait_for_readers(tgw::core::from_seconds(wait_match_s))) {
+            if (const std::size_t unmatched = publisher.wait_for_readers(tgw::base::from_seconds(wait_match_s))) {
                 std::cerr << "tm-robot-sim: " << unmatched << " topic(s) had no subscriber after --wait-match "
                           << wait_match_s << " s; publishing anyway\n";
             }
         }
-        const auto start = tgw::core::SteadyClock::now();
-        const auto reports = publisher.run(tgw::core::from_seconds(duration_s), g_stop);
-        const double elapsed = tgw::core::to_seconds(tgw::core::SteadyClock::now() - start);
+        const auto start = tgw::base::SteadyClock::now();
+        const auto reports = publisher.run(tgw::base::from_seconds(duration_s), g_stop);
+        const double elapsed = tgw::base::to_seconds(tgw::base::SteadyClock::now() - start);
         if (!g_stop.load())
-            publisher.linger(tgw::core::from_seconds(linger_s));
+            publisher.linger(tgw::base::from_seconds(linger_s));
         std::cout << "tm-robot-sim: domain " << domain << ", workload " << workload << "\n";
         tgw::robot_sim::print_reports(std::cout, reports, elapsed);
-    } catch (const tgw::core::ConfigError& e) {
+    } catch (const tgw::base::ConfigError& e) {
         std::cerr << "tm-robot-sim: " << e.what() << "\n";
         return 2;
     }

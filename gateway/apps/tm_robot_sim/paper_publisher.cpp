@@ -14,8 +14,8 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "PaperWorkloadPubSubTypes.h"
+#include "base/config_error.hpp"
 #include "gateway/apps/tm_robot_sim/publish_schedule.hpp"
-#include "gateway/core/config_error.hpp"
 
 namespace tgw::robot_sim {
 
@@ -23,7 +23,7 @@ namespace dds = eprosima::fastdds::dds;
 
 namespace {
 
-eprosima::fastrtps::Duration_t to_dds_duration(core::Duration d) {
+eprosima::fastrtps::Duration_t to_dds_duration(base::Duration d) {
     const auto ns = d.count();
     return eprosima::fastrtps::Duration_t(static_cast<int32_t>(ns / 1'000'000'000),
                                           static_cast<uint32_t>(ns % 1'000'000'000));
@@ -32,34 +32,34 @@ eprosima::fastrtps::Duration_t to_dds_duration(core::Duration d) {
 }  // namespace
 
 PaperPublisher::PaperPublisher(int domain, const std::vector<core::MessageStream>& streams,
-                               const basecamp::PeerTransport& transport)
+                               const base::PeerTransport& transport)
     : streams_(streams) {
     auto* factory = dds::DomainParticipantFactory::get_instance();
     dds::DomainParticipantQos pqos = factory->get_default_participant_qos();
     pqos.name("tm-robot-sim");
-    basecamp::apply_peer_transport(pqos, transport);
+    base::apply_peer_transport(pqos, transport);
     participant_ = factory->create_participant(domain, pqos);
     if (participant_ == nullptr)
-        throw core::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));
+        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));
 
     dds::TypeSupport type(new tgw::idl::PaperMessagePubSubType());
     if (type.register_type(participant_) != ReturnCode_t::RETCODE_OK)
-        throw core::ConfigError("cannot register type tgw::idl::PaperMessage");
+        throw base::ConfigError("cannot register type tgw::idl::PaperMessage");
     publisher_ = participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
     if (publisher_ == nullptr)
-        throw core::ConfigError("cannot create a DDS publisher");
+        throw base::ConfigError("cannot create a DDS publisher");
 
     for (const core::MessageStream& stream : streams_) {
         dds::Topic* topic = participant_->create_topic(stream.topic, type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
         if (topic == nullptr)
-            throw core::ConfigError("--workload: cannot create topic '" + stream.topic + "'");
+            throw base::ConfigError("--workload: cannot create topic '" + stream.topic + "'");
         dds::DataWriterQos wqos = publisher_->get_default_datawriter_qos();
         wqos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
         wqos.durability().kind = dds::VOLATILE_DURABILITY_QOS;
         wqos.lifespan().duration = to_dds_duration(stream.ttl);
         // Keep what can still be alive within the TTL: the writer queues like the paper's control did,
         // and the Lifespan purges what has expired.
-        const auto alive = static_cast<int32_t>(std::ceil(core::to_seconds(stream.ttl) * stream.rate_hz)) + 1;
+        const auto alive = static_cast<int32_t>(std::ceil(base::to_seconds(stream.ttl) * stream.rate_hz)) + 1;
         wqos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
         wqos.history().depth = alive;
         wqos.resource_limits().max_samples = alive;
@@ -69,7 +69,7 @@ PaperPublisher::PaperPublisher(int domain, const std::vector<core::MessageStream
         wqos.data_sharing().off();
         dds::DataWriter* writer = publisher_->create_datawriter(topic, wqos);
         if (writer == nullptr)
-            throw core::ConfigError("cannot create a DDS writer for '" + stream.topic + "'");
+            throw base::ConfigError("cannot create a DDS writer for '" + stream.topic + "'");
         writers_.push_back(writer);
     }
 }
@@ -81,7 +81,7 @@ PaperPublisher::~PaperPublisher() {
     }
 }
 
-std::vector<StreamReport> PaperPublisher::run(core::Duration duration, const std::atomic<bool>& stop) {
+std::vector<StreamReport> PaperPublisher::run(base::Duration duration, const std::atomic<bool>& stop) {
     std::vector<StreamReport> reports;
     std::vector<double> rates;
     std::vector<tgw::idl::PaperMessage> messages(streams_.size());
@@ -94,8 +94,8 @@ std::vector<StreamReport> PaperPublisher::run(core::Duration duration, const std
         messages[i].data(std::move(data));
     }
 
-    const core::SteadyTime start = core::SteadyClock::now();
-    const core::SteadyTime end = start + duration;
+    const base::SteadyTime start = base::SteadyClock::now();
+    const base::SteadyTime end = start + duration;
     PublishSchedule schedule(start, rates);
     for (;;) {
         const PublishSchedule::Due due = schedule.next();
@@ -104,14 +104,14 @@ std::vector<StreamReport> PaperPublisher::run(core::Duration duration, const std
         std::this_thread::sleep_until(due.at);
         if (stop.load())
             break;
-        const core::SteadyTime now = core::SteadyClock::now();
+        const base::SteadyTime now = base::SteadyClock::now();
         StreamReport& report = reports[due.stream];
         const double lag_ms = std::chrono::duration<double, std::milli>(now - due.at).count();
         report.max_lag_ms = std::max(report.max_lag_ms, lag_ms);
         if (lag_ms * streams_[due.stream].rate_hz > 1000.0)
             ++report.late;
 
-        const std::int64_t wall_ns = core::to_ns(core::WallClock::now());
+        const std::int64_t wall_ns = base::to_ns(base::WallClock::now());
         tgw::idl::PaperMessage& message = messages[due.stream];
         message.generated_ns(static_cast<uint64_t>(wall_ns));
         message.sequence_number(due.sequence);
@@ -126,8 +126,8 @@ std::vector<StreamReport> PaperPublisher::run(core::Duration duration, const std
     return reports;
 }
 
-std::size_t PaperPublisher::wait_for_readers(core::Duration max_wait) {
-    const auto end = core::SteadyClock::now() + max_wait;
+std::size_t PaperPublisher::wait_for_readers(base::Duration max_wait) {
+    const auto end = base::SteadyClock::now() + max_wait;
     for (;;) {
         std::size_t unmatched = 0;
         for (dds::DataWriter* writer : writers_) {
@@ -136,17 +136,17 @@ std::size_t PaperPublisher::wait_for_readers(core::Duration max_wait) {
             if (status.current_count == 0)
                 ++unmatched;
         }
-        if (unmatched == 0 || core::SteadyClock::now() >= end)
+        if (unmatched == 0 || base::SteadyClock::now() >= end)
             return unmatched;
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
 }
 
-void PaperPublisher::linger(core::Duration max_wait) {
+void PaperPublisher::linger(base::Duration max_wait) {
     // Reliable samples still unacknowledged are lost when the participant goes; give them a bounded chance.
-    const auto end = core::SteadyClock::now() + max_wait;
+    const auto end = base::SteadyClock::now() + max_wait;
     for (dds::DataWriter* writer : writers_) {
-        const auto left = std::max(core::Duration::zero(), end - core::SteadyClock::now());
+        const auto left = std::max(base::Duration::zero(), end - base::SteadyClock::now());
         writer->wait_for_acknowledgments(to_dds_duration(left));
     }
 }
@@ -162,7 +162,7 @@ void print_reports(std::ostream& out, const std::vector<StreamReport>& reports, 
         const double bps = seconds > 0 ? static_cast<double>(r.written * r.serialized_bytes * 8) / seconds : 0.0;
         std::snprintf(line, sizeof(line), "%-5s %-16s %10zu %7.1f %8llu %8llu %7llu %6.1f %12zu %12.0f\n",
                       r.stream.type.c_str(), r.stream.topic.c_str(), r.stream.data_bytes,
-                      core::to_seconds(r.stream.ttl), static_cast<unsigned long long>(r.written),
+                      base::to_seconds(r.stream.ttl), static_cast<unsigned long long>(r.written),
                       static_cast<unsigned long long>(r.failed), static_cast<unsigned long long>(r.late), r.max_lag_ms,
                       r.serialized_bytes, bps);
         out << line;

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "basecamp/peer_transport.hpp"
+#include "base/peer_transport.hpp"
 #include "gateway/core/paper_workload.hpp"
 
 namespace eprosima::fastdds::dds {
@@ -31,23 +31,22 @@ struct StreamReport {
 /// TTL, source timestamp = generated_ns = the wall clock at publication.
 class PaperPublisher {
   public:
-    /// Creates the participant and writers. Throws core::ConfigError when DDS refuses them.
-    PaperPublisher(int domain, const std::vector<core::MessageStream>& streams,
-                   const basecamp::PeerTransport& transport);
+    /// Creates the participant and writers. Throws base::ConfigError when DDS refuses them.
+    PaperPublisher(int domain, const std::vector<core::MessageStream>& streams, const base::PeerTransport& transport);
     ~PaperPublisher();
     PaperPublisher(const PaperPublisher&) = delete;
     PaperPublisher& operator=(const PaperPublisher&) = delete;
 
     /// Publishes every stream at its rate for `duration` (steady clock, sleep_until), or until `stop` turns
     /// true. Returns one report per stream.
-    std::vector<StreamReport> run(core::Duration duration, const std::atomic<bool>& stop);
+    std::vector<StreamReport> run(base::Duration duration, const std::atomic<bool>& stop);
 
     /// Waits at most `max_wait` until every writer has matched a reader; returns how many have not. Without it
     /// an experiment loses its first second or two to discovery, samples that no gateway could have seen.
-    std::size_t wait_for_readers(core::Duration max_wait);
+    std::size_t wait_for_readers(base::Duration max_wait);
 
     /// Waits at most `max_wait` for matched readers to acknowledge what was written.
-    void linger(core::Duration max_wait);
+    void linger(base::Duration max_wait);
 
   private:
     std::vector<core::MessageStream> streams_;

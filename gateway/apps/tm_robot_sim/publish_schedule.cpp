@@ -2,17 +2,17 @@
 
 namespace tgw::robot_sim {
 
-PublishSchedule::PublishSchedule(core::SteadyTime start, const std::vector<double>& rates_hz) : start_(start) {
+PublishSchedule::PublishSchedule(base::SteadyTime start, const std::vector<double>& rates_hz) : start_(start) {
     const auto n = rates_hz.size();
     for (std::size_t i = 0; i < n; ++i) {
-        const core::Duration period = core::from_seconds(1.0 / rates_hz[i]);
+        const base::Duration period = base::from_seconds(1.0 / rates_hz[i]);
         periods_.push_back(period);
-        phases_.push_back(period * static_cast<core::Duration::rep>(i) / static_cast<core::Duration::rep>(n));
+        phases_.push_back(period * static_cast<base::Duration::rep>(i) / static_cast<base::Duration::rep>(n));
         counts_.push_back(0);
     }
 }
 
-core::SteadyTime PublishSchedule::due_at(std::size_t stream) const {
+base::SteadyTime PublishSchedule::due_at(std::size_t stream) const {
     return start_ + phases_[stream] + periods_[stream] * counts_[stream];
 }
 

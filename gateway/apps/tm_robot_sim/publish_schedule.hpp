@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
 namespace tgw::robot_sim {
 
@@ -12,11 +12,11 @@ namespace tgw::robot_sim {
 /// streams do not all fire at once; due times are computed from the start, so they never drift.
 class PublishSchedule {
   public:
-    PublishSchedule(core::SteadyTime start, const std::vector<double>& rates_hz);
+    PublishSchedule(base::SteadyTime start, const std::vector<double>& rates_hz);
 
     struct Due {
         std::size_t stream = 0;
-        core::SteadyTime at{};
+        base::SteadyTime at{};
         std::uint32_t sequence = 0;  ///< how many samples of this stream came before
     };
 
@@ -26,11 +26,11 @@ class PublishSchedule {
     void advance();
 
   private:
-    core::SteadyTime due_at(std::size_t stream) const;
+    base::SteadyTime due_at(std::size_t stream) const;
 
-    core::SteadyTime start_;
-    std::vector<core::Duration> periods_;
-    std::vector<core::Duration> phases_;
+    base::SteadyTime start_;
+    std::vector<base::Duration> periods_;
+    std::vector<base::Duration> phases_;
     std::vector<std::uint32_t> counts_;
 };
 

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
 namespace tgw::robot_sim {
 
@@ -22,27 +22,27 @@ std::vector<core::MessageStream> parse_workload(std::istream& in, const std::str
             continue;  // blank or comment
         const auto where = name + ":" + std::to_string(number) + ": ";
         if (!(fields >> stream.topic >> bytes >> ttl_s))
-            throw core::ConfigError(where + "expected 'TYPE TOPIC DATA_BYTES TTL_S [RATE_HZ]'");
+            throw base::ConfigError(where + "expected 'TYPE TOPIC DATA_BYTES TTL_S [RATE_HZ]'");
         if (bytes < 0)
-            throw core::ConfigError(where + "DATA_BYTES must be zero or more");
+            throw base::ConfigError(where + "DATA_BYTES must be zero or more");
         if (ttl_s <= 0.0)
-            throw core::ConfigError(where + "TTL_S must be positive");
+            throw base::ConfigError(where + "TTL_S must be positive");
         stream.data_bytes = static_cast<std::size_t>(bytes);
-        stream.ttl = core::from_seconds(ttl_s);
+        stream.ttl = base::from_seconds(ttl_s);
         stream.rate_hz = default_rate_hz;
         if (fields >> stream.rate_hz) {
             if (stream.rate_hz <= 0.0)
-                throw core::ConfigError(where + "RATE_HZ must be positive");
+                throw base::ConfigError(where + "RATE_HZ must be positive");
         } else if (!fields.eof()) {
-            throw core::ConfigError(where + "RATE_HZ is not a number");
+            throw base::ConfigError(where + "RATE_HZ is not a number");
         }
         std::string extra;
         if (fields.clear(), fields >> extra)
-            throw core::ConfigError(where + "unexpected '" + extra + "'");
+            throw base::ConfigError(where + "unexpected '" + extra + "'");
         streams.push_back(stream);
     }
     if (streams.empty())
-        throw core::ConfigError(name + ": no streams");
+        throw base::ConfigError(name + ": no streams");
     return streams;
 }
 
@@ -51,7 +51,7 @@ std::vector<core::MessageStream> load_workload(const std::string& spec, double r
         return core::paper_workload(rate_hz);
     std::ifstream file(spec);
     if (!file)
-        throw core::ConfigError("--workload: cannot open '" + spec + "'");
+        throw base::ConfigError("--workload: cannot open '" + spec + "'");
     return parse_workload(file, spec, rate_hz);
 }
 

@@ -7,15 +7,15 @@
 #include <string>
 #include <vector>
 
-#include "gateway/apps/cli_checks.hpp"
-#include "gateway/core/config_error.hpp"
+#include "base/cli_checks.hpp"
+#include "base/config_error.hpp"
 #include "gateway/sim/result_table.hpp"
 #include "gateway/sim/simulation.hpp"
 #include "sensor/rate_trace.hpp"
 
 namespace {
 
-using tgw::core::ConfigError;
+using tgw::base::ConfigError;
 using tgw::core::PolicyKind;
 
 std::vector<PolicyKind> parse_policies(const std::vector<std::string>& names) {
@@ -58,26 +58,26 @@ int main(int argc, char** argv) {
     app.add_option("--workload", workload, "the workload: paper")->check(CLI::IsMember({"paper"}));
     app.add_option("--rate", rates, "link rate in bit/s; repeatable or comma-separated")
         ->delimiter(',')
-        ->check(tgw::cli::positive());
+        ->check(tgw::base::positive());
     app.add_option("--trace", trace_file, "link rate over time: lines of 'seconds bits_per_second'");
-    app.add_option("--duration", duration_s, "seconds of publishing")->check(tgw::cli::positive());
+    app.add_option("--duration", duration_s, "seconds of publishing")->check(tgw::base::positive());
     app.add_option("--warmup", warmup_s, "seconds of publishing before the measured window (steady state)")
-        ->check(tgw::cli::non_negative());
+        ->check(tgw::base::non_negative());
     app.add_option("--link-queue-ms", link_queue_ms,
                    "the shaper's queue depth (tbf latency): it holds rate/8 * this + the burst in bytes")
-        ->check(tgw::cli::non_negative());
+        ->check(tgw::base::non_negative());
     app.add_option("--link-burst", link_burst_bytes, "the shaper's token bucket in bytes (tbf burst)")
-        ->check(tgw::cli::positive())
+        ->check(tgw::base::positive())
         ->capture_default_str();
     app.add_option("--overhead-factor", overhead_factor,
                    "true wire cost over the gateway's wire model (1 = perfectly calibrated)")
-        ->check(tgw::cli::positive());
+        ->check(tgw::base::positive());
     app.add_option("--paper-period", paper_period_s, "paper policy: the filter's period in seconds")
-        ->check(tgw::cli::positive());
+        ->check(tgw::base::positive());
     app.add_option("--paper-overhead", paper_overhead, "paper policy: assumed overhead, 0.25 = 25 %")
-        ->check(tgw::cli::non_negative());
+        ->check(tgw::base::non_negative());
     app.add_option("--budget-fraction", budget_fraction, "share of the sensed rate the scheduler spends")
-        ->check(tgw::cli::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"))
+        ->check(tgw::base::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"))
         ->capture_default_str();
     app.add_flag("--summary", summary, "one Markdown row per rate: percent on time per type");
     try {
@@ -107,13 +107,13 @@ int main(int argc, char** argv) {
             for (std::size_t i = 0; i < links.size(); ++i) {
                 tgw::sim::SimulationConfig config;
                 config.scheduler.policy = policy;
-                config.scheduler.paper_period = tgw::core::from_seconds(paper_period_s);
+                config.scheduler.paper_period = tgw::base::from_seconds(paper_period_s);
                 config.scheduler.paper_overhead = paper_overhead;
                 config.scheduler.budget_fraction = budget_fraction;
                 config.link = links[i];
-                config.duration = tgw::core::from_seconds(duration_s);
-                config.warmup = tgw::core::from_seconds(warmup_s);
-                config.link_queue_limit = tgw::core::from_seconds(link_queue_ms / 1000.0);
+                config.duration = tgw::base::from_seconds(duration_s);
+                config.warmup = tgw::base::from_seconds(warmup_s);
+                config.link_queue_limit = tgw::base::from_seconds(link_queue_ms / 1000.0);
                 config.link_burst_bytes = link_burst_bytes;
                 config.true_overhead_factor = overhead_factor;
                 table.add(link_names[i], tgw::sim::run_simulation(config));

@@ -88,7 +88,7 @@ class DropAccountingTest : public ::testing::Test {
         Drop d;
         d.topic = topic;
         d.type = type;
-        d.sample.source_time = core::wall_from_ns(source_ns != 0 ? source_ns : source_of(sequence));
+        d.sample.source_time = base::wall_from_ns(source_ns != 0 ? source_ns : source_of(sequence));
         d.sample.payload = payload.empty() ? paper_payload(sequence, source_of(sequence), 41) : std::move(payload);
         d.reason = reason;
         drops_.push_back(std::move(d));

@@ -2,8 +2,8 @@
 
 #include <sstream>
 
+#include "base/config_error.hpp"
 #include "basecamp/type_library.hpp"
-#include "gateway/core/config_error.hpp"
 #include "test/fakes/config_error_of.hpp"
 
 namespace tgw::test {

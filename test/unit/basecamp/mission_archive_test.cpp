@@ -134,8 +134,8 @@ class MissionArchiveTest : public ::testing::Test {
         }
         log::RobotLog log(robot_log_);
         for (const RobotRow& r : robot_rows_) {
-            const core::WallTime arrival = r.sample.source_time + std::chrono::milliseconds(1);
-            const core::WallTime deadline = r.sample.source_time + std::chrono::seconds(1);
+            const base::WallTime arrival = r.sample.source_time + std::chrono::milliseconds(1);
+            const base::WallTime deadline = r.sample.source_time + std::chrono::seconds(1);
             if (r.reason) {
                 log.append({r.topic, TYPE, &r.sample, *r.reason, arrival, deadline, deadline});
             } else {
@@ -188,7 +188,7 @@ class MissionArchiveTest : public ::testing::Test {
 
     static core::Sample sample(std::int64_t source_ns, std::size_t bytes, std::optional<core::InstanceKey> instance) {
         core::Sample s;
-        s.source_time = core::wall_from_ns(source_ns);
+        s.source_time = base::wall_from_ns(source_ns);
         s.payload = payload(bytes);
         if (instance)
             s.key = *instance;

@@ -41,7 +41,7 @@ class SamplePrinterTest : public ::testing::Test {
         reading.label("north \"gate\"");
         ReceivedSample sample;
         sample.payload = fastcdr_payload(reading, Cdr::LITTLE_ENDIANNESS);
-        sample.source = core::wall_from_ns(STAMP_NS);
+        sample.source = base::wall_from_ns(STAMP_NS);
         sample.instance = INSTANCE;
         return sample;
     }
@@ -146,8 +146,8 @@ TEST(ValueJsonTest, EscapesControlCharactersAndBytesThatAreNotUtf8) {
 }
 
 TEST(UtcTextTest, WritesIso8601WithNanoseconds) {
-    EXPECT_EQ(basecamp::utc_text(core::wall_from_ns(0)), "1970-01-01T00:00:00.000000000Z");
-    EXPECT_EQ(basecamp::utc_text(core::wall_from_ns(STAMP_NS)), "2026-11-24T20:01:22.000000123Z");
+    EXPECT_EQ(basecamp::utc_text(base::wall_from_ns(0)), "1970-01-01T00:00:00.000000000Z");
+    EXPECT_EQ(basecamp::utc_text(base::wall_from_ns(STAMP_NS)), "2026-11-24T20:01:22.000000123Z");
 }
 
 }  // namespace

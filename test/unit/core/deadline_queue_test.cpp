@@ -15,7 +15,7 @@ class DeadlineQueueTest : public ::testing::Test {
         Sample s;
         s.topic = topic;
         s.payload.assign(bytes, 0xab);
-        s.deadline = SteadyTime(std::chrono::milliseconds(deadline_ms));
+        s.deadline = base::SteadyTime(std::chrono::milliseconds(deadline_ms));
         s.sequence = sequence;
         return s;
     }
@@ -261,8 +261,8 @@ TEST_F(DeadlineQueueTest, TakeHandsBackEveryFieldOfTheSample) {
     s.key.valid = true;
     s.key.bytes[0] = 9;
     s.key.bytes[15] = 7;
-    s.source_time = WallTime(std::chrono::nanoseconds(123'456'789));
-    s.arrival = SteadyTime(std::chrono::nanoseconds(987'654'321));
+    s.source_time = base::WallTime(std::chrono::nanoseconds(123'456'789));
+    s.arrival = base::SteadyTime(std::chrono::nanoseconds(987'654'321));
     sut.push(Sample(s), 4);
 
     const Sample out = sut.take(sut.most_urgent());
@@ -359,7 +359,8 @@ TEST_F(DeadlineQueueTest, AgreesWithASortedListUnderRandomOperations) {
             sut.visit_by_urgency([&](DeadlineQueue::Slot slot) {
                 const auto peek = sut.at(slot);
                 visited.push_back(peek.sequence);
-                EXPECT_EQ(peek.deadline, SteadyTime(std::chrono::milliseconds(ref[visited.size() - 1].deadline_ms)));
+                EXPECT_EQ(peek.deadline,
+                          base::SteadyTime(std::chrono::milliseconds(ref[visited.size() - 1].deadline_ms)));
                 if (rng() % 200 == 0)
                     taken.push_back(sut.take(slot).sequence);
                 return true;

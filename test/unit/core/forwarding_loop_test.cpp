@@ -31,7 +31,7 @@ class ForwardingLoopTest : public ::testing::Test {
         return s;
     }
 
-    SystemClock clock;
+    base::SystemClock clock;
     test::RecordingSink sink;
     std::unique_ptr<ForwardingLoop> sut;
     TopicId topic = 0;

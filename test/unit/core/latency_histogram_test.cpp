@@ -16,7 +16,7 @@ using std::chrono::nanoseconds;
 class LatencyHistogramTest : public ::testing::Test {
   protected:
     /// True when `got` is within the histogram's resolution (1/32 of the value, rounded up) of `want`.
-    static bool close(Duration got, Duration want) {
+    static bool close(base::Duration got, base::Duration want) {
         const auto tolerance = want.count() / 32 + 1;
         return std::abs(got.count() - want.count()) <= tolerance;
     }
@@ -27,9 +27,9 @@ class LatencyHistogramTest : public ::testing::Test {
 TEST_F(LatencyHistogramTest, ReportsZeroWhenNothingWasRecorded) {
     const auto s = sut.snapshot();
     EXPECT_EQ(s.count, 0u);
-    EXPECT_EQ(s.median(), Duration::zero());
-    EXPECT_EQ(s.percentile(0.99), Duration::zero());
-    EXPECT_EQ(s.mean(), Duration::zero());
+    EXPECT_EQ(s.median(), base::Duration::zero());
+    EXPECT_EQ(s.percentile(0.99), base::Duration::zero());
+    EXPECT_EQ(s.mean(), base::Duration::zero());
 }
 
 TEST_F(LatencyHistogramTest, CountsSmallValuesExactly) {
@@ -93,7 +93,7 @@ TEST_F(LatencyHistogramTest, CountsANegativeLatencyAsZero) {
     sut.record(nanoseconds(-5));
     const auto s = sut.snapshot();
     EXPECT_EQ(s.count, 1u);
-    EXPECT_EQ(s.median(), Duration::zero());
+    EXPECT_EQ(s.median(), base::Duration::zero());
 }
 
 TEST_F(LatencyHistogramTest, SinceLeavesOutWhatWasRecordedBefore) {
@@ -116,7 +116,7 @@ TEST_F(LatencyHistogramTest, SinceAnIdenticalSnapshotIsEmpty) {
     const auto s = sut.snapshot();
     const auto none = s.since(s);
     EXPECT_EQ(none.count, 0u);
-    EXPECT_EQ(none.median(), Duration::zero());
+    EXPECT_EQ(none.median(), base::Duration::zero());
 }
 
 TEST_F(LatencyHistogramTest, CountsEveryRecordFromConcurrentThreads) {

@@ -9,7 +9,7 @@ using std::chrono::milliseconds;
 
 class LinkBudgetTest : public ::testing::Test {
   protected:
-    SteadyTime t0{std::chrono::seconds(100)};
+    base::SteadyTime t0{std::chrono::seconds(100)};
     LinkBudget sut{10'000.0, milliseconds(0)};
 };
 
@@ -44,7 +44,7 @@ TEST_F(LinkBudgetTest, LeadAdmitsTheNextSampleJustBeforeTheLinkDrains) {
 TEST_F(LinkBudgetTest, ZeroRateAdmitsNothing) {
     sut.set_rate(0.0);
     EXPECT_FALSE(sut.can_send(t0));
-    EXPECT_EQ(sut.transmit_time(1), Duration::max());
+    EXPECT_EQ(sut.transmit_time(1), base::Duration::max());
 }
 
 TEST_F(LinkBudgetTest, NewRateAppliesToTheNextCharge) {

@@ -18,7 +18,7 @@ class SchedulerTest : public ::testing::Test {
     void make_sut(PolicyKind policy, double rate_bps) {
         config.policy = policy;
         config.initial_rate_bps = rate_bps;
-        config.lead = Duration::zero();
+        config.lead = base::Duration::zero();
         config.budget_fraction = 1.0;  // exact arithmetic below; the fraction has a test of its own
         sut = std::make_unique<Scheduler>(config);
         a = sut->add_topic({"A", seconds(1)});
@@ -28,24 +28,24 @@ class SchedulerTest : public ::testing::Test {
     }
 
     /// Pushes a sample of `payload_bytes` stamped `age` before now at the source.
-    void push(TopicId topic, std::size_t payload_bytes = 64, Duration age = Duration::zero()) {
+    void push(TopicId topic, std::size_t payload_bytes = 64, base::Duration age = base::Duration::zero()) {
         Sample s;
         s.topic = topic;
         s.payload.assign(payload_bytes, static_cast<std::uint8_t>(topic));
-        s.source_time = clock.wall_now() - std::chrono::duration_cast<WallClock::duration>(age);
+        s.source_time = clock.wall_now() - std::chrono::duration_cast<base::WallClock::duration>(age);
         sut->push(std::move(s), clock.now(), clock.wall_now(), sink);
     }
 
     void release() { sut->release(clock.now(), sink); }
 
     /// Runs the scheduler as the gateway's loop would, in simulated time, for `span`.
-    void run_for(Duration span) {
-        const SteadyTime end = clock.now() + span;
+    void run_for(base::Duration span) {
+        const base::SteadyTime end = clock.now() + span;
         release();
         while (auto next = sut->next_wakeup(clock.now())) {
             if (*next > end)
                 break;
-            clock.advance(std::max(*next - clock.now(), Duration(1)));
+            clock.advance(std::max(*next - clock.now(), base::Duration(1)));
             release();
         }
         if (clock.now() < end)
@@ -53,8 +53,8 @@ class SchedulerTest : public ::testing::Test {
     }
 
     /// Wire time of a 64-byte sample at `rate_bps` under the default wire model.
-    Duration wire_time_64(double rate_bps) const {
-        return from_seconds(static_cast<double>(config.wire.wire_bits(64)) / rate_bps);
+    base::Duration wire_time_64(double rate_bps) const {
+        return base::from_seconds(static_cast<double>(config.wire.wire_bits(64)) / rate_bps);
     }
 
     SchedulerConfig config;
@@ -146,7 +146,7 @@ TEST_F(SchedulerTest, LogsSampleAlreadyExpiredOnArrival) {
 
 TEST_F(SchedulerTest, DropsEarlyASampleThatCanNoLongerArriveInTime) {
     make_sut(PolicyKind::ttl, 10'000);
-    const Duration tx = wire_time_64(10'000);
+    const base::Duration tx = wire_time_64(10'000);
     push(a, 64, seconds(1) - tx / 2);  // half its wire time left
     release();
     EXPECT_EQ(sink.dropped_count(DropReason::doomed), 1u);
@@ -276,7 +276,7 @@ TEST_F(SchedulerTest, OutsideTrafficHoldsTheLinkNoLongerThanItsQueue) {
 TEST_F(SchedulerTest, TheUnspentRestOfTheRateCoversOutsideTrafficThatFitsInIt) {
     config.policy = PolicyKind::ttl;
     config.initial_rate_bps = 10'000;
-    config.lead = Duration::zero();
+    config.lead = base::Duration::zero();
     config.budget_fraction = 0.9;  // 1,000 bit/s saved for outside traffic, over 20 s at most
     Scheduler scheduler(config);
     const TopicId t = scheduler.add_topic({"A", seconds(1)});

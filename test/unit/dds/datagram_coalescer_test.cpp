@@ -205,7 +205,7 @@ TEST_F(DatagramCoalescerTest, CountsADatagramThatWaitedAndFailed) {
 }
 
 TEST(DatagramCoalescerThreadTest, TheFlushThreadSendsWhenTheWindowEnds) {
-    const core::SystemClock clock;
+    const base::SystemClock clock;
     RecordingSender sender;
     DatagramCoalescer sut{200us, 1472, clock};
     sut.start();

@@ -1,7 +1,7 @@
 // The DDS side's pure pieces: topic filter, TTL rule, WAN addresses, passthrough type.
 #include <gtest/gtest.h>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/topic_filter.hpp"
 #include "gateway/dds/ttl_resolver.hpp"
@@ -34,19 +34,19 @@ TEST(TopicFilterTest, DenyWinsOverAllow) {
 
 TEST(TtlResolverTest, ProfileWinsOverPublisherAndDefault) {
     const auto sut = resolve_ttl(7s, 3s, 5s);
-    EXPECT_EQ(sut.ttl, core::Duration(7s));
+    EXPECT_EQ(sut.ttl, base::Duration(7s));
     EXPECT_EQ(sut.source, TtlSource::profile);
 }
 
 TEST(TtlResolverTest, PublisherLifespanWinsOverDefault) {
     const auto sut = resolve_ttl(std::nullopt, 3s, 5s);
-    EXPECT_EQ(sut.ttl, core::Duration(3s));
+    EXPECT_EQ(sut.ttl, base::Duration(3s));
     EXPECT_EQ(sut.source, TtlSource::publisher);
 }
 
 TEST(TtlResolverTest, InfiniteOrZeroLifespansDoNotApply) {
-    const auto sut = resolve_ttl(core::Duration::max(), core::Duration::zero(), 5s);
-    EXPECT_EQ(sut.ttl, core::Duration(5s));
+    const auto sut = resolve_ttl(base::Duration::max(), base::Duration::zero(), 5s);
+    EXPECT_EQ(sut.ttl, base::Duration(5s));
     EXPECT_EQ(sut.source, TtlSource::fallback);
 }
 
@@ -71,7 +71,7 @@ TEST(WanAddressTest, BadPeersAreConfigErrorsNamingTheFlag) {
         try {
             parse_wan_peer(bad, 1);
             ADD_FAILURE() << bad;
-        } catch (const core::ConfigError& e) {
+        } catch (const base::ConfigError& e) {
             EXPECT_NE(std::string(e.what()).find("--wan-peer"), std::string::npos);
         }
     }
@@ -80,13 +80,13 @@ TEST(WanAddressTest, BadPeersAreConfigErrorsNamingTheFlag) {
 TEST(WanAddressTest, InterfaceNameResolvesToItsAddress) {
     EXPECT_EQ(resolve_interface_address("lo"), "127.0.0.1");
     EXPECT_EQ(resolve_interface_address("127.0.0.1"), "127.0.0.1");
-    EXPECT_THROW(resolve_interface_address("no-such-if0"), core::ConfigError);
+    EXPECT_THROW(resolve_interface_address("no-such-if0"), base::ConfigError);
 }
 
 TEST(WanAddressTest, ResolvesAnInterfaceNameFromItsAddress) {
     EXPECT_EQ(resolve_interface_name("lo"), "lo");
     EXPECT_EQ(resolve_interface_name("127.0.0.1"), "lo");
-    EXPECT_THROW(resolve_interface_name("192.0.2.77"), core::ConfigError);  // TEST-NET-1: on no interface here
+    EXPECT_THROW(resolve_interface_name("192.0.2.77"), base::ConfigError);  // TEST-NET-1: on no interface here
 }
 
 TEST(PassthroughTypeTest, SerializesThePayloadUntouched) {

@@ -28,8 +28,8 @@ DatagramDestination to_port(std::uint32_t port) {
 
 class HeartbeatThrottleTest : public ::testing::Test {
   protected:
-    bool admit(const Bytes& m, core::Duration at, const DatagramDestination& to = to_port(7661)) {
-        return sut.admit(to, m.data(), m.size(), core::SteadyTime{} + at);
+    bool admit(const Bytes& m, base::Duration at, const DatagramDestination& to = to_port(7661)) {
+        return sut.admit(to, m.data(), m.size(), base::SteadyTime{} + at);
     }
 
     HeartbeatThrottle sut{1s};

@@ -32,9 +32,9 @@ TEST(OfferedQosTest, ReadsEveryPolicyThatDecidesMatching) {
     EXPECT_TRUE(sut.reliable);
     EXPECT_TRUE(sut.transient_local) << "TRANSIENT is served as TRANSIENT_LOCAL";
     EXPECT_EQ(sut.partitions, (std::vector<std::string>{"alpha", "site7"}));
-    EXPECT_EQ(sut.deadline, core::Duration(500ms));
+    EXPECT_EQ(sut.deadline, base::Duration(500ms));
     EXPECT_EQ(sut.liveliness, OfferedQos::Liveliness::manual_by_topic);
-    EXPECT_EQ(sut.liveliness_lease, core::Duration(2s));
+    EXPECT_EQ(sut.liveliness_lease, base::Duration(2s));
     EXPECT_TRUE(sut.exclusive_ownership);
     EXPECT_EQ(sut.ownership_strength, 9u);
     EXPECT_TRUE(sut.xcdr2);

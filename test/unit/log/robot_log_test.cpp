@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "test/fakes/fake_clock.hpp"
 
 namespace tgw::log {
@@ -154,10 +154,10 @@ TEST_F(RobotLogTest, StoresEveryColumnOfARecord) {
     EXPECT_EQ(rows[0].payload, s.payload);
     ASSERT_TRUE(rows[0].instance_key.has_value());
     EXPECT_EQ(*rows[0].instance_key, std::vector<std::uint8_t>(s.key.bytes.begin(), s.key.bytes.end()));
-    EXPECT_EQ(rows[0].source_time_ns, core::to_ns(s.source_time));
-    EXPECT_EQ(rows[0].arrival_ns, core::to_ns(r.arrival));
-    EXPECT_EQ(rows[0].deadline_ns, core::to_ns(r.deadline));
-    EXPECT_EQ(rows[0].logged_ns, core::to_ns(r.logged_at));
+    EXPECT_EQ(rows[0].source_time_ns, base::to_ns(s.source_time));
+    EXPECT_EQ(rows[0].arrival_ns, base::to_ns(r.arrival));
+    EXPECT_EQ(rows[0].deadline_ns, base::to_ns(r.deadline));
+    EXPECT_EQ(rows[0].logged_ns, base::to_ns(r.logged_at));
     EXPECT_EQ(rows[0].reason, "doomed");
     EXPECT_EQ(sut->rows_written(), 1u);
     EXPECT_EQ(sut->write_errors(), 0u);
@@ -264,8 +264,8 @@ TEST_F(RobotLogTest, ThrowsConfigErrorNamingAPathThatCannotBeCreated) {
     const std::string bad = (dir / "no-such-dir" / "robot.db").string();
     try {
         RobotLog log(bad);
-        FAIL() << "expected core::ConfigError";
-    } catch (const core::ConfigError& e) {
+        FAIL() << "expected base::ConfigError";
+    } catch (const base::ConfigError& e) {
         EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("unable to open"), std::string::npos) << e.what();
     }
@@ -275,15 +275,15 @@ TEST_F(RobotLogTest, ThrowsConfigErrorNamingAFileThatIsNotADatabase) {
     std::ofstream(path) << "this is not an SQLite file, but it is long enough to have a header of sorts...........";
     try {
         RobotLog log(path);
-        FAIL() << "expected core::ConfigError";
-    } catch (const core::ConfigError& e) {
+        FAIL() << "expected base::ConfigError";
+    } catch (const base::ConfigError& e) {
         EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("not a database"), std::string::npos) << e.what();
     }
 }
 
 TEST_F(RobotLogTest, ThrowsConfigErrorForAnEmptyPath) {
-    EXPECT_THROW(RobotLog(""), core::ConfigError);
+    EXPECT_THROW(RobotLog(""), base::ConfigError);
 }
 
 TEST_F(RobotLogTest, KeepsEveryRowAppendedFromSeveralThreads) {

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "test/fakes/fake_clock.hpp"
 #include "test/fakes/scripted_sensor.hpp"
 
@@ -161,14 +161,14 @@ TEST_F(DeliveredRateCheckTest, WithoutTheGatewaysCountTheInterfacesTransmitCount
 
 TEST(DeliveredRateCheck, RefusesToStartWithoutKernelCounters) {
     test::FakeClock clock;
-    EXPECT_THROW(DeliveredRateCheck(std::make_unique<test::ScriptedSensor>(), {}, {}, clock, {}), core::ConfigError);
+    EXPECT_THROW(DeliveredRateCheck(std::make_unique<test::ScriptedSensor>(), {}, {}, clock, {}), base::ConfigError);
 }
 
 TEST(DeliveredRateCheck, KernelSourcesNameAMissingInterface) {
     try {
         kernel_sources("tgw-no-such-if0", {});
         FAIL() << "expected a ConfigError";
-    } catch (const core::ConfigError& e) {
+    } catch (const base::ConfigError& e) {
         EXPECT_NE(std::string(e.what()).find("tgw-no-such-if0"), std::string::npos) << e.what();
     }
 }

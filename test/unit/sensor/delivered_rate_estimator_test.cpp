@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "test/fakes/fake_clock.hpp"
 
 namespace tgw::sensor {
@@ -21,7 +21,7 @@ class DeliveredRateEstimatorTest : public ::testing::Test {
   protected:
     /// Advances the clock, adds to the counters and feeds the sample.
     double step(std::uint64_t sent_bytes, std::uint64_t tx_bytes, std::uint64_t new_drops, std::uint64_t backlog,
-                core::Duration after = seconds(1)) {
+                base::Duration after = seconds(1)) {
         clock.advance(after);
         counters.gateway_sent_bytes += sent_bytes;
         counters.tx_bytes += tx_bytes;
@@ -174,7 +174,7 @@ TEST_F(DeliveredRateEstimatorTest, RefusesAnInvalidConfigNamingTheField) {
     const auto error_of = [this](DeliveredRateConfig bad) {
         try {
             DeliveredRateEstimator estimator(bad, clock);
-        } catch (const core::ConfigError& e) {
+        } catch (const base::ConfigError& e) {
             return std::string(e.what());
         }
         return std::string("<no error>");
@@ -186,7 +186,7 @@ TEST_F(DeliveredRateEstimatorTest, RefusesAnInvalidConfigNamingTheField) {
     bad.min_cap_fraction = 0.0;
     EXPECT_EQ(error_of(bad), "delivered-rate check: min_cap_fraction must be in (0, 1]");
     bad = DeliveredRateConfig{};
-    bad.max_queue_delay = core::Duration::zero();
+    bad.max_queue_delay = base::Duration::zero();
     EXPECT_EQ(error_of(bad), "delivered-rate check: max_queue_delay must be above 0");
     EXPECT_EQ(DeliveredRateConfig{}.validate(), "");
 }

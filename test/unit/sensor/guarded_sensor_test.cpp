@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "test/fakes/fake_clock.hpp"
 #include "test/fakes/scripted_sensor.hpp"
 
@@ -193,7 +193,7 @@ TEST_F(GuardedSensorTest, RefusesAnInvalidConfigNamingTheField) {
     const auto error_of = [this](GuardConfig bad) {
         try {
             GuardedSensor sut(std::make_unique<test::ScriptedSensor>("fixed:20k"), bad, clock, nullptr);
-        } catch (const core::ConfigError& e) {
+        } catch (const base::ConfigError& e) {
             return std::string(e.what());
         }
         return std::string("<no error>");

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "test/fakes/test_netns.hpp"
 
 namespace tgw::sensor {
@@ -89,8 +89,8 @@ TEST_F(LinkCounterReaderTest, FailsCleanlyOnceTheInterfaceIsGone) {
 TEST_F(LinkCounterReaderTest, RefusesToStartOnAMissingInterfaceNamingIt) {
     try {
         LinkCounterReader sut("tgw-nosuch");
-        FAIL() << "expected core::ConfigError";
-    } catch (const core::ConfigError& e) {
+        FAIL() << "expected base::ConfigError";
+    } catch (const base::ConfigError& e) {
         EXPECT_EQ(std::string(e.what()).rfind("no interface tgw-nosuch", 0), 0u) << e.what();
     }
 }

@@ -4,7 +4,7 @@
 
 #include <sstream>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "test/fakes/config_error_of.hpp"
 
 namespace tgw::sensor {
@@ -52,8 +52,8 @@ TEST_F(LinkQualityTableTest, RejectsBadRowsNamingTheFileAndLine) {
 TEST_F(LinkQualityTableTest, RejectsAMissingFileNamingIt) {
     try {
         load_link_quality_table("/nonexistent/radio.table");
-        FAIL() << "expected core::ConfigError";
-    } catch (const core::ConfigError& e) {
+        FAIL() << "expected base::ConfigError";
+    } catch (const base::ConfigError& e) {
         EXPECT_EQ(std::string(e.what()), "/nonexistent/radio.table: cannot open: No such file or directory");
     }
 }

@@ -5,7 +5,7 @@
 #include <string>
 #include <utility>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "test/fakes/config_error_of.hpp"
 #include "test/fakes/fake_clock.hpp"
 

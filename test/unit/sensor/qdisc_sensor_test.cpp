@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "test/fakes/fake_clock.hpp"
 #include "test/fakes/test_netns.hpp"
 
@@ -74,8 +74,8 @@ TEST_F(QdiscSensorTest, ReadingFailsCleanlyOnceTheInterfaceIsGone) {
 TEST_F(QdiscSensorTest, RefusesToStartOnAMissingInterfaceNamingIt) {
     try {
         QdiscSensor sut("tgw-nosuch");
-        FAIL() << "expected core::ConfigError";
-    } catch (const core::ConfigError& e) {
+        FAIL() << "expected base::ConfigError";
+    } catch (const base::ConfigError& e) {
         EXPECT_NE(std::string(e.what()).find("no interface tgw-nosuch"), std::string::npos) << e.what();
     }
 }
@@ -83,8 +83,8 @@ TEST_F(QdiscSensorTest, RefusesToStartOnAMissingInterfaceNamingIt) {
 TEST_F(QdiscSensorTest, RefusesToStartOnAnInterfaceWithoutAShaper) {
     try {
         QdiscSensor sut("tgwb");
-        FAIL() << "expected core::ConfigError";
-    } catch (const core::ConfigError& e) {
+        FAIL() << "expected base::ConfigError";
+    } catch (const base::ConfigError& e) {
         EXPECT_NE(std::string(e.what()).find("tgwb"), std::string::npos) << e.what();
     }
 }
@@ -96,8 +96,8 @@ TEST_F(QdiscSensorTest, IsWhatTheFactoryMakesForAQdiscSpec) {
     EXPECT_EQ(sut->read().rate_bps, 20'000.0);
     try {
         make_sensor("qdisc:tgwb", clock);
-        FAIL() << "expected core::ConfigError";
-    } catch (const core::ConfigError& e) {
+        FAIL() << "expected base::ConfigError";
+    } catch (const base::ConfigError& e) {
         EXPECT_EQ(std::string(e.what()).rfind("sensor qdisc:tgwb: ", 0), 0u) << e.what();
     }
 }

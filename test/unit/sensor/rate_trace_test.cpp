@@ -4,7 +4,7 @@
 
 #include <sstream>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "test/fakes/config_error_of.hpp"
 
 namespace tgw::sensor {
@@ -124,7 +124,7 @@ TEST_F(RateTraceTest, RateAtBeforeTheFirstStepIsTheFirstRate) {
 TEST_F(RateTraceTest, RateAtHoldsTheLastRateForeverAfterTheLastStep) {
     const RateTrace sut = parse("0 20000\n10 5000\n");
     EXPECT_EQ(sut.rate_at(seconds(3600)), 5'000.0);
-    EXPECT_EQ(sut.rate_at(core::Duration::max()), 5'000.0);
+    EXPECT_EQ(sut.rate_at(base::Duration::max()), 5'000.0);
 }
 
 }  // namespace

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 #include "sensor/guarded_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
 #include "test/fakes/fake_clock.hpp"
@@ -35,7 +35,7 @@ class SensorFactoryTest : public ::testing::Test {
     std::string error_of(const std::string& spec) {
         try {
             make_sensor(spec, clock);
-        } catch (const core::ConfigError& e) {
+        } catch (const base::ConfigError& e) {
             return e.what();
         }
         return "<no error>";
@@ -122,8 +122,8 @@ TEST_F(SensorFactoryTest, RejectsAnInvalidGuardNamingTheSpecAndField) {
     config.smoothing = 2.0;
     try {
         make_guarded_sensor("fixed:20k", config, clock, nullptr);
-        FAIL() << "expected core::ConfigError";
-    } catch (const core::ConfigError& e) {
+        FAIL() << "expected base::ConfigError";
+    } catch (const base::ConfigError& e) {
         EXPECT_EQ(std::string(e.what()), "sensor fixed:20k: smoothing must be in (0, 1]");
     }
 }

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
 namespace tgw::sensor {
 namespace {
@@ -34,7 +34,7 @@ class WirelessSensorTest : public ::testing::Test {
     std::string error_of(const std::string& interface) const {
         try {
             WirelessSensor sut(interface, LinkQualityTable::default_table(), proc);
-        } catch (const core::ConfigError& e) {
+        } catch (const base::ConfigError& e) {
             return e.what();
         }
         return "<no error>";
@@ -101,8 +101,8 @@ TEST_F(WirelessSensorTest, FactoryRefusesAnInterfaceTheKernelDoesNotList) {
     // The real /proc/net/wireless: absent here, or without this interface; both name it.
     try {
         WirelessSensor sut("tgw-nosuch0", LinkQualityTable::default_table());
-        FAIL() << "expected core::ConfigError";
-    } catch (const core::ConfigError& e) {
+        FAIL() << "expected base::ConfigError";
+    } catch (const base::ConfigError& e) {
         EXPECT_EQ(std::string(e.what()).rfind("tgw-nosuch0 is not a wireless interface: ", 0), 0u) << e.what();
     }
 }

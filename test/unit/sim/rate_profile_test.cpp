@@ -5,7 +5,7 @@
 namespace tgw::sim {
 namespace {
 
-using core::Duration;
+using base::Duration;
 using std::chrono::milliseconds;
 using std::chrono::seconds;
 

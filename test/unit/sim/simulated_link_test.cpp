@@ -15,7 +15,7 @@ class SimulatedLinkTest : public ::testing::Test {
   protected:
     static std::uint64_t bytes(std::uint64_t n) { return n * BITS_PER_BYTE; }
 
-    core::SteadyTime t0{std::chrono::hours(1)};
+    base::SteadyTime t0{std::chrono::hours(1)};
     SimulatedLink sut{RateProfile::constant(20'000), t0, seconds(1), 1600};
 };
 
@@ -49,7 +49,7 @@ TEST_F(SimulatedLinkTest, TheQueueHoldsRateTimesLatencyPlusTheBurstInBytes) {
 
 TEST_F(SimulatedLinkTest, DropsAPacketThatDoesNotFitTheFullQueue) {
     sut.send(t0, bytes(1'600));  // empties the bucket and leaves at once
-    std::optional<core::SteadyTime> last;
+    std::optional<base::SteadyTime> last;
     for (int k = 0; k < 41; ++k) {
         last = sut.send(t0, bytes(100));
         ASSERT_TRUE(last) << "packet " << k;
@@ -78,7 +78,7 @@ TEST_F(SimulatedLinkTest, ARateChangeRefillsTheBucketAndAppliesToTheQueue) {
 TEST_F(SimulatedLinkTest, AnOutageAtAVeryLowRateShrinksTheQueueToAboutTheBurst) {
     SimulatedLink link{RateProfile({{seconds(0), 20'000}, {seconds(1), 1'000}, {seconds(11), 20'000}}), t0, seconds(1),
                        1600};
-    const core::SteadyTime outage = t0 + seconds(2);
+    const base::SteadyTime outage = t0 + seconds(2);
     EXPECT_EQ(link.queue_limit_bytes(outage), 125u + 1'600u);
     EXPECT_EQ(*link.send(outage, bytes(1'600)), outage);  // the bucket, full since the change
     EXPECT_EQ(*link.send(outage, bytes(250)), outage + seconds(2));

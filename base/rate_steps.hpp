@@ -4,9 +4,9 @@
 #include <utility>
 #include <vector>
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
-namespace tgw::core {
+namespace tgw::base {
 
 /// A link rate over time as steps: each step's rate holds from its offset until the next step's. Before the
 /// first step the first rate holds (a trace that starts at 5 s still has a rate at 0 s); after the last, the
@@ -37,4 +37,4 @@ class RateSteps {
     std::vector<Step> steps_;
 };
 
-}  // namespace tgw::core
+}  // namespace tgw::base

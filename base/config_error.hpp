@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace tgw::core {
+namespace tgw::base {
 
 /// The one exception type of the project, thrown only while starting up. Its message names the flag, file
 /// or line at fault; main() prints it and exits 2.
@@ -12,4 +12,4 @@ class ConfigError : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-}  // namespace tgw::core
+}  // namespace tgw::base

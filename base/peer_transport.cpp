@@ -1,4 +1,4 @@
-#include "basecamp/peer_transport.hpp"
+#include "base/peer_transport.hpp"
 
 #include <arpa/inet.h>
 #include <ifaddrs.h>
@@ -10,9 +10,9 @@
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 
-#include "gateway/core/config_error.hpp"
+#include "base/config_error.hpp"
 
-namespace tgw::basecamp {
+namespace tgw::base {
 
 namespace {
 
@@ -38,7 +38,7 @@ std::string resolve_ipv4(const std::string& name_or_addr, const std::string& fla
         return name_or_addr;
     ifaddrs* list = nullptr;
     if (getifaddrs(&list) != 0)
-        throw core::ConfigError(flag + ": cannot list network interfaces");
+        throw ConfigError(flag + ": cannot list network interfaces");
     std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> guard(list, freeifaddrs);
     for (const ifaddrs* it = list; it != nullptr; it = it->ifa_next) {
         if (it->ifa_addr == nullptr || it->ifa_addr->sa_family != AF_INET || name_or_addr != it->ifa_name)
@@ -48,7 +48,7 @@ std::string resolve_ipv4(const std::string& name_or_addr, const std::string& fla
         inet_ntop(AF_INET, &sin->sin_addr, text, sizeof(text));
         return text;
     }
-    throw core::ConfigError(flag + ": '" + name_or_addr + "' is neither an IPv4 address nor an interface with one");
+    throw ConfigError(flag + ": '" + name_or_addr + "' is neither an IPv4 address nor an interface with one");
 }
 
 void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport) {
@@ -78,7 +78,7 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
     udp->maxInitialPeersRange = 1;
     for (const std::string& peer : transport.peers) {
         if (!is_ipv4(peer))
-            throw core::ConfigError(transport.peers_flag + ": '" + peer + "' is not an IPv4 address");
+            throw ConfigError(transport.peers_flag + ": '" + peer + "' is not an IPv4 address");
         builtin.initialPeersList.push_back(udp_locator(peer));
     }
     // Naming a unicast metatraffic locator keeps Fast DDS from adding its default multicast ones; port 0
@@ -92,4 +92,4 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
     builtin.discovery_config.leaseDuration_announcementperiod = eprosima::fastrtps::Duration_t(10, 0);
 }
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::base

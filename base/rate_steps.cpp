@@ -1,8 +1,8 @@
-#include "gateway/core/rate_steps.hpp"
+#include "base/rate_steps.hpp"
 
 #include <algorithm>
 
-namespace tgw::core {
+namespace tgw::base {
 
 namespace {
 
@@ -24,4 +24,4 @@ std::size_t RateSteps::step_index(Duration offset) const {
     return it == steps_.begin() ? 0 : static_cast<std::size_t>(it - steps_.begin() - 1);
 }
 
-}  // namespace tgw::core
+}  // namespace tgw::base

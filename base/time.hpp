@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cstdint>
 
-namespace tgw::core {
+namespace tgw::base {
 
 /// Scheduling time: monotonic, never jumps. Deadlines, arrivals and the link budget use it.
 using SteadyClock = std::chrono::steady_clock;
@@ -31,4 +31,4 @@ inline WallTime wall_from_ns(std::int64_t ns) {
     return WallTime(std::chrono::duration_cast<WallClock::duration>(std::chrono::nanoseconds(ns)));
 }
 
-}  // namespace tgw::core
+}  // namespace tgw::base

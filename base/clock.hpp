@@ -1,8 +1,8 @@
 #pragma once
 
-#include "gateway/core/time.hpp"
+#include "base/time.hpp"
 
-namespace tgw::core {
+namespace tgw::base {
 
 /// Where the gateway reads the time. Injected so that tests and tm-sim run in simulated time.
 class Clock {
@@ -24,4 +24,4 @@ class SystemClock final : public Clock {
     WallTime wall_now() const override { return WallClock::now(); }
 };
 
-}  // namespace tgw::core
+}  // namespace tgw::base

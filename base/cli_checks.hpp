@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-namespace tgw::cli {
+namespace tgw::base {
 
 /// A number in [low, high] (`high` may be infinite); the message says what is expected and what was given, and
 /// --help shows `brief` after the type.
@@ -35,4 +35,4 @@ inline CLI::Validator non_negative() {
     return number_in(0.0, HUGE_VAL, "a number >= 0", "NONNEGATIVE");
 }
 
-}  // namespace tgw::cli
+}  // namespace tgw::base

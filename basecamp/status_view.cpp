@@ -87,10 +87,15 @@ void StatusView::render(std::ostream& out, std::int64_t now_ns, std::size_t colu
                       s.sensor_detail().empty() ? "" : " (", s.sensor_detail().c_str(),
                       s.sensor_detail().empty() ? "" : ")");
         out << line;
+        char cap[64] = "";
+        if (s.delivered_cap_bps() > 0) {
+            std::snprintf(cap, sizeof cap, " (capped at %.0f by the delivered-rate check)", s.delivered_cap_bps());
+        }
         std::snprintf(line, sizeof line,
-                      "  sensed %.0f bit/s, budget %.0f bit/s; outside the schedule %llu B; on-robot log %llu "
+                      "  sensed %.0f bit/s%s, budget %.0f bit/s; outside the schedule %llu B; on-robot log %llu "
                       "samples; base-camp readers %d\n",
-                      s.sensed_rate_bps(), s.budget_bps(), static_cast<unsigned long long>(s.unscheduled_wire_bytes()),
+                      s.sensed_rate_bps(), cap, s.budget_bps(),
+                      static_cast<unsigned long long>(s.unscheduled_wire_bytes()),
                       static_cast<unsigned long long>(s.log_samples()), s.matched_readers());
         out << line;
 

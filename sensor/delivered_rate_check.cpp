@@ -58,6 +58,7 @@ RateReading DeliveredRateCheck::read() {
     if (!reading.queued_bytes)
         reading.queued_bytes = kernel.counters.backlog_bytes;
     note_cap(claimed_bps);
+    reading.cap_bps = estimator_.cap_bps();
 
     std::string check = "link " + std::string(verdict_name(estimator_.verdict()));
     if (const auto delivered = estimator_.delivered_bps())

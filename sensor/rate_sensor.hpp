@@ -19,6 +19,9 @@ struct RateReading {
     /// Bytes waiting in the link's queue now, where the sensor sees it (a kernel shaper's backlog): traffic the
     /// gateway did not schedule (discovery) or that the link did not carry as fast as the rate says.
     std::optional<std::uint64_t> queued_bytes;
+    /// While the delivered-rate check holds the rate below the sensor's claim: the cap (rate_bps may be lower
+    /// still, after the guard's margin).
+    std::optional<double> cap_bps;
 };
 
 /// A reading that failed, saying why.

@@ -225,6 +225,9 @@ void Gateway::apply_reading(const sensor::RateReading& reading) {
     {
         std::lock_guard<std::mutex> lock(sensor_mutex_);
         sensor_detail_ = reading.ok ? reading.detail : reading.error;
+        if (reading.ok) {
+            delivered_cap_bps_ = reading.cap_bps.value_or(0.0);
+        }
     }
     if (!reading.ok) {
         return;  // the guarded sensor's failures never get here; a bare one keeps the last rate
@@ -416,6 +419,7 @@ void Gateway::publish_status_nts() {
         std::lock_guard<std::mutex> lock(sensor_mutex_);
         status.sensor(sensor_description_);
         status.sensor_detail(sensor_detail_);
+        status.delivered_cap_bps(delivered_cap_bps_);
     }
     status.unscheduled_wire_bytes(unscheduled_wire_bytes_.load());
     status.log_samples(logged());

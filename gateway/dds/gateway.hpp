@@ -200,6 +200,7 @@ class Gateway {
     std::mutex sensor_mutex_;
     std::string sensor_description_;
     std::string sensor_detail_;
+    double delivered_cap_bps_ = 0.0;                           ///< 0: the delivered-rate check does not cap
     std::atomic<std::uint64_t> pending_unscheduled_bytes_{0};  ///< reported, not yet charged to the loop
     std::atomic<bool> unscheduled_charge_posted_{false};
     std::mutex stop_mutex_;

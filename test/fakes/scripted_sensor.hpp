@@ -54,7 +54,7 @@ class ScriptedSensor final : public sensor::RateSensor {
   private:
     std::string spec_;
     std::deque<sensor::RateReading> script_;
-    sensor::RateReading last_{false, 0.0, {}, "script empty", {}};
+    sensor::RateReading last_{false, 0.0, {}, "script empty", {}, {}};
     int reads_ = 0;
 };
 

@@ -110,6 +110,33 @@ TEST_F(StatusTest, ComesLessOftenOnASlowLink) {
     EXPECT_EQ(gateway_->statuses_published(), 1u) << "the next status came before its period";
 }
 
+// A sensor behind the delivered-rate check: the status says the sensed rate and the check's cap.
+TEST_F(StatusTest, CarriesTheDeliveredRateChecksCap) {
+    GatewayConfig c = config();
+    c.status_period = 100ms;
+    auto& statuses = status_reader();
+    start_gateway(c);
+    sensor::RateReading reading;
+    reading.ok = true;
+    reading.rate_bps = 3'000'000;
+    reading.cap_bps = 3'000'000;
+    reading.detail = "link dropping, delivered 2900000 bit/s, capped at 3000000 bit/s";
+    gateway_->apply_reading(reading);
+    ASSERT_TRUE(wait_until([&] {
+        for (const auto& r : statuses.received()) {
+            if (r.data.delivered_cap_bps() > 0) {
+                return true;
+            }
+        }
+        return false;
+    })) << "no status carried the cap ("
+        << statuses.count() << " statuses)";
+    const idl::GatewayStatus last = statuses.received().back().data;
+    EXPECT_DOUBLE_EQ(last.delivered_cap_bps(), 3'000'000);
+    EXPECT_DOUBLE_EQ(last.sensed_rate_bps(), 3'000'000);
+    EXPECT_EQ(last.sensor_detail(), reading.detail);
+}
+
 // The status is scheduled like a sample with a TTL of 1 s: at 1,000 bit/s its 238 bytes on the wire would take
 // 1.9 s, so it cannot arrive in time and is not sent at all (it used to leave outside the schedule regardless).
 TEST_F(StatusTest, IsNotSentWhenTheLinkCannotCarryItWithinItsTtl) {

@@ -4,6 +4,7 @@
 
 #include <sstream>
 
+#include "basecamp/gateway_status.hpp"
 #include "gateway/dds/status_topic.hpp"
 #include "status_samples.hpp"
 
@@ -70,6 +71,22 @@ TEST_F(StatusViewTest, KeepsEachGatewayApartAndCountsMalformedSamples) {
     sut.render(out, T0 + S);
     EXPECT_NE(out.str().find("gateway 01."), std::string::npos);
     EXPECT_NE(out.str().find("gateway 02."), std::string::npos);
+}
+
+TEST_F(StatusViewTest, SaysWhenTheDeliveredRateCheckCapsTheRate) {
+    SampleRecord capped = status_at(T0, 15'000);
+    idl::GatewayStatus status = *decode_gateway_status(capped.payload);
+    status.delivered_cap_bps(15'000);
+    capped.payload = test::serialized(status);
+    sut.add(status_at(T0 - 10 * S, 26'000));
+    std::ostringstream before;
+    sut.render(before, T0);
+    EXPECT_EQ(before.str().find("capped"), std::string::npos) << before.str();
+    sut.add(capped);
+    std::ostringstream after;
+    sut.render(after, T0 + S);
+    EXPECT_NE(after.str().find("sensed 15000 bit/s (capped at 15000 by the delivered-rate check)"), std::string::npos)
+        << after.str();
 }
 
 TEST(SparklineTest, ScalesFromTheLowestToTheHighestBlockAndLeavesGapsBlank) {

@@ -61,6 +61,7 @@ TEST_F(DeliveredRateCheckTest, PassesTheSensorsRateWhileTheLinkDelivers) {
     EXPECT_EQ(r.rate_bps, CLAIM);
     EXPECT_EQ(r.detail, "inner detail; link delivering, delivered 40000 bit/s");
     EXPECT_EQ(r.queued_bytes, 0u);
+    EXPECT_FALSE(r.cap_bps);
     EXPECT_TRUE(messages.empty());
     EXPECT_EQ(sut->describe(), "fixed:40000+delivered-check");
 }
@@ -71,6 +72,7 @@ TEST_F(DeliveredRateCheckTest, CapsTheRateWhileTheQdiscDropsAndLogsOnce) {
     EXPECT_DOUBLE_EQ(first.rate_bps, 0.8 * CLAIM);
     EXPECT_EQ(first.queued_bytes, 1'500u);  // the fixed sensor has no view of the queue: the check gives it
     EXPECT_NE(first.detail.find("capped at 32000 bit/s"), std::string::npos) << first.detail;
+    EXPECT_EQ(first.cap_bps, 32'000.0);
     EXPECT_DOUBLE_EQ(second(4'000, 4'000, 2, 1'500).rate_bps, 0.64 * CLAIM);
     ASSERT_EQ(messages.size(), 1u);
     EXPECT_EQ(messages[0].first, SensorLogLevel::warning);

@@ -206,7 +206,9 @@ int main(int argc, char** argv) {
         ->check(tgw::base::positive())
         ->capture_default_str();
     app.add_option("--qos", config.qos_file, "Fast DDS XML profiles (data_writer profiles named after topics)");
-    app.add_option("--log", config.log_file, "on-robot SQLite log: every sample not sent, with its payload and why, and a row per sample sent (no payload)");
+    app.add_option(
+        "--log", config.log_file,
+        "on-robot SQLite log: every sample not sent, with its payload and why, and a row per sample sent (no payload)");
     app.add_option("--allow", config.allow, "bridge only topics matching this glob; repeatable");
     app.add_option("--deny", config.deny, "never bridge topics matching this glob; repeatable, wins over --allow");
     app.add_option("--duration", duration_s, "seconds to run (default: until SIGINT/SIGTERM)")

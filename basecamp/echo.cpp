@@ -96,16 +96,6 @@ std::string Echo::type_name() const {
     return type_name_;
 }
 
-fdds::Subscriber* Echo::subscriber_for(const dds::OfferedQos& offer) {
-    auto& subscriber = subscribers_[offer.partitions];
-    if (subscriber == nullptr) {
-        fdds::SubscriberQos qos = participant_->get_default_subscriber_qos();
-        qos.partition() = offer.partition_policy();
-        subscriber = participant_->create_subscriber(qos);
-    }
-    return subscriber;
-}
-
 void Echo::subscribe(const dds::DiscoveredPublisher& publisher) {
     if (publisher.topic != topic_)
         return;
@@ -133,7 +123,7 @@ void Echo::subscribe(const dds::DiscoveredPublisher& publisher) {
     }
     const auto index = static_cast<std::uint16_t>(lanes_.size());
     fdds::Topic* topic = dds::passthrough_topic(participant_, topic_, type_name_, keyed_);
-    fdds::Subscriber* subscriber = subscriber_for(publisher.qos);
+    fdds::Subscriber* subscriber = subscribers_.get(participant_, publisher.qos);
     auto lane = std::make_unique<Lane>(*this, index);
     lane->offer = publisher.qos;
     if (topic != nullptr && subscriber != nullptr) {

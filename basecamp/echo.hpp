@@ -19,6 +19,7 @@
 #include "basecamp/type_library.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/lane_assignment.hpp"
+#include "gateway/dds/partition_groups.hpp"
 
 namespace eprosima::fastdds::dds {
 class DomainParticipant;
@@ -52,7 +53,6 @@ class Echo {
     class Lane;
 
     void subscribe(const dds::DiscoveredPublisher& publisher);
-    eprosima::fastdds::dds::Subscriber* subscriber_for(const dds::OfferedQos& offer);
     /// For the lanes' listeners (Fast DDS's threads): queues a sample for run().
     void push(ReceivedSample&& sample);
     /// What arrived since the last call; waits up to `timeout` for the first.
@@ -69,7 +69,7 @@ class Echo {
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
-    std::map<std::vector<std::string>, eprosima::fastdds::dds::Subscriber*> subscribers_;  ///< by partitions
+    dds::PartitionGroups<eprosima::fastdds::dds::Subscriber> subscribers_;
     dds::LaneAssignment writers_;
     std::vector<std::unique_ptr<Lane>> lanes_;
 

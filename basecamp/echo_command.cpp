@@ -18,10 +18,8 @@ namespace tgw::basecamp {
 
 namespace {
 
-struct EchoArguments {
+struct EchoArguments : DomainOptions {
     std::string topic;
-    int domain = 1;
-    base::PeerTransport transport;
     std::uint64_t count = 0;
     bool json = false;
     std::vector<std::string> idl_dirs;
@@ -89,13 +87,7 @@ Subcommand add_echo_command(CLI::App& app) {
     CLI::App* echo = app.add_subcommand(
         "echo", "print each sample of a topic as it arrives: field by field for IDL types, else size and hex");
     echo->add_option("TOPIC", args->topic, "the topic's DDS name (a ROS 2 topic /x is rt/x)")->required();
-    echo->add_option("--domain", args->domain, "DDS domain id")->check(CLI::Range(0, 232))->capture_default_str();
-    // One value per flag: a repeated flag adds one, and TOPIC after it stays TOPIC.
-    echo->add_option("--peer", args->transport.peers,
-                     "IPv4 address of the robot (repeatable): UDP unicast only, no multicast, no shared memory")
-        ->allow_extra_args(false);
-    echo->add_option("--interface", args->transport.interface,
-                     "interface name or IPv4 address to bind every socket to");
+    add_domain_options(*echo, *args);
     echo->add_option("--count", args->count, "exit after N samples")->check(at_least_one());
     echo->add_flag("--json", args->json, "one JSON object per sample and line");
     echo->add_option("--idl", args->idl_dirs,

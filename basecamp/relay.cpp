@@ -146,32 +146,12 @@ Relay::~Relay() {
     }
 }
 
-fdds::Subscriber* Relay::wan_subscriber(const dds::OfferedQos& offer) {
-    auto& subscriber = wan_subscribers_[offer.partitions];
-    if (subscriber == nullptr) {
-        fdds::SubscriberQos qos = wan_->get_default_subscriber_qos();
-        qos.partition() = offer.partition_policy();
-        subscriber = wan_->create_subscriber(qos);
-    }
-    return subscriber;
-}
-
-fdds::Publisher* Relay::local_publisher(const dds::OfferedQos& offer) {
-    auto& publisher = local_publishers_[offer.partitions];
-    if (publisher == nullptr) {
-        fdds::PublisherQos qos = local_->get_default_publisher_qos();
-        qos.partition() = offer.partition_policy();
-        publisher = local_->create_publisher(qos);
-    }
-    return publisher;
-}
-
 std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic,
                                               std::uint16_t index) {
     fdds::Topic* wan_topic = dds::passthrough_topic(wan_, publisher.topic, publisher.type_name, publisher.keyed);
     fdds::Topic* local_topic = dds::passthrough_topic(local_, publisher.topic, publisher.type_name, publisher.keyed);
-    fdds::Subscriber* subscriber = wan_subscriber(publisher.qos);
-    fdds::Publisher* publisher_entity = local_publisher(publisher.qos);
+    fdds::Subscriber* subscriber = wan_subscribers_.get(wan_, publisher.qos);
+    fdds::Publisher* publisher_entity = local_publishers_.get(local_, publisher.qos);
     if (wan_topic == nullptr || local_topic == nullptr || subscriber == nullptr || publisher_entity == nullptr) {
         std::fprintf(stderr, "tm-basecamp relay: cannot create the topic '%s' (type '%s')\n", publisher.topic.c_str(),
                      publisher.type_name.c_str());

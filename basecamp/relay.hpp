@@ -18,6 +18,7 @@
 #include "basecamp/sample_store.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/lane_assignment.hpp"
+#include "gateway/dds/partition_groups.hpp"
 
 namespace eprosima::fastdds::dds {
 class DomainParticipant;
@@ -71,8 +72,6 @@ class Relay {
 
     void relay(const dds::DiscoveredPublisher& publisher);
     std::unique_ptr<Lane> make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic, std::uint16_t index);
-    eprosima::fastdds::dds::Subscriber* wan_subscriber(const dds::OfferedQos& offer);
-    eprosima::fastdds::dds::Publisher* local_publisher(const dds::OfferedQos& offer);
 
     SampleStore* store_;
     DeliveryTally tally_;
@@ -84,8 +83,8 @@ class Relay {
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* wan_ = nullptr;
     eprosima::fastdds::dds::DomainParticipant* local_ = nullptr;
-    std::map<std::vector<std::string>, eprosima::fastdds::dds::Subscriber*> wan_subscribers_;  // by partitions
-    std::map<std::vector<std::string>, eprosima::fastdds::dds::Publisher*> local_publishers_;
+    dds::PartitionGroups<eprosima::fastdds::dds::Subscriber> wan_subscribers_;
+    dds::PartitionGroups<eprosima::fastdds::dds::Publisher> local_publishers_;
     mutable std::mutex topics_mutex_;  ///< run() adds to topics_, relayed() reads it
     std::map<std::string, std::unique_ptr<Topic>> topics_;
 };

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <ctime>
 
+#include "base/utc_text.hpp"
 #include "basecamp/cdr_decoder.hpp"
 #include "basecamp/value_json.hpp"
 #include "basecamp/value_text.hpp"
@@ -16,23 +17,6 @@ namespace {
 constexpr std::size_t TEXT_HEX_BYTES = 256;
 
 }  // namespace
-
-std::string utc_text(base::WallTime time) {
-    const std::int64_t ns = base::to_ns(time);
-    std::int64_t seconds = ns / 1'000'000'000;
-    std::int64_t fraction = ns % 1'000'000'000;
-    if (fraction < 0) {
-        fraction += 1'000'000'000;
-        --seconds;
-    }
-    const std::time_t t = static_cast<std::time_t>(seconds);
-    std::tm utc{};
-    gmtime_r(&t, &utc);
-    char text[64];
-    std::snprintf(text, sizeof text, "%04d-%02d-%02dT%02d:%02d:%02d.%09lldZ", utc.tm_year + 1900, utc.tm_mon + 1,
-                  utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec, static_cast<long long>(fraction));
-    return text;
-}
 
 std::string hex_text(const std::uint8_t* bytes, std::size_t size) {
     static const char DIGITS[] = "0123456789abcdef";
@@ -73,7 +57,7 @@ void SamplePrinter::print(std::ostream& out, const ReceivedSample& sample) const
         return;
     }
     if (sample.source)
-        out << "# source_timestamp: " << utc_text(*sample.source) << '\n';
+        out << "# source_timestamp: " << base::utc_text(*sample.source) << '\n';
     if (!sample.instance.empty())
         out << "# instance: " << sample.instance << '\n';
     if (decoded.value) {

@@ -41,9 +41,6 @@ class SamplePrinter {
     const Format format_;
 };
 
-/// `time` as UTC with nanoseconds, ISO 8601: "2026-11-24T13:41:00.123456789Z".
-std::string utc_text(base::WallTime time);
-
 /// `bytes` as lower-case hex digits, two a byte, without separators.
 std::string hex_text(const std::uint8_t* bytes, std::size_t size);
 

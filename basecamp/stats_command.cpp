@@ -1,13 +1,11 @@
 #include "basecamp/stats_command.hpp"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <ctime>
 #include <iostream>
 #include <memory>
 
-#include "base/peer_transport.hpp"
+#include "basecamp/live_screen.hpp"
 #include "basecamp/recorder.hpp"
 #include "basecamp/topic_stats.hpp"
 
@@ -15,9 +13,7 @@ namespace tgw::basecamp {
 
 namespace {
 
-struct StatsOptions {
-    int domain = 1;
-    base::PeerTransport transport;
+struct StatsOptions : DomainOptions {
     double window_s = 10.0;
     bool once = false;
     double duration_s = 0.0;
@@ -37,22 +33,16 @@ int run_stats(const StatsOptions& options) {
         print_stats_table(std::cout, stats.rows(wall_now_ns()));
         return 0;
     }
-    const bool terminal = isatty(STDOUT_FILENO) != 0;
-    const auto end = options.duration_s > 0 ? base::SteadyClock::now() + base::from_seconds(options.duration_s)
-                                            : base::SteadyTime::max();
-    while (!stop_requested().load() && base::SteadyClock::now() < end) {
-        subscriber.run(std::chrono::seconds(1), stop_requested());
-        const std::time_t now = std::time(nullptr);
-        char clock[16];
-        std::strftime(clock, sizeof clock, "%H:%M:%S", std::localtime(&now));
-        if (terminal) {
-            std::cout << "\x1b[H\x1b[2J";  // one screen, redrawn
-        }
-        std::cout << "tm-basecamp stats: domain " << options.domain << ", last " << options.window_s << " s, " << clock
-                  << "\n";
-        print_stats_table(std::cout, stats.rows(wall_now_ns()));
-        std::cout << (terminal ? "" : "\n") << std::flush;
-    }
+    run_live_screen(
+        base::from_seconds(options.duration_s), [&](base::Duration slice) { subscriber.run(slice, stop_requested()); },
+        [&](std::ostream& out) {
+            const std::time_t now = std::time(nullptr);
+            char clock[16];
+            std::strftime(clock, sizeof clock, "%H:%M:%S", std::localtime(&now));
+            out << "tm-basecamp stats: domain " << options.domain << ", last " << options.window_s << " s, " << clock
+                << "\n";
+            print_stats_table(out, stats.rows(wall_now_ns()));
+        });
     return 0;
 }
 
@@ -64,13 +54,7 @@ Subcommand add_stats_command(CLI::App& app) {
         "stats",
         "every topic of a domain at once: Hz, bit/s, mean and p99 transmission time, % within TTL, samples "
         "logged on the robot; refreshed every second");
-    command->add_option("--domain", options->domain, "DDS domain id (the WAN domain, or the camp's behind a relay)")
-        ->check(CLI::Range(0, 232))
-        ->capture_default_str();
-    command->add_option("--peer", options->transport.peers,
-                        "IPv4 address of the robot (repeatable): UDP unicast only, no multicast, no shared memory");
-    command->add_option("--interface", options->transport.interface,
-                        "interface name or IPv4 address to bind every socket to");
+    add_domain_options(*command, *options);
     command->add_option("--window", options->window_s, "seconds of samples each line is computed over")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();

@@ -1,11 +1,9 @@
 #include "basecamp/status_command.hpp"
 
-#include <unistd.h>
-
 #include <iostream>
 #include <memory>
 
-#include "base/peer_transport.hpp"
+#include "basecamp/live_screen.hpp"
 #include "basecamp/recorder.hpp"
 #include "basecamp/status_view.hpp"
 #include "gateway/dds/status_topic.hpp"
@@ -14,9 +12,7 @@ namespace tgw::basecamp {
 
 namespace {
 
-struct StatusOptions {
-    int domain = 1;
-    base::PeerTransport transport;
+struct StatusOptions : DomainOptions {
     double minutes = 5.0;
     bool once = false;
     double timeout_s = 60.0;
@@ -43,17 +39,9 @@ int run_status(const StatusOptions& options) {
         view.render(std::cout, now_ns());
         return 0;
     }
-    const bool terminal = isatty(STDOUT_FILENO) != 0;
-    const auto end = options.duration_s > 0 ? base::SteadyClock::now() + base::from_seconds(options.duration_s)
-                                            : base::SteadyTime::max();
-    while (!stop_requested().load() && base::SteadyClock::now() < end) {
-        subscriber.run(std::chrono::seconds(1), stop_requested());
-        if (terminal) {
-            std::cout << "\x1b[H\x1b[2J";  // one screen, redrawn
-        }
-        view.render(std::cout, now_ns());
-        std::cout << std::flush;
-    }
+    run_live_screen(
+        base::from_seconds(options.duration_s), [&](base::Duration slice) { subscriber.run(slice, stop_requested()); },
+        [&](std::ostream& out) { view.render(out, now_ns()); });
     return 0;
 }
 
@@ -65,13 +53,7 @@ Subcommand add_status_command(CLI::App& app) {
         "status",
         "the gateways' status (tgw/status) live: sensed rate over the last minutes, queue depth per topic, "
         "drops by reason; one screen refreshed every second");
-    command->add_option("--domain", options->domain, "DDS domain id (the WAN domain, or the camp's behind a relay)")
-        ->check(CLI::Range(0, 232))
-        ->capture_default_str();
-    command->add_option("--peer", options->transport.peers,
-                        "IPv4 address of the robot (repeatable): UDP unicast only, no multicast, no shared memory");
-    command->add_option("--interface", options->transport.interface,
-                        "interface name or IPv4 address to bind every socket to");
+    add_domain_options(*command, *options);
     command->add_option("--minutes", options->minutes, "how far back the rate graph goes")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();

@@ -7,6 +7,8 @@
 #include <atomic>
 #include <functional>
 
+#include "base/peer_transport.hpp"
+
 namespace tgw::basecamp {
 
 struct Subcommand {
@@ -14,6 +16,15 @@ struct Subcommand {
     /// Runs the parsed command and returns the exit code. May throw base::ConfigError (exit 2, message printed).
     std::function<int()> run;
 };
+
+/// Where a live tool (stats, status, echo) subscribes: the domain, and the link transport as `record` has it.
+struct DomainOptions {
+    int domain = 1;
+    base::PeerTransport transport;
+};
+
+/// Adds --domain, --peer and --interface to `command` for `options`, which must outlive the app.
+void add_domain_options(CLI::App& command, DomainOptions& options);
 
 /// True once SIGINT or SIGTERM came after stop_on_signals(): long commands then end cleanly, their files whole.
 const std::atomic<bool>& stop_requested();

@@ -9,24 +9,10 @@
 
 #include "base/cli_checks.hpp"
 #include "base/config_error.hpp"
+#include "base/utc_text.hpp"
 #include "sensor/delivered_rate_check.hpp"
 #include "sensor/guarded_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
-
-namespace {
-
-std::string wall_time_text(tgw::base::WallTime t) {
-    const std::time_t seconds = tgw::base::WallClock::to_time_t(t);
-    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count() % 1000;
-    std::tm tm{};
-    gmtime_r(&seconds, &tm);
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02d.%03lldZ", tm.tm_year + 1900, tm.tm_mon + 1,
-                  tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec, static_cast<long long>(ms));
-    return buf;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"tm-sense: print a link's data rate as the gateway's sensor reads it"};
@@ -97,7 +83,7 @@ int main(int argc, char** argv) {
             std::this_thread::sleep_until(next);
         }
         const tgw::sensor::RateReading r = sensor->read();
-        std::cout << wall_time_text(clock.wall_now()) << ' ';
+        std::cout << tgw::base::utc_text(clock.wall_now(), 3) << ' ';
         if (r.ok) {
             std::cout << static_cast<long long>(r.rate_bps) << " bit/s";
             if (!r.detail.empty())

@@ -460,7 +460,7 @@ void Gateway::publish_status_nts() {
     core::Sample sample;
     sample.topic = status_topic_;
     sample.source_time = clock_.wall_now();
-    eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&status)());
+    eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(bytes));
     eprosima::fastrtps::rtps::InstanceHandle_t instance;
     if (type.serialize(&status, &payload) && type.getKey(&status, &instance, false)) {
         sample.payload.assign(payload.data, payload.data + payload.length);

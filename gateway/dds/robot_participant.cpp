@@ -68,7 +68,7 @@ RobotParticipant::RobotParticipant(int domain, fdds::DomainParticipantListener* 
         throw base::ConfigError("--robot-domain " + std::to_string(domain) +
                                 ": cannot create the robot participant (see the Fast DDS log)");
     }
-    if (subscriber_nts(OfferedQos{}) == nullptr) {
+    if (subscribers_.get(participant_, OfferedQos{}) == nullptr) {
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
         throw base::ConfigError("--robot-domain " + std::to_string(domain) + ": cannot create a subscriber");
     }
@@ -82,26 +82,12 @@ RobotParticipant::~RobotParticipant() {
     }
 }
 
-fdds::Subscriber* RobotParticipant::subscriber_nts(const OfferedQos& offer) {
-    auto it = subscribers_.find(offer.partitions);
-    if (it != subscribers_.end()) {
-        return it->second;
-    }
-    fdds::SubscriberQos qos = participant_->get_default_subscriber_qos();
-    qos.partition() = offer.partition_policy();
-    fdds::Subscriber* subscriber = participant_->create_subscriber(qos);
-    if (subscriber != nullptr) {
-        subscribers_.emplace(offer.partitions, subscriber);
-    }
-    return subscriber;
-}
-
 fdds::DataReader* RobotParticipant::create_reader(const std::string& topic_name, const std::string& type_name,
                                                   bool keyed, const OfferedQos& offer,
                                                   fdds::DataReaderListener* listener) {
     std::lock_guard<std::mutex> lock(mutex_);
     fdds::Topic* topic = passthrough_topic(participant_, topic_name, type_name, keyed);
-    fdds::Subscriber* subscriber = subscriber_nts(offer);
+    fdds::Subscriber* subscriber = subscribers_.get(participant_, offer);
     if (topic == nullptr || subscriber == nullptr) {
         std::cerr << "telemetry-gateway: cannot create robot topic " << topic_name << " (type " << type_name << ")\n";
         return nullptr;

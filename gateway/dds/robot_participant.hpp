@@ -14,6 +14,7 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 
 #include "gateway/dds/offered_qos.hpp"
+#include "gateway/dds/partition_groups.hpp"
 #include "gateway/dds/robot_transport.hpp"
 
 namespace tgw::dds {
@@ -47,11 +48,8 @@ class RobotParticipant {
     eprosima::fastrtps::rtps::GuidPrefix_t guid_prefix() const;
 
   private:
-    /// Partitions are a subscriber's QoS in Fast DDS 2.9: one subscriber per partition set, made on demand.
-    eprosima::fastdds::dds::Subscriber* subscriber_nts(const OfferedQos& offer);
-
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
-    std::map<std::vector<std::string>, eprosima::fastdds::dds::Subscriber*> subscribers_;
+    PartitionGroups<eprosima::fastdds::dds::Subscriber> subscribers_;
     std::map<std::string, int> readers_of_topic_;
     std::mutex mutex_;
 };

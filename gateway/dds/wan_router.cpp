@@ -105,7 +105,7 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
         throw base::ConfigError("--wan-domain " + std::to_string(config.domain) +
                                 ": cannot create the WAN participant (check --wan-interface and --wan-peer)");
     }
-    publisher_ = publisher_nts(OfferedQos{});
+    publisher_ = publishers_.get(participant_, OfferedQos{});
     if (publisher_ == nullptr) {
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
         throw base::ConfigError("--wan-domain " + std::to_string(config.domain) + ": cannot create a publisher");
@@ -131,27 +131,13 @@ std::optional<fdds::DataWriterQos> WanRouter::writer_profile(const std::string& 
     return qos;
 }
 
-fdds::Publisher* WanRouter::publisher_nts(const OfferedQos& offer) {
-    const auto it = publishers_.find(offer.partitions);
-    if (it != publishers_.end()) {
-        return it->second;
-    }
-    fdds::PublisherQos qos = participant_->get_default_publisher_qos();
-    qos.partition() = offer.partition_policy();
-    fdds::Publisher* publisher = participant_->create_publisher(qos);
-    if (publisher != nullptr) {
-        publishers_.emplace(offer.partitions, publisher);
-    }
-    return publisher;
-}
-
 std::shared_ptr<WanWriter> WanRouter::create_writer(const std::string& topic, const std::string& type_name, bool keyed,
                                                     std::optional<base::Duration> lifespan, const OfferedQos& offer) {
     auto matches = std::make_unique<WriterMatchCounter>();
 
     std::lock_guard<std::mutex> lock(mutex_);
     fdds::Topic* wan_topic = passthrough_topic(participant_, topic, type_name, keyed);
-    fdds::Publisher* publisher = publisher_nts(offer);
+    fdds::Publisher* publisher = publishers_.get(participant_, offer);
     if (wan_topic == nullptr || publisher == nullptr) {
         std::cerr << "telemetry-gateway: cannot create WAN topic " << topic << " (type " << type_name << ")\n";
         return nullptr;

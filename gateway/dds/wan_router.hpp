@@ -25,6 +25,7 @@
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/offered_qos.hpp"
+#include "gateway/dds/partition_groups.hpp"
 #include "gateway/dds/wan_address.hpp"
 #include "gateway/dds/wan_writer.hpp"
 
@@ -102,17 +103,14 @@ class WanRouter {
   private:
     class ParticipantCounter;
 
-    /// One publisher per partition set (a publisher's QoS in Fast DDS 2.9), made on demand.
-    eprosima::fastdds::dds::Publisher* publisher_nts(const OfferedQos& offer);
-
     base::SystemClock clock_;  // datagrams wait in real time, whatever clock the scheduler runs on
     std::shared_ptr<DatagramCoalescer> coalescer_;
     std::shared_ptr<HeartbeatThrottle> heartbeat_throttle_ = std::make_shared<HeartbeatThrottle>();
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Publisher* publisher_ = nullptr;  ///< the default partition's
     mutable std::mutex mutex_;
-    std::map<std::vector<std::string>, eprosima::fastdds::dds::Publisher*> publishers_;
-    std::unique_ptr<ParticipantCounter> participants_;  ///< before participant_'s deletion
+    PartitionGroups<eprosima::fastdds::dds::Publisher> publishers_;  // under mutex_
+    std::unique_ptr<ParticipantCounter> participants_;               ///< before participant_'s deletion
 };
 
 }  // namespace tgw::dds

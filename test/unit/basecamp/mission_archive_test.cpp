@@ -15,6 +15,7 @@
 #include "basecamp/sample_store.hpp"
 #include "gateway/log/robot_log.hpp"
 #include "test/fakes/config_error_of.hpp"
+#include "test/unit/basecamp/recording_file.hpp"
 
 namespace tgw::basecamp {
 namespace {
@@ -124,14 +125,7 @@ class MissionArchiveTest : public ::testing::Test {
     }
 
     void write_files() {
-        {
-            SampleStore store(recording_, "--out", 10);
-            for (const TopicRecord& t : topics_)
-                store.add_topic(t);
-            for (const SampleRecord& s : samples_)
-                store.add(s);
-            store.flush();
-        }
+        test::write_recording(recording_, topics_, samples_);
         log::RobotLog log(robot_log_);
         for (const RobotRow& r : robot_rows_) {
             const base::WallTime arrival = r.sample.source_time + std::chrono::milliseconds(1);

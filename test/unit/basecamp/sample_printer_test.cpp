@@ -7,6 +7,7 @@
 #include "GatewayStatus.h"
 #include "KeyedReading.h"
 
+#include "base/utc_text.hpp"
 #include "basecamp/sample_printer.hpp"
 #include "basecamp/value_json.hpp"
 #include "basecamp/value_text.hpp"
@@ -146,8 +147,8 @@ TEST(ValueJsonTest, EscapesControlCharactersAndBytesThatAreNotUtf8) {
 }
 
 TEST(UtcTextTest, WritesIso8601WithNanoseconds) {
-    EXPECT_EQ(basecamp::utc_text(base::wall_from_ns(0)), "1970-01-01T00:00:00.000000000Z");
-    EXPECT_EQ(basecamp::utc_text(base::wall_from_ns(STAMP_NS)), "2026-11-24T20:01:22.000000123Z");
+    EXPECT_EQ(base::utc_text(base::wall_from_ns(0)), "1970-01-01T00:00:00.000000000Z");
+    EXPECT_EQ(base::utc_text(base::wall_from_ns(STAMP_NS)), "2026-11-24T20:01:22.000000123Z");
 }
 
 }  // namespace

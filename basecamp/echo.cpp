@@ -1,7 +1,9 @@
 #include "basecamp/echo.hpp"
 
 #include <cstdio>
+#include <sstream>
 
+#include <fastrtps/types/TypeObjectFactory.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -11,6 +13,7 @@
 #include <fastdds/dds/topic/Topic.hpp>
 
 #include "base/config_error.hpp"
+#include "basecamp/type_object_idl.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
@@ -68,9 +71,9 @@ class Echo::Lane final : public fdds::DataReaderListener {
     const std::uint16_t index_;
 };
 
-Echo::Echo(int domain, const base::PeerTransport& transport, std::string topic, const TypeLibrary& types,
+Echo::Echo(int domain, const base::PeerTransport& transport, std::string topic, TypeLibrary types,
            SamplePrinter::Format format, std::ostream& out)
-    : topic_(std::move(topic)), types_(types), format_(format), out_(out) {
+    : topic_(std::move(topic)), types_(std::move(types)), format_(format), out_(out) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
@@ -105,11 +108,9 @@ void Echo::subscribe(const dds::DiscoveredPublisher& publisher) {
             type_name_ = publisher.type_name;
         }
         keyed_ = publisher.keyed;
+        const std::string how = learn_announced_type(publisher);
         printer_.emplace(types_, type_name_, format_);
-        std::fprintf(stderr, "tm-basecamp echo: '%s' of type %s%s\n", topic_.c_str(), type_name_.c_str(),
-                     types_.find(type_name_) != nullptr
-                         ? ""
-                         : ": no IDL for it, samples print as size and hex (--idl DIR adds IDL files)");
+        std::fprintf(stderr, "tm-basecamp echo: '%s' of type %s%s\n", topic_.c_str(), type_name_.c_str(), how.c_str());
     } else if (publisher.type_name != type_name_) {
         std::fprintf(stderr, "tm-basecamp echo: ignoring a publisher of '%s' with another type (%s, not %s)\n",
                      topic_.c_str(), publisher.type_name.c_str(), type_name_.c_str());
@@ -138,6 +139,34 @@ void Echo::subscribe(const dds::DiscoveredPublisher& publisher) {
     }
     writers_.assign(publisher.writer, index);
     lanes_.push_back(std::move(lane));
+}
+
+std::string Echo::learn_announced_type(const dds::DiscoveredPublisher& publisher) {
+    if (types_.find(publisher.type_name) != nullptr)
+        return "";
+    const std::string no_idl = "no IDL for it, samples print as size and hex (--idl DIR adds IDL files)";
+    if (!publisher.type_object)
+        return ": " + no_idl;
+    // Types it refers to by hash: only those this process has registered. Fast DDS 2.9 asks a publisher for them
+    // (TypeLookup) only where the publisher serves it, which is off by default.
+    const TypeObjectIdl announced = type_object_idl(
+        *publisher.type_object, publisher.type_name, [](const eprosima::fastrtps::types::TypeIdentifier& id) {
+            return eprosima::fastrtps::types::TypeObjectFactory::get_instance()->get_type_object(&id);
+        });
+    if (!announced.ok())
+        return ": its publisher's TypeObject: " + announced.missing + "; " + no_idl;
+    const std::string source = "the TypeObject of " + publisher.type_name;
+    try {
+        std::istringstream idl(announced.text);
+        TypeLibrary with_announced = types_;
+        with_announced.add_idl(idl, source);
+        with_announced.check_references();
+        types_ = std::move(with_announced);
+    } catch (const base::ConfigError& e) {
+        return ": its publisher's TypeObject does not make IDL this decoder reads (" + std::string(e.what()) + "); " +
+               no_idl;
+    }
+    return ", decoded with the XTypes TypeObject its publisher announced";
 }
 
 void Echo::push(ReceivedSample&& sample) {

@@ -29,14 +29,15 @@ class Subscriber;
 namespace tgw::basecamp {
 
 /// Subscribes to one topic on a domain, whatever its type (tgw::dds::PassthroughType), and prints each sample as
-/// it arrives (SamplePrinter): decoded when `types` has the IDL of the type its publishers announce, as size
-/// and hex otherwise. Each QoS its publishers offer gets a reader asking for exactly that (one lane, as the
-/// relay has them), and each sample is printed once, from its writer's lane.
+/// it arrives (SamplePrinter): decoded when `types` has the IDL of the type its publishers announce, or else the
+/// first publisher announced an XTypes TypeObject of it (type_object_idl()); as size and hex otherwise. Each QoS its
+/// publishers offer gets a reader asking for exactly that (one lane, as the relay has them), and each sample is printed
+/// once, from its writer's lane.
 class Echo {
   public:
-    /// Creates the participant. `types` and `out` must outlive the Echo. Throws base::ConfigError naming --domain,
+    /// Creates the participant. `out` must outlive the Echo. Throws base::ConfigError naming --domain,
     /// --peer or --interface when DDS refuses it.
-    Echo(int domain, const base::PeerTransport& transport, std::string topic, const TypeLibrary& types,
+    Echo(int domain, const base::PeerTransport& transport, std::string topic, TypeLibrary types,
          SamplePrinter::Format format, std::ostream& out);
     ~Echo();
     Echo(const Echo&) = delete;
@@ -53,13 +54,16 @@ class Echo {
     class Lane;
 
     void subscribe(const dds::DiscoveredPublisher& publisher);
+    /// Adds the IDL of the type the first publisher announced in its TypeObject, when `types_` lacks it; what
+    /// echo tells the operator about how samples will print.
+    std::string learn_announced_type(const dds::DiscoveredPublisher& publisher);
     /// For the lanes' listeners (Fast DDS's threads): queues a sample for run().
     void push(ReceivedSample&& sample);
     /// What arrived since the last call; waits up to `timeout` for the first.
     std::vector<ReceivedSample> take(std::chrono::milliseconds timeout);
 
     const std::string topic_;
-    const TypeLibrary& types_;
+    TypeLibrary types_;
     const SamplePrinter::Format format_;
     std::ostream& out_;
     std::string type_name_;

@@ -63,7 +63,7 @@ int run_echo(const EchoArguments& args) {
         throw base::ConfigError(std::string("--idl: ") + e.what());
     }
 
-    Echo echo(args.domain, args.transport, args.topic, types,
+    Echo echo(args.domain, args.transport, args.topic, std::move(types),
               args.json ? SamplePrinter::Format::json : SamplePrinter::Format::text, std::cout);
     stop_on_signals();
     const base::Duration duration = args.timeout_s > 0 ? base::from_seconds(args.timeout_s) : base::Duration::max() / 2;

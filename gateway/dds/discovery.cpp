@@ -4,6 +4,7 @@
 #include <utility>
 
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
+#include <fastrtps/types/TypeObject.h>
 
 #include "gateway/dds/dds_time.hpp"
 
@@ -61,6 +62,8 @@ void Discovery::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant
                           prefix[1] == eprosima::fastrtps::rtps::c_VendorId_eProsima[1];
     pub.qos = OfferedQos::from_writer(data.m_qos, fast_dds && pub.keyed);
     pub.writer = data.guid();
+    if (data.has_type() && data.type().m_type_object._d() == eprosima::fastrtps::types::EK_COMPLETE)
+        pub.type_object = std::make_shared<eprosima::fastrtps::types::TypeObject>(data.type().m_type_object);
     on_publisher_(std::move(pub));
 }
 

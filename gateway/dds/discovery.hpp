@@ -1,6 +1,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -13,6 +14,10 @@
 #include "base/time.hpp"
 #include "gateway/dds/offered_qos.hpp"
 
+namespace eprosima::fastrtps::types {
+class TypeObject;
+}  // namespace eprosima::fastrtps::types
+
 namespace tgw::dds {
 
 /// What the gateway learns about a publisher on the robot domain, from SEDP.
@@ -23,6 +28,9 @@ struct DiscoveredPublisher {
     std::optional<base::Duration> lifespan;  ///< nullopt when the writer's Lifespan is infinite
     OfferedQos qos;
     eprosima::fastrtps::rtps::GUID_t writer;
+    /// The complete XTypes TypeObject the writer announced with its type (a Fast DDS type with one registered);
+    /// nullptr when it announced none, as most writers do.
+    std::shared_ptr<const eprosima::fastrtps::types::TypeObject> type_object;
 };
 
 /// The robot participant's listener: turns every publisher discovered on the robot domain, whenever it

@@ -14,6 +14,8 @@
 #include <sstream>
 #include <thread>
 
+#include "AnnouncedTypesPubSubTypes.h"
+#include "AnnouncedTypesTypeObject.h"
 #include "GatewayStatusPubSubTypes.h"
 
 #include "basecamp/echo.hpp"
@@ -140,6 +142,23 @@ class EchoTest : public ::testing::Test {
         EXPECT_TRUE(errors.empty()) << "Fast DDS logged errors:\n" << all;
     }
 
+    /// tm-basecamp echo --json of the test's topic, for `count` samples, as an operator starts it.
+    ChildProcess start_echo_json(int count) const {
+        return ChildProcess(
+            {TGW_BASECAMP_PROGRAM, "echo", topic_, "--domain", std::to_string(domain_), "--peer", "127.0.0.1",
+             "--interface", "127.0.0.1", "--json", "--count", std::to_string(count), "--timeout", "40"},
+            stderr_file_);
+    }
+
+    /// Whether the echo started and its reader matched the test's writer within 20 s.
+    ::testing::AssertionResult echo_reader_matched(const ChildProcess& echo) const {
+        if (!echo.started())
+            return ::testing::AssertionFailure() << TGW_BASECAMP_PROGRAM << " did not start";
+        if (!wait_until([&] { return matches_.matched.load() > 0; }, std::chrono::seconds(20)))
+            return ::testing::AssertionFailure() << "the echo's reader never matched; its stderr:\n" << echo_stderr();
+        return ::testing::AssertionSuccess();
+    }
+
     std::string echo_stderr() const {
         std::ifstream in(stderr_file_);
         return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -191,13 +210,8 @@ TEST_F(EchoTest, EchoJsonPrintsEachSampleOfAnIdlTypeFieldByField) {
                                                        reliable_writer_qos(), &matches_);
     ASSERT_NE(writer, nullptr);
     constexpr int SAMPLES = 3;
-    ChildProcess echo({TGW_BASECAMP_PROGRAM, "echo", topic_, "--domain", std::to_string(domain_), "--peer", "127.0.0.1",
-                       "--interface", "127.0.0.1", "--json", "--count", std::to_string(SAMPLES), "--timeout", "40"},
-                      stderr_file_);
-    ASSERT_TRUE(echo.started());
-    ASSERT_TRUE(wait_until([&] { return matches_.matched.load() > 0; }, 20s))
-        << "the echo's reader never matched; its stderr:\n"
-        << echo_stderr();
+    ChildProcess echo = start_echo_json(SAMPLES);
+    ASSERT_TRUE(echo_reader_matched(echo));
 
     for (int i = 0; i < SAMPLES; ++i) {
         idl::GatewayStatus status = status_number(i);
@@ -241,6 +255,79 @@ TEST_F(EchoTest, EchoJsonPrintsEachSampleOfAnIdlTypeFieldByField) {
     }
     EXPECT_EQ(echo.wait(std::chrono::steady_clock::now() + 15s), std::optional<int>(0)) << echo_stderr();
     EXPECT_NE(echo_stderr().find("of type tgw::idl::GatewayStatus"), std::string::npos) << echo_stderr();
+}
+
+// The publisher announces its type's XTypes TypeObject (fastddsgen -typeobject, the types registered); the echo,
+// another process with no IDL of it, decodes every member from that alone.
+TEST_F(EchoTest, EchoDecodesATypeFromTheTypeObjectItsPublisherAnnounced) {
+    registerAnnouncedTypesTypes();
+    fdds::DataWriter* writer = publisher_->make_writer(topic_, fdds::TypeSupport(new tgw_test::FlatReadingPubSubType()),
+                                                       reliable_writer_qos(), &matches_);
+    ASSERT_NE(writer, nullptr);
+    constexpr int SAMPLES = 2;
+    ChildProcess echo = start_echo_json(SAMPLES);
+    ASSERT_TRUE(echo_reader_matched(echo));
+    for (int i = 0; i < SAMPLES; ++i) {
+        tgw_test::FlatReading reading;
+        reading.sensor_id(100u + static_cast<unsigned>(i));
+        reading.s64(-9'000'000'000'000LL);
+        reading.f32(0.25F);
+        reading.label(std::string(300, 'a' + static_cast<char>(i)));
+        reading.unit("m/s");
+        reading.history({1.5, -2.0});
+        reading.grid({{{1, 2, 3}, {4, 5, i}}});
+        ASSERT_TRUE(writer->write(&reading));
+    }
+    const Deadline deadline = std::chrono::steady_clock::now() + 20s;
+    for (int i = 0; i < SAMPLES; ++i) {
+        const std::optional<std::string> line = echo.read_line(deadline);
+        ASSERT_TRUE(line.has_value()) << "sample " << i << " never came; stderr:\n" << echo_stderr();
+        const std::optional<Json> sample = parse_json(*line);
+        ASSERT_TRUE(sample.has_value()) << "not JSON: " << *line;
+        ASSERT_TRUE(sample->has("data")) << *line << "\nstderr:\n" << echo_stderr();
+        const Json& data = (*sample)["data"];
+        EXPECT_EQ(data["sensor_id"].as_uint(), 100u + static_cast<unsigned>(i));
+        EXPECT_EQ(data["s64"].as_int(), -9'000'000'000'000LL);
+        EXPECT_EQ(data["f32"].as_double(), 0.25);
+        EXPECT_EQ(data["label"].text, std::string(300, 'a' + static_cast<char>(i)));
+        EXPECT_EQ(data["unit"].text, "m/s");
+        ASSERT_EQ(data["history"].items.size(), 2u) << *line;
+        EXPECT_EQ(data["history"].items[1].as_double(), -2.0);
+        ASSERT_EQ(data["grid"].items.size(), 2u) << *line;
+        ASSERT_EQ(data["grid"].items[1].items.size(), 3u) << *line;
+        EXPECT_EQ(data["grid"].items[1].items[2].as_int(), i);
+    }
+    EXPECT_EQ(echo.wait(std::chrono::steady_clock::now() + 15s), std::optional<int>(0)) << echo_stderr();
+    EXPECT_NE(echo_stderr().find("of type tgw_test::FlatReading, decoded with the XTypes TypeObject its publisher "
+                                 "announced"),
+              std::string::npos)
+        << echo_stderr();
+}
+
+// A TypeObject refers to a nested struct, an enum and a typedef by hash only, and a Fast DDS 2.9 publisher answers
+// no request for them by default: the echo says which member it cannot decode, and prints size and hex.
+TEST_F(EchoTest, EchoSaysWhichMemberTheAnnouncedTypeObjectCannotDescribe) {
+    registerAnnouncedTypesTypes();
+    fdds::DataWriter* writer = publisher_->make_writer(topic_, fdds::TypeSupport(new tgw_test::RoverStatePubSubType()),
+                                                       reliable_writer_qos(), &matches_);
+    ASSERT_NE(writer, nullptr);
+    ChildProcess echo = start_echo_json(1);
+    ASSERT_TRUE(echo_reader_matched(echo));
+    tgw_test::RoverState state;
+    state.mode(tgw_test::DRIVING);
+    ASSERT_TRUE(writer->write(&state));
+    const std::optional<std::string> line = echo.read_line(std::chrono::steady_clock::now() + 20s);
+    ASSERT_TRUE(line.has_value()) << "the sample never came; stderr:\n" << echo_stderr();
+    const std::optional<Json> sample = parse_json(*line);
+    ASSERT_TRUE(sample.has_value()) << "not JSON: " << *line;
+    EXPECT_FALSE(sample->has("data")) << *line;
+    EXPECT_GT((*sample)["size_bytes"].as_uint(), 0u) << *line;
+    EXPECT_EQ(echo.wait(std::chrono::steady_clock::now() + 15s), std::optional<int>(0)) << echo_stderr();
+    EXPECT_NE(echo_stderr().find("of type tgw_test::RoverState: its publisher's TypeObject: member 'reading' of "
+                                 "tgw_test::RoverState: refers to a type its publisher did not announce (complete "
+                                 "hash "),
+              std::string::npos)
+        << echo_stderr();
 }
 
 TEST_F(EchoTest, EchoPrintsSizeAndHexOfATypeItHasNoIdlFor) {

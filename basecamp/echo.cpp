@@ -13,10 +13,10 @@
 #include <fastdds/dds/topic/Topic.hpp>
 
 #include "base/config_error.hpp"
-#include "basecamp/type_object_idl.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
+#include "gateway/dds/type_object_idl.hpp"
 
 namespace tgw::basecamp {
 
@@ -149,7 +149,7 @@ std::string Echo::learn_announced_type(const dds::DiscoveredPublisher& publisher
         return ": " + no_idl;
     // Types it refers to by hash: only those this process has registered. Fast DDS 2.9 asks a publisher for them
     // (TypeLookup) only where the publisher serves it, which is off by default.
-    const TypeObjectIdl announced = type_object_idl(
+    const dds::TypeObjectIdl announced = dds::type_object_idl(
         *publisher.type_object, publisher.type_name, [](const eprosima::fastrtps::types::TypeIdentifier& id) {
             return eprosima::fastrtps::types::TypeObjectFactory::get_instance()->get_type_object(&id);
         });

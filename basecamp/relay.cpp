@@ -113,7 +113,7 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
     wan_qos.name("tm-basecamp relay/wan");
     local_qos.name("tm-basecamp relay/local");
     // The local participant first: nothing discovered on the WAN may find it missing.
-    local_ = factory->create_participant(local_domain, local_qos);
+    local_ = factory->create_participant(local_domain, local_qos, &local_guard_, fdds::StatusMask::none());
     if (local_ == nullptr) {
         throw base::ConfigError("--local-domain: cannot create a DDS participant on domain " +
                                 std::to_string(local_domain));
@@ -130,8 +130,9 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
 }
 
 Relay::~Relay() {
-    if (wan_ != nullptr) {
-        wan_->set_listener(nullptr);
+    for (fdds::DomainParticipant* participant : {wan_, local_}) {
+        if (participant != nullptr)
+            participant->set_listener(nullptr);
     }
     {
         std::lock_guard<std::mutex> lock(topics_mutex_);
@@ -149,7 +150,8 @@ Relay::~Relay() {
 std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic,
                                               std::uint16_t index) {
     fdds::Topic* wan_topic = dds::passthrough_topic(wan_, publisher.topic, publisher.type_name, publisher.keyed);
-    fdds::Topic* local_topic = dds::passthrough_topic(local_, publisher.topic, publisher.type_name, publisher.keyed);
+    fdds::Topic* local_topic =
+        dds::passthrough_topic(local_, publisher.topic, publisher.type_name, publisher.keyed, publisher.type_object);
     fdds::Subscriber* subscriber = wan_subscribers_.get(wan_, publisher.qos);
     fdds::Publisher* publisher_entity = local_publishers_.get(local_, publisher.qos);
     if (wan_topic == nullptr || local_topic == nullptr || subscriber == nullptr || publisher_entity == nullptr) {

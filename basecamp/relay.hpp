@@ -19,6 +19,7 @@
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/lane_assignment.hpp"
 #include "gateway/dds/partition_groups.hpp"
+#include "gateway/dds/type_object_guard.hpp"
 
 namespace eprosima::fastdds::dds {
 class DomainParticipant;
@@ -82,6 +83,7 @@ class Relay {
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* wan_ = nullptr;
+    dds::TypeObjectGuard local_guard_;  ///< the local participant's listener: base-camp tools announce types too
     eprosima::fastdds::dds::DomainParticipant* local_ = nullptr;
     dds::PartitionGroups<eprosima::fastdds::dds::Subscriber> wan_subscribers_;
     dds::PartitionGroups<eprosima::fastdds::dds::Publisher> local_publishers_;

@@ -4,7 +4,6 @@
 #include <utility>
 
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
-#include <fastrtps/types/TypeObject.h>
 
 #include "gateway/dds/dds_time.hpp"
 
@@ -33,10 +32,11 @@ bool Discovery::ignored(const GuidPrefix_t& prefix) const {
     return std::find(ignored_.begin(), ignored_.end(), prefix) != ignored_.end();
 }
 
-void Discovery::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* /*participant*/,
+void Discovery::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
                                        WriterDiscoveryInfo&& info) {
     // A changed QoS keeps the topic's first TTL and its lanes.
     const auto& data = info.info;
+    std::shared_ptr<const eprosima::fastrtps::types::TypeObject> type_object = take_type_object(participant, data);
     if (ignored(data.guid().guidPrefix)) {
         return;
     }
@@ -62,8 +62,7 @@ void Discovery::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant
                           prefix[1] == eprosima::fastrtps::rtps::c_VendorId_eProsima[1];
     pub.qos = OfferedQos::from_writer(data.m_qos, fast_dds && pub.keyed);
     pub.writer = data.guid();
-    if (data.has_type() && data.type().m_type_object._d() == eprosima::fastrtps::types::EK_COMPLETE)
-        pub.type_object = std::make_shared<eprosima::fastrtps::types::TypeObject>(data.type().m_type_object);
+    pub.type_object = std::move(type_object);
     on_publisher_(std::move(pub));
 }
 

@@ -13,6 +13,7 @@
 
 #include "base/time.hpp"
 #include "gateway/dds/offered_qos.hpp"
+#include "gateway/dds/type_object_guard.hpp"
 
 namespace eprosima::fastrtps::types {
 class TypeObject;
@@ -29,15 +30,16 @@ struct DiscoveredPublisher {
     OfferedQos qos;
     eprosima::fastrtps::rtps::GUID_t writer;
     /// The complete XTypes TypeObject the writer announced with its type (a Fast DDS type with one registered);
-    /// nullptr when it announced none, as most writers do.
+    /// nullptr when it announced none, as most writers do. Fast DDS itself never sees it (TypeObjectGuard).
     std::shared_ptr<const eprosima::fastrtps::types::TypeObject> type_object;
 };
 
 /// The robot participant's listener: turns every publisher discovered on the robot domain, whenever it
 /// appears, into a DiscoveredPublisher for `on_publisher`, and tells `on_gone` the topic and GUID of each that
-/// leaves (deleted, or its participant gone). Publishers of the gateway's own participants are ignored. Runs in
+/// leaves (deleted, or its participant gone). Publishers of the gateway's own participants are ignored. As a
+/// TypeObjectGuard, it keeps every endpoint's TypeObject from Fast DDS and gives publishers' to `on_publisher`. Runs in
 /// Fast DDS's discovery thread: the callbacks must return quickly and create or delete no entities.
-class Discovery final : public eprosima::fastdds::dds::DomainParticipantListener {
+class Discovery final : public TypeObjectGuard {
   public:
     using Callback = std::function<void(DiscoveredPublisher&&)>;
     using GoneCallback = std::function<void(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t&)>;

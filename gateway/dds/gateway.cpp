@@ -130,8 +130,8 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         // when the budget has room for them.
         OfferedQos offer;
         offer.reliable = true;  // matched by any reader's defaults
-        status_writer_ =
-            wan_->create_writer(STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true, STATUS_TTL, offer);
+        status_writer_ = wan_->create_writer(STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true, STATUS_TTL,
+                                             offer, nullptr);
         if (status_writer_ == nullptr) {
             throw base::ConfigError("--status-period: cannot create the writer of " + std::string(STATUS_TOPIC));
         }

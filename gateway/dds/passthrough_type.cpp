@@ -2,9 +2,12 @@
 
 #include <cstring>
 
+#include <fastrtps/types/TypeObject.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include "gateway/dds/type_object_idl.hpp"
 
 namespace tgw::dds {
 
@@ -84,12 +87,19 @@ bool PassthroughType::getKey(void* data, InstanceHandle_t* handle, bool /*force_
 }
 
 fdds::Topic* passthrough_topic(fdds::DomainParticipant* participant, const std::string& topic,
-                               const std::string& type_name, bool keyed) {
-    if (participant->find_type(type_name).empty()) {
-        fdds::TypeSupport type(new PassthroughType(type_name, keyed));
+                               const std::string& type_name, bool keyed,
+                               const std::shared_ptr<const eprosima::fastrtps::types::TypeObject>& announced) {
+    fdds::TypeSupport type = participant->find_type(type_name);
+    if (type.empty()) {
+        type = fdds::TypeSupport(new PassthroughType(type_name, keyed));
         if (participant->register_type(type, type_name) != ReturnCode_t::RETCODE_OK) {
             return nullptr;
         }
+    }
+    if (announced && !type->type_object() && type_object_idl(*announced, type_name, {}).ok()) {
+        auto passed_on = std::make_shared<fdds::TypeObjectV1>();
+        passed_on->m_type_object = *announced;
+        type->type_object(std::move(passed_on));
     }
     if (auto* existing = dynamic_cast<fdds::Topic*>(participant->lookup_topicdescription(topic))) {
         return existing;

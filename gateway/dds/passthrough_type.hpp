@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,10 @@ namespace eprosima::fastdds::dds {
 class DomainParticipant;
 class Topic;
 }  // namespace eprosima::fastdds::dds
+
+namespace eprosima::fastrtps::types {
+class TypeObject;
+}  // namespace eprosima::fastrtps::types
 
 namespace tgw::dds {
 
@@ -47,7 +52,13 @@ class PassthroughType final : public eprosima::fastdds::dds::TopicDataType {
 /// The Topic `topic` of type `type_name` on `participant`, as the gateway and the base camp pass it on: a
 /// PassthroughType registered under that name on first use, and the existing Topic if there is one (a topic's
 /// lanes share it). nullptr when Fast DDS refuses either.
-eprosima::fastdds::dds::Topic* passthrough_topic(eprosima::fastdds::dds::DomainParticipant* participant,
-                                                 const std::string& topic, const std::string& type_name, bool keyed);
+///
+/// `announced`, the TypeObject the original publisher announced (DiscoveredPublisher::type_object), is announced
+/// by the participant's writers of the type created from then on, when the type has none yet and it describes the
+/// type by itself (type_object_idl() needs no lookup). One that refers to other types helps no reader, who cannot
+/// ask for them through the gateway, and crashes Fast DDS 2.9 readers who do not know them (TypeObjectGuard).
+eprosima::fastdds::dds::Topic* passthrough_topic(
+    eprosima::fastdds::dds::DomainParticipant* participant, const std::string& topic, const std::string& type_name,
+    bool keyed, const std::shared_ptr<const eprosima::fastrtps::types::TypeObject>& announced = nullptr);
 
 }  // namespace tgw::dds

@@ -61,7 +61,7 @@ bool TopicBridge::admit(const DiscoveredPublisher& pub, bool declared) {
     lane.offer = pub.qos;
     lane.live = true;
     lane.declared = declared;
-    lane.writer = ends_.wan.create_writer(name_, type_name_, keyed_, lifespan, pub.qos);
+    lane.writer = ends_.wan.create_writer(name_, type_name_, keyed_, lifespan, pub.qos, pub.type_object);
     if (lane.writer == nullptr) {
         return false;
     }

@@ -20,6 +20,7 @@
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
+#include "gateway/dds/type_object_guard.hpp"
 
 namespace tgw::dds {
 
@@ -31,7 +32,7 @@ using eprosima::fastrtps::types::ReturnCode_t;
 
 /// Counts the base-camp participants the WAN participant has discovered: each new endpoint's SEDP announcement
 /// goes to each of them.
-class WanRouter::ParticipantCounter final : public fdds::DomainParticipantListener {
+class WanRouter::ParticipantCounter final : public TypeObjectGuard {
   public:
     void on_participant_discovery(fdds::DomainParticipant* /*participant*/,
                                   eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
@@ -131,12 +132,13 @@ std::optional<fdds::DataWriterQos> WanRouter::writer_profile(const std::string& 
     return qos;
 }
 
-std::shared_ptr<WanWriter> WanRouter::create_writer(const std::string& topic, const std::string& type_name, bool keyed,
-                                                    std::optional<base::Duration> lifespan, const OfferedQos& offer) {
+std::shared_ptr<WanWriter> WanRouter::create_writer(
+    const std::string& topic, const std::string& type_name, bool keyed, std::optional<base::Duration> lifespan,
+    const OfferedQos& offer, const std::shared_ptr<const eprosima::fastrtps::types::TypeObject>& announced) {
     auto matches = std::make_unique<WriterMatchCounter>();
 
     std::lock_guard<std::mutex> lock(mutex_);
-    fdds::Topic* wan_topic = passthrough_topic(participant_, topic, type_name, keyed);
+    fdds::Topic* wan_topic = passthrough_topic(participant_, topic, type_name, keyed, announced);
     fdds::Publisher* publisher = publishers_.get(participant_, offer);
     if (wan_topic == nullptr || publisher == nullptr) {
         std::cerr << "telemetry-gateway: cannot create WAN topic " << topic << " (type " << type_name << ")\n";

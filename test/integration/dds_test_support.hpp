@@ -17,6 +17,7 @@
 #include <fastdds/rtps/reader/ReaderDiscoveryInfo.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
+#include <fastrtps/types/TypeObject.h>
 #include <fastrtps/utils/IPLocator.h>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -260,11 +261,14 @@ class PublisherWatcher final : public fdds::DomainParticipantListener {
         if (info.status != eprosima::fastrtps::rtps::WriterDiscoveryInfo::DISCOVERED_WRITER) {
             return;
         }
+        std::shared_ptr<const eprosima::fastrtps::types::TypeObject> type_object;
+        if (info.info.has_type() && info.info.type().m_type_object._d() == eprosima::fastrtps::types::EK_COMPLETE)
+            type_object = std::make_shared<eprosima::fastrtps::types::TypeObject>(info.info.type().m_type_object);
         std::lock_guard<std::mutex> lock(mutex_);
-        seen_.push_back({info.info.topicName().to_string(), info.info.typeName().to_string(),
-                         info.info.m_qos.m_lifespan.duration, info.info.m_qos.m_reliability.kind,
-                         info.info.m_qos.m_durability.kind, info.info.m_qos.m_ownership.kind,
-                         info.info.m_qos.m_ownershipStrength.value, info.info.m_qos.m_partition.names()});
+        seen_.push_back(
+            {info.info.topicName().to_string(), info.info.typeName().to_string(), info.info.m_qos.m_lifespan.duration,
+             info.info.m_qos.m_reliability.kind, info.info.m_qos.m_durability.kind, info.info.m_qos.m_ownership.kind,
+             info.info.m_qos.m_ownershipStrength.value, info.info.m_qos.m_partition.names(), std::move(type_object)});
     }
 
     struct Seen {
@@ -276,6 +280,7 @@ class PublisherWatcher final : public fdds::DomainParticipantListener {
         fdds::OwnershipQosPolicyKind ownership;
         std::uint32_t ownership_strength;
         std::vector<std::string> partitions;
+        std::shared_ptr<const eprosima::fastrtps::types::TypeObject> type_object;  ///< a complete one, if announced
     };
 
     bool find(const std::string& topic, Seen& out) const {

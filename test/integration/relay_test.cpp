@@ -11,6 +11,8 @@
 #include <thread>
 
 #include <sqlite3.h>
+#include "AnnouncedTypesPubSubTypes.h"
+#include "AnnouncedTypesTypeObject.h"
 #include "KeyedReadingPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
 #include "RosStringPubSubTypes.h"
@@ -222,6 +224,45 @@ TEST_F(RelayTest, ALateJoinerOnTheLocalDomainGetsALatchedTopicFromTheRelay) {
     EXPECT_EQ(gateway_->counters(id).forwarded, forwarded) << "the late joiner cost the link a sample";
     EXPECT_EQ(gateway_->wan_matched_readers(id), 1) << "the late joiner reached the WAN";
     EXPECT_EQ(relay_->relayed()[topic], 3u);
+}
+
+// A robot publisher's TypeObject reaches the camp's domain where it describes its type by itself: tm-basecamp echo
+// and Foxglove there can decode the type. One that refers to other types stays behind; a reader whose type has a
+// TypeObject still matches, and gets the samples.
+TEST_F(RelayTest, TheRobotPublishersSelfContainedTypeObjectReachesTheCampsDomain) {
+    registerAnnouncedTypesTypes();
+    PublisherWatcher watcher;
+    TestParticipant camp_tool(local_domain_, fdds::PARTICIPANT_QOS_DEFAULT, &watcher);
+    ASSERT_TRUE(camp_tool.ok());
+    start_gateway(config());
+    start_relay();
+    const std::string flat = topic_prefix_ + "flat";
+    const std::string convoy = topic_prefix_ + "convoy";
+    auto* flat_writer = robot_writer<tgw_test::FlatReadingPubSubType>(flat, writer_qos(false));
+    auto* convoy_writer = robot_writer<tgw_test::ConvoyPubSubType>(convoy, writer_qos(false));
+    ASSERT_NE(flat_writer, nullptr);
+    ASSERT_NE(convoy_writer, nullptr);
+
+    PublisherWatcher::Seen flat_seen;
+    PublisherWatcher::Seen convoy_seen;
+    ASSERT_TRUE(wait_until([&] { return watcher.find(flat, flat_seen) && watcher.find(convoy, convoy_seen); }))
+        << "the relay's writers never appeared on the camp's domain";
+    ASSERT_NE(flat_seen.type_object, nullptr) << "the relay's writer of " << flat << " announced no TypeObject";
+    EXPECT_TRUE(*flat_seen.type_object == *tgw_test::GetFlatReadingObject(true));
+    EXPECT_EQ(convoy_seen.type_object, nullptr);
+
+    fdds::DataReaderQos qos = camp_tool.default_reader_qos();
+    qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    auto& received = listener<CollectingReader<tgw_test::FlatReading>>();
+    ASSERT_NE(camp_tool.make_reader(flat, fdds::TypeSupport(new tgw_test::FlatReadingPubSubType()), qos, &received),
+              nullptr);
+    ASSERT_TRUE(wait_until([&] {
+        tgw_test::FlatReading reading;
+        reading.sensor_id(7);
+        flat_writer->write(&reading);
+        return received.count() > 0;
+    })) << "a reader with the type's TypeObject received nothing";
+    EXPECT_EQ(received.received().front().data.sensor_id(), 7u);
 }
 
 // relay --out records what it takes off the WAN, as record does, and the relay, the camp's one WAN participant,

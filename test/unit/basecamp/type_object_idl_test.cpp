@@ -14,14 +14,14 @@
 
 #include "basecamp/cdr_decoder.hpp"
 #include "basecamp/type_library.hpp"
-#include "basecamp/type_object_idl.hpp"
 #include "basecamp/value_json.hpp"
+#include "gateway/dds/type_object_idl.hpp"
 
 namespace tgw::test {
 namespace {
 
 namespace xt = eprosima::fastrtps::types;
-using basecamp::TypeObjectIdl;
+using dds::TypeObjectIdl;
 
 /// Referenced types as a process that registered them knows them.
 const xt::TypeObject* registered(const xt::TypeIdentifier& id) {
@@ -97,7 +97,7 @@ class TypeObjectIdlTest : public ::testing::Test {
 
 TEST_F(TypeObjectIdlTest, AFlatStructNeedsNothingButItsOwnTypeObject) {
     const TypeObjectIdl idl =
-        basecamp::type_object_idl(*tgw_test::GetFlatReadingObject(true), "tgw_test::FlatReading", unknown);
+        dds::type_object_idl(*tgw_test::GetFlatReadingObject(true), "tgw_test::FlatReading", unknown);
     ASSERT_TRUE(idl.ok()) << idl.missing;
     EXPECT_NE(idl.text.find("@key unsigned long sensor_id;"), std::string::npos) << idl.text;
     EXPECT_NE(idl.text.find("string<16> unit;"), std::string::npos) << idl.text;
@@ -120,7 +120,7 @@ TEST_F(TypeObjectIdlTest, AFlatStructNeedsNothingButItsOwnTypeObject) {
 
 TEST_F(TypeObjectIdlTest, ReferencedTypesComeFromTheLookupEachDeclaredOnceBeforeItsUse) {
     const TypeObjectIdl idl =
-        basecamp::type_object_idl(*tgw_test::GetRoverStateObject(true), "tgw_test::RoverState", registered);
+        dds::type_object_idl(*tgw_test::GetRoverStateObject(true), "tgw_test::RoverState", registered);
     ASSERT_TRUE(idl.ok()) << idl.missing;
     // FlatReading is declared once, before RoverState. fastddsgen's TypeObjects name the types they
     // refer to without their modules; the announced type has the name its writer announced.
@@ -144,7 +144,7 @@ TEST_F(TypeObjectIdlTest, ReferencedTypesComeFromTheLookupEachDeclaredOnceBefore
 
 TEST_F(TypeObjectIdlTest, SaysWhichMemberRefersToATypeThePublisherDidNotAnnounce) {
     const TypeObjectIdl idl =
-        basecamp::type_object_idl(*tgw_test::GetRoverStateObject(true), "tgw_test::RoverState", unknown);
+        dds::type_object_idl(*tgw_test::GetRoverStateObject(true), "tgw_test::RoverState", unknown);
     EXPECT_FALSE(idl.ok());
     EXPECT_TRUE(idl.text.empty());
     EXPECT_NE(idl.missing.find("member 'reading' of tgw_test::RoverState: refers to a type its publisher did not "
@@ -155,7 +155,7 @@ TEST_F(TypeObjectIdlTest, SaysWhichMemberRefersToATypeThePublisherDidNotAnnounce
 
 TEST_F(TypeObjectIdlTest, AMinimalTypeObjectNamesNoMembers) {
     const TypeObjectIdl idl =
-        basecamp::type_object_idl(*tgw_test::GetFlatReadingObject(false), "tgw_test::FlatReading", registered);
+        dds::type_object_idl(*tgw_test::GetFlatReadingObject(false), "tgw_test::FlatReading", registered);
     EXPECT_FALSE(idl.ok());
     EXPECT_NE(idl.missing.find("minimal TypeObject"), std::string::npos) << idl.missing;
 }

@@ -1,4 +1,4 @@
-#include "basecamp/type_object_idl.hpp"
+#include "gateway/dds/type_object_idl.hpp"
 
 #include <set>
 #include <sstream>
@@ -8,7 +8,7 @@
 #include <fastrtps/types/TypeIdentifier.h>
 #include <fastrtps/types/TypeObject.h>
 
-namespace tgw::basecamp {
+namespace tgw::dds {
 
 namespace xt = eprosima::fastrtps::types;
 
@@ -270,4 +270,4 @@ TypeObjectIdl type_object_idl(const xt::TypeObject& object, const std::string& t
     return result;
 }
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::dds

@@ -1,5 +1,6 @@
 // IDL text for the XTypes TypeObject a publisher announces in discovery, so that tm-basecamp can decode a type it
-// was given no IDL for with the parser and decoder it has for IDL files.
+// was given no IDL for with the parser and decoder it has for IDL files, and the gateway can tell a TypeObject
+// that describes its type by itself (worth passing on) from one that does not.
 //
 // A Fast DDS writer whose type has a TypeObject (fastddsgen -typeobject and its register...Types(), or a
 // DynamicType) sends the complete TypeObject of its top-level type with its publication. The types that one
@@ -15,7 +16,7 @@ class TypeIdentifier;
 class TypeObject;
 }  // namespace eprosima::fastrtps::types
 
-namespace tgw::basecamp {
+namespace tgw::dds {
 
 /// The complete TypeObject for a type referred to by hash; nullptr when it is not known.
 using TypeObjectLookup =
@@ -37,4 +38,4 @@ struct TypeObjectIdl {
 TypeObjectIdl type_object_idl(const eprosima::fastrtps::types::TypeObject& object, const std::string& type_name,
                               const TypeObjectLookup& lookup);
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::dds

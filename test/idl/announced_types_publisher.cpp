@@ -56,6 +56,11 @@ int main(int argc, char** argv) {
         } else {
             tgw_test::FlatReading reading;
             reading.sensor_id(i);
+            reading.ok(true);
+            reading.f64(20.5 + i);
+            reading.label("left wheel");
+            reading.unit("rad/s");
+            reading.history({20.5, 20.25});
             writer->write(&reading);
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(200));

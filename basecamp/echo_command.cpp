@@ -53,17 +53,7 @@ CLI::Validator positive_seconds() {
 }
 
 int run_echo(const EchoArguments& args) {
-    TypeLibrary types;
-    types.add_project_types();
-    for (const std::string& dir : args.idl_dirs)
-        types.add_idl_dir(dir, "--idl");
-    try {
-        types.check_references();
-    } catch (const base::ConfigError& e) {
-        throw base::ConfigError(std::string("--idl: ") + e.what());
-    }
-
-    Echo echo(args.domain, args.transport, args.topic, std::move(types),
+    Echo echo(args.domain, args.transport, args.topic, TypeLibrary::project_and(args.idl_dirs, "--idl"),
               args.json ? SamplePrinter::Format::json : SamplePrinter::Format::text, std::cout);
     stop_on_signals();
     const base::Duration duration = args.timeout_s > 0 ? base::from_seconds(args.timeout_s) : base::Duration::max() / 2;
@@ -90,10 +80,7 @@ Subcommand add_echo_command(CLI::App& app) {
     add_domain_options(*echo, *args);
     echo->add_option("--count", args->count, "exit after N samples")->check(at_least_one());
     echo->add_flag("--json", args->json, "one JSON object per sample and line");
-    echo->add_option("--idl", args->idl_dirs,
-                     "a directory of IDL files (repeatable, subdirectories too) for types other than the project's")
-        ->check(CLI::ExistingDirectory)
-        ->allow_extra_args(false);
+    add_idl_option(*echo, args->idl_dirs);
     echo->add_option("--timeout", args->timeout_s,
                      "seconds to wait; with --count, exit 1 if fewer samples came by then")
         ->check(positive_seconds());

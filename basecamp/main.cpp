@@ -12,7 +12,10 @@
 
 #include "base/config_error.hpp"
 #include "base/peer_transport.hpp"
+#include "basecamp/consumer_fan_out.hpp"
 #include "basecamp/echo_command.hpp"
+#include "basecamp/export_command.hpp"
+#include "basecamp/mcap_recording.hpp"
 #include "basecamp/merge_command.hpp"
 #include "basecamp/progress_line.hpp"
 #include "basecamp/recorder.hpp"
@@ -72,7 +75,9 @@ int main(int argc, char** argv) {
     record->add_option("--peer", transport.peers,
                        "IPv4 address of the robot (repeatable): UDP unicast only, no multicast, no shared memory");
     record->add_option("--interface", transport.interface, "interface name or IPv4 address to bind every socket to");
-    record->add_option("--out", out, "the SQLite file to write (WAL mode)")->required();
+    record->add_option("--out", out, "the SQLite file to write (WAL mode)");
+    tgw::basecamp::McapOptions record_mcap;
+    tgw::basecamp::add_mcap_options(*record, record_mcap, false);
     record->add_option("--duration", duration_s, "seconds to record; until SIGINT/SIGTERM without it")
         ->check(CLI::PositiveNumber);
     double report_period_s = 1.0;
@@ -138,9 +143,8 @@ int main(int argc, char** argv) {
 
     // Subcommands in files of their own.
     const std::vector<tgw::basecamp::Subcommand> subcommands = {
-        tgw::basecamp::add_echo_command(app),
-        tgw::basecamp::add_merge_command(app),
-        tgw::basecamp::add_stats_command(app),
+        tgw::basecamp::add_echo_command(app),   tgw::basecamp::add_export_command(app),
+        tgw::basecamp::add_merge_command(app),  tgw::basecamp::add_stats_command(app),
         tgw::basecamp::add_status_command(app),
     };
 
@@ -185,24 +189,54 @@ int main(int argc, char** argv) {
             for (const auto& [topic, count] : relaying.relayed())
                 std::cout << "  " << topic << ": " << count << " samples relayed\n";
         } else if (record->parsed()) {
-            tgw::basecamp::SampleStore store(out, "--out");
-            tgw::basecamp::Recorder recorder(domain, transport, store, tgw::base::from_seconds(report_period_s));
+            if (out.empty() && record_mcap.path.empty())
+                throw tgw::base::ConfigError("--out or --mcap: say where to record");
+            std::vector<tgw::basecamp::SampleConsumer*> files;
+            std::unique_ptr<tgw::basecamp::SampleStore> store;
+            if (!out.empty()) {
+                store = std::make_unique<tgw::basecamp::SampleStore>(out, "--out");
+                files.push_back(store.get());
+            }
+            std::unique_ptr<tgw::basecamp::McapRecording> mcap;
+            if (!record_mcap.path.empty()) {
+                mcap = std::make_unique<tgw::basecamp::McapRecording>(
+                    record_mcap.path, "--mcap", tgw::basecamp::TypeLibrary::project_and(record_mcap.idl_dirs, "--idl"),
+                    tgw::basecamp::parse_mcap_compression(record_mcap.compression, "--compression"),
+                    record_mcap.chunk_bytes);
+                files.push_back(mcap.get());
+            }
+            tgw::basecamp::ConsumerFanOut recording(files);
+            tgw::basecamp::Recorder recorder(domain, transport, recording, tgw::base::from_seconds(report_period_s));
             tgw::basecamp::stop_on_signals();
             const auto duration = duration_s > 0 ? tgw::base::from_seconds(duration_s) : tgw::base::Duration::max() / 2;
             tgw::basecamp::run_with_progress(
                 duration, tgw::basecamp::stop_requested(),
                 [&](tgw::base::Duration slice) { recorder.run(slice, tgw::basecamp::stop_requested()); },
-                [&] { return "recording into " + out + ": " + topics_and_samples(recorder.received()); });
-            store.flush();
-            std::cout << "tm-basecamp record: domain " << domain << " -> " << out << "\n";
+                [&] {
+                    return "recording into " + (out.empty() ? record_mcap.path : out) + ": " +
+                           topics_and_samples(recorder.received());
+                });
+            std::cout << "tm-basecamp record: domain " << domain << " -> "
+                      << (out.empty() ? "" : out + (record_mcap.path.empty() ? "" : " and ")) << record_mcap.path
+                      << "\n";
             for (const auto& [topic, count] : recorder.received())
                 std::cout << "  " << topic << ": " << count << " samples\n";
             for (const auto& [gateway, totals] : recorder.delivery())
                 std::cout << "  from participant " << tgw::basecamp::prefix_text(gateway) << ": "
                           << totals.received_samples << " received, " << totals.lost_samples
                           << " lost on the way (gaps in the writers' sequence numbers)\n";
-            std::cout << "  rows written: " << store.rows_written() << ", write errors: " << store.write_errors()
-                      << "\n";
+            if (store) {
+                store->flush();
+                std::cout << "  rows written: " << store->rows_written() << ", write errors: " << store->write_errors()
+                          << "\n";
+            }
+            if (mcap) {
+                const bool written = mcap->close();
+                std::cout << "  MCAP messages written: " << mcap->messages() << (written ? "" : ", writing failed")
+                          << "\n";
+                if (!written)
+                    return 1;
+            }
         } else {
             tgw::basecamp::ReportOptions options;
             options.ttl_s = parse_assignments<double>(ttls, "--ttl");

@@ -34,6 +34,9 @@ CREATE TABLE IF NOT EXISTS samples(
     receive_ns INTEGER NOT NULL,
     lifespan_ns INTEGER,
     instance BLOB);
+CREATE TABLE IF NOT EXISTS announced_types(
+    type_name TEXT PRIMARY KEY,
+    idl TEXT NOT NULL);
 )sql";
 
 void bind_optional(sqlite3_stmt* stmt, int index, const std::optional<std::int64_t>& value) {
@@ -76,6 +79,8 @@ class SampleStore::Impl {
                            "INSERT OR REPLACE INTO topics(topic, type_name, lifespan_ns, keyed, reliable, "
                            "discovered_ns) VALUES(?,?,?,?,?,?)",
                            -1, &insert_topic_, nullptr);
+        sqlite3_prepare_v2(db_, "INSERT OR REPLACE INTO announced_types(type_name, idl) VALUES(?,?)", -1,
+                           &insert_announced_type_, nullptr);
         writer_ = std::thread([this] { write_loop(); });
     }
 
@@ -88,6 +93,7 @@ class SampleStore::Impl {
         writer_.join();
         sqlite3_finalize(insert_sample_);
         sqlite3_finalize(insert_topic_);
+        sqlite3_finalize(insert_announced_type_);
         sqlite3_close(db_);
     }
 
@@ -148,6 +154,11 @@ class SampleStore::Impl {
             sqlite3_bind_int(insert_topic_, 5, t.reliable ? 1 : 0);
             sqlite3_bind_int64(insert_topic_, 6, t.discovered_ns);
             step(insert_topic_);
+            if (!t.announced_idl.empty()) {
+                sqlite3_bind_text(insert_announced_type_, 1, t.type_name.c_str(), -1, SQLITE_TRANSIENT);
+                sqlite3_bind_text(insert_announced_type_, 2, t.announced_idl.c_str(), -1, SQLITE_TRANSIENT);
+                step(insert_announced_type_);
+            }
         }
         for (const SampleRecord& s : samples) {
             sqlite3_bind_text(insert_sample_, 1, s.topic.c_str(), -1, SQLITE_TRANSIENT);
@@ -182,6 +193,7 @@ class SampleStore::Impl {
     sqlite3* db_ = nullptr;
     sqlite3_stmt* insert_sample_ = nullptr;
     sqlite3_stmt* insert_topic_ = nullptr;
+    sqlite3_stmt* insert_announced_type_ = nullptr;  ///< the IDL a type's TypeObject gave, for export --mcap
     std::chrono::milliseconds period_;
     std::mutex mutex_;
     std::condition_variable wake_;

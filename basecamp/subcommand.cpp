@@ -27,6 +27,32 @@ void add_domain_options(CLI::App& command, DomainOptions& options) {
                        "interface name or IPv4 address to bind every socket to");
 }
 
+void add_idl_option(CLI::App& command, std::vector<std::string>& dirs) {
+    command
+        .add_option("--idl", dirs,
+                    "a directory of IDL files (repeatable, subdirectories too) for types other than the project's")
+        ->check(CLI::ExistingDirectory)
+        ->allow_extra_args(false);
+}
+
+void add_mcap_options(CLI::App& command, McapOptions& options, bool required) {
+    CLI::Option* mcap = command.add_option(
+        "--mcap", options.path, "an MCAP file to write: one channel per topic, CDR as received, omgidl schemas");
+    if (required)
+        mcap->required();
+    command
+        .add_option("--compression", options.compression,
+                    "the MCAP file's chunk compression: zstd, lz4 or none (for readers without decompressors)")
+        ->check(CLI::IsMember({"zstd", "lz4", "none"}))
+        ->capture_default_str();
+    command
+        .add_option("--chunk-size", options.chunk_bytes,
+                    "bytes of messages per MCAP chunk, before compression: a reader seeks by chunk")
+        ->check(CLI::Range(std::size_t{1024}, std::size_t{1} << 30))
+        ->capture_default_str();
+    add_idl_option(command, options.idl_dirs);
+}
+
 const std::atomic<bool>& stop_requested() {
     return g_stop;
 }

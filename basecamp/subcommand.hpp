@@ -6,6 +6,8 @@
 
 #include <atomic>
 #include <functional>
+#include <string>
+#include <vector>
 
 #include "base/peer_transport.hpp"
 
@@ -25,6 +27,22 @@ struct DomainOptions {
 
 /// Adds --domain, --peer and --interface to `command` for `options`, which must outlive the app.
 void add_domain_options(CLI::App& command, DomainOptions& options);
+
+/// Where an MCAP file goes (record, export) and how: the file, its chunks' compression, the IDL of types other
+/// than the project's for its schemas.
+struct McapOptions {
+    std::string path;
+    std::string compression = "zstd";
+    std::size_t chunk_bytes = 1 << 20;
+    std::vector<std::string> idl_dirs;
+};
+
+/// Adds --mcap FILE (required when `required`), --compression, --chunk-size and --idl to `command` for `options`, which
+/// must outlive the app.
+void add_mcap_options(CLI::App& command, McapOptions& options, bool required);
+
+/// Adds --idl DIR (repeatable) to `command`: directories of IDL files for types other than the project's.
+void add_idl_option(CLI::App& command, std::vector<std::string>& dirs);
 
 /// True once SIGINT or SIGTERM came after stop_on_signals(): long commands then end cleanly, their files whole.
 const std::atomic<bool>& stop_requested();

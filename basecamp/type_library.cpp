@@ -23,6 +23,19 @@ std::string read_all(std::istream& in) {
 
 }  // namespace
 
+TypeLibrary TypeLibrary::project_and(const std::vector<std::string>& idl_dirs, const std::string& flag) {
+    TypeLibrary types;
+    types.add_project_types();
+    for (const std::string& dir : idl_dirs)
+        types.add_idl_dir(dir, flag);
+    try {
+        types.check_references();
+    } catch (const base::ConfigError& e) {
+        throw base::ConfigError(flag + ": " + e.what());
+    }
+    return types;
+}
+
 void TypeLibrary::add_project_types() {
     loading_project_types_ = true;
     try {

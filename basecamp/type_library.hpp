@@ -16,6 +16,10 @@ namespace tgw::basecamp {
 
 class TypeLibrary {
   public:
+    /// The project's types and those of every IDL file under `idl_dirs` (add_idl_dir), references checked. Throws
+    /// base::ConfigError "FLAG: FILE:LINE: ..." as add_idl_dir() and check_references() do.
+    static TypeLibrary project_and(const std::vector<std::string>& idl_dirs, const std::string& flag);
+
     /// The project's own types (idl/*.idl of this source tree, embedded at build time). A file added later
     /// may declare one of them again: the later declaration wins.
     void add_project_types();

@@ -6,6 +6,7 @@
 #include "base/time.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/status_topic.hpp"
+#include "gateway/dds/type_object_idl.hpp"
 
 namespace tgw::basecamp {
 
@@ -18,6 +19,11 @@ TopicRecord topic_record(const dds::DiscoveredPublisher& publisher) {
     record.keyed = publisher.keyed;
     record.reliable = publisher.qos.reliable;
     record.discovered_ns = base::to_ns(base::WallClock::now());
+    if (publisher.type_object) {
+        const dds::TypeObjectIdl announced = dds::type_object_idl(*publisher.type_object, publisher.type_name, {});
+        if (announced.ok())
+            record.announced_idl = announced.text;
+    }
     return record;
 }
 

@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# MCAP files tm-basecamp writes, read by other projects' readers (test/readers/check_mcap.mjs: @mcap/core, the
+# Foxglove omgidl parser and deserializer). A gateway on loopback bridges tm-robot-sim's paper workload and a
+# publisher of a type known only from its TypeObject (announced_types_publisher); tm-basecamp record writes SQLite
+# and an lz4 MCAP at once; export writes the SQLite recording as zstd and as uncompressed MCAP. Each file must hold
+# every recorded sample, bytes and times equal, with schemas for the project's types and the announced one.
+set -euo pipefail
+BIN=$1
+READERS=$2
+ROBOT=$((200 + ($$ + 7) % 15 * 2))  # 200..228, apart from basecamp_tools_test.sh where it can
+WAN=$((ROBOT + 1))
+work=${TGW_KEEP_DIR:-$(mktemp -d)}  # TGW_KEEP_DIR=DIR keeps the files there
+pids=()
+cleanup() {
+    for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
+    wait 2>/dev/null || true
+    [ -n "${TGW_KEEP_DIR:-}" ] || rm -rf "$work"
+}
+trap cleanup EXIT
+
+"$BIN/telemetry-gateway" --robot-domain "$ROBOT" --wan-domain "$WAN" --wan-peer 127.0.0.1 --sensor fixed:1000000 \
+    --duration 14 >"$work/gateway.out" 2>&1 &
+pids+=($!)
+"$BIN/tm-basecamp" record --domain "$WAN" --peer 127.0.0.1 --out "$work/recording.db" --mcap "$work/live.mcap" \
+    --compression lz4 --duration 11 >"$work/record.out" 2>&1 &
+record=$!
+pids+=("$record")
+sleep 1
+"$BIN/announced_types_publisher" "$ROBOT" FlatReading robot/reading >/dev/null 2>&1 &
+publisher=$!
+pids+=("$publisher")
+"$BIN/tm-robot-sim" --domain "$ROBOT" --duration 6 >"$work/sim.out" 2>&1
+kill "$publisher"
+wait "$record"
+cat "$work/record.out"
+
+# Small chunks: many of them, each found through its index.
+"$BIN/tm-basecamp" export "$work/recording.db" --mcap "$work/export.mcap" --chunk-size 4096
+"$BIN/tm-basecamp" export "$work/recording.db" --mcap "$work/plain.mcap" --compression none
+sqlite3 -separator $'\t' "$work/recording.db" \
+    "SELECT topic, type_name, receive_ns, source_ns, hex(payload) FROM samples ORDER BY receive_ns, id" \
+    >"$work/samples.tsv"
+echo "recorded: $(wc -l <"$work/samples.tsv") samples"
+
+schemas=(tgw::idl::PaperMessage tgw::idl::GatewayStatus tgw_test::FlatReading)
+fail=0
+for file in "live.mcap lz4" "export.mcap zstd" "plain.mcap none"; do
+    set -- $file
+    compression=$([ "$2" = none ] && echo "" || echo "$2")
+    echo "== $1"
+    node "$READERS/check_mcap.mjs" "$work/$1" "$work/samples.tsv" "$compression" "${schemas[@]}" || fail=1
+done
+exit "$fail"

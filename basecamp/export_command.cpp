@@ -36,8 +36,12 @@ int run_export(const ExportOptions& options) {
 
 Subcommand add_export_command(CLI::App& app) {
     auto options = std::make_shared<ExportOptions>();
-    CLI::App* command = app.add_subcommand("export", "write a recording as an MCAP file (Foxglove, rosbag2, mcap)");
-    command->add_option("FILE", options->recording, "a recording made by 'tm-basecamp record' or 'relay --out'")
+    CLI::App* command =
+        app.add_subcommand("export", "write a recording or mission archive as an MCAP file (Foxglove, rosbag2, mcap)");
+    command
+        ->add_option("FILE", options->recording,
+                     "a recording of 'tm-basecamp record' or 'relay --out', or a mission archive of 'merge' (what "
+                     "stayed on the robot goes on channels dropped/REASON/TOPIC and lost/TOPIC)")
         ->required()
         ->check(CLI::ExistingFile);
     add_mcap_options(*command, options->mcap, true);

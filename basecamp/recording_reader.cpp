@@ -45,11 +45,12 @@ RecordingReader::RecordingReader(const std::string& path, const std::string& fla
         sqlite3_close(db_);
         throw base::ConfigError(flag + ": cannot open '" + path + "': " + why);
     }
-    if (!has_table(db_, "topics") || !has_table(db_, "samples")) {
+    archive_ = has_table(db_, "mission_samples");
+    if (!archive_ && (!has_table(db_, "topics") || !has_table(db_, "samples"))) {
         sqlite3_close(db_);
         throw base::ConfigError(flag + ": '" + path +
-                                "' is not a recording of tm-basecamp record (no topics and "
-                                "samples tables)");
+                                "' is not a recording of tm-basecamp record (no topics and samples tables) nor a "
+                                "mission archive of merge");
     }
 }
 
@@ -58,6 +59,52 @@ RecordingReader::~RecordingReader() {
 }
 
 std::uint64_t RecordingReader::read(SampleConsumer& into) {
+    return archive_ ? read_archive(into) : read_recording(into);
+}
+
+std::uint64_t RecordingReader::read_archive(SampleConsumer& into) {
+    sqlite3_stmt* raw = nullptr;
+    sqlite3_prepare_v2(
+        db_,
+        "SELECT topic, type_name, payload, source_ns, fate, reason, receive_ns, logged_ns, forwarded_ns, "
+        "ttl_ns, instance_key FROM mission_samples "
+        "ORDER BY COALESCE(receive_ns, logged_ns, forwarded_ns, source_ns), id",
+        -1, &raw, nullptr);
+    Statement rows(raw, &sqlite3_finalize);
+    std::uint64_t count = 0;
+    int step = SQLITE_ROW;
+    while ((step = sqlite3_step(raw)) == SQLITE_ROW) {
+        const std::string topic = text_column(raw, 0);
+        const std::string fate = text_column(raw, 4);
+        SampleRecord sample;
+        sample.type_name = text_column(raw, 1);
+        sample.source_ns = sqlite3_column_int64(raw, 3);
+        sample.lifespan_ns = optional_column(raw, 9);
+        if (sqlite3_column_type(raw, 10) != SQLITE_NULL)
+            sample.instance = blob_column(raw, 10);
+        if (fate == "received") {
+            sample.topic = topic;
+            sample.payload = blob_column(raw, 2);
+            sample.receive_ns = sqlite3_column_int64(raw, 6);
+        } else if (fate == "dropped") {
+            sample.topic = "dropped/" + text_column(raw, 5) + "/" + topic;
+            sample.payload = blob_column(raw, 2);
+            sample.receive_ns = optional_column(raw, 7).value_or(sample.source_ns);
+        } else {
+            // Lost on the link: the robot kept its size, not its bytes.
+            sample.topic = "lost/" + topic;
+            sample.type_name.clear();
+            sample.receive_ns = optional_column(raw, 8).value_or(sample.source_ns);
+        }
+        into.add(std::move(sample));
+        ++count;
+    }
+    if (step != SQLITE_DONE)
+        throw base::ConfigError(flag_ + ": reading '" + path_ + "' failed: " + sqlite3_errmsg(db_));
+    return count;
+}
+
+std::uint64_t RecordingReader::read_recording(SampleConsumer& into) {
     sqlite3* raw_db = db_;
 
     // Recordings made before the table existed have no announced types.

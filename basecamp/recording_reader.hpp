@@ -1,5 +1,5 @@
-// A recording made by tm-basecamp record or relay --out, read back in the order it was received: what export
-// turns into an MCAP file.
+// A recording made by tm-basecamp record or relay --out, or a mission archive made by merge, read back in the
+// order it was received: what export turns into an MCAP file.
 #pragma once
 
 #include <cstdint>
@@ -14,21 +14,30 @@ namespace tgw::basecamp {
 
 class RecordingReader {
   public:
-    /// Opens the recording at `path` read-only. Throws base::ConfigError naming `flag` and the file when it cannot,
-    /// or the file is not a recording.
+    /// Opens the recording or mission archive at `path` read-only. Throws base::ConfigError naming `flag` and the
+    /// file when it cannot, or the file is neither.
     RecordingReader(const std::string& path, const std::string& flag);
     ~RecordingReader();
     RecordingReader(const RecordingReader&) = delete;
     RecordingReader& operator=(const RecordingReader&) = delete;
 
     /// Hands `into` every topic (with the IDL its publisher's TypeObject gave, where the recording has it), then
-    /// every sample in order of receive time. The number of samples. Throws base::ConfigError when reading fails.
+    /// every sample in order of receive time. From a mission archive, the samples that stayed on the robot come as
+    /// topics of their own: "dropped/REASON/TOPIC" at the time the gateway logged them, with their payload, and
+    /// "lost/TOPIC" (no payload, no type) at the time the gateway forwarded them. The number of samples. Throws
+    /// base::ConfigError when reading fails.
     std::uint64_t read(SampleConsumer& into);
 
+    bool is_mission_archive() const { return archive_; }
+
   private:
+    std::uint64_t read_recording(SampleConsumer& into);
+    std::uint64_t read_archive(SampleConsumer& into);
+
     std::string path_;
     std::string flag_;
     sqlite3* db_ = nullptr;
+    bool archive_ = false;
 };
 
 }  // namespace tgw::basecamp

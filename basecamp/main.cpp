@@ -15,6 +15,7 @@
 #include "basecamp/consumer_fan_out.hpp"
 #include "basecamp/echo_command.hpp"
 #include "basecamp/export_command.hpp"
+#include "basecamp/foxglove_server.hpp"
 #include "basecamp/mcap_recording.hpp"
 #include "basecamp/merge_command.hpp"
 #include "basecamp/progress_line.hpp"
@@ -116,6 +117,12 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     relay->add_option("--duration", relay_duration_s, "seconds to relay; until SIGINT/SIGTERM without it")
         ->check(CLI::PositiveNumber);
+    std::uint16_t foxglove_port = 0;
+    CLI::Option* foxglove = relay->add_option(
+        "--foxglove-port", foxglove_port,
+        "serve every relayed topic live to Foxglove (WebSocket, foxglove.websocket.v1) on this TCP port");
+    std::vector<std::string> relay_idl_dirs;
+    tgw::basecamp::add_idl_option(*relay, relay_idl_dirs);
 
     CLI::App* report = app.add_subcommand("report", "print received, on time and transmission time per topic");
     std::string in;
@@ -168,13 +175,27 @@ int main(int argc, char** argv) {
             tgw::base::apply_peer_transport(wan_qos, relay_transport);
             auto local_qos = factory->get_default_participant_qos();
             tgw::base::apply_peer_transport(local_qos, local_transport);
+            std::vector<tgw::basecamp::SampleConsumer*> consumers;
             std::unique_ptr<tgw::basecamp::SampleStore> store;
-            if (!relay_out.empty())
+            if (!relay_out.empty()) {
                 store = std::make_unique<tgw::basecamp::SampleStore>(relay_out, "--out");
-            tgw::basecamp::Relay relaying(domain, wan_qos, local_domain, local_qos, store.get(),
+                consumers.push_back(store.get());
+            }
+            std::unique_ptr<tgw::basecamp::FoxgloveServer> foxglove_server;
+            if (foxglove->count() > 0) {
+                foxglove_server = std::make_unique<tgw::basecamp::FoxgloveServer>(
+                    foxglove_port, tgw::basecamp::TypeLibrary::project_and(relay_idl_dirs, "--idl"), "--foxglove-port");
+                consumers.push_back(foxglove_server.get());
+            }
+            tgw::basecamp::ConsumerFanOut taken_off_the_wan(consumers);
+            tgw::basecamp::Relay relaying(domain, wan_qos, local_domain, local_qos,
+                                          consumers.empty() ? nullptr : &taken_off_the_wan,
                                           tgw::base::from_seconds(relay_report_period_s));
             tgw::basecamp::stop_on_signals();
-            std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain << std::endl;
+            std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain;
+            if (foxglove_server)
+                std::cout << ", Foxglove on ws://0.0.0.0:" << foxglove_server->port();
+            std::cout << std::endl;
             const auto duration =
                 relay_duration_s > 0 ? tgw::base::from_seconds(relay_duration_s) : tgw::base::Duration::max() / 2;
             tgw::basecamp::run_with_progress(
@@ -188,6 +209,8 @@ int main(int argc, char** argv) {
             }
             for (const auto& [topic, count] : relaying.relayed())
                 std::cout << "  " << topic << ": " << count << " samples relayed\n";
+            if (foxglove_server)
+                std::cout << "  Foxglove: " << foxglove_server->messages_sent() << " messages sent to clients\n";
         } else if (record->parsed()) {
             if (out.empty() && record_mcap.path.empty())
                 throw tgw::base::ConfigError("--out or --mcap: say where to record");

@@ -32,7 +32,7 @@ class Relay::Lane final : public fdds::DataReaderListener {
   public:
     /// `store`: where --out records, or nullptr.
     Lane(const dds::LaneAssignment& writers, std::uint16_t index, TopicRecord topic, DeliveryTally& tally,
-         SampleStore* store)
+         SampleConsumer* store)
         : writers_(writers),
           index_(index),
           keyed_(topic.keyed),
@@ -102,11 +102,11 @@ class Relay::Lane final : public fdds::DataReaderListener {
     const bool keyed_;
     const TopicRecord topic_;
     DeliveryTally& tally_;
-    SampleStore* store_;
+    SampleConsumer* store_;
 };
 
 Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain, fdds::DomainParticipantQos local_qos,
-             SampleStore* store, base::Duration report_period)
+             SampleConsumer* store, base::Duration report_period)
     : store_(store), report_period_(report_period) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();

@@ -15,7 +15,7 @@
 #include "base/time.hpp"
 #include "basecamp/delivery_tally.hpp"
 #include "basecamp/discovery_queue.hpp"
-#include "basecamp/sample_store.hpp"
+#include "basecamp/sample_consumer.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/lane_assignment.hpp"
 #include "gateway/dds/partition_groups.hpp"
@@ -44,12 +44,12 @@ class Relay {
   public:
     /// Creates both participants: on `wan_domain` with `wan_qos` (made for the link: base::apply_peer_transport), on
     /// `local_domain` with `local_qos` (Fast DDS's defaults: multicast discovery, shared memory and UDP, perhaps
-    /// bound to one interface). With `store`, every sample taken off the WAN is recorded there too, as `record`
-    /// does. Every `report_period` (zero: never) it tells each gateway what arrived and what was lost on the way,
-    /// as `record` does: the camp's one WAN participant is the one to report. Throws base::ConfigError naming
-    /// the flag when DDS refuses a participant.
+    /// bound to one interface). With `store`, every sample taken off the WAN goes there too: a recording, as `record`
+    /// makes, a Foxglove server, or both. Every `report_period` (zero: never) it tells each gateway what arrived and
+    /// what was lost on the way, as `record` does: the camp's one WAN participant is the one to report. Throws
+    /// base::ConfigError naming the flag when DDS refuses a participant.
     Relay(int wan_domain, eprosima::fastdds::dds::DomainParticipantQos wan_qos, int local_domain,
-          eprosima::fastdds::dds::DomainParticipantQos local_qos, SampleStore* store = nullptr,
+          eprosima::fastdds::dds::DomainParticipantQos local_qos, SampleConsumer* store = nullptr,
           base::Duration report_period = std::chrono::seconds(1));
     ~Relay();
     Relay(const Relay&) = delete;
@@ -74,7 +74,7 @@ class Relay {
     void relay(const dds::DiscoveredPublisher& publisher);
     std::unique_ptr<Lane> make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic, std::uint16_t index);
 
-    SampleStore* store_;
+    SampleConsumer* store_;
     DeliveryTally tally_;
     base::Duration report_period_;
     /// Kept across run() calls, so that a caller may run in slices.

@@ -51,13 +51,14 @@ int main(int argc, char** argv) {
         if (type == "Convoy") {
             tgw_test::Convoy convoy;
             convoy.members().resize(1);
-            convoy.members()[0].sensor_id(i);
+            convoy.members()[0].sensor_id(i % 4);
             writer->write(&convoy);
         } else {
+            // Four sensors: a writer keeps 10 instances by default (Fast DDS's max_instances).
             tgw_test::FlatReading reading;
-            reading.sensor_id(i);
+            reading.sensor_id(i % 4);
             reading.ok(true);
-            reading.f64(20.5 + i);
+            reading.f64(20.5 + i % 4);
             reading.label("left wheel");
             reading.unit("rad/s");
             reading.history({20.5, 20.25});

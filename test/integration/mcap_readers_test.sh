@@ -11,14 +11,7 @@ BIN=$1
 READERS=$2
 ROBOT=$((200 + ($$ + 7) % 15 * 2))  # 200..228, apart from basecamp_tools_test.sh where it can
 WAN=$((ROBOT + 1))
-work=${TGW_KEEP_DIR:-$(mktemp -d)}  # TGW_KEEP_DIR=DIR keeps the files there
-pids=()
-cleanup() {
-    for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-    wait 2>/dev/null || true
-    [ -n "${TGW_KEEP_DIR:-}" ] || rm -rf "$work"
-}
-trap cleanup EXIT
+source "$(dirname "$0")/loopback_test_lib.sh"
 
 "$BIN/telemetry-gateway" --robot-domain "$ROBOT" --wan-domain "$WAN" --wan-peer 127.0.0.1 --sensor fixed:30000 \
     --log "$work/robot.db" --duration 14 >"$work/gateway.out" 2>&1 &

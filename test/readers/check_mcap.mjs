@@ -16,8 +16,10 @@ import { MessageReader } from "@foxglove/omgidl-serialization";
 import zstd from "@foxglove/wasm-zstd";
 import lz4 from "@foxglove/wasm-lz4";
 import { readFileSync } from "node:fs";
+import { contentChecks } from "./known_content.mjs";
 
 const [file, samplesFile, compression, ...expectedSchemas] = process.argv.slice(2);
+const knownContent = contentChecks({ sensor: "fixed:30000" }); // mcap_readers_test.sh's gateway
 
 function fail(message) {
   console.error(`FAIL: ${file}: ${message}`);
@@ -133,33 +135,6 @@ console.log(
   `ok: indexed reader: ${indexed} messages in ${reader.chunkIndexes.length} chunk(s) compressed '${compression}', ` +
     `${reader.channelsById.size} channels, ${reader.schemasById.size} schemas`,
 );
-
-// What the test's publishers put in their samples, checked member by member in every decoded message.
-const knownContent = {
-  // tm-robot-sim: generated_ns is the source timestamp, sequence numbers count up (with gaps where the gateway
-  // dropped samples).
-  "tgw::idl::PaperMessage": (value, message, previous) => {
-    if (BigInt(value.generated_ns) !== message.publishTime) {
-      return `generated_ns ${value.generated_ns} is not the publish time ${message.publishTime}`;
-    }
-    if (previous && value.sequence_number <= previous.sequence_number) {
-      return `sequence_number ${value.sequence_number} after ${previous.sequence_number}`;
-    }
-    if (value.data.length === 0) return "no data";
-    return undefined;
-  },
-  // The gateway under test runs --sensor fixed:30000.
-  "tgw::idl::GatewayStatus": (value) =>
-    value.sensor === "fixed:30000" && value.gateway_prefix.length === 12 && Array.isArray(value.topics)
-      ? undefined
-      : `sensor '${value.sensor}', ${value.gateway_prefix.length} prefix bytes`,
-  // test/idl/announced_types_publisher.
-  "tgw_test::FlatReading": (value) =>
-    value.ok === true && value.label === "left wheel" && value.unit === "rad/s" && value.f64 === 20.5 + value.sensor_id &&
-    value.grid.length === 2 && value.grid[1].length === 3
-      ? undefined
-      : `sensor_id ${value.sensor_id}, ok ${value.ok}, label '${value.label}', unit '${value.unit}', f64 ${value.f64}`,
-};
 
 // 3. Every message of a channel with a schema, decoded from the schema alone.
 const schemaNames = new Set();

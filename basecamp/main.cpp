@@ -16,6 +16,7 @@
 #include "basecamp/echo_command.hpp"
 #include "basecamp/export_command.hpp"
 #include "basecamp/foxglove_server.hpp"
+#include "basecamp/linkmap_command.hpp"
 #include "basecamp/mcap_recording.hpp"
 #include "basecamp/merge_command.hpp"
 #include "basecamp/progress_line.hpp"
@@ -150,8 +151,11 @@ int main(int argc, char** argv) {
 
     // Subcommands in files of their own.
     const std::vector<tgw::basecamp::Subcommand> subcommands = {
-        tgw::basecamp::add_echo_command(app),   tgw::basecamp::add_export_command(app),
-        tgw::basecamp::add_merge_command(app),  tgw::basecamp::add_stats_command(app),
+        tgw::basecamp::add_echo_command(app),
+        tgw::basecamp::add_export_command(app),
+        tgw::basecamp::add_linkmap_command(app),
+        tgw::basecamp::add_merge_command(app),
+        tgw::basecamp::add_stats_command(app),
         tgw::basecamp::add_status_command(app),
     };
 

@@ -2,18 +2,24 @@
 #include <CLI/CLI.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
+#include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "base/cli_checks.hpp"
 #include "base/config_error.hpp"
 #include "gateway/apps/tm_robot_sim/paper_publisher.hpp"
+#include "gateway/apps/tm_robot_sim/pose_publisher.hpp"
+#include "gateway/apps/tm_robot_sim/survey_route.hpp"
 #include "gateway/apps/tm_robot_sim/workload_file.hpp"
 
 namespace {
 
 std::atomic<bool> g_stop{false};
+constexpr double POSE_RATE_HZ = 5.0;
 
 void on_signal(int) {
     g_stop.store(true);
@@ -44,6 +50,14 @@ int main(int argc, char** argv) {
     app.add_option("--peer", transport.peers,
                    "IPv4 address of the other end (repeatable): UDP unicast only, no multicast, no shared memory");
     app.add_option("--interface", transport.interface, "interface name or IPv4 address to bind every socket to");
+    std::string pose_topic;
+    app.add_option("--pose", pose_topic,
+                   "also publish the robot's pose (tgw::idl::RobotPose, 5 Hz, TTL 1 s) on this topic as it drives a "
+                   "60-s survey loop from the base camp (for tm-basecamp linkmap)");
+    std::string field_trace;
+    app.add_option("--field-trace", field_trace,
+                   "write the link rate the loop's simulated radio field gives, one line a second for --duration, as "
+                   "a trace for --sensor trace:FILE or the testbed's shaper, and exit");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -51,6 +65,13 @@ int main(int argc, char** argv) {
     }
 
     try {
+        if (!field_trace.empty()) {
+            std::ofstream out(field_trace);
+            tgw::robot_sim::write_field_trace(out, duration_s);
+            if (!out.flush())
+                throw tgw::base::ConfigError("--field-trace: cannot write '" + field_trace + "'");
+            return 0;
+        }
         const auto streams = tgw::robot_sim::load_workload(workload, rate_hz);
         tgw::robot_sim::PaperPublisher publisher(domain, streams, transport);
         std::signal(SIGINT, on_signal);
@@ -61,13 +82,22 @@ int main(int argc, char** argv) {
                           << wait_match_s << " s; publishing anyway\n";
             }
         }
+        std::optional<tgw::robot_sim::PosePublisher> poses;
+        if (!pose_topic.empty()) {
+            poses.emplace(domain, pose_topic, POSE_RATE_HZ, std::chrono::seconds(1), transport);
+            poses->start(g_stop);
+        }
         const auto start = tgw::base::SteadyClock::now();
         const auto reports = publisher.run(tgw::base::from_seconds(duration_s), g_stop);
+        const std::uint64_t poses_published = poses ? poses->published() : 0;
+        poses.reset();
         const double elapsed = tgw::base::to_seconds(tgw::base::SteadyClock::now() - start);
         if (!g_stop.load())
             publisher.linger(tgw::base::from_seconds(linger_s));
         std::cout << "tm-robot-sim: domain " << domain << ", workload " << workload << "\n";
         tgw::robot_sim::print_reports(std::cout, reports, elapsed);
+        if (!pose_topic.empty())
+            std::cout << pose_topic << ": " << poses_published << " poses along the survey loop\n";
     } catch (const tgw::base::ConfigError& e) {
         std::cerr << "tm-robot-sim: " << e.what() << "\n";
         return 2;

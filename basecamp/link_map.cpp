@@ -84,6 +84,11 @@ LinkMapBuilder::LinkMapBuilder(PoseSource pose, TypeLibrary types) : pose_(std::
 
 void LinkMapBuilder::add_topic(TopicRecord /*topic*/) {}
 
+void LinkMapBuilder::add_logged_rate(std::int64_t time_ns, double rate_bps) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    logged_rates_.push_back({time_ns, rate_bps, 0});
+}
+
 void LinkMapBuilder::add(SampleRecord sample) {
     if (sample.topic == pose_.topic) {
         const CdrDecodeResult decoded =
@@ -127,7 +132,7 @@ LinkMap LinkMapBuilder::build(const std::string& pose_flag, const std::string& f
                                            " samples of '" + pose_.topic + "' gave a pose" +
                                            (pose_error_.empty() ? "" : ": " + pose_error_)));
     }
-    if (statuses_.empty()) {
+    if (statuses_.empty() && logged_rates_.empty()) {
         throw base::ConfigError(file + ": no " + std::string(dds::STATUS_TOPIC) +
                                 " sample to colour the path with (the gateway's --status-period must be above 0)");
     }
@@ -145,16 +150,20 @@ LinkMap LinkMapBuilder::build(const std::string& pose_flag, const std::string& f
 
     LinkMap map;
     map.poses = poses.size();
-    map.statuses = statuses.size();
+    // The gateway's own log of its rate where there is one: statuses leave out what a weak link could not carry.
+    std::vector<Status> rates = logged_rates_.empty() ? statuses : logged_rates_;
+    std::sort(rates.begin(), rates.end(), [](const Status& a, const Status& b) { return a.time_ns < b.time_ns; });
+    map.rates_from = logged_rates_.empty() ? "the gateway's status" : "the gateway's log";
+    map.rate_points = rates.size();
     const auto [lowest, highest] = std::minmax_element(
-        statuses.begin(), statuses.end(), [](const Status& a, const Status& b) { return a.rate_bps < b.rate_bps; });
+        rates.begin(), rates.end(), [](const Status& a, const Status& b) { return a.rate_bps < b.rate_bps; });
     map.min_rate_bps = lowest->rate_bps;
     map.max_rate_bps = highest->rate_bps;
     for (std::size_t i = 1; i < poses.size(); ++i) {
         MapSegment segment{poses[i - 1], poses[i], std::nullopt};
-        const auto after = std::upper_bound(statuses.begin(), statuses.end(), segment.from.time_ns,
+        const auto after = std::upper_bound(rates.begin(), rates.end(), segment.from.time_ns,
                                             [](std::int64_t t, const Status& s) { return t < s.time_ns; });
-        if (after != statuses.begin())
+        if (after != rates.begin())
             segment.rate_bps = (after - 1)->rate_bps;
         map.segments.push_back(segment);
     }

@@ -47,7 +47,8 @@ struct LinkMap {
     std::vector<MapSegment> segments;
     std::vector<DropMark> drops;
     double min_rate_bps = 0, max_rate_bps = 0;  ///< over the statuses; equal when there was one rate
-    std::uint64_t poses = 0, statuses = 0, dropped_samples = 0;
+    std::uint64_t poses = 0, rate_points = 0, dropped_samples = 0;
+    std::string rates_from;  ///< "the gateway's log" or "the gateway's status"
     std::string drops_from;  ///< "the mission archive" or "the gateway's status counts"
 };
 
@@ -58,9 +59,12 @@ class LinkMapBuilder final : public SampleConsumer {
 
     void add_topic(TopicRecord topic) override;
     void add(SampleRecord sample) override;
+    /// The rate the gateway logged at `time_ns` (RecordingReader::link_rates()): where there are any, they colour
+    /// the path instead of the statuses, which a weak link delays or drops.
+    void add_logged_rate(std::int64_t time_ns, double rate_bps);
 
     /// Throws base::ConfigError naming `pose_flag` when no pose decoded (an absent topic, a member it lacks), or
-    /// "FILE: no tgw/status" when there is no rate to colour the path with.
+    /// "FILE: no tgw/status" when there is no rate to colour the path with (neither logged nor in a status).
     LinkMap build(const std::string& pose_flag, const std::string& file) const;
 
   private:
@@ -79,6 +83,7 @@ class LinkMapBuilder final : public SampleConsumer {
     std::vector<MapPoint> poses_;
     std::vector<Status> statuses_;
     std::vector<Drop> archive_drops_;
+    std::vector<Status> logged_rates_;
     std::string pose_error_;  ///< the first pose that did not decode, and why
     std::uint64_t pose_samples_ = 0;
 };

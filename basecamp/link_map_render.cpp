@@ -183,8 +183,9 @@ void render_link_map(const LinkMap& map, const std::string& title, const std::st
 
     text_at(cr, title, MARGIN_LEFT, 30, 20);
     text_at(cr,
-            std::to_string(map.poses) + " poses, " + std::to_string(map.statuses) + " statuses, " +
-                std::to_string(map.dropped_samples) + " samples dropped on the robot (from " + map.drops_from + ")",
+            std::to_string(map.poses) + " poses; " + std::to_string(map.rate_points) + " rates from " + map.rates_from +
+                "; " + std::to_string(map.dropped_samples) + " samples dropped on the robot (from " + map.drops_from +
+                ")",
             MARGIN_LEFT, 56, 14);
 
     cairo_surface_flush(surface.get());

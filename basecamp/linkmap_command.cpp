@@ -28,14 +28,17 @@ int run_linkmap(const LinkmapOptions& options) {
         names += (names.empty() ? "" : " + ") + std::filesystem::path(file).filename().string();
     }
     LinkMapBuilder builder(pose, TypeLibrary::project_and(options.idl_dirs, "--idl"));
-    for (const auto& recording : recordings)
+    for (const auto& recording : recordings) {
         recording->read(builder);
+        for (const auto& [time_ns, rate_bps] : recording->link_rates())
+            builder.add_logged_rate(time_ns, rate_bps);
+    }
     const LinkMap map = builder.build("--pose", names);
     render_link_map(map, "Link rate along the robot's path: " + names, options.out, "--out");
-    std::cout << "tm-basecamp linkmap: " << map.poses << " poses of " << pose.topic << ", " << map.statuses
-              << " statuses (sensed rate " << map.min_rate_bps / 1000 << " to " << map.max_rate_bps / 1000
-              << " kbit/s), " << map.dropped_samples << " samples dropped on the robot at " << map.drops.size()
-              << " places (from " << map.drops_from << ") -> " << options.out << "\n";
+    std::cout << "tm-basecamp linkmap: " << map.poses << " poses of " << pose.topic << ", " << map.rate_points
+              << " rates from " << map.rates_from << " (" << map.min_rate_bps / 1000 << " to "
+              << map.max_rate_bps / 1000 << " kbit/s), " << map.dropped_samples << " samples dropped on the robot at "
+              << map.drops.size() << " places (from " << map.drops_from << ") -> " << options.out << "\n";
     return 0;
 }
 

@@ -360,6 +360,7 @@ class Merger {
             return std::nullopt;
         if (!fill_archive())
             return std::nullopt;
+        copy_side_tables();
         MergeCounts counts = count_fates();
         write_meta();
         archive_.exec("DROP TABLE temp.pairs; COMMIT;", "cannot commit");
@@ -463,6 +464,32 @@ class Merger {
             throw base::ConfigError("cannot merge " + named("on-robot log", robot_log_) + " and " +
                                     named("recording", recording_) + ": " + sqlite3_errmsg(db_));
         return true;
+    }
+
+    /// What the inputs know besides samples, copied when they have it (older files do not): the gateway's link rate
+    /// over time (for linkmap) and the IDL of types known from their publishers' TypeObjects (for export's schemas).
+    void copy_side_tables() {
+        archive_.exec(
+            "CREATE TABLE link_rates(time_ns INTEGER NOT NULL, sensed_bps REAL NOT NULL, budget_bps REAL "
+            "NOT NULL); CREATE TABLE announced_types(type_name TEXT PRIMARY KEY, idl TEXT NOT NULL);",
+            "cannot create the tables");
+        if (has_table("robot", "link_rates"))
+            archive_.exec(
+                "INSERT INTO main.link_rates SELECT time_ns, sensed_bps, budget_bps FROM robot.link_rates "
+                "ORDER BY time_ns, id;",
+                "cannot copy the link rates");
+        if (has_table("recording", "announced_types"))
+            archive_.exec(
+                "INSERT INTO main.announced_types SELECT type_name, idl FROM recording.announced_types "
+                "ORDER BY type_name;",
+                "cannot copy the announced types");
+    }
+
+    bool has_table(const std::string& schema, const char* table) const {
+        const std::string sql = "SELECT 1 FROM " + schema + ".sqlite_master WHERE type = 'table' AND name = ?1";
+        StmtPtr stmt = prepare(sql.c_str(), schema);
+        sqlite3_bind_text(stmt.get(), 1, table, -1, SQLITE_STATIC);
+        return sqlite3_step(stmt.get()) == SQLITE_ROW;
     }
 
     MergeCounts count_fates() {

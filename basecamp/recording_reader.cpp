@@ -58,6 +58,18 @@ RecordingReader::~RecordingReader() {
     sqlite3_close(db_);
 }
 
+std::vector<std::pair<std::int64_t, double>> RecordingReader::link_rates() const {
+    std::vector<std::pair<std::int64_t, double>> rates;
+    if (!archive_ || !has_table(db_, "link_rates"))
+        return rates;
+    sqlite3_stmt* raw = nullptr;
+    sqlite3_prepare_v2(db_, "SELECT time_ns, sensed_bps FROM link_rates ORDER BY time_ns", -1, &raw, nullptr);
+    Statement rows(raw, &sqlite3_finalize);
+    while (sqlite3_step(raw) == SQLITE_ROW)
+        rates.emplace_back(sqlite3_column_int64(raw, 0), sqlite3_column_double(raw, 1));
+    return rates;
+}
+
 std::uint64_t RecordingReader::read(SampleConsumer& into) {
     return archive_ ? read_archive(into) : read_recording(into);
 }

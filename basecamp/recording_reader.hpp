@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "basecamp/sample_consumer.hpp"
 
@@ -29,6 +31,10 @@ class RecordingReader {
     std::uint64_t read(SampleConsumer& into);
 
     bool is_mission_archive() const { return archive_; }
+
+    /// A mission archive's link rates (the gateway's log, table link_rates): (wall ns, sensed bit/s) in time order;
+    /// empty for a recording, or an archive of a log that had none.
+    std::vector<std::pair<std::int64_t, double>> link_rates() const;
 
   private:
     std::uint64_t read_recording(SampleConsumer& into);

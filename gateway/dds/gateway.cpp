@@ -1,6 +1,7 @@
 #include "gateway/dds/gateway.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <utility>
 
@@ -23,6 +24,10 @@ namespace {
 
 // Fast DDS accepts domain ids whose well-known ports fit in 16 bits.
 constexpr int MAX_DOMAIN_ID = 232;
+
+// The on-robot log's link_rates: a row when the rate changes by this fraction, else one a period at most.
+constexpr double RATE_LOG_CHANGE = 0.02;
+constexpr auto RATE_LOG_PERIOD = std::chrono::seconds(1);
 
 void check_domain(const char* flag, int domain) {
     if (domain < 0 || domain > MAX_DOMAIN_ID) {
@@ -233,9 +238,26 @@ void Gateway::apply_reading(const sensor::RateReading& reading) {
         return;  // the guarded sensor's failures never get here; a bare one keeps the last rate
     }
     set_rate(reading.rate_bps);
+    log_rate(reading.rate_bps);
     if (reading.queued_bytes) {
         observe_link_backlog(*reading.queued_bytes);
     }
+}
+
+void Gateway::log_rate(double rate_bps) {
+    if (!log_)
+        return;
+    // Every change of 2 % or more, and once a second otherwise: the link's history at a row a second or so.
+    const auto now = base::SteadyClock::now();
+    {
+        std::lock_guard<std::mutex> lock(sensor_mutex_);
+        const bool changed = std::abs(rate_bps - logged_rate_bps_) >= RATE_LOG_CHANGE * logged_rate_bps_;
+        if (!changed && now - logged_rate_at_ < RATE_LOG_PERIOD)
+            return;
+        logged_rate_bps_ = rate_bps;
+        logged_rate_at_ = now;
+    }
+    log_->append_rate({base::WallClock::now(), rate_bps, rate_bps * config_.scheduler.budget_fraction});
 }
 
 double Gateway::rate_bps() const {

@@ -150,6 +150,9 @@ class Gateway {
     static constexpr std::chrono::seconds LANE_LINGER{1};
 
   private:
+    /// Writes the rate to the on-robot log's link_rates, when there is a log, at most once a second unless it
+    /// changed.
+    void log_rate(double rate_bps);
     struct UnscheduledLink;
 
     /// Runs `task` in the worker thread, after those posted before it.
@@ -200,6 +203,8 @@ class Gateway {
     std::mutex sensor_mutex_;
     std::string sensor_description_;
     std::string sensor_detail_;
+    double logged_rate_bps_ = -1.0;  ///< the last rate written to the log's link_rates
+    base::SteadyTime logged_rate_at_{};
     double delivered_cap_bps_ = 0.0;                           ///< 0: the delivered-rate check does not cap
     std::atomic<std::uint64_t> pending_unscheduled_bytes_{0};  ///< reported, not yet charged to the loop
     std::atomic<bool> unscheduled_charge_posted_{false};

@@ -53,7 +53,14 @@ constexpr const char* SCHEMA_SQL =
     "  arrival_ns INTEGER NOT NULL,"
     "  deadline_ns INTEGER NOT NULL,"
     "  forwarded_ns INTEGER NOT NULL,"
-    "  payload_bytes INTEGER NOT NULL);";
+    "  payload_bytes INTEGER NOT NULL);"
+    // The link rate the gateway planned with, over time: where the robot's radio was weak, which the base camp
+    // cannot hear (tm-basecamp linkmap).
+    "CREATE TABLE IF NOT EXISTS link_rates ("
+    "  id INTEGER PRIMARY KEY,"
+    "  time_ns INTEGER NOT NULL,"
+    "  sensed_bps REAL NOT NULL,"
+    "  budget_bps REAL NOT NULL);";
 
 constexpr const char* INSERT_SQL =
     "INSERT INTO dropped_samples (topic, type_name, payload, instance_key, source_time_ns, arrival_ns, "
@@ -62,6 +69,8 @@ constexpr const char* INSERT_SQL =
 constexpr const char* INSERT_FORWARDED_SQL =
     "INSERT INTO forwarded_samples (topic, type_name, instance_key, source_time_ns, arrival_ns, deadline_ns, "
     "forwarded_ns, payload_bytes) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8);";
+
+constexpr const char* INSERT_RATE_SQL = "INSERT INTO link_rates (time_ns, sensed_bps, budget_bps) VALUES (?1, ?2, ?3);";
 
 struct DbCloser {
     void operator()(sqlite3* db) const { sqlite3_close_v2(db); }
@@ -72,9 +81,10 @@ struct StmtFinalizer {
 using DbPtr = std::unique_ptr<sqlite3, DbCloser>;
 using StmtPtr = std::unique_ptr<sqlite3_stmt, StmtFinalizer>;
 
-/// A record copied out of the caller's sample, owned by the buffer: a dropped sample, or a forwarded one.
+/// A record copied out of the caller's sample, owned by the buffer: a dropped sample, a forwarded one, or a rate.
 struct Row {
-    bool forwarded = false;
+    enum class Kind { dropped, forwarded, rate };
+    Kind kind = Kind::dropped;
     std::string topic;
     std::string type_name;
     std::vector<std::uint8_t> payload;  ///< dropped rows only
@@ -83,8 +93,9 @@ struct Row {
     std::int64_t source_time_ns = 0;
     std::int64_t arrival_ns = 0;
     std::int64_t deadline_ns = 0;
-    std::int64_t logged_ns = 0;  ///< dropped: when logged; forwarded: when written to the WAN
+    std::int64_t logged_ns = 0;  ///< dropped: when logged; forwarded: when written to the WAN; rate: its time
     core::DropReason reason = core::DropReason::expired;
+    double sensed_bps = 0, budget_bps = 0;  ///< rate rows only
 };
 
 }  // namespace
@@ -105,6 +116,7 @@ class RobotLog::Impl {
         writer_.join();  // the writer commits everything still buffered before it returns
         insert_.reset();
         insert_forwarded_.reset();
+        insert_rate_.reset();
         db_.reset();
         if (write_errors_ > 0)
             std::fprintf(stderr, "on-robot log %s: %llu row(s) could not be written\n", path_.c_str(),
@@ -130,11 +142,24 @@ class RobotLog::Impl {
         try {
             Row row = common_row(record.topic, record.type_name, record.sample, record.arrival, record.deadline,
                                  record.forwarded_at);
-            row.forwarded = true;
+            row.kind = Row::Kind::forwarded;
             if (record.sample != nullptr)
                 row.payload_bytes = record.sample->payload.size();
             const std::size_t footprint = sizeof(Row) + row.topic.size() + row.type_name.size();
             enqueue(std::move(row), footprint);
+        } catch (const std::exception& e) {
+            fail_rows(1, e.what());
+        }
+    }
+
+    void append_rate(const RateRecord& record) noexcept {
+        try {
+            Row row;
+            row.kind = Row::Kind::rate;
+            row.logged_ns = base::to_ns(record.at);
+            row.sensed_bps = record.sensed_bps;
+            row.budget_bps = record.budget_bps;
+            enqueue(std::move(row), sizeof(Row));
         } catch (const std::exception& e) {
             fail_rows(1, e.what());
         }
@@ -250,6 +275,10 @@ class RobotLog::Impl {
             SQLITE_OK)
             fail_open("cannot prepare the insert statement");
         insert_forwarded_.reset(raw_stmt);
+        if (sqlite3_prepare_v3(db_.get(), INSERT_RATE_SQL, -1, SQLITE_PREPARE_PERSISTENT, &raw_stmt, nullptr) !=
+            SQLITE_OK)
+            fail_open("cannot prepare the insert statement");
+        insert_rate_.reset(raw_stmt);
     }
 
     void check_schema_version() {
@@ -305,11 +334,13 @@ class RobotLog::Impl {
         }
         std::size_t inserted = 0;
         for (const Row& row : batch) {
-            if (row.forwarded ? insert_forwarded(row) : insert(row)) {
-                ++inserted;
-            } else {
+            const bool ok = row.kind == Row::Kind::rate        ? insert_rate(row)
+                            : row.kind == Row::Kind::forwarded ? insert_forwarded(row)
+                                                               : insert(row);
+            if (!ok)
                 fail_rows(1, sqlite3_errmsg(db));
-            }
+            else if (row.kind != Row::Kind::rate)  // rows_written counts samples
+                ++inserted;
         }
         if (sqlite3_exec(db, "COMMIT;", nullptr, nullptr, nullptr) != SQLITE_OK) {
             fail_rows(inserted, sqlite3_errmsg(db));
@@ -360,6 +391,15 @@ class RobotLog::Impl {
             sqlite3_bind_null(stmt, index);
     }
 
+    bool insert_rate(const Row& row) {
+        sqlite3_stmt* stmt = insert_rate_.get();
+        sqlite3_reset(stmt);
+        sqlite3_bind_int64(stmt, 1, row.logged_ns);
+        sqlite3_bind_double(stmt, 2, row.sensed_bps);
+        sqlite3_bind_double(stmt, 3, row.budget_bps);
+        return step(stmt);
+    }
+
     static bool step(sqlite3_stmt* stmt) {
         const bool ok = sqlite3_step(stmt) == SQLITE_DONE;
         sqlite3_reset(stmt);
@@ -386,6 +426,7 @@ class RobotLog::Impl {
     DbPtr db_;
     StmtPtr insert_;
     StmtPtr insert_forwarded_;
+    StmtPtr insert_rate_;
 
     mutable std::mutex mutex_;
     std::condition_variable wake_writer_;
@@ -412,6 +453,10 @@ void RobotLog::append(const LogRecord& record) {
 
 void RobotLog::append_forwarded(const ForwardRecord& record) {
     impl_->append_forwarded(record);
+}
+
+void RobotLog::append_rate(const RateRecord& record) {
+    impl_->append_rate(record);
 }
 
 void RobotLog::flush() {

@@ -34,11 +34,19 @@ struct ForwardRecord {
     base::WallTime forwarded_at;
 };
 
+/// The link rate the gateway plans with from `at` on: the sensor's, and the budget it gives.
+struct RateRecord {
+    base::WallTime at;
+    double sensed_bps = 0;
+    double budget_bps = 0;
+};
+
 /// The on-robot log: an SQLite file with one row per sample not sent (table dropped_samples: topic, type name,
 /// payload, instance key, source time, arrival, deadline, logged time, reason) and one per sample sent (table
 /// forwarded_samples: the same without payload and reason, with the payload's size and the time it was
-/// written). Appends are buffered and written in batched transactions by a background thread, so the gateway's
-/// path never waits on the disk; flush() and the destructor write everything still buffered.
+/// written), and the link's rate over time (table link_rates). Appends are buffered and written in batched transactions
+/// by a background thread, so the gateway's path never waits on the disk; flush() and the destructor write everything
+/// still buffered.
 class RobotLog {
   public:
     /// Opens or creates `path` (WAL mode). Throws base::ConfigError naming the file if it cannot.
@@ -53,10 +61,12 @@ class RobotLog {
     /// Copies the record, without the payload, into the buffer. Never throws; a failed write is counted and
     /// reported once, as for append().
     void append_forwarded(const ForwardRecord& record);
+    /// Copies the rate into the buffer (table link_rates: time, sensed and budget bit/s). Never throws.
+    void append_rate(const RateRecord& record);
     /// Blocks until everything appended so far is committed to the file.
     void flush();
 
-    /// Rows committed, of both tables.
+    /// Sample rows committed, of both sample tables.
     std::uint64_t rows_written() const;
     std::uint64_t write_errors() const;
     const std::string& path() const;

@@ -97,7 +97,8 @@ TEST_F(LinkMapTest, ThePathCarriesTheRateOfTheLastStatusAndDropsFromItsCounts) {
     write_recording(recording_, {}, mission());
     const basecamp::LinkMap map = build();
     EXPECT_EQ(map.poses, 76u);
-    EXPECT_EQ(map.statuses, 16u);
+    EXPECT_EQ(map.rate_points, 16u);
+    EXPECT_EQ(map.rates_from, "the gateway's status");
     ASSERT_EQ(map.segments.size(), 75u);
     EXPECT_DOUBLE_EQ(map.min_rate_bps, 10'000);
     EXPECT_DOUBLE_EQ(map.max_rate_bps, 70'000);
@@ -156,6 +157,22 @@ TEST_F(LinkMapTest, AMissionArchiveGivesEachDroppedSampleItsPlace) {
     EXPECT_DOUBLE_EQ(map.drops[0].x, 21);
     EXPECT_EQ(map.drops[0].samples, 2u);
     EXPECT_DOUBLE_EQ(map.drops[1].x, 80);
+}
+
+// The statuses a weak link delays or drops; the gateway's log has the rate all along, and colours the path.
+TEST_F(LinkMapTest, TheGatewaysLoggedRatesColourThePathInsteadOfItsStatuses) {
+    basecamp::LinkMapBuilder builder(basecamp::PoseSource::parse("robot/pose", "--pose"),
+                                     basecamp::TypeLibrary::project_and({}, "--idl"));
+    for (basecamp::SampleRecord& s : mission())
+        builder.add(s);
+    builder.add_logged_rate(START, 64'000);
+    builder.add_logged_rate(START + 5 * SECOND, 8'000);
+    const basecamp::LinkMap map = builder.build("--pose", "archive");
+    EXPECT_EQ(map.rates_from, "the gateway's log");
+    EXPECT_EQ(map.rate_points, 2u);
+    EXPECT_DOUBLE_EQ(map.min_rate_bps, 8'000);
+    EXPECT_DOUBLE_EQ(*map.segments[11].rate_bps, 64'000);  // t = 2.2 s
+    EXPECT_DOUBLE_EQ(*map.segments[30].rate_bps, 8'000);   // t = 6 s
 }
 
 TEST_F(LinkMapTest, APoseTopicThatIsMissingOrLacksTheFieldsNamesTheFlag) {

@@ -163,6 +163,32 @@ TEST_F(RobotLogTest, StoresEveryColumnOfARecord) {
     EXPECT_EQ(sut->write_errors(), 0u);
 }
 
+TEST_F(RobotLogTest, StoresTheLinkRateApartFromTheSamples) {
+    sut = std::make_unique<RobotLog>(path);
+    const base::WallTime at = base::WallClock::now();
+    sut->append_rate({at, 20'000.5, 19'000.0});
+    sut->append_rate({at + std::chrono::seconds(1), 8'000.0, 7'600.0});
+    sut->flush();
+
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+    sqlite3_stmt* stmt = nullptr;
+    ASSERT_EQ(sqlite3_prepare_v2(db, "SELECT time_ns, sensed_bps, budget_bps FROM link_rates ORDER BY id", -1, &stmt,
+                                 nullptr),
+              SQLITE_OK);
+    ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
+    EXPECT_EQ(sqlite3_column_int64(stmt, 0), base::to_ns(at));
+    EXPECT_EQ(sqlite3_column_double(stmt, 1), 20'000.5);
+    EXPECT_EQ(sqlite3_column_double(stmt, 2), 19'000.0);
+    ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
+    EXPECT_EQ(sqlite3_column_double(stmt, 1), 8'000.0);
+    EXPECT_EQ(sqlite3_step(stmt), SQLITE_DONE);
+    sqlite3_finalize(stmt);
+    sqlite3_close_v2(db);
+    EXPECT_TRUE(LogReader(path).rows().empty()) << "a rate is not a sample";
+    EXPECT_EQ(sut->rows_written(), 0u);
+}
+
 TEST_F(RobotLogTest, StoresNullInstanceKeyForUnkeyedSamples) {
     sut = std::make_unique<RobotLog>(path);
     core::Sample s = sample({1, 2, 3});

@@ -19,6 +19,9 @@ struct StatsOptions : DomainOptions {
     double duration_s = 0.0;
 };
 
+/// How long --once waits for the first topic before its window starts.
+constexpr auto ONCE_DISCOVERY_WAIT = std::chrono::seconds(20);
+
 std::int64_t wall_now_ns() {
     return base::to_ns(base::WallClock::now());
 }
@@ -29,6 +32,11 @@ int run_stats(const StatsOptions& options) {
     Recorder subscriber(options.domain, options.transport, stats, base::Duration::zero());
     stop_on_signals();
     if (options.once) {
+        // The window starts once a topic is subscribed: discovery on a link takes a few seconds, and a window that
+        // began before would under-count every rate.
+        const auto give_up = base::SteadyClock::now() + ONCE_DISCOVERY_WAIT;
+        while (subscriber.received().empty() && !stop_requested().load() && base::SteadyClock::now() < give_up)
+            subscriber.run(std::chrono::milliseconds(100), stop_requested());
         subscriber.run(base::from_seconds(options.window_s), stop_requested());
         print_stats_table(std::cout, stats.rows(wall_now_ns()));
         return 0;
@@ -58,7 +66,9 @@ Subcommand add_stats_command(CLI::App& app) {
     command->add_option("--window", options->window_s, "seconds of samples each line is computed over")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    command->add_flag("--once", options->once, "collect for one window, print one table and exit (for scripts)");
+    command->add_flag("--once", options->once,
+                      "collect for one window from the first topic discovered (up to 20 s), print one table and exit "
+                      "(for scripts)");
     command->add_option("--duration", options->duration_s, "seconds to run; until Ctrl-C without it")
         ->check(CLI::PositiveNumber);
     return {command, [options] { return run_stats(*options); }};

@@ -1,5 +1,8 @@
 #pragma once
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -59,8 +62,29 @@ inline void use_transports_in_process() {
     eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(settings);
 }
 
-/// Domain ids and ports for one test process: derived from the process id so that parallel ctest runs (one
-/// process per test) do not meet. Robot and WAN domains are an adjacent pair in 10..199.
+/// A slot no other running test process holds, 0 .. SLOTS-1, the lowest free: each slot is a lock file under
+/// /tmp/tgw-test-domains held (flock) until the process exits. Process ids gave two tests running side by side the
+/// same domains now and then (Fast DDS's threads use up ids, so neighbours are often a multiple apart).
+inline int test_slot() {
+    static const int slot = [] {
+        constexpr int SLOTS = 95;
+        const char* dir = "/tmp/tgw-test-domains";
+        ::mkdir(dir, 0777);
+        for (int i = 0; i < SLOTS; ++i) {
+            const std::string path = std::string(dir) + "/" + std::to_string(i) + ".lock";
+            const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+            if (fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) == 0)
+                return i;  // the descriptor stays open: the lock is the process's until it exits
+            if (fd >= 0)
+                ::close(fd);
+        }
+        return static_cast<int>(::getpid() % SLOTS);  // every slot taken: as before
+    }();
+    return slot;
+}
+
+/// Domain ids and ports for one test process, apart from every other test process running (test_slot()). Robot
+/// and WAN domains are an adjacent pair in 10..199.
 struct TestDomains {
     int robot = 0;
     int wan = 0;
@@ -69,7 +93,7 @@ struct TestDomains {
 
     static TestDomains for_this_process() {
         TestDomains d;
-        d.robot = 10 + static_cast<int>(::getpid() % 95) * 2;
+        d.robot = 10 + test_slot() * 2;
         d.wan = d.robot + 1;
         // Participant ids well above what Fast DDS assigns in one process, so the ports are free.
         d.wan_reader_port = dds::metatraffic_unicast_port(d.wan, 60);

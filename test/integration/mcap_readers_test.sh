@@ -6,10 +6,11 @@
 # every recorded sample, bytes and times equal, with schemas for the project's types and the announced one. The
 # gateway plans for 30,000 bit/s, less than the workload, and logs what it cannot send: the mission archive of its
 # log and the recording (merge), exported too, has the samples that stayed on the robot on channels of their own.
+# Last, one sample of each project type with known members (project_type_samples), exported, must decode to them.
 set -euo pipefail
 BIN=$1
 READERS=$2
-ROBOT=$((200 + ($$ + 7) % 15 * 2))  # 200..228, apart from basecamp_tools_test.sh where it can
+ROBOT=$((200 + ($$ + 7) % 15 * 2))  # 200..228; the test runs alone (RUN_SERIAL)
 WAN=$((ROBOT + 1))
 source "$(dirname "$0")/loopback_test_lib.sh"
 
@@ -55,12 +56,22 @@ for file in "live.mcap lz4" "export.mcap zstd" "plain.mcap none"; do
     set -- $file
     compression=$([ "$2" = none ] && echo "" || echo "$2")
     echo "== $1"
-    node "$READERS/check_mcap.mjs" "$work/$1" "$work/samples.tsv" "$compression" "${schemas[@]}" || fail=1
+    node "$READERS/check_mcap.mjs" "$work/$1" "$work/samples.tsv" "$compression" --sensor fixed:30000 "${schemas[@]}" || fail=1
 done
 echo "== mission.mcap"
 if [ "$dropped" -eq 0 ]; then
     echo "FAIL: nothing was dropped on the robot at 30,000 bit/s: the archive's channels of dropped samples go untested"
     fail=1
 fi
-node "$READERS/check_mcap.mjs" "$work/mission.mcap" "$work/mission.tsv" zstd tgw::idl::PaperMessage || fail=1
+node "$READERS/check_mcap.mjs" "$work/mission.mcap" "$work/mission.tsv" zstd --sensor fixed:30000 tgw::idl::PaperMessage || fail=1
+
+# Every project type, one sample each with known members, decoded member by member from its schema alone.
+echo "== types.mcap"
+"$BIN/project_type_samples" "$work/types.db" "$work/types.json"
+"$BIN/tm-basecamp" export "$work/types.db" --mcap "$work/types.mcap"
+sqlite3 -separator $'\t' "$work/types.db" \
+    "SELECT topic, type_name, receive_ns, source_ns, hex(payload) FROM samples ORDER BY receive_ns, id" >"$work/types.tsv"
+node "$READERS/check_mcap.mjs" "$work/types.mcap" "$work/types.tsv" zstd --expect "$work/types.json" \
+    tgw::idl::PaperMessage std_msgs::msg::dds_::String_ tgw::idl::KeyedReading tgw::idl::ReceiverReport \
+    tgw::idl::RobotPose tgw::idl::GatewayStatus || fail=1
 exit "$fail"

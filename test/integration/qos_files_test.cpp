@@ -49,7 +49,7 @@ TEST_F(QosFilesTest, EveryXmlFileInQosLoads) {
 
 TEST_F(QosFilesTest, PaperWorkloadProfilesCarryTheTtlsAsLifespan) {
     dds::load_qos_file(std::string(TGW_QOS_DIR) + "/paper_workload.xml");
-    TestParticipant p(10 + static_cast<int>(::getpid() % 95) * 2, fdds::PARTICIPANT_QOS_DEFAULT);
+    TestParticipant p(TestDomains::for_this_process().robot, fdds::PARTICIPANT_QOS_DEFAULT);
     ASSERT_TRUE(p.ok());
     fdds::Publisher* publisher = p.participant()->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     const std::pair<const char*, int> expected[] = {

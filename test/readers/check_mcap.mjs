@@ -3,13 +3,14 @@
 // summary and chunk indexes as Foxglove opens a file (McapIndexedReader). @foxglove/omgidl-parser and
 // @foxglove/omgidl-serialization decode every message of a channel with a schema from that schema alone.
 //
-//   node check_mcap.mjs FILE.mcap SAMPLES.tsv COMPRESSION [EXPECTED_SCHEMA_TYPE...]
+//   node check_mcap.mjs FILE.mcap SAMPLES.tsv COMPRESSION [--sensor SPEC] [--expect VALUES.json] [SCHEMA_TYPE...]
 //
 // SAMPLES.tsv: the recording's samples, one a line, each topic's in the order received: topic, type name, receive ns, source
 // ns, payload as hex (sqlite3 -separator $'\t' DB "SELECT topic, type_name, receive_ns, source_ns, hex(payload)
-// FROM samples ORDER BY receive_ns, id"). COMPRESSION: what every chunk must say ("" for none). Each
-// EXPECTED_SCHEMA_TYPE must have a channel with an omgidl schema of that name. Prints what it checked; exit 1 on
-// the first difference.
+// FROM samples ORDER BY receive_ns, id"). COMPRESSION: what every chunk must say ("" for none). Each SCHEMA_TYPE
+// must have a channel with an omgidl schema of that name. --sensor: the gateway's sensor every status must name. Prints what it checked; exit 1 on
+// the first difference. With --expect, the first message of each topic VALUES.json names must decode to its
+// members there, every member (64-bit integers as strings).
 import { McapIndexedReader, McapStreamReader } from "@mcap/core";
 import { parseIDL } from "@foxglove/omgidl-parser";
 import { MessageReader } from "@foxglove/omgidl-serialization";
@@ -18,8 +19,17 @@ import lz4 from "@foxglove/wasm-lz4";
 import { readFileSync } from "node:fs";
 import { contentChecks } from "./known_content.mjs";
 
-const [file, samplesFile, compression, ...expectedSchemas] = process.argv.slice(2);
-const knownContent = contentChecks({ sensor: "fixed:30000" }); // mcap_readers_test.sh's gateway
+const [file, samplesFile, compression, ...rest] = process.argv.slice(2);
+/// The value of `--flag VALUE` in rest, taken out of it; undefined when absent.
+function option(flag) {
+  const at = rest.indexOf(flag);
+  return at < 0 ? undefined : rest.splice(at, 2)[1];
+}
+const expectFile = option("--expect");
+const expectedValues = expectFile === undefined ? {} : JSON.parse(readFileSync(expectFile, "utf8"));
+const sensor = option("--sensor");
+const expectedSchemas = rest;
+const knownContent = contentChecks({ sensor });
 
 function fail(message) {
   console.error(`FAIL: ${file}: ${message}`);
@@ -136,6 +146,17 @@ console.log(
     `${reader.channelsById.size} channels, ${reader.schemasById.size} schemas`,
 );
 
+/// A decoded value as JSON has it: BigInt as a string, typed arrays as arrays, in the schema's member order.
+function plain(value) {
+  if (typeof value === "bigint") return value.toString();
+  if (ArrayBuffer.isView(value)) return Array.from(value, plain);
+  if (Array.isArray(value)) return value.map(plain);
+  if (value !== null && typeof value === "object") {
+    return Object.fromEntries(Object.entries(value).map(([k, v]) => [k, plain(v)]));
+  }
+  return value;
+}
+
 // 3. Every message of a channel with a schema, decoded from the schema alone.
 const schemaNames = new Set();
 for (const channel of reader.channelsById.values()) {
@@ -167,9 +188,20 @@ for (const channel of reader.channelsById.values()) {
     first ??= value;
     ++decoded;
   }
+  if (expectedValues[channel.topic] !== undefined) {
+    const got = plain(first);
+    const want = expectedValues[channel.topic];
+    if (JSON.stringify(got) !== JSON.stringify(want)) {
+      fail(`${channel.topic}: decoded ${JSON.stringify(got)}, published ${JSON.stringify(want)}`);
+    }
+    console.log(`ok: ${channel.topic}: every member of its first message as published`);
+  }
   const shown = JSON.stringify(first, (key, v) => (typeof v === "bigint" ? v.toString() : v)).slice(0, 160);
   const checked = knownContent[schema.name] ? ", members checked" : "";
   console.log(`ok: ${channel.topic}: ${decoded} messages decoded with schema ${schema.name}${checked}; the first: ${shown}`);
+}
+for (const topic of Object.keys(expectedValues)) {
+  if (!byTopic.has(topic)) fail(`--expect names ${topic}, which the recording does not have`);
 }
 for (const name of expectedSchemas) {
   if (!schemaNames.has(name)) fail(`no channel with an omgidl schema ${name}; schemas: ${[...schemaNames].join(", ")}`);

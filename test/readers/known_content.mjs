@@ -15,9 +15,10 @@ export function contentChecks({ sensor }) {
       if (value.data.length === 0) return "no data";
       return undefined;
     },
-    // The gateway under test runs --sensor SENSOR.
+    // The gateway under test runs --sensor SENSOR (any, when undefined).
     "tgw::idl::GatewayStatus": (value) =>
-      value.sensor === sensor && value.gateway_prefix.length === 12 && Array.isArray(value.topics)
+      (sensor === undefined || value.sensor === sensor) && value.gateway_prefix.length === 12 &&
+      Array.isArray(value.topics)
         ? undefined
         : `sensor '${value.sensor}' (expected '${sensor}'), ${value.gateway_prefix.length} prefix bytes`,
     // test/idl/announced_types_publisher.

@@ -62,15 +62,19 @@ inline void use_transports_in_process() {
     eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(settings);
 }
 
-/// A slot no other running test process holds, 0 .. SLOTS-1, the lowest free: each slot is a lock file under
-/// /tmp/tgw-test-domains held (flock) until the process exits. Process ids gave two tests running side by side the
-/// same domains now and then (Fast DDS's threads use up ids, so neighbours are often a multiple apart).
+/// A slot no other running test process holds, 0 .. SLOTS-1: each slot is a lock file under /tmp/tgw-test-domains
+/// held (flock) until the process exits. The search starts at the process id's slot, so that consecutive tests do
+/// not reuse the domains just let go of (Fast DDS's shared-memory ports outlive a process for a while). Process ids
+/// alone gave two tests running side by side the same domains now and then: Fast DDS's threads use up ids, so
+/// neighbours are often a multiple of SLOTS apart.
 inline int test_slot() {
     static const int slot = [] {
         constexpr int SLOTS = 95;
         const char* dir = "/tmp/tgw-test-domains";
         ::mkdir(dir, 0777);
-        for (int i = 0; i < SLOTS; ++i) {
+        const int first = static_cast<int>(::getpid() % SLOTS);
+        for (int n = 0; n < SLOTS; ++n) {
+            const int i = (first + n) % SLOTS;
             const std::string path = std::string(dir) + "/" + std::to_string(i) + ".lock";
             const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
             if (fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) == 0)
@@ -78,7 +82,7 @@ inline int test_slot() {
             if (fd >= 0)
                 ::close(fd);
         }
-        return static_cast<int>(::getpid() % SLOTS);  // every slot taken: as before
+        return first;  // every slot taken: as before
     }();
     return slot;
 }

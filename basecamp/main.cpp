@@ -151,12 +151,9 @@ int main(int argc, char** argv) {
 
     // Subcommands in files of their own.
     const std::vector<tgw::basecamp::Subcommand> subcommands = {
-        tgw::basecamp::add_echo_command(app),
-        tgw::basecamp::add_export_command(app),
-        tgw::basecamp::add_linkmap_command(app),
-        tgw::basecamp::add_merge_command(app),
-        tgw::basecamp::add_stats_command(app),
-        tgw::basecamp::add_status_command(app),
+        tgw::basecamp::add_echo_command(app),    tgw::basecamp::add_export_command(app),
+        tgw::basecamp::add_linkmap_command(app), tgw::basecamp::add_merge_command(app),
+        tgw::basecamp::add_stats_command(app),   tgw::basecamp::add_status_command(app),
     };
 
     try {

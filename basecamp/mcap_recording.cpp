@@ -51,11 +51,17 @@ void McapRecording::add_topic(TopicRecord topic) {
 
 void McapRecording::add(SampleRecord sample) {
     std::lock_guard<std::mutex> lock(mutex_);
-    TopicRecord topic;
-    topic.topic = sample.topic;
-    topic.type_name = sample.type_name;
-    topic.lifespan_ns = sample.lifespan_ns;
-    const std::uint16_t channel = channel_nts(topic);
+    const auto known = channels_.find(sample.topic);
+    std::uint16_t channel = 0;
+    if (known != channels_.end()) {
+        channel = known->second;
+    } else {
+        TopicRecord topic;
+        topic.topic = sample.topic;
+        topic.type_name = sample.type_name;
+        topic.lifespan_ns = sample.lifespan_ns;
+        channel = channel_nts(topic);
+    }
     writer_.write_message(channel, static_cast<std::uint64_t>(sample.receive_ns),
                           static_cast<std::uint64_t>(sample.source_ns), sample.payload.data(), sample.payload.size());
 }

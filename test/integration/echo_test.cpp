@@ -74,6 +74,11 @@ class EchoTest : public ::testing::Test {
         return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     }
 
+    /// The test's topic, of `type`, written reliably (keep last 10), its matches counted in matches_.
+    fdds::DataWriter* reliable_writer(fdds::TopicDataType* type) {
+        return publisher_->make_writer(topic_, fdds::TypeSupport(type), reliable_writer_qos(), &matches_);
+    }
+
     fdds::DataWriterQos reliable_writer_qos() const {
         fdds::DataWriterQos qos = publisher_->default_writer_qos();
         qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
@@ -116,8 +121,7 @@ idl::GatewayStatus status_number(int i) {
 }
 
 TEST_F(EchoTest, EchoJsonPrintsEachSampleOfAnIdlTypeFieldByField) {
-    fdds::DataWriter* writer = publisher_->make_writer(topic_, fdds::TypeSupport(new idl::GatewayStatusPubSubType()),
-                                                       reliable_writer_qos(), &matches_);
+    fdds::DataWriter* writer = reliable_writer(new idl::GatewayStatusPubSubType());
     ASSERT_NE(writer, nullptr);
     constexpr int SAMPLES = 3;
     ChildProcess echo = start_echo_json(SAMPLES);
@@ -171,8 +175,7 @@ TEST_F(EchoTest, EchoJsonPrintsEachSampleOfAnIdlTypeFieldByField) {
 // another process with no IDL of it, decodes every member from that alone.
 TEST_F(EchoTest, EchoDecodesATypeFromTheTypeObjectItsPublisherAnnounced) {
     registerAnnouncedTypesTypes();
-    fdds::DataWriter* writer = publisher_->make_writer(topic_, fdds::TypeSupport(new tgw_test::FlatReadingPubSubType()),
-                                                       reliable_writer_qos(), &matches_);
+    fdds::DataWriter* writer = reliable_writer(new tgw_test::FlatReadingPubSubType());
     ASSERT_NE(writer, nullptr);
     constexpr int SAMPLES = 2;
     ChildProcess echo = start_echo_json(SAMPLES);
@@ -218,8 +221,7 @@ TEST_F(EchoTest, EchoDecodesATypeFromTheTypeObjectItsPublisherAnnounced) {
 // no request for them by default: the echo says which member it cannot decode, and prints size and hex.
 TEST_F(EchoTest, EchoSaysWhichMemberTheAnnouncedTypeObjectCannotDescribe) {
     registerAnnouncedTypesTypes();
-    fdds::DataWriter* writer = publisher_->make_writer(topic_, fdds::TypeSupport(new tgw_test::RoverStatePubSubType()),
-                                                       reliable_writer_qos(), &matches_);
+    fdds::DataWriter* writer = reliable_writer(new tgw_test::RoverStatePubSubType());
     ASSERT_NE(writer, nullptr);
     ChildProcess echo = start_echo_json(1);
     ASSERT_TRUE(echo_reader_matched(echo));
@@ -241,8 +243,7 @@ TEST_F(EchoTest, EchoSaysWhichMemberTheAnnouncedTypeObjectCannotDescribe) {
 }
 
 TEST_F(EchoTest, EchoPrintsSizeAndHexOfATypeItHasNoIdlFor) {
-    fdds::DataWriter* writer =
-        publisher_->make_writer(topic_, fdds::TypeSupport(new OpaqueBlobType()), reliable_writer_qos(), &matches_);
+    fdds::DataWriter* writer = reliable_writer(new OpaqueBlobType());
     ASSERT_NE(writer, nullptr);
     basecamp::TypeLibrary types;
     types.add_project_types();

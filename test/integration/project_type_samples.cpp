@@ -8,28 +8,19 @@
 #include <string>
 #include <vector>
 
-#include <fastdds/rtps/common/SerializedPayload.h>
-
-#include "GatewayStatusPubSubTypes.h"
-#include "KeyedReadingPubSubTypes.h"
-#include "PaperWorkloadPubSubTypes.h"
-#include "ReceiverReportPubSubTypes.h"
-#include "RobotPosePubSubTypes.h"
-#include "RosStringPubSubTypes.h"
+#include "GatewayStatus.h"
+#include "KeyedReading.h"
+#include "PaperWorkload.h"
+#include "ReceiverReport.h"
+#include "RobotPose.h"
+#include "RosString.h"
 
 #include "basecamp/sample_store.hpp"
+#include "test/unit/basecamp/cdr_test_payloads.hpp"
 
 namespace {
 
 constexpr std::int64_t SOURCE_NS = 1'795'560'000'000'000'000;
-
-template <typename PubSubType, typename Sample>
-std::vector<std::uint8_t> serialized(Sample& sample) {
-    PubSubType type;
-    eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&sample)());
-    type.serialize(&sample, &payload);
-    return std::vector<std::uint8_t>(payload.data, payload.data + payload.length);
-}
 
 }  // namespace
 
@@ -53,17 +44,20 @@ int main(int argc, char** argv) {
     paper.generated_ns(SOURCE_NS);
     paper.sequence_number(7);
     paper.data({0, 1, 2, 250});
-    add("types/paper", "tgw::idl::PaperMessage", serialized<tgw::idl::PaperMessagePubSubType>(paper));
+    add("types/paper", "tgw::idl::PaperMessage",
+        tgw::test::fastcdr_payload(paper, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS));
 
     std_msgs::msg::dds_::String_ text;
     text.data("hazard ahead: \"rock\"");
-    add("rt/chatter", "std_msgs::msg::dds_::String_", serialized<std_msgs::msg::dds_::String_PubSubType>(text));
+    add("rt/chatter", "std_msgs::msg::dds_::String_",
+        tgw::test::fastcdr_payload(text, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS));
 
     tgw::idl::KeyedReading keyed;
     keyed.sensor_id(42);
     keyed.value(-273.15);
     keyed.label("left wheel");
-    add("types/keyed", "tgw::idl::KeyedReading", serialized<tgw::idl::KeyedReadingPubSubType>(keyed));
+    add("types/keyed", "tgw::idl::KeyedReading",
+        tgw::test::fastcdr_payload(keyed, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS));
 
     tgw::idl::ReceiverReport report;
     report.gateway_prefix({1, 15, 2, 3, 4, 5, 6, 7, 8, 9, 10, 255});
@@ -71,13 +65,15 @@ int main(int argc, char** argv) {
     report.received_bytes(98'765);
     report.lost_samples(3);
     report.sent_ns(1'795'560'000'123'456'789ULL);
-    add("types/report", "tgw::idl::ReceiverReport", serialized<tgw::idl::ReceiverReportPubSubType>(report));
+    add("types/report", "tgw::idl::ReceiverReport",
+        tgw::test::fastcdr_payload(report, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS));
 
     tgw::idl::RobotPose pose;
     pose.x(120.5);
     pose.y(-3.25);
     pose.heading_rad(1.5);
-    add("robot/pose", "tgw::idl::RobotPose", serialized<tgw::idl::RobotPosePubSubType>(pose));
+    add("robot/pose", "tgw::idl::RobotPose",
+        tgw::test::fastcdr_payload(pose, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS));
 
     tgw::idl::GatewayStatus status;
     status.gateway_prefix({1, 15, 2, 3, 4, 5, 6, 7, 8, 9, 10, 255});
@@ -99,7 +95,8 @@ int main(int argc, char** argv) {
     topic.expired(2);
     topic.matched_readers(1);
     status.topics().push_back(topic);
-    add("tgw/status", "tgw::idl::GatewayStatus", serialized<tgw::idl::GatewayStatusPubSubType>(status));
+    add("tgw/status", "tgw::idl::GatewayStatus",
+        tgw::test::fastcdr_payload(status, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS));
 
     {
         tgw::basecamp::SampleStore store(argv[1], "RECORDING.db", 10);

@@ -8,15 +8,14 @@
 
 #include <cmath>
 
-#include <fastdds/rtps/common/SerializedPayload.h>
-
-#include "GatewayStatusPubSubTypes.h"
-#include "RobotPosePubSubTypes.h"
+#include "GatewayStatus.h"
+#include "RobotPose.h"
 
 #include "basecamp/link_map.hpp"
 #include "basecamp/link_map_render.hpp"
 #include "basecamp/recording_reader.hpp"
 #include "test/fakes/config_error_of.hpp"
+#include "test/unit/basecamp/cdr_test_payloads.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
 
 namespace tgw::test {
@@ -24,14 +23,6 @@ namespace {
 
 constexpr std::int64_t SECOND = 1'000'000'000;
 constexpr std::int64_t START = 1'795'000'000 * SECOND;
-
-template <typename PubSubType, typename Sample>
-std::vector<std::uint8_t> serialized(Sample& sample) {
-    PubSubType type;
-    eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&sample)());
-    EXPECT_TRUE(type.serialize(&sample, &payload));
-    return std::vector<std::uint8_t>(payload.data, payload.data + payload.length);
-}
 
 basecamp::SampleRecord sample_of(const std::string& topic, const std::string& type, std::vector<std::uint8_t> bytes,
                                  std::int64_t source_ns) {
@@ -53,7 +44,8 @@ std::vector<basecamp::SampleRecord> mission() {
         const double t = i / 5.0;
         pose.x(std::min(t, 10.0) * 10);
         pose.y(t > 10 ? (t - 10) * 10 : 0);
-        samples.push_back(sample_of("robot/pose", "tgw::idl::RobotPose", serialized<idl::RobotPosePubSubType>(pose),
+        samples.push_back(sample_of("robot/pose", "tgw::idl::RobotPose",
+                                    fastcdr_payload(pose, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS),
                                     START + i * SECOND / 5));
     }
     for (int s = 0; s <= 15; ++s) {
@@ -65,7 +57,8 @@ std::vector<basecamp::SampleRecord> mission() {
         topic.expired(s >= 9 ? 3 : 0);
         status.topics().push_back(topic);
         samples.push_back(sample_of("tgw/status", "tgw::idl::GatewayStatus",
-                                    serialized<idl::GatewayStatusPubSubType>(status), START + s * SECOND));
+                                    fastcdr_payload(status, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS),
+                                    START + s * SECOND));
     }
     return samples;
 }

@@ -5,17 +5,16 @@
 #include <fstream>
 #include <sstream>
 
-#include <fastdds/rtps/common/SerializedPayload.h>
 #include <fastrtps/types/TypeObjectFactory.h>
 
 #include "AnnouncedTypes.h"
-#include "AnnouncedTypesPubSubTypes.h"
 #include "AnnouncedTypesTypeObject.h"
 
 #include "basecamp/cdr_decoder.hpp"
 #include "basecamp/type_library.hpp"
 #include "basecamp/value_json.hpp"
 #include "gateway/dds/type_object_idl.hpp"
+#include "test/unit/basecamp/cdr_test_payloads.hpp"
 
 namespace tgw::test {
 namespace {
@@ -52,14 +51,6 @@ tgw_test::FlatReading example_reading(std::uint32_t id) {
     reading.recent({7, 8});
     reading.grid({{{1, 2, 3}, {4, 5, 6}}});
     return reading;
-}
-
-template <typename PubSubType, typename Sample>
-std::vector<std::uint8_t> serialized(Sample& sample) {
-    PubSubType type;
-    eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&sample)());
-    EXPECT_TRUE(type.serialize(&sample, &payload));
-    return std::vector<std::uint8_t>(payload.data, payload.data + payload.length);
 }
 
 /// The sample as JSON, decoded with `types`; the decoder's error when it cannot.
@@ -108,7 +99,7 @@ TEST_F(TypeObjectIdlTest, AFlatStructNeedsNothingButItsOwnTypeObject) {
 
     tgw_test::FlatReading reading = example_reading(42);
     reading.label(std::string(300, 'x'));
-    const auto payload = serialized<tgw_test::FlatReadingPubSubType>(reading);
+    const auto payload = fastcdr_payload(reading, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS);
     const std::string from_type_object =
         decoded_json(payload, "tgw_test::FlatReading", library_of(idl.text, "TypeObject"));
     EXPECT_EQ(from_type_object, decoded_json(payload, "tgw_test::FlatReading", from_file_));
@@ -134,7 +125,7 @@ TEST_F(TypeObjectIdlTest, ReferencedTypesComeFromTheLookupEachDeclaredOnceBefore
     state.reading(example_reading(1));
     state.mode(tgw_test::RETURNING);
     state.velocity({0.5, -0.25, 0.0});
-    const auto payload = serialized<tgw_test::RoverStatePubSubType>(state);
+    const auto payload = fastcdr_payload(state, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS);
     const std::string from_type_object =
         decoded_json(payload, "tgw_test::RoverState", library_of(idl.text, "TypeObject"));
     EXPECT_EQ(from_type_object, decoded_json(payload, "tgw_test::RoverState", from_file_));

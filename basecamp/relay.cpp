@@ -15,8 +15,10 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "base/config_error.hpp"
+#include "basecamp/compact_unpacker.hpp"
 #include "basecamp/receiver_reporter.hpp"
 #include "basecamp/wan_capture.hpp"
+#include "gateway/dds/compact_topics.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
@@ -134,6 +136,7 @@ Relay::~Relay() {
         if (participant != nullptr)
             participant->set_listener(nullptr);
     }
+    compact_.reset();  // its readers, then its writers
     {
         std::lock_guard<std::mutex> lock(topics_mutex_);
         topics_.clear();  // each lane's reader, then its writer
@@ -187,6 +190,13 @@ void Relay::relay(const dds::DiscoveredPublisher& publisher) {
     if (publisher.topic == dds::RECEIVER_REPORT_TOPIC) {
         return;
     }
+    // A compact-mode gateway: its bundles are unpacked, each sample republished on its own topic.
+    if (publisher.topic == dds::COMPACT_BUNDLE_TOPIC || publisher.topic == dds::COMPACT_CATALOG_TOPIC) {
+        if (!compact_) {
+            compact_ = std::make_unique<CompactUnpacker>(wan_, local_, local_publishers_, store_);
+        }
+        return;
+    }
     std::unique_lock<std::mutex> lock(topics_mutex_);
     auto& topic = topics_[publisher.topic];
     if (!topic) {
@@ -218,6 +228,9 @@ void Relay::run(base::Duration duration, const std::atomic<bool>& stop) {
         for (const dds::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
             relay(publisher);
         }
+        if (compact_) {
+            compact_->poll();
+        }
         if (reporter_ && base::SteadyClock::now() >= next_report_) {
             next_report_ += report_period_;
             reporter_->publish(tally_.totals());
@@ -234,7 +247,7 @@ std::int32_t Relay::local_readers(const std::string& topic) const {
             n += lane->writer_matches.matched.load();
         }
     }
-    return n;
+    return n + (compact_ ? compact_->local_readers(topic) : 0);
 }
 
 std::map<std::string, std::uint64_t> Relay::relayed() const {
@@ -246,6 +259,11 @@ std::map<std::string, std::uint64_t> Relay::relayed() const {
             n += lane->relayed.load();
         }
         counts[name] = n;
+    }
+    if (compact_) {
+        for (const auto& [name, n] : compact_->relayed()) {
+            counts[name] += n;
+        }
     }
     return counts;
 }

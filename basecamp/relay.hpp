@@ -29,6 +29,7 @@ class Subscriber;
 
 namespace tgw::basecamp {
 
+class CompactUnpacker;
 class ReceiverReporter;
 
 /// Subscribes on the WAN domain to every topic that appears there, whatever its type, asking exactly what each
@@ -64,6 +65,9 @@ class Relay {
     /// Samples (and disposes, unregisters) written on the local domain so far, per topic.
     std::map<std::string, std::uint64_t> relayed() const;
 
+    /// What the compact WAN mode's unpacker has done; nullptr until a compact-mode gateway appeared.
+    const CompactUnpacker* compact() const { return compact_.get(); }
+
   private:
     class Lane;
     struct Topic {
@@ -87,6 +91,8 @@ class Relay {
     eprosima::fastdds::dds::DomainParticipant* local_ = nullptr;
     dds::PartitionGroups<eprosima::fastdds::dds::Subscriber> wan_subscribers_;
     dds::PartitionGroups<eprosima::fastdds::dds::Publisher> local_publishers_;
+    /// Made when a compact-mode gateway's bundles or catalog appear; before the participants go.
+    std::unique_ptr<CompactUnpacker> compact_;
     mutable std::mutex topics_mutex_;  ///< run() adds to topics_, relayed() reads it
     std::map<std::string, std::unique_ptr<Topic>> topics_;
 };

@@ -207,8 +207,14 @@ DeadlineQueue::Slot DeadlineQueue::earliest_deadline() const {
 
 DeadlineQueue::Peek DeadlineQueue::at(Slot slot) const {
     const Record& r = record(slot);
-    return Peek{lanes_[r.lane_and_flags & LANE_MASK].topic, base::SteadyTime(base::SteadyTime::duration(r.deadline)),
-                r.payload.size(), r.sequence};
+    return Peek{lanes_[r.lane_and_flags & LANE_MASK].topic,
+                base::SteadyTime(base::SteadyTime::duration(r.deadline)),
+                r.payload.size(),
+                r.sequence,
+                base::WallTime(base::WallTime::duration(r.source_time)),
+                r.output.route,
+                (r.lane_and_flags & KEY_VALID) != 0,
+                &r.payload};
 }
 
 Sample DeadlineQueue::take(Slot slot) {

@@ -31,6 +31,11 @@ class DeadlineQueue {
         base::SteadyTime deadline;
         std::size_t payload_bytes;
         std::uint64_t sequence;
+        base::WallTime source_time;
+        std::uint16_t route;
+        bool keyed;
+        /// The payload, valid until the queue changes: what a bundle's entry size depends on.
+        const std::vector<std::uint8_t>* payload;
     };
 
   private:

@@ -117,7 +117,7 @@ void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_
         origin = std::min(now, now + std::chrono::duration_cast<base::Duration>(sample.source_time - wall_now));
     }
     sample.deadline = origin + topic.config.ttl;
-    const std::uint64_t wire_bits = this->wire_bits(sample.payload.size());
+    const std::uint64_t wire_bits = alone_wire_bits(sample);
     const bool same_limit = topic.protect_epoch == protect_epoch_ && topic.last_wire_bits == wire_bits;
     topic.last_arrival = now;
     topic.last_wire_bits = wire_bits;
@@ -141,6 +141,14 @@ void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_
     queue_.push(std::move(sample), rank);
     ++topic.counters.queued;
     evict_over_cap(sink);
+}
+
+std::uint64_t Scheduler::alone_wire_bits(const Sample& sample) const {
+    if (!config_.bundles) {
+        return wire_bits(sample.payload.size());
+    }
+    return BundleBuilder(config_.wire)
+        .alone_wire_bits({sample.topic, sample.route, sample.source_time, &sample.payload, sample.key.valid});
 }
 
 void Scheduler::release(base::SteadyTime now, SampleSink& sink) {
@@ -195,6 +203,23 @@ void Scheduler::evict_over_cap(SampleSink& sink) {
     }
 }
 
+bool Scheduler::may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std::uint64_t bits, SampleSink& sink) {
+    const DeadlineQueue::Peek sample = queue_.at(slot);
+    const base::Duration tx = budget_.transmit_time(bits);
+    const bool blocks_urgent = tx > protect_.limit_for(sample.topic);
+    if (start + tx + config_.link_latency > sample.deadline) {
+        drop(take(slot), blocks_urgent ? DropReason::oversize : DropReason::doomed, sink);
+        return false;
+    }
+    if (blocks_urgent) {
+        // Wait for a faster link; give up once it could no longer make its deadline.
+        const base::SteadyTime give_up = sample.deadline - tx - config_.link_latency + base::Duration(1);
+        blocked_wakeup_ = blocked_wakeup_ ? std::min(*blocked_wakeup_, give_up) : give_up;
+        return false;
+    }
+    return true;
+}
+
 void Scheduler::release_by_deadline(base::SteadyTime now, SampleSink& sink) {
     blocked_wakeup_.reset();
     if (queue_.empty() || !budget_.can_send(now)) {
@@ -202,24 +227,18 @@ void Scheduler::release_by_deadline(base::SteadyTime now, SampleSink& sink) {
     }
     // The link is non-preemptive: a sample on the wire holds it for its whole wire time. Protect the most
     // urgent active topic: nothing may occupy the link longer than that topic's TTL minus its own wire time.
-    const ProtectedTopics& protect = protected_topics(now);
+    protected_topics(now);
+    if (config_.bundles) {
+        release_bundles(now, sink);
+        return;
+    }
 
     while (!queue_.empty() && budget_.can_send(now)) {
         const base::SteadyTime start = std::max(now, budget_.busy_until());
         bool sent = false;
         queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
-            const DeadlineQueue::Peek sample = queue_.at(slot);
-            const std::uint64_t bits = wire_bits(sample.payload_bytes);
-            const base::Duration tx = budget_.transmit_time(bits);
-            const bool blocks_urgent = tx > protect.limit_for(sample.topic);
-            if (start + tx + config_.link_latency > sample.deadline) {
-                drop(take(slot), blocks_urgent ? DropReason::oversize : DropReason::doomed, sink);
-                return true;
-            }
-            if (blocks_urgent) {
-                // Wait for a faster link; give up once it could no longer make its deadline.
-                const base::SteadyTime give_up = sample.deadline - tx - config_.link_latency + base::Duration(1);
-                blocked_wakeup_ = blocked_wakeup_ ? std::min(*blocked_wakeup_, give_up) : give_up;
+            const std::uint64_t bits = wire_bits(queue_.at(slot).payload_bytes);
+            if (!may_start(slot, start, bits, sink)) {
                 return true;
             }
             budget_.charge(now, bits);
@@ -231,6 +250,91 @@ void Scheduler::release_by_deadline(base::SteadyTime now, SampleSink& sink) {
             break;
         }
     }
+}
+
+void Scheduler::release_bundles(base::SteadyTime now, SampleSink& sink) {
+    BundleBuilder bundle(config_.wire);
+    while (!queue_.empty() && budget_.can_send(now)) {
+        const base::SteadyTime start = std::max(now, budget_.busy_until());
+        bundle.clear();
+        std::vector<Sample> samples = fill_bundle(start, bundle, sink);
+        if (samples.empty()) {
+            break;
+        }
+        const std::uint64_t most_bits = bundle.wire_bits(bundle.encoded_bytes());
+        struct Tally {
+            TopicId topic;
+            std::size_t payload_bytes;
+        };
+        std::vector<Tally> tallies;
+        tallies.reserve(samples.size());
+        std::size_t payload_bytes = 0;
+        for (const Sample& s : samples) {
+            tallies.push_back({s.topic, s.payload.size()});
+            payload_bytes += s.payload.size();
+        }
+        const std::uint64_t bits =
+            8u * sink.forward_bundle(std::move(samples), static_cast<std::size_t>(most_bits / 8));
+        const bool written = bits > 0;
+        budget_.charge(now, written ? bits : most_bits);
+        // Each entry's share of the bundle's bytes is its payload's share of the whole, rounded so that the shares
+        // add up to the bundle.
+        const std::uint64_t bytes = bits / 8;
+        std::uint64_t payload_before = 0;
+        for (std::size_t i = 0; i < tallies.size(); ++i) {
+            const Tally& t = tallies[i];
+            TopicCounters& c = topics_[t.topic].counters;
+            if (!written) {
+                ++c.dropped_for(DropReason::write_failed);
+                continue;
+            }
+            ++c.forwarded;
+            c.forwarded_payload_bytes += t.payload_bytes;
+            const auto share_until = [&](std::uint64_t payload, std::size_t entries) {
+                return payload_bytes == 0 ? bytes * entries / tallies.size() : bytes * payload / payload_bytes;
+            };
+            c.forwarded_wire_bytes +=
+                share_until(payload_before + t.payload_bytes, i + 1) - share_until(payload_before, i);
+            payload_before += t.payload_bytes;
+        }
+    }
+}
+
+std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder& bundle, SampleSink& sink) {
+    // Smaller, less urgent samples may fill the room a larger one left; looking further costs time for little.
+    constexpr std::size_t MAX_CANDIDATES = 64;
+    std::vector<Sample> samples;
+    const std::size_t max_bytes = config_.bundles->max_encoded_bytes;
+    base::SteadyTime earliest_deadline = base::SteadyTime::max();
+    base::Duration limit = base::Duration::max();  // the non-preemptive rule's, for what the bundle holds
+    std::size_t candidates = 0;
+    queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
+        const DeadlineQueue::Peek peek = queue_.at(slot);
+        const BundleBuilder::Entry entry{peek.topic, peek.route, peek.source_time, peek.payload, peek.keyed};
+        if (bundle.empty()) {
+            // The first goes as a sample alone would, even past max_bytes (DDS then fragments it).
+            if (!may_start(slot, start, bundle.alone_wire_bits(entry), sink)) {
+                return true;
+            }
+        } else {
+            if (++candidates > MAX_CANDIDATES) {
+                return false;
+            }
+            const std::size_t bytes = bundle.encoded_bytes_with(entry);
+            const base::Duration tx = budget_.transmit_time(bundle.wire_bits(bytes));
+            // Joining must cost no entry its deadline, nor the most urgent topic its own (DESIGN section 4).
+            if (bytes > max_bytes || start + tx + config_.link_latency > std::min(earliest_deadline, peek.deadline) ||
+                tx > std::min(limit, protect_.limit_for(peek.topic))) {
+                return true;
+            }
+        }
+        limit = std::min(limit, protect_.limit_for(peek.topic));
+        earliest_deadline = std::min(earliest_deadline, peek.deadline);
+        bundle.add(entry);
+        samples.push_back(take(slot));
+        return bundle.encoded_bytes() < max_bytes;
+    });
+    return samples;
 }
 
 void Scheduler::release_paper_period(base::SteadyTime now, SampleSink& sink) {

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "gateway/core/bundle_builder.hpp"
 #include "gateway/core/deadline_queue.hpp"
 #include "gateway/core/link_budget.hpp"
 #include "gateway/core/policy_kind.hpp"
@@ -25,6 +26,9 @@ struct SchedulerConfig {
     /// participant announcing itself every 20 s fits in it, a burst beyond it holds the budget.
     base::Duration reserve_window = std::chrono::seconds(20);
     WireModel wire;
+    /// Compact WAN mode (`ttl` and `edf` only): what one release step admits leaves as one bundle of at most these
+    /// limits, charged as the one DDS sample it is; nullopt: each sample is a DDS sample of its own (standard).
+    std::optional<BundleLimits> bundles;
     std::size_t memory_cap_bytes = 64u << 20;
     /// How early the next sample may be handed to the link before the previous one has drained.
     base::Duration lead = std::chrono::milliseconds(2);
@@ -101,6 +105,8 @@ class Scheduler {
   private:
     /// The bits a sample of `payload_bytes` puts on the link.
     std::uint64_t wire_bits(std::size_t payload_bytes) const { return config_.wire.wire_bits(payload_bytes); }
+    /// The bits the sample puts on the link sent alone: its own DDS sample, or a bundle of its own.
+    std::uint64_t alone_wire_bits(const Sample& sample) const;
 
     struct TopicState {
         TopicConfig config;
@@ -140,6 +146,12 @@ class Scheduler {
     void expire(base::SteadyTime now, SampleSink& sink);
     void evict_over_cap(SampleSink& sink);
     void release_by_deadline(base::SteadyTime now, SampleSink& sink);
+    void release_bundles(base::SteadyTime now, SampleSink& sink);
+    /// Fills one bundle from the queue, starting on the link at `start`; empty when nothing may go now.
+    std::vector<Sample> fill_bundle(base::SteadyTime start, BundleBuilder& bundle, SampleSink& sink);
+    /// The first sample of a bundle (or a sample of its own): drops it when it can no longer arrive in time,
+    /// holds it back when its wire time would cost the most urgent topic its deadline. True if it may go.
+    bool may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std::uint64_t bits, SampleSink& sink);
     void release_paper_period(base::SteadyTime now, SampleSink& sink);
 
     SchedulerConfig config_;

@@ -7,6 +7,7 @@
 
 #include "GatewayStatusPubSubTypes.h"
 #include "base/config_error.hpp"
+#include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway_sink.hpp"
 #include "gateway/dds/qos_file.hpp"
@@ -64,6 +65,13 @@ void GatewayConfig::validate() const {
     if (wan_peer_participants < 1 || wan_peer_participants > MAX_WAN_PEER_PARTICIPANTS) {
         throw base::ConfigError("--wan-peer-participants " + std::to_string(wan_peer_participants) +
                                 ": expected 1 to " + std::to_string(MAX_WAN_PEER_PARTICIPANTS));
+    }
+    if (compact_wan && scheduler.policy != core::PolicyKind::ttl && scheduler.policy != core::PolicyKind::edf) {
+        throw base::ConfigError("--wan-mode compact: bundles need --policy ttl or edf, not " +
+                                std::string(core::to_string(scheduler.policy)));
+    }
+    if (wan_compress && !compact_wan) {
+        throw base::ConfigError("--wan-compress: compresses bundles, so it needs --wan-mode compact");
     }
     if (default_ttl <= base::Duration::zero()) {
         throw base::ConfigError("--default-ttl: must be positive");
@@ -127,21 +135,36 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     };
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
 
+    if (config_.compact_wan) {
+        compact_ = std::make_unique<CompactWan>(
+            *wan_, config_.scheduler.wire,
+            config_.wan_compress ? compact::BundleCompression::zstd_if_smaller : compact::BundleCompression::none);
+        if (!config_.scheduler.bundles) {
+            config_.scheduler.bundles = core::BundleLimits{core::BundleLimits::one_datagram(config_.scheduler.wire)};
+        }
+    }
+
     topics_ = std::make_unique<TopicTable>();
     sink_ = std::make_unique<GatewaySink>(*topics_, log_.get(), clock_);
+    sink_->set_compact(compact_.get());
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
     if (config_.status_period > base::Duration::zero()) {
         // The status is scheduled like a sample of a topic with a TTL of STATUS_TTL, so its bytes leave only
         // when the budget has room for them.
         OfferedQos offer;
         offer.reliable = true;  // matched by any reader's defaults
-        status_writer_ = wan_->create_writer(STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true, STATUS_TTL,
-                                             offer, nullptr);
-        if (status_writer_ == nullptr) {
-            throw base::ConfigError("--status-period: cannot create the writer of " + std::string(STATUS_TOPIC));
-        }
         status_topic_ = loop_->add_topic(core::TopicConfig{STATUS_TOPIC, STATUS_TTL});
-        sink_->set_status_route(status_topic_, status_writer_);
+        if (compact_) {
+            compact_->announce(CatalogLane{*status_topic_, STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true,
+                                           STATUS_TTL, 0, offer, STATUS_TTL});
+        } else {
+            status_writer_ = wan_->create_writer(STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true,
+                                                 STATUS_TTL, offer, nullptr);
+            if (status_writer_ == nullptr) {
+                throw base::ConfigError("--status-period: cannot create the writer of " + std::string(STATUS_TOPIC));
+            }
+        }
+        sink_->set_status_route(*status_topic_, status_writer_);
     }
     loop_->start();
     if (config_.receiver_reports) {
@@ -347,7 +370,7 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     const ResolvedTtl ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
     const core::TopicId id = loop_->add_topic(core::TopicConfig{pub.topic, ttl.ttl});
     auto bridge = std::make_unique<TopicBridge>(id, pub.topic, pub.type_name, pub.keyed, ttl,
-                                                TopicBridge::Ends{*robot_, *wan_, *loop_, clock_});
+                                                TopicBridge::Ends{*robot_, *wan_, *loop_, clock_, compact_.get()});
     if (bridge->admit(pub, declared)) {
         topics_->add(std::move(bridge));
     }
@@ -409,6 +432,14 @@ std::uint64_t Gateway::wan_write_failures() const {
     return sink_->wan_write_failures();
 }
 
+std::uint64_t Gateway::wan_bundles() const {
+    return compact_ ? compact_->bundles_written() : 0;
+}
+
+std::uint64_t Gateway::wan_bundle_bytes() const {
+    return compact_ ? compact_->bundle_bytes() : 0;
+}
+
 DatagramCoalescer::Counts Gateway::wan_datagrams() const {
     return wan_->coalescer().counts();
 }
@@ -467,7 +498,7 @@ void Gateway::publish_status_nts() {
         all_readers += t.matched_readers();
         status.topics().push_back(std::move(t));
     }
-    status.matched_readers(all_readers + status_writer_->matched_readers());
+    status.matched_readers(compact_ ? compact_->matched_readers() : all_readers + status_writer_->matched_readers());
 
     // At most STATUS_RATE_SHARE of the rate: a status and its headers on the wire, alone in a datagram.
     idl::GatewayStatusPubSubType type;
@@ -480,7 +511,7 @@ void Gateway::publish_status_nts() {
     status.status_period_s(base::to_seconds(period));
 
     core::Sample sample;
-    sample.topic = status_topic_;
+    sample.topic = *status_topic_;
     sample.source_time = clock_.wall_now();
     eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(bytes));
     eprosima::fastrtps::rtps::InstanceHandle_t instance;
@@ -506,7 +537,7 @@ std::uint64_t Gateway::forwarded_robot_samples() const {
 }
 
 core::TopicCounters Gateway::status_counters() const {
-    return status_writer_ ? loop_->counters(status_topic_) : core::TopicCounters{};
+    return status_topic_ ? loop_->counters(*status_topic_) : core::TopicCounters{};
 }
 
 std::uint64_t Gateway::suppressed_heartbeats() const {

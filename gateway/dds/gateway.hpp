@@ -39,6 +39,7 @@ class DataWriter;
 
 namespace tgw::dds {
 
+class CompactWan;
 class GatewaySink;
 class RobotParticipant;
 class TopicTable;
@@ -61,6 +62,11 @@ struct GatewayConfig {
     std::vector<std::string> deny;
     base::Duration default_ttl = std::chrono::seconds(5);
     core::SchedulerConfig scheduler;
+    /// Compact WAN mode (--wan-mode compact): what the scheduler releases together leaves as one bundle, and the
+    /// base camp's relay unpacks it; needs a scheduler.bundles limit (set from the wire model when missing).
+    bool compact_wan = false;
+    /// Compact WAN mode: zstd-compress a bundle's entries where that makes it smaller (--wan-compress).
+    bool wan_compress = false;
     std::chrono::seconds wan_lease{120};
     std::chrono::seconds wan_announcement_period{20};
     /// Read the base camp's receiver reports (tgw/receiver_report), see receiver_report().
@@ -130,6 +136,9 @@ class Gateway {
     std::size_t wan_participants() const;
     std::optional<base::Duration> wan_writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
     std::uint64_t wan_write_failures() const;
+    /// Compact WAN mode: bundles written so far, and their encoded bytes; zeros in standard mode.
+    std::uint64_t wan_bundles() const;
+    std::uint64_t wan_bundle_bytes() const;
     /// The WAN samples' RTPS messages and the datagrams that carried them.
     DatagramCoalescer::Counts wan_datagrams() const;
     /// The base camp's latest receiver report about this gateway; nullopt before one, or without
@@ -183,7 +192,8 @@ class Gateway {
     std::unique_ptr<log::RobotLog> log_;
     std::unique_ptr<ReceiverReportReader> reports_;  ///< before wan_: its reader's listener outlives it
     std::unique_ptr<WanRouter> wan_;
-    std::unique_ptr<TopicTable> topics_;  ///< after wan_: its bridges hold WAN writers
+    std::unique_ptr<CompactWan> compact_;  ///< after wan_: it holds WAN writers; compact WAN mode only
+    std::unique_ptr<TopicTable> topics_;   ///< after wan_: its bridges hold WAN writers
     std::unique_ptr<GatewaySink> sink_;
     std::unique_ptr<core::ForwardingLoop> loop_;
     std::unique_ptr<Discovery> discovery_;
@@ -197,8 +207,8 @@ class Gateway {
 
     std::unique_ptr<RobotParticipant> robot_;
     std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};
-    std::shared_ptr<WanWriter> status_writer_;
-    core::TopicId status_topic_ = 0;  ///< meaningful with status_writer_
+    std::shared_ptr<WanWriter> status_writer_;   ///< standard WAN mode
+    std::optional<core::TopicId> status_topic_;  ///< with a status period
     std::atomic<std::uint64_t> statuses_published_{0};
     std::mutex sensor_mutex_;
     std::string sensor_description_;

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "gateway/dds/compact_wan.hpp"
+
 namespace tgw::dds {
 
 GatewaySink::GatewaySink(const TopicTable& topics, log::RobotLog* log, const base::Clock& clock)
@@ -27,11 +29,30 @@ bool GatewaySink::forward(core::Sample&& sample) {
         drop(std::move(sample), core::DropReason::write_failed);
         return false;
     }
+    note_forwarded(sample);
+    return true;
+}
+
+std::size_t GatewaySink::forward_bundle(std::vector<core::Sample>&& samples, std::size_t /*wire_bytes*/) {
+    const std::size_t written = compact_ != nullptr ? compact_->write(samples) : 0;
+    for (core::Sample& sample : samples) {
+        if (written == 0) {
+            wan_write_failures_.fetch_add(1, std::memory_order_relaxed);
+            drop(std::move(sample), core::DropReason::write_failed);
+        } else {
+            note_forwarded(sample);
+        }
+    }
+    return written;
+}
+
+void GatewaySink::note_forwarded(const core::Sample& sample) {
     const base::SteadyTime written = clock_.now();
     processing_latency_.record(written - sample.arrival);
     // The log says what left the robot, so that the mission archive can tell lost on the link from never produced.
     // Not the status (the gateway's own, not telemetry), nor a dispose or unregister: the base camp records data
     // samples only, so one could never be matched.
+    const TopicBridge* bridge = sample.topic == status_topic_ ? nullptr : topics_.find(sample.topic);
     if (log_ != nullptr && bridge != nullptr && sample.kind == core::SampleKind::data) {
         // One reading of each clock for the three times: this runs for every sample sent.
         const base::WallTime written_wall = clock_.wall_now();
@@ -47,7 +68,6 @@ bool GatewaySink::forward(core::Sample&& sample) {
         record.forwarded_at = written_wall;
         log_->append_forwarded(record);
     }
-    return true;
 }
 
 void GatewaySink::drop(core::Sample&& sample, core::DropReason reason) {

@@ -13,6 +13,8 @@
 
 namespace tgw::dds {
 
+class CompactWan;
+
 /// Where the scheduler's decisions land in the gateway: released samples are written to the WAN by their topic's
 /// bridge, the others
 /// appended to the on-robot log (when there is one) with their steady times converted to wall time here, at
@@ -26,7 +28,11 @@ class GatewaySink final : public core::SampleSink {
     /// deadline is not logged (the next status carries its counts). Call before the loop starts.
     void set_status_route(core::TopicId id, std::shared_ptr<WanWriter> writer);
 
+    /// Compact WAN mode: bundles go through `compact`, which must outlive the sink. Call before the loop starts.
+    void set_compact(CompactWan* compact) { compact_ = compact; }
+
     bool forward(core::Sample&& sample) override;
+    std::size_t forward_bundle(std::vector<core::Sample>&& samples, std::size_t wire_bytes) override;
     void drop(core::Sample&& sample, core::DropReason reason) override;
 
     std::uint64_t wan_write_failures() const { return wan_write_failures_.load(); }
@@ -36,11 +42,14 @@ class GatewaySink final : public core::SampleSink {
     const core::LatencyHistogram& processing_latency() const { return processing_latency_; }
 
   private:
+    /// The sample left for the WAN: its processing time, and the on-robot log's record of it.
+    void note_forwarded(const core::Sample& sample);
     base::WallTime to_wall(base::SteadyTime t) const;
 
     const TopicTable& topics_;
     std::optional<core::TopicId> status_topic_;
     std::shared_ptr<WanWriter> status_writer_;
+    CompactWan* compact_ = nullptr;
     log::RobotLog* log_;
     const base::Clock& clock_;
     std::atomic<std::uint64_t> wan_write_failures_{0};

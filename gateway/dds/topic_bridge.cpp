@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/lane_listener.hpp"
 #include "gateway/dds/robot_participant.hpp"
 #include "gateway/dds/wan_router.hpp"
@@ -61,9 +62,14 @@ bool TopicBridge::admit(const DiscoveredPublisher& pub, bool declared) {
     lane.offer = pub.qos;
     lane.live = true;
     lane.declared = declared;
-    lane.writer = ends_.wan.create_writer(name_, type_name_, keyed_, lifespan, pub.qos, pub.type_object);
-    if (lane.writer == nullptr) {
-        return false;
+    if (ends_.compact != nullptr) {
+        // The lane's samples travel in bundles; the catalog tells the base camp what to republish them as.
+        ends_.compact->announce(CatalogLane{id_, name_, type_name_, keyed_, ttl_.ttl, index, pub.qos, lifespan});
+    } else {
+        lane.writer = ends_.wan.create_writer(name_, type_name_, keyed_, lifespan, pub.qos, pub.type_object);
+        if (lane.writer == nullptr) {
+            return false;
+        }
     }
     lane.listener = std::make_unique<LaneListener>(id_, name_, index, keyed_, writers_, ends_.loop, ends_.clock);
     lane.reader = ends_.robot.create_reader(name_, type_name_, keyed_, pub.qos, lane.listener.get());
@@ -140,6 +146,9 @@ std::int32_t TopicBridge::matched_writers() const {
 }
 
 std::int32_t TopicBridge::matched_readers() const {
+    if (ends_.compact != nullptr) {
+        return ends_.compact->matched_readers();
+    }
     std::lock_guard<std::mutex> lock(mutex_);
     std::int32_t matched = 0;
     for (const Lane& lane : lanes_) {

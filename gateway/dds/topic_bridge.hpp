@@ -22,6 +22,7 @@ class DataReader;
 
 namespace tgw::dds {
 
+class CompactWan;
 class LaneListener;
 class RobotParticipant;
 class WanRouter;
@@ -57,6 +58,8 @@ class TopicBridge {
         WanRouter& wan;
         core::ForwardingLoop& loop;
         const base::Clock& clock;
+        /// Compact WAN mode: lanes are announced in its catalog instead of getting WAN writers; null: standard.
+        CompactWan* compact = nullptr;
     };
 
     TopicBridge(core::TopicId id, std::string name, std::string type_name, bool keyed, ResolvedTtl ttl, Ends ends);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "gateway/sim/simulated_link.hpp"
 
@@ -22,16 +23,16 @@ class SimulationSink final : public core::SampleSink {
     bool forward(core::Sample&& sample) override {
         const double bits =
             config_.true_overhead_factor * static_cast<double>(config_.scheduler.wire.wire_bits(sample.payload.size()));
-        const auto arrived = link_.send(now_, static_cast<std::uint64_t>(std::llround(bits)));
-        if (!measured(sample))
-            return true;
-        DeliveryStats& stats = stats_[sample.topic];
-        if (!arrived) {
-            ++stats.lost_on_link;
-            return true;
-        }
-        stats.record_delivery(*arrived - generated_at(sample), config_.workload[sample.topic].ttl);
+        record(sample, link_.send(now_, static_cast<std::uint64_t>(std::llround(bits))));
         return true;
+    }
+    std::size_t forward_bundle(std::vector<core::Sample>&& samples, std::size_t wire_bytes) override {
+        const double bits = config_.true_overhead_factor * 8.0 * static_cast<double>(wire_bytes);
+        const auto arrived = link_.send(now_, static_cast<std::uint64_t>(std::llround(bits)));
+        for (const core::Sample& sample : samples) {
+            record(sample, arrived);
+        }
+        return wire_bytes;
     }
     void drop(core::Sample&& sample, core::DropReason reason) override {
         if (measured(sample))
@@ -39,6 +40,17 @@ class SimulationSink final : public core::SampleSink {
     }
 
   private:
+    /// The sample reached the far end at `arrived`, or was lost on the way.
+    void record(const core::Sample& sample, std::optional<SteadyTime> arrived) {
+        if (!measured(sample))
+            return;
+        DeliveryStats& stats = stats_[sample.topic];
+        if (!arrived) {
+            ++stats.lost_on_link;
+            return;
+        }
+        stats.record_delivery(*arrived - generated_at(sample), config_.workload[sample.topic].ttl);
+    }
     SteadyTime generated_at(const core::Sample& sample) const {
         return start_ + std::chrono::duration_cast<Duration>(sample.source_time - wall_start_);
     }
@@ -109,6 +121,7 @@ SimulationResult run_simulation(const SimulationConfig& config) {
                 core::Sample sample;
                 sample.topic = static_cast<core::TopicId>(i);
                 sample.payload.assign(core::paper_message_serialized_bytes(config.workload[i].data_bytes), 0);
+                sample.payload[1] = 1;  // the encapsulation header of little-endian plain CDR, as publishers write
                 sample.source_time = wall_at(now);
                 if (now >= measured_begin && now < measured_end)
                     ++result.per_stream[i].offered;

@@ -30,6 +30,10 @@ class NullSink final : public SampleSink {
         benchmark::DoNotOptimize(s);
         return true;
     }
+    std::size_t forward_bundle(std::vector<Sample>&& samples, std::size_t wire_bytes) override {
+        benchmark::DoNotOptimize(samples);
+        return wire_bytes;
+    }
     void drop(Sample&& s, DropReason) override { benchmark::DoNotOptimize(s); }
 };
 

@@ -15,6 +15,10 @@ namespace tgw::test {
 /// Keeps every decision of the scheduler, in order. Thread-safe, with waits for tests of threaded code.
 class RecordingSink final : public core::SampleSink {
   public:
+    struct Bundle {
+        std::vector<core::TopicId> topics;
+        std::size_t wire_bytes;
+    };
     struct Dropped {
         core::Sample sample;
         core::DropReason reason;
@@ -29,6 +33,22 @@ class RecordingSink final : public core::SampleSink {
         }
         changed_.notify_all();
         return !refuse_writes_;
+    }
+    /// Keeps the samples as forwarded (or refused) one by one, and the bundle's topics and wire size.
+    std::size_t forward_bundle(std::vector<core::Sample>&& samples, std::size_t wire_bytes) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        Bundle bundle{{}, wire_bytes};
+        for (core::Sample& sample : samples) {
+            bundle.topics.push_back(sample.topic);
+            if (refuse_writes_) {
+                dropped_.push_back(Dropped{std::move(sample), core::DropReason::write_failed});
+            } else {
+                forwarded_.push_back(std::move(sample));
+            }
+        }
+        bundles_.push_back(std::move(bundle));
+        changed_.notify_all();
+        return refuse_writes_ ? 0 : wire_bytes;
     }
     /// From now on, every forward fails as a refused WAN write does.
     void refuse_writes() {
@@ -48,6 +68,10 @@ class RecordingSink final : public core::SampleSink {
     std::vector<Dropped> dropped() const {
         std::lock_guard<std::mutex> lock(mutex_);
         return dropped_;
+    }
+    std::vector<Bundle> bundles() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return bundles_;
     }
     /// Topics of the forwarded samples, in order.
     std::vector<core::TopicId> forwarded_topics() const {
@@ -73,6 +97,7 @@ class RecordingSink final : public core::SampleSink {
     mutable std::condition_variable changed_;
     std::vector<core::Sample> forwarded_;
     std::vector<Dropped> dropped_;
+    std::vector<Bundle> bundles_;
     bool refuse_writes_ = false;
 };
 

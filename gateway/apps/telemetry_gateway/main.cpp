@@ -147,6 +147,14 @@ int main(int argc, char** argv) {
                    "a WAN sample that follows the previous datagram within this many microseconds waits as long "
                    "to share a datagram with the next ones; a sample that comes alone goes at once; 0: never")
         ->capture_default_str();
+    std::string wan_mode = "standard";
+    app.add_option("--wan-mode", wan_mode,
+                   "standard: a DDS sample per sample, any DDS reader at the base camp; compact: what the scheduler "
+                   "releases together leaves as one bundle on tgw/compact/bundles, which tm-basecamp relay unpacks")
+        ->check(CLI::IsMember({"standard", "compact"}))
+        ->capture_default_str();
+    app.add_flag("--wan-compress", config.wan_compress,
+                 "compact mode: zstd-compress a bundle's entries where that makes it smaller");
     app.add_option("--wan-heartbeat-bytes", config.wan_heartbeat_bytes,
                    "a reliable WAN writer piggy-backs a HEARTBEAT (and draws an ACKNACK from each reader) once "
                    "per this many bytes it sends; 0: with every sample, so a lost one is repaired a sample later")
@@ -244,6 +252,7 @@ int main(int argc, char** argv) {
         config.robot.shm = !robot_udp_only;
         config.wan_coalesce_window = std::chrono::microseconds(coalesce_us);
         config.status_period = tgw::base::from_seconds(status_period_s);
+        config.compact_wan = wan_mode == "compact";
 
         guard.hold = tgw::base::from_seconds(hold_s);
         if (!(guard.smoothing > 0.0 && guard.smoothing <= 1.0)) {
@@ -318,7 +327,7 @@ int main(int argc, char** argv) {
             SENSOR_POLL_INTERVAL);
         poller.start();
         std::cerr << "telemetry-gateway: robot domain " << config.robot_domain << " -> WAN domain " << config.wan_domain
-                  << ", policy " << policy_name << ", sensor " << sensor->describe() << '\n';
+                  << " (" << wan_mode << "), policy " << policy_name << ", sensor " << sensor->describe() << '\n';
 
         wait_for_end(signals, duration_s);
 

@@ -54,6 +54,10 @@ int main(int argc, char** argv) {
     double paper_overhead = 0.0;
     double budget_fraction = tgw::core::SchedulerConfig{}.budget_fraction;
     bool summary = false;
+    std::string wan_mode = "standard";
+    app.add_option("--wan-mode", wan_mode,
+                   "standard: a DDS sample per sample; compact: what leaves together goes as one bundle")
+        ->check(CLI::IsMember({"standard", "compact"}));
     app.add_option("--policy", policy_names, "ttl, edf, paper, fifo or all; repeatable")->delimiter(',');
     app.add_option("--workload", workload, "the workload: paper")->check(CLI::IsMember({"paper"}));
     app.add_option("--rate", rates, "link rate in bit/s; repeatable or comma-separated")
@@ -88,6 +92,13 @@ int main(int argc, char** argv) {
 
     try {
         const std::vector<PolicyKind> policies = parse_policies(policy_names);
+        const bool compact = wan_mode == "compact";
+        for (PolicyKind policy : policies) {
+            if (compact && policy != PolicyKind::ttl && policy != PolicyKind::edf) {
+                throw ConfigError("--wan-mode compact: bundles are for --policy ttl and edf, not " +
+                                  std::string(tgw::core::to_string(policy)));
+            }
+        }
         if (rates.empty() == trace_file.empty()) {
             throw ConfigError("give either --rate or --trace (one of them)");
         }
@@ -110,6 +121,9 @@ int main(int argc, char** argv) {
                 config.scheduler.paper_period = tgw::base::from_seconds(paper_period_s);
                 config.scheduler.paper_overhead = paper_overhead;
                 config.scheduler.budget_fraction = budget_fraction;
+                if (compact) {
+                    config.scheduler.bundles = tgw::core::BundleLimits{};
+                }
                 config.link = links[i];
                 config.duration = tgw::base::from_seconds(duration_s);
                 config.warmup = tgw::base::from_seconds(warmup_s);

@@ -1,11 +1,8 @@
-#include "gateway/core/scheduler.hpp"
-
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "test/fakes/fake_clock.hpp"
-#include "test/fakes/recording_sink.hpp"
+#include "test/unit/core/scheduler_fixture.hpp"
 
 namespace tgw::core {
 namespace {
@@ -13,55 +10,12 @@ namespace {
 using std::chrono::milliseconds;
 using std::chrono::seconds;
 
-class SchedulerTest : public ::testing::Test {
+class SchedulerTest : public SchedulerFixture {
   protected:
-    void make_sut(PolicyKind policy, double rate_bps) {
-        config.policy = policy;
-        config.initial_rate_bps = rate_bps;
-        config.lead = base::Duration::zero();
-        config.budget_fraction = 1.0;  // exact arithmetic below; the fraction has a test of its own
-        sut = std::make_unique<Scheduler>(config);
-        a = sut->add_topic({"A", seconds(1)});
-        b = sut->add_topic({"B", seconds(2)});
-        c = sut->add_topic({"C", seconds(5)});
-        d = sut->add_topic({"D", seconds(20)});
-    }
-
-    /// Pushes a sample of `payload_bytes` stamped `age` before now at the source.
-    void push(TopicId topic, std::size_t payload_bytes = 64, base::Duration age = base::Duration::zero()) {
-        Sample s;
-        s.topic = topic;
-        s.payload.assign(payload_bytes, static_cast<std::uint8_t>(topic));
-        s.source_time = clock.wall_now() - std::chrono::duration_cast<base::WallClock::duration>(age);
-        sut->push(std::move(s), clock.now(), clock.wall_now(), sink);
-    }
-
-    void release() { sut->release(clock.now(), sink); }
-
-    /// Runs the scheduler as the gateway's loop would, in simulated time, for `span`.
-    void run_for(base::Duration span) {
-        const base::SteadyTime end = clock.now() + span;
-        release();
-        while (auto next = sut->next_wakeup(clock.now())) {
-            if (*next > end)
-                break;
-            clock.advance(std::max(*next - clock.now(), base::Duration(1)));
-            release();
-        }
-        if (clock.now() < end)
-            clock.advance(end - clock.now());
-    }
-
     /// Wire time of a 64-byte sample at `rate_bps` under the default wire model.
     base::Duration wire_time_64(double rate_bps) const {
         return base::from_seconds(static_cast<double>(config.wire.wire_bits(64)) / rate_bps);
     }
-
-    SchedulerConfig config;
-    test::FakeClock clock;
-    test::RecordingSink sink;
-    std::unique_ptr<Scheduler> sut;
-    TopicId a = 0, b = 0, c = 0, d = 0;
 };
 
 TEST_F(SchedulerTest, CountsARefusedWriteAsWriteFailedNotForwarded) {
@@ -422,14 +376,7 @@ TEST_F(SchedulerTest, ArrivalClockIgnoresTheSourceTimestamp) {
 TEST_F(SchedulerTest, EverySampleIsForwardedQueuedOrLogged) {
     config.memory_cap_bytes = 40'000;
     make_sut(PolicyKind::ttl, 15'000);
-    std::mt19937 rng(7);
-    std::uniform_int_distribution<int> topic(0, 3), size(20, 3'000), gap_ms(0, 40), rate(0, 60'000);
-    for (int i = 0; i < 5'000; ++i) {
-        push(static_cast<TopicId>(topic(rng)), static_cast<std::size_t>(size(rng)));
-        if (i % 500 == 0)
-            sut->set_rate(rate(rng));
-        run_for(milliseconds(gap_ms(rng)));
-    }
+    run_random_load(7, 5'000);
     for (TopicId t : {a, b, c, d}) {
         const TopicCounters& n = sut->counters(t);
         EXPECT_TRUE(n.balanced()) << "topic " << t;

@@ -1,0 +1,106 @@
+// tm-basecamp relay's side of the compact WAN mode: bundles in, each sample on its own topic again.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "CompactWan.h"
+#include "base/time.hpp"
+#include "basecamp/delivery_tally.hpp"
+#include "basecamp/sample_consumer.hpp"
+#include "gateway/compact/bundle_codec.hpp"
+#include "gateway/dds/partition_groups.hpp"
+
+namespace eprosima::fastdds::dds {
+class DataReader;
+class DataWriter;
+class DomainParticipant;
+class Publisher;
+class Subscriber;
+}  // namespace eprosima::fastdds::dds
+
+namespace tgw::basecamp {
+
+/// Reads the catalog and the bundles of every compact-mode gateway on the WAN domain and writes each entry on the
+/// local domain as the sample it was: its topic and type name, its instance and source timestamp, through a writer
+/// that offers what its robot publisher offered, with the gateway's Lifespan (the TTL), so it expires here when it
+/// would have there. A bundle that does not decode (compact::BundleError) is counted, reported once, and dropped;
+/// nothing in it is trusted. Entries of a topic whose catalog entry has not arrived yet wait for it, up to their
+/// TTL (at most PENDING_LIMIT of them); a base camp that joins late decodes as soon as the catalog reaches it.
+///
+/// Local writers are made in poll(), from the thread that runs the relay, never in a DDS callback.
+class CompactUnpacker {
+  public:
+    struct Counts {
+        std::uint64_t bundles = 0;
+        std::uint64_t entries = 0;
+        std::uint64_t relayed = 0;
+        std::uint64_t rejected_bundles = 0;
+        std::uint64_t lost_bundles = 0;     ///< gaps in a gateway's bundle sequence
+        std::uint64_t unknown_entries = 0;  ///< never described by a catalog entry in time
+        std::uint64_t failed_writes = 0;
+    };
+
+    /// Entries waiting for their catalog entry, at most.
+    static constexpr std::size_t PENDING_LIMIT = 4096;
+
+    /// Reads on `wan` with `subscribers`' groups, writes on `local` through `publishers`' groups; all must outlive
+    /// it. `store`: where the relay records, or nullptr. Throws base::ConfigError when DDS refuses a reader.
+    CompactUnpacker(eprosima::fastdds::dds::DomainParticipant* wan, eprosima::fastdds::dds::DomainParticipant* local,
+                    dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers, SampleConsumer* store);
+    ~CompactUnpacker();
+    CompactUnpacker(const CompactUnpacker&) = delete;
+    CompactUnpacker& operator=(const CompactUnpacker&) = delete;
+
+    /// Makes the local writers of new catalog entries and passes on what waited for them. The relay's thread.
+    void poll();
+
+    Counts counts() const;
+    /// Samples written on the local domain per topic, and local readers matched per topic.
+    std::map<std::string, std::uint64_t> relayed() const;
+    std::int32_t local_readers(const std::string& topic) const;
+
+  private:
+    class CatalogListener;
+    class BundleListener;
+    struct LocalLane;
+    struct Stream;
+    struct Waiting {
+        ParticipantPrefix gateway;
+        compact::BundleEntry entry;
+        std::int64_t receive_ns;
+        base::SteadyTime since;
+    };
+
+    void on_catalog(const ParticipantPrefix& gateway, wan::CatalogEntry entry);
+    void on_bundle(const ParticipantPrefix& gateway, const std::vector<std::uint8_t>& bytes, std::int64_t receive_ns);
+    /// Writes the entry on the local domain if its lane's writer exists; false if it must wait. mutex_ held.
+    bool deliver_nts(const ParticipantPrefix& gateway, compact::BundleEntry& entry, std::int64_t receive_ns);
+
+    eprosima::fastdds::dds::DomainParticipant* wan_;
+    eprosima::fastdds::dds::DomainParticipant* local_;
+    dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers_;
+    SampleConsumer* store_;
+    std::unique_ptr<CatalogListener> catalog_listener_;
+    std::unique_ptr<BundleListener> bundle_listener_;
+    eprosima::fastdds::dds::DataReader* catalog_reader_ = nullptr;
+    eprosima::fastdds::dds::DataReader* bundle_reader_ = nullptr;
+
+    mutable std::mutex mutex_;
+    std::map<std::pair<ParticipantPrefix, std::uint32_t>, std::unique_ptr<Stream>> streams_;
+    std::deque<std::pair<ParticipantPrefix, wan::CatalogEntry>> new_entries_;
+    std::deque<Waiting> waiting_;
+    std::map<ParticipantPrefix, std::uint32_t> next_bundle_;
+    Counts counts_;
+    std::array<bool, 8> error_reported_{};
+};
+
+}  // namespace tgw::basecamp

@@ -1,0 +1,62 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "gateway/core/sample.hpp"
+#include "gateway/core/wire_model.hpp"
+
+namespace tgw::core {
+
+/// Compact WAN mode: how large a bundle may grow (its encoding, compact::BundleCodec).
+struct BundleLimits {
+    /// The bundle travels as one DDS sample: its encapsulation and the sequence's length come first.
+    static constexpr std::size_t DDS_ENVELOPE_BYTES = 8;
+    /// The largest encoding that still leaves in one datagram, without DATA_FRAG (1300 at the default 1472).
+    static std::size_t one_datagram(const WireModel& wire) { return wire.max_unfragmented_bytes - DDS_ENVELOPE_BYTES; }
+
+    std::size_t max_encoded_bytes = one_datagram(WireModel{});
+};
+
+/// The bundle the scheduler is filling: the sizes of what it holds so far, so that the budget charges what the
+/// bundle will really put on the wire, and the scheduler can ask what one more sample would cost.
+class BundleBuilder {
+  public:
+    /// What the builder needs to know of a sample.
+    struct Entry {
+        TopicId topic;
+        std::uint16_t lane;
+        base::WallTime source_time;
+        const std::vector<std::uint8_t>* payload;
+        bool keyed;
+    };
+
+    explicit BundleBuilder(const WireModel& wire) : wire_(wire) {}
+
+    bool empty() const { return entries_ == 0; }
+    std::size_t entries() const { return entries_; }
+    /// The encoding's bytes so far, the header and checksum counted at their largest.
+    std::size_t encoded_bytes() const;
+    /// The encoding's bytes if `entry` joined.
+    std::size_t encoded_bytes_with(const Entry& entry) const;
+    /// What a bundle of `encoded_bytes` puts on the link: one DDS sample, fragmented if it must be.
+    std::uint64_t wire_bits(std::size_t encoded_bytes) const {
+        return wire_.wire_bits(encoded_bytes + BundleLimits::DDS_ENVELOPE_BYTES);
+    }
+    /// What a bundle holding `entry` alone puts on the link.
+    std::uint64_t alone_wire_bits(const Entry& entry) const;
+
+    void add(const Entry& entry);
+    void clear() { *this = BundleBuilder(wire_); }
+
+  private:
+    std::size_t entry_bytes(const Entry& entry) const;
+
+    WireModel wire_;
+    std::size_t entries_ = 0;
+    std::size_t entry_bytes_ = 0;
+    base::WallTime base_time_{};
+};
+
+}  // namespace tgw::core

@@ -1,0 +1,151 @@
+#include "gateway/dds/compact_wan.hpp"
+
+#include <iostream>
+#include <utility>
+
+#include <fastdds/rtps/common/SerializedPayload.h>
+
+#include "CompactWanPubSubTypes.h"
+#include "base/config_error.hpp"
+#include "gateway/compact/bundle_codec.hpp"
+#include "gateway/core/bundle_builder.hpp"
+#include "gateway/dds/compact_topics.hpp"
+#include "gateway/dds/wan_router.hpp"
+#include "gateway/dds/wan_writer.hpp"
+
+namespace tgw::dds {
+
+namespace {
+
+std::int64_t ns_or_infinite(const std::optional<base::Duration>& d) {
+    return d ? std::chrono::duration_cast<std::chrono::nanoseconds>(*d).count() : -1;
+}
+
+wan::LaneOffer lane_offer(const CatalogLane& lane) {
+    wan::LaneOffer out;
+    const OfferedQos& o = lane.offer;
+    out.reliable(o.reliable);
+    out.transient_local(o.transient_local);
+    out.partitions(o.partitions);
+    out.deadline_ns(ns_or_infinite(o.deadline));
+    out.liveliness(static_cast<std::uint8_t>(o.liveliness));
+    out.liveliness_lease_ns(ns_or_infinite(o.liveliness_lease));
+    out.exclusive_ownership(o.exclusive_ownership);
+    out.ownership_strength(o.ownership_strength);
+    out.xcdr2(o.xcdr2);
+    out.lifespan_ns(ns_or_infinite(lane.lifespan));
+    return out;
+}
+
+compact::EntryKind entry_kind(core::SampleKind kind) {
+    switch (kind) {
+        case core::SampleKind::dispose:
+            return compact::EntryKind::dispose;
+        case core::SampleKind::unregister:
+            return compact::EntryKind::unregister;
+        case core::SampleKind::data:
+            break;
+    }
+    return compact::EntryKind::data;
+}
+
+}  // namespace
+
+CompactWan::CompactWan(WanRouter& wan, const core::WireModel& wire, compact::BundleCompression compression)
+    : wire_(wire), compression_(compression) {
+    OfferedQos best_effort;
+    bundle_writer_ = wan.create_writer(COMPACT_BUNDLE_TOPIC, wan::BundlePubSubType().getName(), false, std::nullopt,
+                                       best_effort, nullptr);
+    OfferedQos latched;
+    latched.reliable = true;
+    latched.transient_local = true;
+    catalog_writer_ = wan.create_writer(COMPACT_CATALOG_TOPIC, wan::CatalogEntryPubSubType().getName(), true,
+                                        std::nullopt, latched, nullptr);
+    if (bundle_writer_ == nullptr || catalog_writer_ == nullptr) {
+        throw base::ConfigError("--wan-mode compact: cannot create the WAN writers of " +
+                                std::string(COMPACT_BUNDLE_TOPIC) + " and " + COMPACT_CATALOG_TOPIC);
+    }
+}
+
+CompactWan::~CompactWan() = default;
+
+bool CompactWan::announce(const CatalogLane& lane) {
+    std::lock_guard<std::mutex> lock(catalog_mutex_);
+    wan::CatalogEntry& entry = catalog_[lane.topic_id];
+    entry.topic_id(lane.topic_id);
+    entry.topic(lane.topic);
+    entry.type_name(lane.type_name);
+    entry.keyed(lane.keyed);
+    entry.ttl_ns(std::chrono::duration_cast<std::chrono::nanoseconds>(lane.ttl).count());
+    if (entry.lanes().size() <= lane.lane) {
+        entry.lanes().resize(lane.lane + 1u);
+    }
+    entry.lanes()[lane.lane] = lane_offer(lane);
+
+    wan::CatalogEntryPubSubType type;
+    eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&entry)());
+    eprosima::fastrtps::rtps::InstanceHandle_t instance;
+    core::Sample sample;
+    if (!type.serialize(&entry, &payload) || !type.getKey(&entry, &instance, false)) {
+        std::cerr << "telemetry-gateway: cannot serialize the catalog entry of " << lane.topic << "\n";
+        return false;
+    }
+    sample.payload.assign(payload.data, payload.data + payload.length);
+    for (std::size_t i = 0; i < sample.key.bytes.size(); ++i) {
+        sample.key.bytes[i] = instance.value[i];
+    }
+    sample.key.valid = true;
+    sample.source_time = base::WallClock::now();
+    // Reliable and latched: a base camp that misses it, or joins later, gets it repaired or on joining.
+    return catalog_writer_->write(sample) == WriteResult::ok;
+}
+
+std::size_t CompactWan::write(std::vector<core::Sample>& samples) {
+    bundle_.sequence = next_sequence_;
+    bundle_.entries.resize(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+        core::Sample& sample = samples[i];
+        compact::BundleEntry& entry = bundle_.entries[i];
+        entry.topic_id = sample.topic;
+        entry.lane = sample.route;
+        entry.kind = entry_kind(sample.kind);
+        entry.source_ns =
+            std::chrono::duration_cast<std::chrono::nanoseconds>(sample.source_time.time_since_epoch()).count();
+        entry.keyed = sample.key.valid;
+        entry.key = sample.key.bytes;
+        entry.chunked = false;
+        entry.payload = std::move(sample.payload);  // handed back below
+    }
+    compact::BundleCodec::encode(bundle_, encoded_, compression_);
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+        samples[i].payload = std::move(bundle_.entries[i].payload);
+    }
+
+    // The DDS sample: plain CDR of wan::Bundle, the sequence's length and the bytes.
+    core::Sample carrier;
+    const auto length = static_cast<std::uint32_t>(encoded_.size());
+    carrier.payload.reserve(core::BundleLimits::DDS_ENVELOPE_BYTES + encoded_.size());
+    carrier.payload = {0x00,
+                       0x01,
+                       0x00,
+                       0x00,
+                       static_cast<std::uint8_t>(length),
+                       static_cast<std::uint8_t>(length >> 8),
+                       static_cast<std::uint8_t>(length >> 16),
+                       static_cast<std::uint8_t>(length >> 24)};
+    carrier.payload.insert(carrier.payload.end(), encoded_.begin(), encoded_.end());
+    carrier.source_time = base::WallClock::now();
+    if (bundle_writer_->write(carrier) != WriteResult::ok) {
+        return 0;
+    }
+    ++next_sequence_;
+    bundles_written_.fetch_add(1, std::memory_order_relaxed);
+    bundle_bytes_.fetch_add(encoded_.size(), std::memory_order_relaxed);
+    return wire_.wire_bytes(carrier.payload.size());
+}
+
+std::int32_t CompactWan::matched_readers() const {
+    return bundle_writer_->matched_readers();
+}
+
+}  // namespace tgw::dds

@@ -1,0 +1,182 @@
+// The compact WAN mode end to end on real participants: a robot publisher, a Gateway in --wan-mode compact, the
+// relay unpacking the bundles into the camp's domain, and plain subscribers of the original types there.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+#include "CompactWanPubSubTypes.h"
+#include "KeyedReadingPubSubTypes.h"
+#include "PaperWorkloadPubSubTypes.h"
+#include "basecamp/compact_unpacker.hpp"
+#include "gateway/compact/bundle_codec.hpp"
+#include "gateway/dds/compact_topics.hpp"
+#include "gateway/dds/wan_address.hpp"
+#include "test/integration/relay_fixture.hpp"
+
+namespace tgw::test {
+namespace {
+
+class CompactWanTest : public RelayTest {
+  protected:
+    GatewayConfig compact_config() const {
+        GatewayConfig c = config();
+        c.compact_wan = true;
+        return c;
+    }
+
+    /// Writes `n` PaperMessages numbered from `first`, stamped now, remembering the stamps.
+    void publish_paper(fdds::DataWriter* writer, std::uint32_t first, std::uint32_t n) {
+        for (std::uint32_t i = first; i < first + n; ++i) {
+            idl::PaperMessage m;
+            m.generated_ns(i);
+            m.data(std::vector<std::uint8_t>(41, static_cast<std::uint8_t>(i)));
+            stamps_[i] = stamp_now();
+            ASSERT_EQ(writer->write_w_timestamp(&m, fdds::HANDLE_NIL, stamps_[i]), ReturnCode_t::RETCODE_OK);
+        }
+    }
+
+    std::map<std::uint64_t, eprosima::fastrtps::Time_t> stamps_;
+};
+
+TEST_F(CompactWanTest, PlainSubscribersOfTheOriginalTypesGetPayloadKeyAndTimestampIntact) {
+    start_gateway(compact_config());
+    start_relay();
+    const std::string paper = topic_prefix_ + "paper";
+    const std::string keyed = topic_prefix_ + "keyed";
+
+    // Fast DDS's defaults (best effort) for one, a ROS 2-like reliable keep-last reader for the keyed topic.
+    auto& paper_reader = listener<CollectingReader<idl::PaperMessage>>();
+    local_reader<idl::PaperMessagePubSubType>(paper, local_->default_reader_qos(), paper_reader);
+    fdds::DataReaderQos reliable = local_->default_reader_qos();
+    reliable.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    reliable.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+    reliable.history().depth = 100;
+    auto& keyed_reader = listener<CollectingReader<idl::KeyedReading>>();
+    local_reader<idl::KeyedReadingPubSubType>(keyed, reliable, keyed_reader);
+
+    auto* paper_writer = robot_writer<idl::PaperMessagePubSubType>(paper, writer_qos(false));
+    auto* keyed_writer = robot_writer<idl::KeyedReadingPubSubType>(keyed, writer_qos(false));
+    ASSERT_TRUE(paper_writer && keyed_writer);
+    // The relay learns both topics from the catalog and makes their local writers, which the readers match.
+    for (auto* matched : {&paper_reader.matched, &keyed_reader.matched}) {
+        ASSERT_TRUE(wait_until([&] { return matched->load() > 0; }, 3 * MATCH_TIMEOUT))
+            << "a local reader never matched a writer the relay made from the catalog";
+    }
+    ASSERT_TRUE(
+        wait_until([&] { return gateway_->wan_matched_readers(gateway_->find_topic(paper)->id) > 0; }, MATCH_TIMEOUT))
+        << "the relay never matched the gateway's bundle writer";
+
+    constexpr std::uint32_t N = 40;
+    std::map<std::uint32_t, fdds::InstanceHandle_t> robot_handles;
+    publish_paper(paper_writer, 0, N);
+    for (std::uint32_t i = 0; i < N; ++i) {
+        idl::KeyedReading r;
+        r.sensor_id(i % 4);
+        r.value(i);
+        robot_handles[i % 4] = keyed_writer->register_instance(&r);
+        ASSERT_EQ(keyed_writer->write(&r, robot_handles[i % 4]), ReturnCode_t::RETCODE_OK);
+    }
+    ASSERT_TRUE(wait_until([&] { return paper_reader.count() >= N && keyed_reader.count() >= N; }))
+        << "paper " << paper_reader.count() << ", keyed " << keyed_reader.count() << " of " << N;
+
+    for (const auto& r : paper_reader.received()) {
+        const std::uint64_t i = r.data.generated_ns();
+        EXPECT_EQ(r.data.data(), std::vector<std::uint8_t>(41, static_cast<std::uint8_t>(i)));
+        EXPECT_NEAR(static_cast<double>(ns_of(r.info.source_timestamp)), static_cast<double>(ns_of(stamps_[i])), 2)
+            << "sample " << i << " lost its timestamp";
+    }
+    std::map<std::uint32_t, std::set<fdds::InstanceHandle_t>> instances;
+    std::set<double> values;
+    for (const auto& r : keyed_reader.received()) {
+        instances[r.data.sensor_id()].insert(r.info.instance_handle);
+        values.insert(r.data.value());
+        EXPECT_EQ(static_cast<std::uint32_t>(r.data.value()) % 4, r.data.sensor_id());
+    }
+    EXPECT_EQ(values.size(), N);
+    ASSERT_EQ(instances.size(), 4u);
+    for (const auto& [sensor, handles] : instances) {
+        ASSERT_EQ(handles.size(), 1u) << "sensor " << sensor << " arrived as several instances";
+        EXPECT_EQ(*handles.begin(), robot_handles[sensor]);
+    }
+    // Packed: fewer bundles than samples, and nothing the relay could not place.
+    EXPECT_LT(gateway_->wan_bundles(), 2 * N);
+    ASSERT_NE(relay_->compact(), nullptr);
+    const basecamp::CompactUnpacker::Counts counts = relay_->compact()->counts();
+    EXPECT_EQ(counts.rejected_bundles, 0u);
+    EXPECT_EQ(counts.unknown_entries, 0u);
+    EXPECT_EQ(relay_->relayed()[paper], N);
+    EXPECT_EQ(relay_->relayed()[keyed], N);
+    expect_balanced();
+}
+
+TEST_F(CompactWanTest, ARelayThatJoinsLateDecodesOnceTheCatalogReachesIt) {
+    start_gateway(compact_config());
+    const std::string paper = topic_prefix_ + "late";
+    auto* writer = robot_writer<idl::PaperMessagePubSubType>(paper, writer_qos(false));
+    ASSERT_NE(writer, nullptr);
+    ASSERT_TRUE(gateway_->wait_for_topic(paper, MATCH_TIMEOUT));
+    publish_paper(writer, 0, 5);  // nobody at the base camp yet
+
+    start_relay();
+    auto& reader = listener<CollectingReader<idl::PaperMessage>>();
+    local_reader<idl::PaperMessagePubSubType>(paper, local_->default_reader_qos(), reader);
+    ASSERT_TRUE(wait_until([&] { return reader.matched.load() > 0; }, 3 * MATCH_TIMEOUT))
+        << "the relay never made the local writer: the catalog did not reach it";
+    ASSERT_TRUE(
+        wait_until([&] { return gateway_->wan_matched_readers(gateway_->find_topic(paper)->id) > 0; }, MATCH_TIMEOUT));
+    publish_paper(writer, 100, 10);
+    ASSERT_TRUE(wait_until([&] { return reader.count() >= 10; })) << reader.count() << " of 10";
+    for (const auto& r : reader.received()) {
+        EXPECT_GE(r.data.generated_ns(), 100u) << "a sample from before the relay joined cannot have reached it";
+    }
+}
+
+TEST_F(CompactWanTest, TheRelayRejectsCorruptAndTruncatedBundlesAndGoesOn) {
+    start_gateway(compact_config());
+    start_relay();
+    const std::string paper = topic_prefix_ + "paper";
+    auto& reader = listener<CollectingReader<idl::PaperMessage>>();
+    local_reader<idl::PaperMessagePubSubType>(paper, local_->default_reader_qos(), reader);
+    auto* writer = robot_writer<idl::PaperMessagePubSubType>(paper, writer_qos(false));
+    ASSERT_NE(writer, nullptr);
+    ASSERT_TRUE(wait_until([&] { return reader.matched.load() > 0; }, 3 * MATCH_TIMEOUT));
+    ASSERT_TRUE(
+        wait_until([&] { return gateway_->wan_matched_readers(gateway_->find_topic(paper)->id) > 0; }, MATCH_TIMEOUT));
+
+    // Another participant on the WAN domain writes bundles that are not: cut short, a bit flipped, noise.
+    TestParticipant other(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 62),
+                                                                 domains_.wan_reader_port));
+    ASSERT_TRUE(other.ok());
+    auto& matches = listener<MatchCounter>();
+    fdds::DataWriterQos qos = other.default_writer_qos();
+    qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+    auto* forger =
+        other.make_writer(dds::COMPACT_BUNDLE_TOPIC, fdds::TypeSupport(new wan::BundlePubSubType()), qos, &matches);
+    ASSERT_NE(forger, nullptr);
+    ASSERT_TRUE(wait_until([&] { return matches.matched.load() > 0; }, 3 * MATCH_TIMEOUT));
+    compact::Bundle real{0, {}};
+    compact::BundleEntry entry;
+    entry.topic_id = 0;
+    entry.payload = {0x00, 0x01, 0x00, 0x00, 1, 2, 3, 4};
+    real.entries.push_back(entry);
+    std::vector<std::uint8_t> bytes;
+    compact::BundleCodec::encode(real, bytes);
+    std::vector<std::vector<std::uint8_t>> forged = {
+        std::vector<std::uint8_t>(bytes.begin(), bytes.end() - 3), bytes, std::vector<std::uint8_t>(64, 0xa5), {}};
+    forged[1][bytes.size() / 2] ^= 0x10;
+    for (const auto& f : forged) {
+        wan::Bundle b;
+        b.bytes(f);
+        ASSERT_TRUE(forger->write(&b));
+    }
+    ASSERT_TRUE(wait_until([&] { return relay_->compact()->counts().rejected_bundles >= forged.size(); }))
+        << relay_->compact()->counts().rejected_bundles << " rejected";
+
+    publish_paper(writer, 0, 10);
+    ASSERT_TRUE(wait_until([&] { return reader.count() >= 10; })) << reader.count() << " of 10 after the forgeries";
+    EXPECT_EQ(relay_->compact()->counts().rejected_bundles, forged.size());
+}
+
+}  // namespace
+}  // namespace tgw::test

@@ -1,0 +1,163 @@
+// The scheduler in compact WAN mode: what one release step admits leaves as one bundle.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "gateway/compact/bundle_codec.hpp"
+#include "test/unit/core/scheduler_fixture.hpp"
+
+namespace tgw::core {
+namespace {
+
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+class BundleSchedulingTest : public SchedulerFixture {
+  protected:
+    void make_sut(double rate_bps, PolicyKind policy = PolicyKind::ttl) {
+        config.bundles = BundleLimits{};
+        plain_cdr_payloads = true;
+        SchedulerFixture::make_sut(policy, rate_bps);
+    }
+
+    /// What a bundle of these plain-CDR payloads (all with the same source time) puts on the wire.
+    std::size_t bundle_wire_bytes(std::initializer_list<std::pair<TopicId, std::size_t>> entries) const {
+        std::size_t encoded = compact::BundleCodec::MAX_FRAME_BYTES;
+        for (const auto& [topic, bytes] : entries) {
+            encoded += compact::BundleCodec::entry_bytes(topic, 0, 0, bytes, true, false, nullptr);
+        }
+        return config.wire.wire_bytes(encoded + BundleLimits::DDS_ENVELOPE_BYTES);
+    }
+
+    base::Duration wire_time(std::size_t wire_bytes, double rate_bps) const {
+        return base::from_seconds(8.0 * static_cast<double>(wire_bytes) / rate_bps);
+    }
+};
+
+TEST_F(BundleSchedulingTest, WhatIsQueuedWhenTheLinkFreesLeavesAsOneBundleMostUrgentFirst) {
+    make_sut(10'000);
+    push(c, 288);
+    push(b, 88);
+    push(a, 64);
+    release();
+    ASSERT_EQ(sink.bundles().size(), 1u);
+    EXPECT_EQ(sink.bundles()[0].topics, (std::vector<TopicId>{a, b, c}));
+    EXPECT_EQ(sut->counters(a).forwarded + sut->counters(b).forwarded + sut->counters(c).forwarded, 3u);
+}
+
+TEST_F(BundleSchedulingTest, ChargesTheBundleOnceAtTheWireSizeOfItsEncoding) {
+    make_sut(10'000);
+    push(a, 64);
+    push(b, 88);
+    release();
+    ASSERT_EQ(sink.bundles().size(), 1u);
+    const std::size_t expected = bundle_wire_bytes({{a, 64}, {b, 88}});
+    EXPECT_EQ(sink.bundles()[0].wire_bytes, expected);
+    // One datagram's headers for both: less than the two samples sent alone.
+    EXPECT_LT(expected, config.wire.wire_bytes(64) + config.wire.wire_bytes(88));
+    push(c, 288);  // waits for the link
+    release();
+    EXPECT_EQ(sut->next_wakeup(clock.now()), clock.now() + wire_time(expected, 10'000));
+    EXPECT_EQ(sut->counters(a).forwarded_wire_bytes + sut->counters(b).forwarded_wire_bytes, expected);
+}
+
+TEST_F(BundleSchedulingTest, SamplesArrivingWhileTheLinkIsBusyShareTheNextBundle) {
+    make_sut(10'000);
+    push(d, 600);
+    release();  // D alone: the link is busy for about 0.6 s
+    push(a, 64);
+    push(b, 88);
+    release();
+    EXPECT_EQ(sink.bundles().size(), 1u);
+    run_for(seconds(1));
+    ASSERT_EQ(sink.bundles().size(), 2u);
+    EXPECT_EQ(sink.bundles()[1].topics, (std::vector<TopicId>{a, b}));
+}
+
+TEST_F(BundleSchedulingTest, ASmallerLessUrgentSampleFillsTheRoomALargerOneCouldNotTake) {
+    make_sut(40'000);
+    push(a, 64);
+    push(b, 1'250);
+    push(c, 288);
+    release();
+    ASSERT_GE(sink.bundles().size(), 1u);
+    EXPECT_EQ(sink.bundles()[0].topics, (std::vector<TopicId>{a, c}));
+    run_for(seconds(1));
+    ASSERT_EQ(sink.bundles().size(), 2u);
+    EXPECT_EQ(sink.bundles()[1].topics, (std::vector<TopicId>{b}));
+}
+
+TEST_F(BundleSchedulingTest, NoSampleJoinsABundleItWouldMakeAnEarlierEntryMissItsDeadline) {
+    make_sut(10'000);
+    // A has 300 ms left: alone it takes about 220 ms at 10,000 bit/s, with C about 460 ms.
+    push(a, 64, milliseconds(700));
+    push(c, 288);
+    release();
+    ASSERT_EQ(sink.bundles().size(), 1u);
+    EXPECT_EQ(sink.bundles()[0].topics, (std::vector<TopicId>{a}));
+    EXPECT_EQ(sut->queued_samples(), 1u);
+}
+
+TEST_F(BundleSchedulingTest, NoBundleHoldsTheLinkLongerThanTheMostUrgentActiveTopicAllows) {
+    make_sut(10'000);
+    push(a, 64);
+    run_for(milliseconds(300));  // A is active, and the link free again
+    for (int i = 0; i < 10; ++i)
+        push(c, 288);
+    release();
+    ASSERT_EQ(sink.bundles().size(), 2u);
+    const base::Duration a_alone = wire_time(bundle_wire_bytes({{a, 64}}), 10'000);
+    const base::Duration longest = seconds(1) - a_alone;
+    EXPECT_LE(wire_time(sink.bundles()[1].wire_bytes, 10'000), longest);
+    EXPECT_GE(sink.bundles()[1].topics.size(), 2u);
+}
+
+TEST_F(BundleSchedulingTest, NoBundleEncodingGrowsPastTheLimit) {
+    make_sut(1'000'000);
+    for (int i = 0; i < 40; ++i)
+        push(c, 100);
+    run_for(seconds(1));
+    EXPECT_EQ(sink.forwarded().size(), 40u);
+    for (const auto& bundle : sink.bundles()) {
+        EXPECT_LE(bundle.wire_bytes, config.wire.wire_bytes(BundleLimits{}.max_encoded_bytes + 8));
+    }
+    EXPECT_GE(sink.bundles().size(), 4u);
+}
+
+TEST_F(BundleSchedulingTest, ASampleLargerThanABundleStillLeavesAloneAsStandardModeWouldSendIt) {
+    make_sut(1'000'000);
+    push(d, 6'000);
+    release();
+    ASSERT_EQ(sink.bundles().size(), 1u);
+    EXPECT_GT(sink.bundles()[0].wire_bytes, 6'000u);
+}
+
+TEST_F(BundleSchedulingTest, ARefusedBundleCountsEachEntryAsWriteFailed) {
+    make_sut(10'000);
+    sink.refuse_writes();
+    push(a, 64);
+    push(b, 88);
+    release();
+    EXPECT_EQ(sut->counters(a).dropped_for(DropReason::write_failed), 1u);
+    EXPECT_EQ(sut->counters(b).dropped_for(DropReason::write_failed), 1u);
+    EXPECT_EQ(sut->counters(a).forwarded, 0u);
+    EXPECT_EQ(sink.dropped_count(DropReason::write_failed), 2u);
+}
+
+TEST_F(BundleSchedulingTest, EverySampleIsForwardedQueuedOrLogged) {
+    config.memory_cap_bytes = 40'000;
+    make_sut(15'000);
+    run_random_load(11, 5'000);
+    for (TopicId t : {a, b, c, d}) {
+        EXPECT_TRUE(sut->counters(t).balanced()) << "topic " << t;
+    }
+    const TopicCounters total = sut->total_counters();
+    EXPECT_EQ(total.received, 5'000u);
+    EXPECT_EQ(total.forwarded, sink.forwarded().size());
+    EXPECT_EQ(total.dropped_total(), sink.dropped().size());
+    EXPECT_GT(sink.bundles().size(), 0u);
+    EXPECT_LT(sink.bundles().size(), total.forwarded);
+}
+
+}  // namespace
+}  // namespace tgw::core

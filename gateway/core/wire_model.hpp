@@ -28,6 +28,15 @@ struct WireModel {
     /// with it by the same headers as at 1472 bytes (derived, captured only at 1472).
     static WireModel for_max_datagram(std::size_t max_datagram_bytes);
 
+    /// The statistics submessage this Fast DDS build ends every RTPS message with (header, 56 bytes of body).
+    static constexpr std::size_t STATISTICS_SUBMESSAGE_BYTES = 60;
+    /// The same model for a transport that leaves the statistics submessage out (WanConfig::strip_statistics).
+    WireModel without_statistics() const {
+        WireModel model = *this;
+        model.per_datagram_bytes -= STATISTICS_SUBMESSAGE_BYTES;
+        return model;
+    }
+
     /// The WAN transport's datagram limit (its maxMessageSize).
     std::size_t max_datagram_bytes = MAX_DATAGRAM_PAYLOAD_BYTES;
 

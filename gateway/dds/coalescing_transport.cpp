@@ -68,6 +68,11 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     for (rtps::LocatorsIterator& it = *destination_locators_begin; it != *destination_locators_end; ++it) {
         destination.locators.push_back(*it);
     }
+    if (descriptor_.strip_statistics) {
+        // The trailer is the message's last submessage: the message without it is its first bytes.
+        send_buffer_size -=
+            static_cast<std::uint32_t>(RtpsDatagram::statistics_trailer_bytes(send_buffer, send_buffer_size));
+    }
     const bool scheduled_write = DatagramCoalescer::DeferScope::current() != 0;
     if (!scheduled_write && descriptor_.heartbeat_throttle &&
         !descriptor_.heartbeat_throttle->admit(destination, send_buffer, send_buffer_size, base::SteadyClock::now())) {

@@ -38,6 +38,8 @@ struct CoalescingTransportDescriptor : public eprosima::fastdds::rtps::ChainingT
     std::uint32_t min_send_buffer_size() const override { return heartbeat_spacing_bytes; }
 
     std::uint32_t heartbeat_spacing_bytes = 0;
+    /// Leave out the statistics submessage at the end of each message (RtpsDatagram::statistics_trailer_bytes).
+    bool strip_statistics = false;
     std::shared_ptr<DatagramCoalescer> coalescer;
     UnscheduledTrafficCallback on_unscheduled;
     /// Holds back repeated HEARTBEATs; none: every message goes.

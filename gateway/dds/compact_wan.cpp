@@ -139,9 +139,23 @@ std::size_t CompactWan::write(std::vector<core::Sample>& samples) {
         return 0;
     }
     ++next_sequence_;
-    bundles_written_.fetch_add(1, std::memory_order_relaxed);
-    bundle_bytes_.fetch_add(encoded_.size(), std::memory_order_relaxed);
-    return wire_.wire_bytes(carrier.payload.size());
+    const std::size_t wire_bytes = wire_.wire_bytes(carrier.payload.size());
+    const base::SteadyTime now = base::SteadyClock::now();
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    if (stats_.bundles == 0) {
+        stats_.first = now;
+    }
+    ++stats_.bundles;
+    stats_.entries += samples.size();
+    stats_.encoded_bytes += encoded_.size();
+    stats_.wire_bytes += wire_bytes;
+    stats_.last = now;
+    return wire_bytes;
+}
+
+CompactWan::Stats CompactWan::stats() const {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    return stats_;
 }
 
 std::int32_t CompactWan::matched_readers() const {

@@ -55,11 +55,19 @@ class CompactWan {
     /// thread at a time (the forwarding loop's).
     std::size_t write(std::vector<core::Sample>& samples);
 
+    /// What the bundles written so far were like.
+    struct Stats {
+        std::uint64_t bundles = 0;
+        std::uint64_t entries = 0;
+        std::uint64_t encoded_bytes = 0;  ///< after compression
+        std::uint64_t wire_bytes = 0;     ///< the wire model's, as charged
+        base::SteadyTime first{};         ///< when the first and the last were written
+        base::SteadyTime last{};
+    };
+
     /// Base-camp readers of the bundles matched now.
     std::int32_t matched_readers() const;
-    std::uint64_t bundles_written() const { return bundles_written_.load(); }
-    /// The bundles' encoded bytes (after compression) and the entries' payload bytes, so far.
-    std::uint64_t bundle_bytes() const { return bundle_bytes_.load(); }
+    Stats stats() const;
 
   private:
     core::WireModel wire_;
@@ -71,8 +79,8 @@ class CompactWan {
     std::uint32_t next_sequence_ = 0;
     compact::Bundle bundle_;             ///< reused between writes
     std::vector<std::uint8_t> encoded_;  ///< reused between writes
-    std::atomic<std::uint64_t> bundles_written_{0};
-    std::atomic<std::uint64_t> bundle_bytes_{0};
+    mutable std::mutex stats_mutex_;
+    Stats stats_;  // under stats_mutex_
 };
 
 }  // namespace tgw::dds

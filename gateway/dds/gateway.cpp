@@ -125,6 +125,12 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     wan.max_datagram_bytes = config_.scheduler.wire.max_datagram_bytes;
     wan.coalesce_window = config_.wan_coalesce_window;
     wan.heartbeat_spacing_bytes = config_.wan_heartbeat_bytes;
+    if (config_.compact_wan) {
+        // Only the relay reads this participant's samples, and nothing at all reads the statistics submessage:
+        // 60 bytes less in every datagram, bundles and discovery alike.
+        wan.strip_statistics = true;
+        config_.scheduler.wire = config_.scheduler.wire.without_statistics();
+    }
     // Discovery, heartbeats, repairs, copies to further readers: charged as they leave, so that the budget
     // counts every byte the WAN participant puts on the link (DESIGN section 3).
     wan.on_unscheduled = [link = unscheduled_link_](std::uint64_t frame_bytes) {
@@ -432,12 +438,8 @@ std::uint64_t Gateway::wan_write_failures() const {
     return sink_->wan_write_failures();
 }
 
-std::uint64_t Gateway::wan_bundles() const {
-    return compact_ ? compact_->bundles_written() : 0;
-}
-
-std::uint64_t Gateway::wan_bundle_bytes() const {
-    return compact_ ? compact_->bundle_bytes() : 0;
+std::optional<CompactWan::Stats> Gateway::wan_bundles() const {
+    return compact_ ? std::optional<CompactWan::Stats>(compact_->stats()) : std::nullopt;
 }
 
 DatagramCoalescer::Counts Gateway::wan_datagrams() const {

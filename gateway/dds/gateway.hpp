@@ -19,6 +19,7 @@
 #include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/scheduler.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
+#include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/offered_qos.hpp"
@@ -39,7 +40,6 @@ class DataWriter;
 
 namespace tgw::dds {
 
-class CompactWan;
 class GatewaySink;
 class RobotParticipant;
 class TopicTable;
@@ -136,9 +136,8 @@ class Gateway {
     std::size_t wan_participants() const;
     std::optional<base::Duration> wan_writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
     std::uint64_t wan_write_failures() const;
-    /// Compact WAN mode: bundles written so far, and their encoded bytes; zeros in standard mode.
-    std::uint64_t wan_bundles() const;
-    std::uint64_t wan_bundle_bytes() const;
+    /// Compact WAN mode: the bundles written so far; nullopt in standard mode.
+    std::optional<CompactWan::Stats> wan_bundles() const;
     /// The WAN samples' RTPS messages and the datagrams that carried them.
     DatagramCoalescer::Counts wan_datagrams() const;
     /// The base camp's latest receiver report about this gateway; nullopt before one, or without

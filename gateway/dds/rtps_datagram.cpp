@@ -83,7 +83,8 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
         // Receivers step to the next 4-byte boundary.
         const std::size_t next = body + ((length + 3) & ~std::size_t{3});
         if (eprosima && id == EPROSIMA_STATISTICS) {
-            if (next != size) {
+            shape.trailer_last = next == size;
+            if (!shape.trailer_last) {
                 shape.mergeable = false;  // not where the receiver expects it
             }
             shape.trailer_bytes = SUBMESSAGE_HEADER_BYTES + length;
@@ -99,6 +100,11 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
 
 std::size_t RtpsDatagram::heartbeat_bytes(const std::uint8_t* message, std::size_t size) {
     return shape_of(message, size).heartbeat_bytes;
+}
+
+std::size_t RtpsDatagram::statistics_trailer_bytes(const std::uint8_t* message, std::size_t size) {
+    const Shape shape = shape_of(message, size);
+    return shape.well_formed && shape.trailer_last ? shape.trailer_bytes : 0;
 }
 
 bool RtpsDatagram::append(const std::uint8_t* message, std::size_t size) {

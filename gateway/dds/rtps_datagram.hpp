@@ -40,6 +40,9 @@ class RtpsDatagram {
     /// The bytes of HEARTBEAT submessages (headers included) in one RTPS message: what a reliable writer adds
     /// to a sample's message beyond the wire model. 0 for a message that is not well formed.
     static std::size_t heartbeat_bytes(const std::uint8_t* message, std::size_t size);
+    /// The bytes of the statistics submessage (header included) that ends a well-formed eProsima RTPS message,
+    /// or 0 when it does not end with one. Receivers read it only for eProsima's statistics module.
+    static std::size_t statistics_trailer_bytes(const std::uint8_t* message, std::size_t size);
 
   private:
     /// What a receiver's state is after a run of submessages, and whether more may follow.
@@ -51,6 +54,7 @@ class RtpsDatagram {
         bool destination_in_force = false;  ///< at the end
         bool timestamp_in_force = false;    ///< at the end
         std::size_t trailer_bytes = 0;      ///< the statistics submessage it ends with, header included
+        bool trailer_last = false;          ///< the statistics submessage is the last submessage
         std::size_t heartbeat_bytes = 0;    ///< HEARTBEAT submessages, headers included
     };
     static Shape shape_of(const std::uint8_t* message, std::size_t size);

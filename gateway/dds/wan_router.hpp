@@ -56,6 +56,9 @@ struct WanConfig {
     /// sample, as Fast DDS does by default, so a lost sample is repaired one sample later. Between them the
     /// writer's periodic HEARTBEAT (3 s) covers a quiet writer.
     std::uint32_t heartbeat_spacing_bytes = DEFAULT_HEARTBEAT_SPACING_BYTES;
+    /// Sends every RTPS message without the statistics submessage this Fast DDS build ends it with (60 bytes; only
+    /// eProsima's statistics module reads it): WireModel::without_statistics() must then be the model.
+    bool strip_statistics = false;
     /// What the participant sends beyond the scheduled writes (see CoalescingTransport), so the caller can
     /// charge it to the link budget.
     UnscheduledTrafficCallback on_unscheduled;

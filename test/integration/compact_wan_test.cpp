@@ -36,11 +36,20 @@ class CompactWanTest : public RelayTest {
         }
     }
 
+    /// Both ends of the relay's local writer of `topic` have matched: a best-effort writer sends a reader
+    /// nothing before it has matched it from its own side. False on timeout.
+    bool local_writer_matched(const std::string& topic) {
+        return wait_until([&] { return relay_->local_readers(topic) > 0; }, MATCH_TIMEOUT);
+    }
+
     std::map<std::uint64_t, eprosima::fastrtps::Time_t> stamps_;
 };
 
 TEST_F(CompactWanTest, PlainSubscribersOfTheOriginalTypesGetPayloadKeyAndTimestampIntact) {
-    start_gateway(compact_config());
+    // A link slow enough that a burst queues: what waits leaves in shared bundles.
+    GatewayConfig c = compact_config();
+    c.scheduler.initial_rate_bps = 200'000;
+    start_gateway(c);
     start_relay();
     const std::string paper = topic_prefix_ + "paper";
     const std::string keyed = topic_prefix_ + "keyed";
@@ -63,6 +72,7 @@ TEST_F(CompactWanTest, PlainSubscribersOfTheOriginalTypesGetPayloadKeyAndTimesta
         ASSERT_TRUE(wait_until([&] { return matched->load() > 0; }, 3 * MATCH_TIMEOUT))
             << "a local reader never matched a writer the relay made from the catalog";
     }
+    ASSERT_TRUE(local_writer_matched(paper) && local_writer_matched(keyed));
     ASSERT_TRUE(
         wait_until([&] { return gateway_->wan_matched_readers(gateway_->find_topic(paper)->id) > 0; }, MATCH_TIMEOUT))
         << "the relay never matched the gateway's bundle writer";
@@ -99,8 +109,10 @@ TEST_F(CompactWanTest, PlainSubscribersOfTheOriginalTypesGetPayloadKeyAndTimesta
         ASSERT_EQ(handles.size(), 1u) << "sensor " << sensor << " arrived as several instances";
         EXPECT_EQ(*handles.begin(), robot_handles[sensor]);
     }
-    // Packed: fewer bundles than samples, and nothing the relay could not place.
-    EXPECT_LT(gateway_->wan_bundles(), 2 * N);
+    // Packed: fewer bundles than samples (of both topics), and nothing the relay could not place.
+    ASSERT_TRUE(gateway_->wan_bundles());
+    EXPECT_LT(gateway_->wan_bundles()->bundles, N);
+    EXPECT_GE(gateway_->wan_bundles()->entries, 2 * N);
     ASSERT_NE(relay_->compact(), nullptr);
     const basecamp::CompactUnpacker::Counts counts = relay_->compact()->counts();
     EXPECT_EQ(counts.rejected_bundles, 0u);
@@ -123,6 +135,7 @@ TEST_F(CompactWanTest, ARelayThatJoinsLateDecodesOnceTheCatalogReachesIt) {
     local_reader<idl::PaperMessagePubSubType>(paper, local_->default_reader_qos(), reader);
     ASSERT_TRUE(wait_until([&] { return reader.matched.load() > 0; }, 3 * MATCH_TIMEOUT))
         << "the relay never made the local writer: the catalog did not reach it";
+    ASSERT_TRUE(local_writer_matched(paper));
     ASSERT_TRUE(
         wait_until([&] { return gateway_->wan_matched_readers(gateway_->find_topic(paper)->id) > 0; }, MATCH_TIMEOUT));
     publish_paper(writer, 100, 10);
@@ -174,7 +187,11 @@ TEST_F(CompactWanTest, TheRelayRejectsCorruptAndTruncatedBundlesAndGoesOn) {
         << relay_->compact()->counts().rejected_bundles << " rejected";
 
     publish_paper(writer, 0, 10);
-    ASSERT_TRUE(wait_until([&] { return reader.count() >= 10; })) << reader.count() << " of 10 after the forgeries";
+    ASSERT_TRUE(wait_until([&] { return reader.count() >= 10; }))
+        << reader.count() << " of 10 after the forgeries; the relay took " << relay_->compact()->counts().bundles
+        << " bundles, " << relay_->compact()->counts().entries << " entries, relayed "
+        << relay_->compact()->counts().relayed << ", could not place " << relay_->compact()->counts().unknown_entries
+        << "; the gateway wrote " << gateway_->wan_bundles()->bundles << " bundles";
     EXPECT_EQ(relay_->compact()->counts().rejected_bundles, forged.size());
 }
 

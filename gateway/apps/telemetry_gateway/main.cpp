@@ -51,6 +51,25 @@ void print_summary(const tgw::dds::Gateway& gateway) {
         "p99 %.1f us, max %.1f us\n",
         static_cast<unsigned long long>(latency.count), us(latency.median()), us(latency.percentile(0.99)),
         us(latency.max));
+    std::printf("wire bytes per forwarded sample, as the budget charged them:");
+    for (const auto& topic : gateway.topics()) {
+        const tgw::core::TopicCounters c = gateway.counters(topic.id);
+        if (c.forwarded > 0) {
+            std::printf(" %s %.1f", topic.name.c_str(),
+                        static_cast<double>(c.forwarded_wire_bytes) / static_cast<double>(c.forwarded));
+        }
+    }
+    std::printf("\n");
+    if (const auto bundles = gateway.wan_bundles(); bundles && bundles->bundles > 0) {
+        const auto n = static_cast<double>(bundles->bundles);
+        const double span_s = tgw::base::to_seconds(bundles->last - bundles->first);
+        std::printf(
+            "WAN bundles: %llu, %.2f samples each, %.0f bytes encoded and %.0f on the wire on average, one every "
+            "%.0f ms\n",
+            static_cast<unsigned long long>(bundles->bundles), static_cast<double>(bundles->entries) / n,
+            static_cast<double>(bundles->encoded_bytes) / n, static_cast<double>(bundles->wire_bytes) / n,
+            n > 1 ? 1000.0 * span_s / (n - 1) : 0.0);
+    }
     const auto datagrams = gateway.wan_datagrams();
     std::printf(
         "WAN datagrams: %llu samples' messages in %llu datagrams (%.2f per datagram)",

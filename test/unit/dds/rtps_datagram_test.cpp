@@ -153,6 +153,30 @@ TEST(RtpsHeartbeatBytes, CountsNothingInAMalformedMessage) {
     EXPECT_EQ(RtpsDatagram::heartbeat_bytes(truncated.data(), truncated.size()), 0u);
 }
 
+TEST(RtpsStatisticsTrailer, IsTheLastSubmessageWhenItIsTheStatisticsOne) {
+    const Bytes with = message({info_dst(0x33), info_ts(1), data(40), statistics(0)});
+    EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(with.data(), with.size()), 60u);
+    // What is left is the message without it, still well formed.
+    const Bytes without = message({info_dst(0x33), info_ts(1), data(40)});
+    EXPECT_TRUE(std::equal(without.begin(), without.end(), with.begin()));
+    EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(without.data(), without.size()), 0u);
+    // An INFO_SRC makes a message unmergeable, not its trailer any less a trailer.
+    const Bytes sourced = message({info_src(), info_ts(1), data(40), statistics(0)});
+    EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(sourced.data(), sourced.size()), 60u);
+}
+
+TEST(RtpsStatisticsTrailer, IsNothingWhenTheStatisticsSubmessageIsNotLastOrTheMessageIsMalformed) {
+    const Bytes middle = message({info_ts(1), statistics(0), data(40)});
+    EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(middle.data(), middle.size()), 0u);
+    Bytes truncated = message({info_ts(1), data(40), statistics(0)});
+    truncated.resize(truncated.size() - 8);
+    EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(truncated.data(), truncated.size()), 0u);
+    Bytes cyclone = message({info_ts(1), data(40), statistics(0)});
+    cyclone[6] = 0x01;
+    cyclone[7] = 0x10;
+    EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(cyclone.data(), cyclone.size()), 0u);
+}
+
 TEST_F(RtpsDatagramTest, ClearStartsOver) {
     ASSERT_TRUE(append(sut, message({info_dst(0x33), info_ts(1), data(40)})));
     sut.clear();

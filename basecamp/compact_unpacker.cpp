@@ -210,6 +210,9 @@ void CompactUnpacker::on_bundle(const ParticipantPrefix& gateway, const std::vec
 
     counts_.entries += bundle.entries.size();
     for (compact::BundleEntry& entry : bundle.entries) {
+        if (entry.chunked && !reassemble_nts(gateway, entry, receive_ns)) {
+            continue;  // more chunks to come
+        }
         if (!deliver_nts(gateway, entry, receive_ns)) {
             if (waiting_.size() >= PENDING_LIMIT) {
                 ++counts_.unknown_entries;
@@ -218,6 +221,39 @@ void CompactUnpacker::on_bundle(const ParticipantPrefix& gateway, const std::vec
             waiting_.push_back(Waiting{gateway, std::move(entry), receive_ns, base::SteadyClock::now()});
         }
     }
+}
+
+bool CompactUnpacker::reassemble_nts(const ParticipantPrefix& gateway, compact::BundleEntry& entry,
+                                     std::int64_t receive_ns) {
+    const ReassemblyKey key{gateway, entry.topic_id, entry.chunk.sample_id};
+    auto it = reassembly_.find(key);
+    if (it == reassembly_.end()) {
+        if (reassembly_.size() >= REASSEMBLY_LIMIT || entry.chunk.total_bytes > MAX_CHUNKED_SAMPLE_BYTES) {
+            ++counts_.incomplete_samples;
+            return false;
+        }
+        Reassembly r;
+        r.sample = entry;
+        r.sample.chunked = false;
+        r.sample.payload.assign(entry.chunk.total_bytes, 0);
+        r.since = base::SteadyClock::now();
+        it = reassembly_.emplace(key, std::move(r)).first;
+    }
+    Reassembly& r = it->second;
+    // The codec checked that the chunk lies within its total; a total that disagrees is another sample's.
+    if (entry.chunk.total_bytes != r.sample.payload.size()) {
+        return false;
+    }
+    std::copy(entry.payload.begin(), entry.payload.end(),
+              r.sample.payload.begin() + static_cast<std::ptrdiff_t>(entry.chunk.offset));
+    r.received += entry.payload.size();
+    r.receive_ns = receive_ns;
+    if (r.received < r.sample.payload.size()) {
+        return false;
+    }
+    entry = std::move(r.sample);
+    reassembly_.erase(it);
+    return true;
 }
 
 bool CompactUnpacker::deliver_nts(const ParticipantPrefix& gateway, compact::BundleEntry& entry,
@@ -366,6 +402,14 @@ void CompactUnpacker::poll() {
         still.push_back(std::move(w));
     }
     waiting_.swap(still);
+    for (auto it = reassembly_.begin(); it != reassembly_.end();) {
+        if (now - it->second.since > CATALOG_WAIT) {
+            ++counts_.incomplete_samples;
+            it = reassembly_.erase(it);
+        } else {
+            ++it;
+        }
+    }
 }
 
 CompactUnpacker::Counts CompactUnpacker::counts() const {

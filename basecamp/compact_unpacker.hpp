@@ -33,8 +33,10 @@ namespace tgw::basecamp {
 /// local domain as the sample it was: its topic and type name, its instance and source timestamp, through a writer
 /// that offers what its robot publisher offered, with the gateway's Lifespan (the TTL), so it expires here when it
 /// would have there. A bundle that does not decode (compact::BundleError) is counted, reported once, and dropped;
-/// nothing in it is trusted. Entries of a topic whose catalog entry has not arrived yet wait for it, up to their
-/// TTL (at most PENDING_LIMIT of them); a base camp that joins late decodes as soon as the catalog reaches it.
+/// nothing in it is trusted. A sample that came in chunks is put together and passed on whole once its last chunk
+/// is in; one whose chunks stop coming is dropped, counted, after CATALOG_WAIT. Entries of a topic whose catalog entry
+/// has not arrived yet wait for it, up to their TTL (at most PENDING_LIMIT of them); a base camp that joins late
+/// decodes as soon as the catalog reaches it.
 ///
 /// Local writers are made in poll(), from the thread that runs the relay, never in a DDS callback.
 class CompactUnpacker {
@@ -47,10 +49,14 @@ class CompactUnpacker {
         std::uint64_t lost_bundles = 0;     ///< gaps in a gateway's bundle sequence
         std::uint64_t unknown_entries = 0;  ///< never described by a catalog entry in time
         std::uint64_t failed_writes = 0;
+        std::uint64_t incomplete_samples = 0;  ///< chunks of a sample whose other chunks never came
     };
 
     /// Entries waiting for their catalog entry, at most.
     static constexpr std::size_t PENDING_LIMIT = 4096;
+    /// Samples being put together from their chunks at once, at most, and the largest one.
+    static constexpr std::size_t REASSEMBLY_LIMIT = 64;
+    static constexpr std::uint32_t MAX_CHUNKED_SAMPLE_BYTES = 16u << 20;
 
     /// Reads on `wan` with `subscribers`' groups, writes on `local` through `publishers`' groups; all must outlive
     /// it. `store`: where the relay records, or nullptr. Throws base::ConfigError when DDS refuses a reader.
@@ -80,7 +86,17 @@ class CompactUnpacker {
         base::SteadyTime since;
     };
 
+    struct Reassembly {
+        compact::BundleEntry sample;  ///< the first chunk's description, the payload as long as the whole
+        std::size_t received = 0;
+        std::int64_t receive_ns = 0;
+        base::SteadyTime since;
+    };
+    using ReassemblyKey = std::tuple<ParticipantPrefix, std::uint32_t, std::uint32_t>;  // gateway, topic, sample
+
     void on_catalog(const ParticipantPrefix& gateway, wan::CatalogEntry entry);
+    /// Adds a chunk; true (and `entry` the whole sample) when it was the last one. mutex_ held.
+    bool reassemble_nts(const ParticipantPrefix& gateway, compact::BundleEntry& entry, std::int64_t receive_ns);
     void on_bundle(const ParticipantPrefix& gateway, const std::vector<std::uint8_t>& bytes, std::int64_t receive_ns);
     /// Writes the entry on the local domain if its lane's writer exists; false if it must wait. mutex_ held.
     bool deliver_nts(const ParticipantPrefix& gateway, compact::BundleEntry& entry, std::int64_t receive_ns);
@@ -98,6 +114,7 @@ class CompactUnpacker {
     std::map<std::pair<ParticipantPrefix, std::uint32_t>, std::unique_ptr<Stream>> streams_;
     std::deque<std::pair<ParticipantPrefix, wan::CatalogEntry>> new_entries_;
     std::deque<Waiting> waiting_;
+    std::map<ReassemblyKey, Reassembly> reassembly_;
     std::map<ParticipantPrefix, std::uint32_t> next_bundle_;
     Counts counts_;
     std::array<bool, 8> error_reported_{};

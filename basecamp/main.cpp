@@ -12,6 +12,7 @@
 
 #include "base/config_error.hpp"
 #include "base/peer_transport.hpp"
+#include "basecamp/compact_unpacker.hpp"
 #include "basecamp/consumer_fan_out.hpp"
 #include "basecamp/echo_command.hpp"
 #include "basecamp/export_command.hpp"
@@ -210,6 +211,13 @@ int main(int argc, char** argv) {
             }
             for (const auto& [topic, count] : relaying.relayed())
                 std::cout << "  " << topic << ": " << count << " samples relayed\n";
+            if (const tgw::basecamp::CompactUnpacker* compact = relaying.compact()) {
+                const auto c = compact->counts();
+                std::cout << "  compact WAN: " << c.bundles << " bundles taken (" << c.rejected_bundles << " rejected, "
+                          << c.lost_bundles << " lost on the way), " << c.entries << " entries, " << c.relayed
+                          << " samples relayed, " << c.unknown_entries << " never described by a catalog entry, "
+                          << c.incomplete_samples << " chunked samples incomplete\n";
+            }
             if (foxglove_server)
                 std::cout << "  Foxglove: " << foxglove_server->messages_sent() << " messages sent to clients\n";
         } else if (record->parsed()) {

@@ -4,6 +4,13 @@
 
 namespace tgw::core {
 
+BundleBuilder::Entry BundleBuilder::Entry::of(TopicId topic, std::uint16_t lane, base::WallTime source_time,
+                                              const std::vector<std::uint8_t>& payload, bool keyed) {
+    return Entry{
+        topic, lane,   source_time, payload.size(), compact::BundleCodec::plain_cdr(payload.data(), payload.size()),
+        keyed, nullptr};
+}
+
 std::size_t BundleBuilder::entry_bytes(const Entry& entry) const {
     // The first entry sets the bundle's base time: its own delta is 0.
     const base::WallTime base = entries_ == 0 ? entry.source_time : base_time_;
@@ -13,10 +20,12 @@ std::size_t BundleBuilder::entry_bytes(const Entry& entry) const {
             std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count());
     };
     const auto delta_ns = static_cast<std::int64_t>(ns(entry.source_time) - ns(base));
-    const std::vector<std::uint8_t>& payload = *entry.payload;
-    return compact::BundleCodec::entry_bytes(entry.topic, entry.lane, delta_ns, payload.size(),
-                                             compact::BundleCodec::plain_cdr(payload.data(), payload.size()),
-                                             entry.keyed, nullptr);
+    compact::ChunkInfo chunk;
+    if (entry.chunk != nullptr) {
+        chunk = compact::ChunkInfo{entry.chunk->id, entry.chunk->total_bytes, entry.chunk->offset};
+    }
+    return compact::BundleCodec::entry_bytes(entry.topic, entry.lane, delta_ns, entry.payload_bytes, entry.plain_cdr,
+                                             entry.keyed, entry.chunk != nullptr ? &chunk : nullptr);
 }
 
 std::size_t BundleBuilder::encoded_bytes() const {

@@ -23,13 +23,19 @@ struct BundleLimits {
 /// bundle will really put on the wire, and the scheduler can ask what one more sample would cost.
 class BundleBuilder {
   public:
-    /// What the builder needs to know of a sample.
+    /// What the builder needs to know of a sample, or of a chunk of one.
     struct Entry {
         TopicId topic;
         std::uint16_t lane;
         base::WallTime source_time;
-        const std::vector<std::uint8_t>* payload;
+        std::size_t payload_bytes;
+        bool plain_cdr;  ///< the payload begins with the plain CDR header (compact::BundleCodec::plain_cdr)
         bool keyed;
+        const Sample::Chunk* chunk = nullptr;
+
+        /// The entry of a whole sample (`payload` is what the size and the header are read from).
+        static Entry of(TopicId topic, std::uint16_t lane, base::WallTime source_time,
+                        const std::vector<std::uint8_t>& payload, bool keyed);
     };
 
     explicit BundleBuilder(const WireModel& wire) : wire_(wire) {}

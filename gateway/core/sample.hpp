@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "base/time.hpp"
@@ -34,6 +35,15 @@ struct Sample {
     base::SteadyTime arrival;    ///< set by the scheduler on push
     base::SteadyTime deadline;   ///< set by the scheduler on push: source (or arrival) time + the topic's TTL
     std::uint64_t sequence = 0;  ///< set by the scheduler on push: arrival order, breaks ties
+    /// Compact WAN mode: set when the payload is a piece of a sample too large to leave in one bundle.
+    struct Chunk {
+        std::uint32_t id = 0;  ///< shared by the pieces of one sample
+        std::uint32_t total_bytes = 0;
+        std::uint32_t offset = 0;
+    };
+    std::optional<Chunk> chunk;
+    /// False only for a chunk that is not the sample's last piece.
+    bool completes_sample() const { return !chunk || chunk->offset + payload.size() >= chunk->total_bytes; }
 };
 
 }  // namespace tgw::core

@@ -1,5 +1,7 @@
 #include "gateway/core/scheduler.hpp"
 
+#include "gateway/compact/bundle_codec.hpp"
+
 #include <algorithm>
 #include <utility>
 
@@ -148,7 +150,8 @@ std::uint64_t Scheduler::alone_wire_bits(const Sample& sample) const {
         return wire_bits(sample.payload.size());
     }
     return BundleBuilder(config_.wire)
-        .alone_wire_bits({sample.topic, sample.route, sample.source_time, &sample.payload, sample.key.valid});
+        .alone_wire_bits(
+            BundleBuilder::Entry::of(sample.topic, sample.route, sample.source_time, sample.payload, sample.key.valid));
 }
 
 void Scheduler::release(base::SteadyTime now, SampleSink& sink) {
@@ -192,6 +195,9 @@ void Scheduler::drop(Sample&& sample, DropReason reason, SampleSink& sink) {
 }
 
 void Scheduler::expire(base::SteadyTime now, SampleSink& sink) {
+    if (chunked_ && chunked_->sample.deadline <= now) {
+        abandon_chunks(DropReason::expired, sink);
+    }
     while (!queue_.empty() && queue_.at(queue_.earliest_deadline()).deadline <= now) {
         drop(take(queue_.earliest_deadline()), DropReason::expired, sink);
     }
@@ -222,7 +228,7 @@ bool Scheduler::may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std:
 
 void Scheduler::release_by_deadline(base::SteadyTime now, SampleSink& sink) {
     blocked_wakeup_.reset();
-    if (queue_.empty() || !budget_.can_send(now)) {
+    if ((queue_.empty() && !chunked_) || !budget_.can_send(now)) {
         return;
     }
     // The link is non-preemptive: a sample on the wire holds it for its whole wire time. Protect the most
@@ -254,7 +260,7 @@ void Scheduler::release_by_deadline(base::SteadyTime now, SampleSink& sink) {
 
 void Scheduler::release_bundles(base::SteadyTime now, SampleSink& sink) {
     BundleBuilder bundle(config_.wire);
-    while (!queue_.empty() && budget_.can_send(now)) {
+    while ((!queue_.empty() || chunked_) && budget_.can_send(now)) {
         const base::SteadyTime start = std::max(now, budget_.busy_until());
         bundle.clear();
         std::vector<Sample> samples = fill_bundle(start, bundle, sink);
@@ -265,13 +271,16 @@ void Scheduler::release_bundles(base::SteadyTime now, SampleSink& sink) {
         struct Tally {
             TopicId topic;
             std::size_t payload_bytes;
+            bool chunk;
         };
         std::vector<Tally> tallies;
         tallies.reserve(samples.size());
         std::size_t payload_bytes = 0;
+        bool has_chunk = false;
         for (const Sample& s : samples) {
-            tallies.push_back({s.topic, s.payload.size()});
+            tallies.push_back({s.topic, s.payload.size(), s.chunk.has_value()});
             payload_bytes += s.payload.size();
+            has_chunk = has_chunk || s.chunk.has_value();
         }
         const std::uint64_t bits =
             8u * sink.forward_bundle(std::move(samples), static_cast<std::size_t>(most_bits / 8));
@@ -284,18 +293,34 @@ void Scheduler::release_bundles(base::SteadyTime now, SampleSink& sink) {
         for (std::size_t i = 0; i < tallies.size(); ++i) {
             const Tally& t = tallies[i];
             TopicCounters& c = topics_[t.topic].counters;
+            const auto share_until = [&](std::uint64_t payload, std::size_t entries) {
+                return payload_bytes == 0 ? bytes * entries / tallies.size() : bytes * payload / payload_bytes;
+            };
+            const std::uint64_t share =
+                share_until(payload_before + t.payload_bytes, i + 1) - share_until(payload_before, i);
+            payload_before += t.payload_bytes;
+            if (t.chunk) {
+                c.forwarded_wire_bytes += written ? share : 0;  // the sample counts once, below
+                continue;
+            }
             if (!written) {
                 ++c.dropped_for(DropReason::write_failed);
                 continue;
             }
             ++c.forwarded;
             c.forwarded_payload_bytes += t.payload_bytes;
-            const auto share_until = [&](std::uint64_t payload, std::size_t entries) {
-                return payload_bytes == 0 ? bytes * entries / tallies.size() : bytes * payload / payload_bytes;
-            };
-            c.forwarded_wire_bytes +=
-                share_until(payload_before + t.payload_bytes, i + 1) - share_until(payload_before, i);
-            payload_before += t.payload_bytes;
+            c.forwarded_wire_bytes += share;
+        }
+        if (has_chunk && !written) {
+            abandon_chunks(DropReason::write_failed, sink);
+        } else if (chunked_ && chunked_->sent_bytes == chunked_->sample.payload.size()) {
+            // Its last chunk has left: the sample is forwarded.
+            TopicCounters& c = topics_[chunked_->sample.topic].counters;
+            --c.queued;
+            c.queued_payload_bytes -= chunked_->sample.payload.size();
+            ++c.forwarded;
+            c.forwarded_payload_bytes += chunked_->sample.payload.size();
+            chunked_.reset();
         }
     }
 }
@@ -308,12 +333,43 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
     base::SteadyTime earliest_deadline = base::SteadyTime::max();
     base::Duration limit = base::Duration::max();  // the non-preemptive rule's, for what the bundle holds
     std::size_t candidates = 0;
+    bool chunk_tried = false;
+    if (chunked_ && start + budget_.transmit_time(chunk_bits(chunked_->sample.payload.size() - chunked_->sent_bytes)) +
+                            config_.link_latency >
+                        chunked_->sample.deadline) {
+        abandon_chunks(DropReason::doomed, sink);  // what is left can no longer arrive in time
+    }
+    // The chunked sample's next chunk goes where the sample would stand in the queue.
+    const auto try_chunk = [&] {
+        chunk_tried = true;
+        if (chunked_ && add_chunk(start, earliest_deadline, limit, bundle, samples)) {
+            limit = std::min(limit, protect_.limit_for(chunked_->sample.topic));
+            earliest_deadline = std::min(earliest_deadline, chunked_->sample.deadline);
+        }
+    };
     queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
         const DeadlineQueue::Peek peek = queue_.at(slot);
-        const BundleBuilder::Entry entry{peek.topic, peek.route, peek.source_time, peek.payload, peek.keyed};
+        if (chunked_ && !chunk_tried) {
+            const std::int64_t rank = rank_of(peek.topic);
+            if (chunked_->rank < rank || (chunked_->rank == rank && chunked_->sample.deadline <= peek.deadline)) {
+                try_chunk();
+            }
+        }
+        const auto entry =
+            BundleBuilder::Entry::of(peek.topic, peek.route, peek.source_time, *peek.payload, peek.keyed);
         if (bundle.empty()) {
+            const std::uint64_t alone_bits = bundle.alone_wire_bits(entry);
+            const bool too_large = bundle.encoded_bytes_with(entry) > max_bytes ||
+                                   budget_.transmit_time(alone_bits) > protect_.limit_for(peek.topic);
+            if (too_large && !chunked_) {
+                // In chunks, urgent samples travel between them.
+                if (start_chunks(slot, start, sink)) {
+                    try_chunk();
+                }
+                return true;
+            }
             // The first goes as a sample alone would, even past max_bytes (DDS then fragments it).
-            if (!may_start(slot, start, bundle.alone_wire_bits(entry), sink)) {
+            if (!may_start(slot, start, alone_bits, sink)) {
                 return true;
             }
         } else {
@@ -334,7 +390,100 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
         samples.push_back(take(slot));
         return bundle.encoded_bytes() < max_bytes;
     });
+    if (chunked_ && !chunk_tried) {
+        try_chunk();
+    }
     return samples;
+}
+
+bool Scheduler::start_chunks(DeadlineQueue::Slot slot, base::SteadyTime start, SampleSink& sink) {
+    const DeadlineQueue::Peek peek = queue_.at(slot);
+    if (start + budget_.transmit_time(chunk_bits(peek.payload_bytes)) + config_.link_latency > peek.deadline) {
+        drop(take(slot), DropReason::doomed, sink);
+        return false;
+    }
+    ChunkedSample chunked;
+    chunked.rank = rank_of(peek.topic);
+    chunked.sample = take(slot);
+    // Still queued, as far as the counters go, until its last chunk has left.
+    TopicCounters& c = topics_[chunked.sample.topic].counters;
+    ++c.queued;
+    c.queued_payload_bytes += chunked.sample.payload.size();
+    chunked_ = std::move(chunked);
+    ++next_chunk_id_;
+    return true;
+}
+
+std::uint64_t Scheduler::chunk_bits(std::size_t payload_bytes) const {
+    // At best the whole link is the sample's: a chunk per bundle, each bundle's headers on top of the payload.
+    const std::size_t room = config_.bundles->max_encoded_bytes - compact::BundleCodec::MAX_FRAME_BYTES;
+    const std::size_t chunks = (payload_bytes + room - 1) / std::max<std::size_t>(room, 1);
+    return 8u * payload_bytes + chunks * BundleBuilder(config_.wire).wire_bits(compact::BundleCodec::MAX_FRAME_BYTES);
+}
+
+bool Scheduler::add_chunk(base::SteadyTime start, base::SteadyTime earliest_deadline, base::Duration limit,
+                          BundleBuilder& bundle, std::vector<Sample>& samples) {
+    // A chunk smaller than this is not worth its entry's header.
+    constexpr std::size_t MIN_CHUNK_BYTES = 64;
+    ChunkedSample& c = *chunked_;
+    const Sample& whole = c.sample;
+    const std::size_t remaining = whole.payload.size() - c.sent_bytes;
+    if (remaining == 0) {
+        return false;
+    }
+    const Sample::Chunk info{next_chunk_id_, static_cast<std::uint32_t>(whole.payload.size()),
+                             static_cast<std::uint32_t>(c.sent_bytes)};
+    const bool plain = c.sent_bytes == 0 && compact::BundleCodec::plain_cdr(whole.payload.data(), whole.payload.size());
+    const auto entry_of = [&](std::size_t n) {
+        return BundleBuilder::Entry{whole.topic,     whole.route, whole.source_time, n, plain && n >= 4,
+                                    whole.key.valid, &info};
+    };
+    const base::Duration own_limit = std::min(limit, protect_.limit_for(whole.topic));
+    const base::SteadyTime by = std::min(earliest_deadline, whole.deadline);
+    const auto fits = [&](std::size_t n) {
+        const std::size_t bytes = bundle.encoded_bytes_with(entry_of(n));
+        const base::Duration tx = budget_.transmit_time(bundle.wire_bits(bytes));
+        return bytes <= config_.bundles->max_encoded_bytes && start + tx + config_.link_latency <= by &&
+               tx <= own_limit;
+    };
+    // The largest chunk that fits: the sizes that fit are those below a bound.
+    std::size_t lo = 0, hi = remaining;
+    while (lo < hi) {
+        const std::size_t mid = lo + (hi - lo + 1) / 2;
+        if (fits(mid)) {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    if (lo == 0 || (lo < MIN_CHUNK_BYTES && lo < remaining)) {
+        return false;
+    }
+    Sample chunk;
+    chunk.topic = whole.topic;
+    chunk.route = whole.route;
+    chunk.kind = whole.kind;
+    chunk.key = whole.key;
+    chunk.source_time = whole.source_time;
+    chunk.arrival = whole.arrival;
+    chunk.deadline = whole.deadline;
+    chunk.sequence = whole.sequence;
+    chunk.chunk = info;
+    const auto from = whole.payload.begin() + static_cast<std::ptrdiff_t>(c.sent_bytes);
+    chunk.payload.assign(from, from + static_cast<std::ptrdiff_t>(lo));
+    bundle.add(entry_of(lo));
+    samples.push_back(std::move(chunk));
+    c.sent_bytes += lo;
+    return true;
+}
+
+void Scheduler::abandon_chunks(DropReason reason, SampleSink& sink) {
+    Sample sample = std::move(chunked_->sample);
+    chunked_.reset();
+    TopicCounters& c = topics_[sample.topic].counters;
+    --c.queued;
+    c.queued_payload_bytes -= sample.payload.size();
+    drop(std::move(sample), reason, sink);
 }
 
 void Scheduler::release_paper_period(base::SteadyTime now, SampleSink& sink) {
@@ -371,10 +520,16 @@ void Scheduler::release_paper_period(base::SteadyTime now, SampleSink& sink) {
 }
 
 std::optional<base::SteadyTime> Scheduler::next_wakeup(base::SteadyTime now) const {
-    if (queue_.empty()) {
+    if (queue_.empty() && !chunked_) {
         return std::nullopt;
     }
-    base::SteadyTime next = queue_.at(queue_.earliest_deadline()).deadline;
+    base::SteadyTime next = base::SteadyTime::max();
+    if (!queue_.empty()) {
+        next = queue_.at(queue_.earliest_deadline()).deadline;
+    }
+    if (chunked_) {
+        next = std::min(next, chunked_->sample.deadline);
+    }
     switch (config_.policy) {
         case PolicyKind::ttl:
         case PolicyKind::edf:
@@ -426,6 +581,9 @@ void Scheduler::observe_link_backlog(base::SteadyTime now, std::uint64_t bits) {
 }
 
 void Scheduler::drain(SampleSink& sink, DropReason reason) {
+    if (chunked_) {
+        abandon_chunks(reason, sink);
+    }
     while (!queue_.empty()) {
         drop(take(queue_.most_urgent()), reason, sink);
     }

@@ -98,7 +98,7 @@ class Scheduler {
 
     const TopicCounters& counters(TopicId topic) const { return topics_[topic].counters; }
     TopicCounters total_counters() const;
-    std::size_t queued_samples() const { return queue_.size(); }
+    std::size_t queued_samples() const { return queue_.size() + (chunked_ ? 1 : 0); }
     std::size_t queued_bytes() const { return queue_.memory_bytes(); }
     const SchedulerConfig& config() const { return config_; }
 
@@ -149,6 +149,17 @@ class Scheduler {
     void release_bundles(base::SteadyTime now, SampleSink& sink);
     /// Fills one bundle from the queue, starting on the link at `start`; empty when nothing may go now.
     std::vector<Sample> fill_bundle(base::SteadyTime start, BundleBuilder& bundle, SampleSink& sink);
+    /// The sample in `slot` is too large for a bundle, or would hold the link too long: it leaves in chunks
+    /// from now on, if all of them can still arrive in time (else it is logged as doomed). False if not started.
+    bool start_chunks(DeadlineQueue::Slot slot, base::SteadyTime start, SampleSink& sink);
+    /// Adds the next chunk of the chunked sample to `bundle`, as large as the bundle's room, its entries'
+    /// deadlines and `limit` (the non-preemptive rule) allow. False when not even a small one fits.
+    bool add_chunk(base::SteadyTime start, base::SteadyTime earliest_deadline, base::Duration limit,
+                   BundleBuilder& bundle, std::vector<Sample>& samples);
+    /// The least a sample of `payload_bytes` puts on the link in chunks: the whole link its own, a chunk a bundle.
+    std::uint64_t chunk_bits(std::size_t payload_bytes) const;
+    /// The chunked sample goes to the log with `reason`; its chunks already sent are wasted.
+    void abandon_chunks(DropReason reason, SampleSink& sink);
     /// The first sample of a bundle (or a sample of its own): drops it when it can no longer arrive in time,
     /// holds it back when its wire time would cost the most urgent topic its deadline. True if it may go.
     bool may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std::uint64_t bits, SampleSink& sink);
@@ -170,6 +181,16 @@ class Scheduler {
     base::SteadyTime protect_built_at_{};
     /// When a sample held back by the non-preemptive rule must be looked at again; set by release().
     std::optional<base::SteadyTime> blocked_wakeup_;
+
+    /// Compact WAN mode: the sample leaving in chunks, at most one at a time. Counted as queued until its last
+    /// chunk leaves.
+    struct ChunkedSample {
+        Sample sample;
+        std::int64_t rank = 0;
+        std::size_t sent_bytes = 0;
+    };
+    std::optional<ChunkedSample> chunked_;
+    std::uint32_t next_chunk_id_ = 0;
 };
 
 }  // namespace tgw::core

@@ -113,7 +113,10 @@ std::size_t CompactWan::write(std::vector<core::Sample>& samples) {
             std::chrono::duration_cast<std::chrono::nanoseconds>(sample.source_time.time_since_epoch()).count();
         entry.keyed = sample.key.valid;
         entry.key = sample.key.bytes;
-        entry.chunked = false;
+        entry.chunked = sample.chunk.has_value();
+        if (sample.chunk) {
+            entry.chunk = compact::ChunkInfo{sample.chunk->id, sample.chunk->total_bytes, sample.chunk->offset};
+        }
         entry.payload = std::move(sample.payload);  // handed back below
     }
     compact::BundleCodec::encode(bundle_, encoded_, compression_);

@@ -36,10 +36,14 @@ bool GatewaySink::forward(core::Sample&& sample) {
 std::size_t GatewaySink::forward_bundle(std::vector<core::Sample>&& samples, std::size_t /*wire_bytes*/) {
     const std::size_t written = compact_ != nullptr ? compact_->write(samples) : 0;
     for (core::Sample& sample : samples) {
+        // A chunk is a piece of a sample the scheduler keeps whole: it logs the sample if the chunks fail, and the
+        // sample has left once its last chunk has.
         if (written == 0) {
             wan_write_failures_.fetch_add(1, std::memory_order_relaxed);
-            drop(std::move(sample), core::DropReason::write_failed);
-        } else {
+            if (!sample.chunk) {
+                drop(std::move(sample), core::DropReason::write_failed);
+            }
+        } else if (sample.completes_sample()) {
             note_forwarded(sample);
         }
     }

@@ -144,7 +144,9 @@ class RobotLog::Impl {
                                  record.forwarded_at);
             row.kind = Row::Kind::forwarded;
             if (record.sample != nullptr)
-                row.payload_bytes = record.sample->payload.size();
+                // A sample that left in chunks is logged with its last: the whole sample's size.
+                row.payload_bytes =
+                    record.sample->chunk ? record.sample->chunk->total_bytes : record.sample->payload.size();
             const std::size_t footprint = sizeof(Row) + row.topic.size() + row.type_name.size();
             enqueue(std::move(row), footprint);
         } catch (const std::exception& e) {

@@ -30,7 +30,9 @@ class SimulationSink final : public core::SampleSink {
         const double bits = config_.true_overhead_factor * 8.0 * static_cast<double>(wire_bytes);
         const auto arrived = link_.send(now_, static_cast<std::uint64_t>(std::llround(bits)));
         for (const core::Sample& sample : samples) {
-            record(sample, arrived);
+            if (sample.completes_sample()) {
+                record(sample, arrived);  // a chunked sample has arrived with its last chunk
+            }
         }
         return wire_bytes;
     }

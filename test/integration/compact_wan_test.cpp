@@ -42,6 +42,21 @@ class CompactWanTest : public RelayTest {
         return wait_until([&] { return relay_->local_readers(topic) > 0; }, MATCH_TIMEOUT);
     }
 
+    /// A plain best-effort reader of `topic` on the camp's domain and the robot's writer of it, once every hop
+    /// between them has matched (the relay's local writer from both sides, the gateway's bundle writer); the
+    /// writer, or nullptr after a failed assertion.
+    fdds::DataWriter* paper_path(const std::string& topic, CollectingReader<idl::PaperMessage>& reader) {
+        local_reader<idl::PaperMessagePubSubType>(topic, local_->default_reader_qos(), reader);
+        auto* writer = robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(false));
+        const bool matched =
+            writer != nullptr && wait_until([&] { return reader.matched.load() > 0; }, 3 * MATCH_TIMEOUT) &&
+            local_writer_matched(topic) &&
+            wait_until([&] { return gateway_->wan_matched_readers(gateway_->find_topic(topic)->id) > 0; },
+                       MATCH_TIMEOUT);
+        EXPECT_TRUE(matched) << "the path of " << topic << " never matched end to end";
+        return matched ? writer : nullptr;
+    }
+
     std::map<std::uint64_t, eprosima::fastrtps::Time_t> stamps_;
 };
 
@@ -122,6 +137,41 @@ TEST_F(CompactWanTest, PlainSubscribersOfTheOriginalTypesGetPayloadKeyAndTimesta
     expect_balanced();
 }
 
+TEST_F(CompactWanTest, APictureLargerThanABundleLeavesInChunksAndArrivesWhole) {
+    GatewayConfig c = compact_config();
+    c.scheduler.initial_rate_bps = 400'000;
+    start_gateway(c);
+    start_relay();
+    const std::string pictures = topic_prefix_ + "pictures";
+    auto& reader = listener<CollectingReader<idl::PaperMessage>>();
+    auto* writer = paper_path(pictures, reader);
+    ASSERT_NE(writer, nullptr);
+
+    constexpr std::uint32_t N = 3;
+    for (std::uint32_t i = 0; i < N; ++i) {
+        idl::PaperMessage m;
+        m.generated_ns(i);
+        std::vector<std::uint8_t> frame(6'000);
+        for (std::size_t k = 0; k < frame.size(); ++k)
+            frame[k] = static_cast<std::uint8_t>(k * 7 + i);
+        m.data(frame);
+        ASSERT_TRUE(writer->write(&m));
+    }
+    ASSERT_TRUE(wait_until([&] { return reader.count() >= N; })) << reader.count() << " of " << N;
+    for (const auto& r : reader.received()) {
+        const std::uint32_t i = static_cast<std::uint32_t>(r.data.generated_ns());
+        ASSERT_EQ(r.data.data().size(), 6'000u);
+        for (std::size_t k = 0; k < r.data.data().size(); ++k) {
+            ASSERT_EQ(r.data.data()[k], static_cast<std::uint8_t>(k * 7 + i)) << "byte " << k << " of picture " << i;
+        }
+    }
+    // Five chunks or more each, every bundle within one datagram.
+    EXPECT_GE(gateway_->wan_bundles()->bundles, 5 * N);
+    EXPECT_EQ(relay_->compact()->counts().incomplete_samples, 0u);
+    EXPECT_EQ(gateway_->counters(gateway_->find_topic(pictures)->id).forwarded, N);
+    expect_balanced();
+}
+
 TEST_F(CompactWanTest, ARelayThatJoinsLateDecodesOnceTheCatalogReachesIt) {
     start_gateway(compact_config());
     const std::string paper = topic_prefix_ + "late";
@@ -150,12 +200,8 @@ TEST_F(CompactWanTest, TheRelayRejectsCorruptAndTruncatedBundlesAndGoesOn) {
     start_relay();
     const std::string paper = topic_prefix_ + "paper";
     auto& reader = listener<CollectingReader<idl::PaperMessage>>();
-    local_reader<idl::PaperMessagePubSubType>(paper, local_->default_reader_qos(), reader);
-    auto* writer = robot_writer<idl::PaperMessagePubSubType>(paper, writer_qos(false));
+    auto* writer = paper_path(paper, reader);
     ASSERT_NE(writer, nullptr);
-    ASSERT_TRUE(wait_until([&] { return reader.matched.load() > 0; }, 3 * MATCH_TIMEOUT));
-    ASSERT_TRUE(
-        wait_until([&] { return gateway_->wan_matched_readers(gateway_->find_topic(paper)->id) > 0; }, MATCH_TIMEOUT));
 
     // Another participant on the WAN domain writes bundles that are not: cut short, a bit flipped, noise.
     TestParticipant other(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 62),

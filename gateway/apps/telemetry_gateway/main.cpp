@@ -64,7 +64,8 @@ void print_summary(const tgw::dds::Gateway& gateway) {
         const auto n = static_cast<double>(bundles->bundles);
         const double span_s = tgw::base::to_seconds(bundles->last - bundles->first);
         std::printf(
-            "WAN bundles: %llu, %.2f samples each, %.0f bytes encoded and %.0f on the wire on average, one every "
+            "WAN bundles: %llu, %.2f entries (samples or chunks of one) each, %.0f bytes encoded and %.0f on the wire "
+            "on average, one every "
             "%.0f ms\n",
             static_cast<unsigned long long>(bundles->bundles), static_cast<double>(bundles->entries) / n,
             static_cast<double>(bundles->encoded_bytes) / n, static_cast<double>(bundles->wire_bytes) / n,

@@ -1,6 +1,7 @@
 // The scheduler in compact WAN mode: what one release step admits leaves as one bundle.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "gateway/compact/bundle_codec.hpp"
@@ -124,12 +125,103 @@ TEST_F(BundleSchedulingTest, NoBundleEncodingGrowsPastTheLimit) {
     EXPECT_GE(sink.bundles().size(), 4u);
 }
 
-TEST_F(BundleSchedulingTest, ASampleLargerThanABundleStillLeavesAloneAsStandardModeWouldSendIt) {
+TEST_F(BundleSchedulingTest, ASampleLargerThanABundleLeavesInChunksThatEachFitADatagram) {
     make_sut(1'000'000);
     push(d, 6'000);
-    release();
-    ASSERT_EQ(sink.bundles().size(), 1u);
-    EXPECT_GT(sink.bundles()[0].wire_bytes, 6'000u);
+    run_for(seconds(1));
+    EXPECT_EQ(sut->counters(d).forwarded, 1u);
+    EXPECT_EQ(sut->queued_samples(), 0u);
+    ASSERT_GE(sink.bundles().size(), 5u);
+    std::vector<std::uint8_t> joined;
+    for (const Sample& s : sink.forwarded()) {
+        ASSERT_TRUE(s.chunk);
+        EXPECT_EQ(s.chunk->total_bytes, 6'000u);
+        EXPECT_EQ(s.chunk->offset, joined.size());
+        joined.insert(joined.end(), s.payload.begin(), s.payload.end());
+    }
+    EXPECT_EQ(joined.size(), 6'000u);
+    EXPECT_EQ(joined[1], 1);  // the plain CDR header leads the first chunk
+    for (const auto& bundle : sink.bundles()) {
+        EXPECT_LE(bundle.wire_bytes, config.wire.wire_bytes(BundleLimits{}.max_encoded_bytes + 8));
+    }
+    EXPECT_TRUE(sut->counters(d).balanced());
+}
+
+TEST_F(BundleSchedulingTest, UrgentSamplesTravelBetweenTheChunksOfAPicture) {
+    // A 6 kB picture takes 1.2 s of a 40,000 bit/s link: sent whole it would cost a 1 s hazard its deadline.
+    make_sut(40'000);
+    push(c, 6'000);
+    for (int i = 0; i < 15; ++i) {
+        push(a, 64);
+        run_for(milliseconds(200));
+    }
+    run_for(seconds(2));
+    EXPECT_EQ(sut->counters(a).forwarded, 15u);
+    EXPECT_EQ(sut->counters(c).forwarded, 1u);
+    // A's samples are between the picture's chunks, each well within its TTL.
+    std::size_t a_between = 0;
+    bool chunk_seen = false, last_chunk_seen = false;
+    for (const Sample& s : sink.forwarded()) {
+        if (s.topic == c) {
+            chunk_seen = true;
+            last_chunk_seen = s.completes_sample();
+        } else if (chunk_seen && !last_chunk_seen) {
+            ++a_between;
+        }
+    }
+    EXPECT_GE(a_between, 3u);
+    EXPECT_EQ(sut->counters(a).dropped_total(), 0u);
+    for (const auto& bundle : sink.bundles()) {
+        EXPECT_LT(wire_time(bundle.wire_bytes, 40'000), seconds(1) - wire_time(bundle_wire_bytes({{a, 64}}), 40'000));
+    }
+}
+
+TEST_F(BundleSchedulingTest, APictureWhoseChunksCannotAllArriveInTimeIsNotStarted) {
+    make_sut(10'000);
+    push(c, 6'000);  // 4.8 s of payload alone at 10,000 bit/s, against a TTL of 5 s
+    run_for(seconds(1));
+    EXPECT_EQ(sut->counters(c).dropped_for(DropReason::doomed), 1u);
+    EXPECT_TRUE(sink.bundles().empty());
+    ASSERT_EQ(sink.dropped().size(), 1u);
+    EXPECT_EQ(sink.dropped()[0].sample.payload.size(), 6'000u);
+}
+
+TEST_F(BundleSchedulingTest, APictureIsAbandonedAsDoomedWhenTheLinkSlowsAndLoggedWhole) {
+    make_sut(40'000);
+    push(c, 6'000);
+    run_for(milliseconds(500));
+    ASSERT_FALSE(sink.forwarded().empty());
+    sut->set_rate(2'000);
+    run_for(seconds(6));
+    EXPECT_EQ(sut->counters(c).forwarded, 0u);
+    EXPECT_EQ(sut->counters(c).dropped_for(DropReason::doomed), 1u);
+    EXPECT_EQ(sut->queued_samples(), 0u);
+    EXPECT_TRUE(sut->counters(c).balanced());
+    ASSERT_EQ(sink.dropped().size(), 1u);
+    EXPECT_EQ(sink.dropped()[0].sample.payload.size(), 6'000u);
+    EXPECT_FALSE(sink.dropped()[0].sample.chunk);
+}
+
+TEST_F(BundleSchedulingTest, ARefusedChunkLogsTheWholeSampleOnce) {
+    make_sut(1'000'000);
+    sink.refuse_writes();
+    push(d, 6'000);
+    run_for(seconds(1));
+    EXPECT_EQ(sut->counters(d).dropped_for(DropReason::write_failed), 1u);
+    ASSERT_EQ(sink.dropped().size(), 1u);
+    EXPECT_EQ(sink.dropped()[0].sample.payload.size(), 6'000u);
+    EXPECT_TRUE(sut->counters(d).balanced());
+    EXPECT_EQ(sut->queued_samples(), 0u);
+}
+
+TEST_F(BundleSchedulingTest, ShutdownLogsAPictureStillInChunks) {
+    make_sut(40'000);
+    push(c, 6'000);
+    run_for(milliseconds(300));
+    EXPECT_EQ(sut->queued_samples(), 1u);
+    sut->drain(sink);
+    EXPECT_EQ(sut->counters(c).dropped_for(DropReason::shutdown), 1u);
+    EXPECT_TRUE(sut->counters(c).balanced());
 }
 
 TEST_F(BundleSchedulingTest, ARefusedBundleCountsEachEntryAsWriteFailed) {
@@ -153,7 +245,10 @@ TEST_F(BundleSchedulingTest, EverySampleIsForwardedQueuedOrLogged) {
     }
     const TopicCounters total = sut->total_counters();
     EXPECT_EQ(total.received, 5'000u);
-    EXPECT_EQ(total.forwarded, sink.forwarded().size());
+    const auto forwarded = sink.forwarded();
+    EXPECT_EQ(total.forwarded,
+              static_cast<std::size_t>(std::count_if(forwarded.begin(), forwarded.end(),
+                                                     [](const Sample& s) { return s.completes_sample(); })));
     EXPECT_EQ(total.dropped_total(), sink.dropped().size());
     EXPECT_GT(sink.bundles().size(), 0u);
     EXPECT_LT(sink.bundles().size(), total.forwarded);

@@ -15,6 +15,7 @@
 
 #include "CompactWanPubSubTypes.h"
 #include "base/config_error.hpp"
+#include "basecamp/wan_capture.hpp"
 #include "gateway/dds/compact_topics.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/offered_qos.hpp"
@@ -30,6 +31,8 @@ namespace {
 
 // How long an entry of a topic no catalog entry described yet may wait for one, whatever its TTL.
 constexpr auto CATALOG_WAIT = std::chrono::seconds(10);
+// A bundle's DDS sample beyond its bytes: the encapsulation header and the sequence's length.
+constexpr std::size_t BUNDLE_ENVELOPE_BYTES = 8;
 // Room for the bursts between two listener calls.
 constexpr std::int32_t BUNDLE_READER_DEPTH = 256;
 
@@ -112,6 +115,9 @@ class CompactUnpacker::BundleListener final : public fdds::DataReaderListener {
         fdds::SampleInfo info;
         while (reader->take_next_sample(&bundle, &info) == ReturnCode_t::RETCODE_OK) {
             if (info.valid_data) {
+                // The bundle's DDS sample: its encapsulation and length, then the bytes.
+                owner_.tally_.add(writer_guid(info), info.sample_identity.sequence_number().to64long(),
+                                  BUNDLE_ENVELOPE_BYTES + bundle.bytes().size());
                 owner_.on_bundle(writer_prefix(info), bundle.bytes(), receive_ns(info));
             }
         }
@@ -122,10 +128,12 @@ class CompactUnpacker::BundleListener final : public fdds::DataReaderListener {
 };
 
 CompactUnpacker::CompactUnpacker(fdds::DomainParticipant* wan, fdds::DomainParticipant* local,
-                                 dds::PartitionGroups<fdds::Publisher>& publishers, SampleConsumer* store)
+                                 dds::PartitionGroups<fdds::Publisher>& publishers, DeliveryTally& tally,
+                                 SampleConsumer* store)
     : wan_(wan),
       local_(local),
       publishers_(publishers),
+      tally_(tally),
       store_(store),
       catalog_listener_(std::make_unique<CatalogListener>(*this)),
       bundle_listener_(std::make_unique<BundleListener>(*this)) {

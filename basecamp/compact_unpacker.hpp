@@ -58,10 +58,13 @@ class CompactUnpacker {
     static constexpr std::size_t REASSEMBLY_LIMIT = 64;
     static constexpr std::uint32_t MAX_CHUNKED_SAMPLE_BYTES = 16u << 20;
 
-    /// Reads on `wan` with `subscribers`' groups, writes on `local` through `publishers`' groups; all must outlive
-    /// it. `store`: where the relay records, or nullptr. Throws base::ConfigError when DDS refuses a reader.
+    /// Reads on `wan`, writes on `local` through `publishers`' groups; all must outlive it. Every bundle taken is
+    /// counted in `tally` against its writer, as a sample is in standard mode: the receiver reports then tell the
+    /// gateway what became of its bundles. `store`: where the relay records, or nullptr. Throws
+    /// base::ConfigError when DDS refuses a reader.
     CompactUnpacker(eprosima::fastdds::dds::DomainParticipant* wan, eprosima::fastdds::dds::DomainParticipant* local,
-                    dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers, SampleConsumer* store);
+                    dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers, DeliveryTally& tally,
+                    SampleConsumer* store);
     ~CompactUnpacker();
     CompactUnpacker(const CompactUnpacker&) = delete;
     CompactUnpacker& operator=(const CompactUnpacker&) = delete;
@@ -104,6 +107,7 @@ class CompactUnpacker {
     eprosima::fastdds::dds::DomainParticipant* wan_;
     eprosima::fastdds::dds::DomainParticipant* local_;
     dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers_;
+    DeliveryTally& tally_;
     SampleConsumer* store_;
     std::unique_ptr<CatalogListener> catalog_listener_;
     std::unique_ptr<BundleListener> bundle_listener_;

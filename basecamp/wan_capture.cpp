@@ -50,12 +50,16 @@ void tally_sample(DeliveryTally& tally, const TopicRecord& topic, const eprosima
     if (topic.topic == dds::STATUS_TOPIC) {
         return;
     }
+    tally.add(writer_guid(info), info.sample_identity.sequence_number().to64long(), payload_bytes);
+}
+
+WriterGuid writer_guid(const eprosima::fastdds::dds::SampleInfo& info) {
     const auto& guid = info.sample_identity.writer_guid();
     WriterGuid writer;
     std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), writer.begin());
     std::copy(std::begin(guid.entityId.value), std::end(guid.entityId.value),
               writer.begin() + sizeof(guid.guidPrefix.value));
-    tally.add(writer, info.sample_identity.sequence_number().to64long(), payload_bytes);
+    return writer;
 }
 
 }  // namespace tgw::basecamp

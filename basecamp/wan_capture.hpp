@@ -23,6 +23,9 @@ TopicRecord topic_record(const dds::DiscoveredPublisher& publisher);
 SampleRecord sample_record(const TopicRecord& topic, std::vector<std::uint8_t> payload,
                            const eprosima::fastdds::dds::SampleInfo& info);
 
+/// The GUID of the writer of the sample `info` describes.
+WriterGuid writer_guid(const eprosima::fastdds::dds::SampleInfo& info);
+
 /// Counts a received sample of `topic` against its writer (sequence number and payload bytes) for the receiver
 /// reports. The gateway's status is not counted: the reports tell the gateway what became of its scheduled
 /// samples, and the status is not one of them.

@@ -438,6 +438,15 @@ std::uint64_t Gateway::wan_write_failures() const {
     return sink_->wan_write_failures();
 }
 
+std::uint64_t Gateway::mean_wan_sample_wire_bytes() const {
+    if (compact_) {
+        const CompactWan::Stats stats = compact_->stats();
+        return stats.bundles == 0 ? 0 : stats.wire_bytes / stats.bundles;
+    }
+    const core::TopicCounters sent = loop_->total_counters();
+    return sent.forwarded == 0 ? 0 : sent.forwarded_wire_bytes / sent.forwarded;
+}
+
 std::optional<CompactWan::Stats> Gateway::wan_bundles() const {
     return compact_ ? std::optional<CompactWan::Stats>(compact_->stats()) : std::nullopt;
 }
@@ -531,6 +540,9 @@ void Gateway::publish_status_nts() {
 }
 
 std::uint64_t Gateway::forwarded_robot_samples() const {
+    if (compact_) {
+        return compact_->stats().bundles;  // what the relay counts in compact mode
+    }
     std::uint64_t forwarded = 0;
     for (const TopicBridge* bridge : topics_->all()) {
         forwarded += loop_->counters(bridge->id()).forwarded;

@@ -136,6 +136,11 @@ class Gateway {
     std::size_t wan_participants() const;
     std::optional<base::Duration> wan_writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
     std::uint64_t wan_write_failures() const;
+    /// The wire model the scheduler budgets with (without the statistics submessage in compact mode).
+    const core::WireModel& wire_model() const { return config_.scheduler.wire; }
+    /// The mean wire size of the WAN samples the base camp's receiver reports count: the robot's samples, or the
+    /// bundles in compact mode.
+    std::uint64_t mean_wan_sample_wire_bytes() const;
     /// Compact WAN mode: the bundles written so far; nullopt in standard mode.
     std::optional<CompactWan::Stats> wan_bundles() const;
     /// The WAN samples' RTPS messages and the datagrams that carried them.
@@ -175,7 +180,7 @@ class Gateway {
     void forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer);
     void stop_worker();
     /// Samples of the robot's topics written to the WAN so far: what base-camp receiver reports count (the
-    /// status is not among them).
+    /// status is not among them); in compact mode the bundles, which the relay counts.
     std::uint64_t forwarded_robot_samples() const;
     /// Writes the status and schedules the next one.
     void publish_status_nts();  // the worker thread only

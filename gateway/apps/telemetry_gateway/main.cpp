@@ -317,18 +317,16 @@ int main(int argc, char** argv) {
             if (!delivered_sources) {
                 delivered_sources.emplace();
             }
-            const tgw::core::WireModel wire = config.scheduler.wire;
+            const tgw::core::WireModel wire = gateway.wire_model();
             delivered_sources->kernel = tgw::sensor::with_receiver_reports(
                 std::move(delivered_sources->kernel), [&gateway, wire]() -> std::optional<tgw::sensor::ReceiverCounts> {
                     const auto report = gateway.receiver_report();
                     if (!report) {
                         return std::nullopt;
                     }
-                    // Bytes on the wire of what arrived, as if each sample went in a datagram of its own; what
-                    // is in flight at the mean size of what was forwarded.
-                    const tgw::core::TopicCounters sent = gateway.total_counters();
-                    const std::uint64_t mean_wire_bytes =
-                        sent.forwarded == 0 ? 0 : sent.forwarded_wire_bytes / sent.forwarded;
+                    // Bytes on the wire of what arrived, as if each sample (each bundle in compact mode) went in a
+                    // datagram of its own; what is in flight at the mean size of what was forwarded.
+                    const std::uint64_t mean_wire_bytes = gateway.mean_wan_sample_wire_bytes();
                     return tgw::sensor::ReceiverCounts{
                         report->received_bytes +
                             report->received_samples * (wire.per_datagram_bytes + wire.per_sample_bytes),

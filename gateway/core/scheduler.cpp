@@ -1,9 +1,9 @@
 #include "gateway/core/scheduler.hpp"
 
-#include "gateway/compact/bundle_codec.hpp"
-
 #include <algorithm>
 #include <utility>
+
+#include "gateway/compact/bundle_codec.hpp"
 
 namespace tgw::core {
 
@@ -328,12 +328,17 @@ void Scheduler::release_bundles(base::SteadyTime now, SampleSink& sink) {
 std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder& bundle, SampleSink& sink) {
     // Smaller, less urgent samples may fill the room a larger one left; looking further costs time for little.
     constexpr std::size_t MAX_CANDIDATES = 64;
+    // A sample at least this large that does not fit the room left fills it with its first chunk, if the room is
+    // at least this large: smaller ones wait for a bundle of their own rather than pay a chunk's header twice.
+    constexpr std::size_t MIN_FILLING_SAMPLE_BYTES = 512;
+    constexpr std::size_t MIN_FILLING_ROOM_BYTES = 256;
     std::vector<Sample> samples;
     const std::size_t max_bytes = config_.bundles->max_encoded_bytes;
     base::SteadyTime earliest_deadline = base::SteadyTime::max();
     base::Duration limit = base::Duration::max();  // the non-preemptive rule's, for what the bundle holds
     std::size_t candidates = 0;
     bool chunk_tried = false;
+    bool passed_over = false;  // a more urgent sample waits for a later bundle
     if (chunked_ && start + budget_.transmit_time(chunk_bits(chunked_->sample.payload.size() - chunked_->sent_bytes)) +
                             config_.link_latency >
                         chunked_->sample.deadline) {
@@ -342,9 +347,22 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
     // The chunked sample's next chunk goes where the sample would stand in the queue.
     const auto try_chunk = [&] {
         chunk_tried = true;
-        if (chunked_ && add_chunk(start, earliest_deadline, limit, bundle, samples)) {
+        if (!chunked_) {
+            return;
+        }
+        const bool alone = bundle.empty();
+        if (add_chunk(start, earliest_deadline, limit, bundle, samples)) {
             limit = std::min(limit, protect_.limit_for(chunked_->sample.topic));
             earliest_deadline = std::min(earliest_deadline, chunked_->sample.deadline);
+        } else if (alone) {
+            // Not even a small chunk is short enough for the most urgent topic: look again once it goes quiet.
+            const TopicId guard =
+                chunked_->sample.topic == protect_.first_topic ? protect_.second_topic : protect_.first_topic;
+            if (guard != ProtectedTopics::NONE) {
+                const TopicState& t = topics_[guard];
+                const base::SteadyTime quiet = t.last_arrival + t.config.ttl + base::Duration(1);
+                blocked_wakeup_ = blocked_wakeup_ ? std::min(*blocked_wakeup_, quiet) : quiet;
+            }
         }
     };
     queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
@@ -370,6 +388,7 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
             }
             // The first goes as a sample alone would, even past max_bytes (DDS then fragments it).
             if (!may_start(slot, start, alone_bits, sink)) {
+                passed_over = true;
                 return true;
             }
         } else {
@@ -377,10 +396,20 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
                 return false;
             }
             const std::size_t bytes = bundle.encoded_bytes_with(entry);
+            if (bytes > max_bytes && !chunked_ && !passed_over && peek.payload_bytes >= MIN_FILLING_SAMPLE_BYTES &&
+                bundle.encoded_bytes() + MIN_FILLING_ROOM_BYTES <= max_bytes && fills_in_two(peek, start)) {
+                // A large sample fills the room left in chunks: the bundle leaves full, its headers paid once.
+                // Only when nothing more urgent waits: the room it takes delays the next bundle.
+                if (start_chunks(slot, start, sink)) {
+                    try_chunk();
+                }
+                return bundle.encoded_bytes() < max_bytes;
+            }
             const base::Duration tx = budget_.transmit_time(bundle.wire_bits(bytes));
             // Joining must cost no entry its deadline, nor the most urgent topic its own (DESIGN section 4).
             if (bytes > max_bytes || start + tx + config_.link_latency > std::min(earliest_deadline, peek.deadline) ||
                 tx > std::min(limit, protect_.limit_for(peek.topic))) {
+                passed_over = true;
                 return true;
             }
         }
@@ -412,6 +441,15 @@ bool Scheduler::start_chunks(DeadlineQueue::Slot slot, base::SteadyTime start, S
     chunked_ = std::move(chunked);
     ++next_chunk_id_;
     return true;
+}
+
+bool Scheduler::fills_in_two(const DeadlineQueue::Peek& sample, base::SteadyTime start) const {
+    // Its rest must fit the next bundle, and both bundles full must leave before its deadline: a sample that
+    // only gets the room others leave must not be started to be abandoned, its chunks sent for nothing.
+    const std::size_t room = config_.bundles->max_encoded_bytes - compact::BundleCodec::MAX_FRAME_BYTES;
+    const std::uint64_t two_full = 2 * BundleBuilder(config_.wire).wire_bits(config_.bundles->max_encoded_bytes);
+    return sample.payload_bytes <= 2 * room &&
+           start + budget_.transmit_time(two_full) + config_.link_latency <= sample.deadline;
 }
 
 std::uint64_t Scheduler::chunk_bits(std::size_t payload_bytes) const {

@@ -156,6 +156,9 @@ class Scheduler {
     /// deadlines and `limit` (the non-preemptive rule) allow. False when not even a small one fits.
     bool add_chunk(base::SteadyTime start, base::SteadyTime earliest_deadline, base::Duration limit,
                    BundleBuilder& bundle, std::vector<Sample>& samples);
+    /// A sample that does not fit the room left may fill it with its first chunk: its rest fits one more bundle,
+    /// and two full bundles from `start` leave before its deadline.
+    bool fills_in_two(const DeadlineQueue::Peek& sample, base::SteadyTime start) const;
     /// The least a sample of `payload_bytes` puts on the link in chunks: the whole link its own, a chunk a bundle.
     std::uint64_t chunk_bits(std::size_t payload_bytes) const;
     /// The chunked sample goes to the log with `reason`; its chunks already sent are wasted.

@@ -75,17 +75,37 @@ TEST_F(BundleSchedulingTest, SamplesArrivingWhileTheLinkIsBusyShareTheNextBundle
     EXPECT_EQ(sink.bundles()[1].topics, (std::vector<TopicId>{a, b}));
 }
 
-TEST_F(BundleSchedulingTest, ASmallerLessUrgentSampleFillsTheRoomALargerOneCouldNotTake) {
+TEST_F(BundleSchedulingTest, ASmallerLessUrgentSampleFillsTheRoomAMidSizedOneCouldNotTake) {
+    make_sut(40'000);
+    push(a, 64);
+    for (int i = 0; i < 3; ++i)
+        push(b, 420);  // too small to be worth chunking
+    push(c, 288);
+    release();
+    ASSERT_GE(sink.bundles().size(), 1u);
+    EXPECT_EQ(sink.bundles()[0].topics, (std::vector<TopicId>{a, b, b, c}));
+    run_for(seconds(1));
+    ASSERT_EQ(sink.bundles().size(), 2u);
+    EXPECT_EQ(sink.bundles()[1].topics, (std::vector<TopicId>{b}));
+    for (const Sample& s : sink.forwarded())
+        EXPECT_FALSE(s.chunk);
+}
+
+TEST_F(BundleSchedulingTest, ALargeSampleThatDoesNotFitTheRoomLeftFillsItWithItsFirstChunk) {
     make_sut(40'000);
     push(a, 64);
     push(b, 1'250);
     push(c, 288);
     release();
     ASSERT_GE(sink.bundles().size(), 1u);
-    EXPECT_EQ(sink.bundles()[0].topics, (std::vector<TopicId>{a, c}));
+    EXPECT_EQ(sink.bundles()[0].topics, (std::vector<TopicId>{a, b}));
+    // Full: the chunk took the room to the byte the encoding allows.
+    EXPECT_GE(sink.bundles()[0].wire_bytes + 4, config.wire.wire_bytes(BundleLimits{}.max_encoded_bytes + 8));
     run_for(seconds(1));
     ASSERT_EQ(sink.bundles().size(), 2u);
-    EXPECT_EQ(sink.bundles()[1].topics, (std::vector<TopicId>{b}));
+    EXPECT_EQ(sink.bundles()[1].topics, (std::vector<TopicId>{b, c}));
+    EXPECT_EQ(sut->counters(b).forwarded, 1u);
+    EXPECT_TRUE(sut->counters(b).balanced());
 }
 
 TEST_F(BundleSchedulingTest, NoSampleJoinsABundleItWouldMakeAnEarlierEntryMissItsDeadline) {

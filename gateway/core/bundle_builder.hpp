@@ -13,8 +13,13 @@ namespace tgw::core {
 struct BundleLimits {
     /// The bundle travels as one DDS sample: its encapsulation and the sequence's length come first.
     static constexpr std::size_t DDS_ENVELOPE_BYTES = 8;
-    /// The largest encoding that still leaves in one datagram, without DATA_FRAG (1300 at the default 1472).
-    static std::size_t one_datagram(const WireModel& wire) { return wire.max_unfragmented_bytes - DDS_ENVELOPE_BYTES; }
+    /// Bytes kept clear of Fast DDS's own limit: at the limit itself, bundles were sent as DATA_FRAG (measured on
+    /// the testbed, 2026-11-25), and a fragmented bundle arrived corrupt now and then (its CRC caught it).
+    static constexpr std::size_t FRAGMENTATION_MARGIN_BYTES = 16;
+    /// The largest encoding that leaves in one DATA submessage, with the margin (1284 at the default 1472).
+    static std::size_t one_datagram(const WireModel& wire) {
+        return wire.max_unfragmented_bytes - DDS_ENVELOPE_BYTES - FRAGMENTATION_MARGIN_BYTES;
+    }
 
     std::size_t max_encoded_bytes = one_datagram(WireModel{});
 };

@@ -379,14 +379,17 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
             const std::uint64_t alone_bits = bundle.alone_wire_bits(entry);
             const bool too_large = bundle.encoded_bytes_with(entry) > max_bytes ||
                                    budget_.transmit_time(alone_bits) > protect_.limit_for(peek.topic);
-            if (too_large && !chunked_) {
-                // In chunks, urgent samples travel between them.
-                if (start_chunks(slot, start, sink)) {
+            if (too_large) {
+                // In chunks, urgent samples travel between them; one sample at a time, the others wait. A bundle
+                // is never fragmented.
+                if (!chunked_ && start_chunks(slot, start, sink)) {
                     try_chunk();
+                } else {
+                    passed_over = true;
                 }
                 return true;
             }
-            // The first goes as a sample alone would, even past max_bytes (DDS then fragments it).
+            // The first goes as a sample alone would.
             if (!may_start(slot, start, alone_bits, sink)) {
                 passed_over = true;
                 return true;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <functional>
 #include <iterator>
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -90,42 +91,29 @@ struct CompactUnpacker::Stream {
     std::vector<std::unique_ptr<LocalLane>> lanes;  ///< by lane index; null until poll() makes it
 };
 
-class CompactUnpacker::CatalogListener final : public fdds::DataReaderListener {
+namespace {
+
+/// Takes every sample of `Data` its reader has and hands each valid one to `on_sample`, in the taking thread.
+template <typename Data>
+class TakingListener final : public fdds::DataReaderListener {
   public:
-    explicit CatalogListener(CompactUnpacker& owner) : owner_(owner) {}
+    explicit TakingListener(std::function<void(Data&, const fdds::SampleInfo&)> on_sample)
+        : on_sample_(std::move(on_sample)) {}
     void on_data_available(fdds::DataReader* reader) override {
-        wan::CatalogEntry entry;
+        Data data;
         fdds::SampleInfo info;
-        while (reader->take_next_sample(&entry, &info) == ReturnCode_t::RETCODE_OK) {
+        while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
             if (info.valid_data) {
-                owner_.on_catalog(writer_prefix(info), std::move(entry));
+                on_sample_(data, info);
             }
         }
     }
 
   private:
-    CompactUnpacker& owner_;
+    std::function<void(Data&, const fdds::SampleInfo&)> on_sample_;
 };
 
-class CompactUnpacker::BundleListener final : public fdds::DataReaderListener {
-  public:
-    explicit BundleListener(CompactUnpacker& owner) : owner_(owner) {}
-    void on_data_available(fdds::DataReader* reader) override {
-        wan::Bundle bundle;
-        fdds::SampleInfo info;
-        while (reader->take_next_sample(&bundle, &info) == ReturnCode_t::RETCODE_OK) {
-            if (info.valid_data) {
-                // The bundle's DDS sample: its encapsulation and length, then the bytes.
-                owner_.tally_.add(writer_guid(info), info.sample_identity.sequence_number().to64long(),
-                                  BUNDLE_ENVELOPE_BYTES + bundle.bytes().size());
-                owner_.on_bundle(writer_prefix(info), bundle.bytes(), receive_ns(info));
-            }
-        }
-    }
-
-  private:
-    CompactUnpacker& owner_;
-};
+}  // namespace
 
 CompactUnpacker::CompactUnpacker(fdds::DomainParticipant* wan, fdds::DomainParticipant* local,
                                  dds::PartitionGroups<fdds::Publisher>& publishers, DeliveryTally& tally,
@@ -135,8 +123,17 @@ CompactUnpacker::CompactUnpacker(fdds::DomainParticipant* wan, fdds::DomainParti
       publishers_(publishers),
       tally_(tally),
       store_(store),
-      catalog_listener_(std::make_unique<CatalogListener>(*this)),
-      bundle_listener_(std::make_unique<BundleListener>(*this)) {
+      catalog_listener_(std::make_unique<TakingListener<wan::CatalogEntry>>(
+          [this](wan::CatalogEntry& entry, const fdds::SampleInfo& info) {
+              on_catalog(writer_prefix(info), std::move(entry));
+          })),
+      bundle_listener_(
+          std::make_unique<TakingListener<wan::Bundle>>([this](wan::Bundle& bundle, const fdds::SampleInfo& info) {
+              // The bundle's DDS sample: its encapsulation and length, then the bytes.
+              tally_.add(writer_guid(info), info.sample_identity.sequence_number().to64long(),
+                         BUNDLE_ENVELOPE_BYTES + bundle.bytes().size());
+              on_bundle(writer_prefix(info), bundle.bytes(), receive_ns(info));
+          })) {
     fdds::TypeSupport catalog_type(new wan::CatalogEntryPubSubType());
     fdds::TypeSupport bundle_type(new wan::BundlePubSubType());
     fdds::Subscriber* subscriber = wan_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);

@@ -21,6 +21,7 @@
 
 namespace eprosima::fastdds::dds {
 class DataReader;
+class DataReaderListener;
 class DataWriter;
 class DomainParticipant;
 class Publisher;
@@ -78,8 +79,6 @@ class CompactUnpacker {
     std::int32_t local_readers(const std::string& topic) const;
 
   private:
-    class CatalogListener;
-    class BundleListener;
     struct LocalLane;
     struct Stream;
     struct Waiting {
@@ -109,8 +108,8 @@ class CompactUnpacker {
     dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers_;
     DeliveryTally& tally_;
     SampleConsumer* store_;
-    std::unique_ptr<CatalogListener> catalog_listener_;
-    std::unique_ptr<BundleListener> bundle_listener_;
+    std::unique_ptr<eprosima::fastdds::dds::DataReaderListener> catalog_listener_;
+    std::unique_ptr<eprosima::fastdds::dds::DataReaderListener> bundle_listener_;
     eprosima::fastdds::dds::DataReader* catalog_reader_ = nullptr;
     eprosima::fastdds::dds::DataReader* bundle_reader_ = nullptr;
 

@@ -10,6 +10,7 @@
 #include "gateway/compact/bundle_codec.hpp"
 #include "gateway/core/bundle_builder.hpp"
 #include "gateway/dds/compact_topics.hpp"
+#include "gateway/dds/keyed_sample.hpp"
 #include "gateway/dds/wan_router.hpp"
 #include "gateway/dds/wan_writer.hpp"
 
@@ -83,18 +84,11 @@ bool CompactWan::announce(const CatalogLane& lane) {
     entry.lanes()[lane.lane] = lane_offer(lane);
 
     wan::CatalogEntryPubSubType type;
-    eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&entry)());
-    eprosima::fastrtps::rtps::InstanceHandle_t instance;
     core::Sample sample;
-    if (!type.serialize(&entry, &payload) || !type.getKey(&entry, &instance, false)) {
+    if (!keyed_sample(type, entry, sample)) {
         std::cerr << "telemetry-gateway: cannot serialize the catalog entry of " << lane.topic << "\n";
         return false;
     }
-    sample.payload.assign(payload.data, payload.data + payload.length);
-    for (std::size_t i = 0; i < sample.key.bytes.size(); ++i) {
-        sample.key.bytes[i] = instance.value[i];
-    }
-    sample.key.valid = true;
     sample.source_time = base::WallClock::now();
     // Reliable and latched: a base camp that misses it, or joins later, gets it repaired or on joining.
     return catalog_writer_->write(sample) == WriteResult::ok;
@@ -124,25 +118,24 @@ std::size_t CompactWan::write(std::vector<core::Sample>& samples) {
         samples[i].payload = std::move(bundle_.entries[i].payload);
     }
 
-    // The DDS sample: plain CDR of wan::Bundle, the sequence's length and the bytes.
-    core::Sample carrier;
+    // The DDS sample: plain CDR of wan::Bundle, the sequence's length and the bytes. Its buffer is reused.
     const auto length = static_cast<std::uint32_t>(encoded_.size());
-    carrier.payload.reserve(core::BundleLimits::DDS_ENVELOPE_BYTES + encoded_.size());
-    carrier.payload = {0x00,
-                       0x01,
-                       0x00,
-                       0x00,
-                       static_cast<std::uint8_t>(length),
-                       static_cast<std::uint8_t>(length >> 8),
-                       static_cast<std::uint8_t>(length >> 16),
-                       static_cast<std::uint8_t>(length >> 24)};
-    carrier.payload.insert(carrier.payload.end(), encoded_.begin(), encoded_.end());
-    carrier.source_time = base::WallClock::now();
-    if (bundle_writer_->write(carrier) != WriteResult::ok) {
+    const std::uint8_t envelope[core::BundleLimits::DDS_ENVELOPE_BYTES] = {0x00,
+                                                                           0x01,
+                                                                           0x00,
+                                                                           0x00,
+                                                                           static_cast<std::uint8_t>(length),
+                                                                           static_cast<std::uint8_t>(length >> 8),
+                                                                           static_cast<std::uint8_t>(length >> 16),
+                                                                           static_cast<std::uint8_t>(length >> 24)};
+    carrier_.payload.assign(std::begin(envelope), std::end(envelope));
+    carrier_.payload.insert(carrier_.payload.end(), encoded_.begin(), encoded_.end());
+    carrier_.source_time = base::WallClock::now();
+    if (bundle_writer_->write(carrier_) != WriteResult::ok) {
         return 0;
     }
     ++next_sequence_;
-    const std::size_t wire_bytes = wire_.wire_bytes(carrier.payload.size());
+    const std::size_t wire_bytes = wire_.wire_bytes(carrier_.payload.size());
     const base::SteadyTime now = base::SteadyClock::now();
     std::lock_guard<std::mutex> lock(stats_mutex_);
     if (stats_.bundles == 0) {

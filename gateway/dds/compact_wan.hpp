@@ -79,6 +79,7 @@ class CompactWan {
     std::uint32_t next_sequence_ = 0;
     compact::Bundle bundle_;             ///< reused between writes
     std::vector<std::uint8_t> encoded_;  ///< reused between writes
+    core::Sample carrier_;               ///< the bundle's DDS sample, reused between writes
     mutable std::mutex stats_mutex_;
     Stats stats_;  // under stats_mutex_
 };

@@ -10,6 +10,7 @@
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway_sink.hpp"
+#include "gateway/dds/keyed_sample.hpp"
 #include "gateway/dds/qos_file.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
 #include "gateway/dds/robot_participant.hpp"
@@ -524,14 +525,7 @@ void Gateway::publish_status_nts() {
     core::Sample sample;
     sample.topic = *status_topic_;
     sample.source_time = clock_.wall_now();
-    eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(bytes));
-    eprosima::fastrtps::rtps::InstanceHandle_t instance;
-    if (type.serialize(&status, &payload) && type.getKey(&status, &instance, false)) {
-        sample.payload.assign(payload.data, payload.data + payload.length);
-        for (std::size_t i = 0; i < sample.key.bytes.size(); ++i) {
-            sample.key.bytes[i] = instance.value[i];
-        }
-        sample.key.valid = true;
+    if (keyed_sample(type, status, sample)) {
         loop_->submit(std::move(sample));
         statuses_published_.fetch_add(1, std::memory_order_relaxed);
     }

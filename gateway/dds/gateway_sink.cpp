@@ -29,7 +29,7 @@ bool GatewaySink::forward(core::Sample&& sample) {
         drop(std::move(sample), core::DropReason::write_failed);
         return false;
     }
-    note_forwarded(sample);
+    note_forwarded(sample, bridge);
     return true;
 }
 
@@ -44,19 +44,18 @@ std::size_t GatewaySink::forward_bundle(std::vector<core::Sample>&& samples, std
                 drop(std::move(sample), core::DropReason::write_failed);
             }
         } else if (sample.completes_sample()) {
-            note_forwarded(sample);
+            note_forwarded(sample, sample.topic == status_topic_ ? nullptr : topics_.find(sample.topic));
         }
     }
     return written;
 }
 
-void GatewaySink::note_forwarded(const core::Sample& sample) {
+void GatewaySink::note_forwarded(const core::Sample& sample, const TopicBridge* bridge) {
     const base::SteadyTime written = clock_.now();
     processing_latency_.record(written - sample.arrival);
     // The log says what left the robot, so that the mission archive can tell lost on the link from never produced.
     // Not the status (the gateway's own, not telemetry), nor a dispose or unregister: the base camp records data
     // samples only, so one could never be matched.
-    const TopicBridge* bridge = sample.topic == status_topic_ ? nullptr : topics_.find(sample.topic);
     if (log_ != nullptr && bridge != nullptr && sample.kind == core::SampleKind::data) {
         // One reading of each clock for the three times: this runs for every sample sent.
         const base::WallTime written_wall = clock_.wall_now();

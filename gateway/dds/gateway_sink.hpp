@@ -42,8 +42,9 @@ class GatewaySink final : public core::SampleSink {
     const core::LatencyHistogram& processing_latency() const { return processing_latency_; }
 
   private:
-    /// The sample left for the WAN: its processing time, and the on-robot log's record of it.
-    void note_forwarded(const core::Sample& sample);
+    /// The sample left for the WAN: its processing time, and the on-robot log's record of it. `bridge`: its
+    /// topic's, null for the status.
+    void note_forwarded(const core::Sample& sample, const TopicBridge* bridge);
     base::WallTime to_wall(base::SteadyTime t) const;
 
     const TopicTable& topics_;

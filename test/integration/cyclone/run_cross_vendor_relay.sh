@@ -2,12 +2,15 @@
 # Cross-vendor relay test: Cyclone DDS publishers on the robot domain -> telemetry-gateway -> the WAN domain ->
 # tm-basecamp relay -> Cyclone DDS subscribers (reliable, as ROS 2 readers are) on the camp's own domain, on
 # loopback. Passes when both subscribers (an unkeyed topic with samples up to 5 kB, a keyed topic with 50
-# instances) receive every sample with its bytes, source timestamp and instance intact.
+# instances) receive every sample with its bytes, source timestamp and instance intact. GATEWAY_FLAGS go to the
+# gateway: --wan-mode compact runs the same through bundles (the 5 kB samples in chunks), which the relay unpacks.
 #
-#   run_cross_vendor_relay.sh GATEWAY TM_BASECAMP XV_PUB XV_SUB
+#   run_cross_vendor_relay.sh GATEWAY TM_BASECAMP XV_PUB XV_SUB [GATEWAY_FLAGS...]
 set -euo pipefail
-[ $# -eq 4 ] || { echo "usage: $0 GATEWAY TM_BASECAMP XV_PUB XV_SUB" >&2; exit 2; }
+[ $# -ge 4 ] || { echo "usage: $0 GATEWAY TM_BASECAMP XV_PUB XV_SUB [GATEWAY_FLAGS...]" >&2; exit 2; }
 GATEWAY="$1" BASECAMP="$2" PUB="$3" SUB="$4"
+shift 4
+GATEWAY_FLAGS=("$@")
 # shellcheck source=test/integration/cyclone/xv_lib.sh
 source "$(dirname "$0")/xv_lib.sh"
 
@@ -28,7 +31,7 @@ SUB_KEYED=$LAST_PID
 start relay "$BASECAMP" relay --domain "$WAN_DOMAIN" --peer 127.0.0.1 --interface 127.0.0.1 \
     --local-domain "$LOCAL_DOMAIN" --local-interface 127.0.0.1 --duration $((TIMEOUT_S + 10))
 sleep 1
-start_gateway $((TIMEOUT_S + 10))
+start_gateway $((TIMEOUT_S + 10)) "${GATEWAY_FLAGS[@]}"
 start pub-blob "$PUB" "$ROBOT_DOMAIN" "$BLOB_TOPIC" blob "$COUNT" 1 "$TIMEOUT_S"
 start pub-keyed "$PUB" "$ROBOT_DOMAIN" "$KEYED_TOPIC" keyed "$KEYED_COUNT" "$INSTANCES" "$TIMEOUT_S" 0
 

@@ -56,7 +56,7 @@ void Scheduler::set_rate(double sensed_rate_bps) {
 }
 
 TopicId Scheduler::add_topic(const TopicConfig& topic) {
-    topics_.push_back(TopicState{topic, {}, {}, 0, false, 0});
+    topics_.push_back(TopicState{topic, {}, {}, 0, false, 0, DecayingRate{}});
     return static_cast<TopicId>(topics_.size() - 1);
 }
 
@@ -299,6 +299,9 @@ void Scheduler::release_bundles(base::SteadyTime now, SampleSink& sink) {
             const std::uint64_t share =
                 share_until(payload_before + t.payload_bytes, i + 1) - share_until(payload_before, i);
             payload_before += t.payload_bytes;
+            if (written) {
+                topics_[t.topic].link_use.add(now, 8.0 * static_cast<double>(share));
+            }
             if (t.chunk) {
                 c.forwarded_wire_bytes += written ? share : 0;  // the sample counts once, below
                 continue;
@@ -339,6 +342,15 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
     std::size_t candidates = 0;
     bool chunk_tried = false;
     bool passed_over = false;  // a more urgent sample waits for a later bundle
+    // The rate the more urgent topics leave, summed over all topics: once per rank and bundle.
+    std::optional<std::pair<std::int64_t, double>> rate_left_of_rank;
+    const auto rate_left = [&](TopicId topic) {
+        const std::int64_t rank = rank_of(topic);
+        if (!rate_left_of_rank || rate_left_of_rank->first != rank) {
+            rate_left_of_rank.emplace(rank, rate_left_bps(rank, start));
+        }
+        return rate_left_of_rank->second;
+    };
     if (chunked_ && start + budget_.transmit_time(chunk_bits(chunked_->sample.payload.size() - chunked_->sent_bytes)) +
                             config_.link_latency >
                         chunked_->sample.deadline) {
@@ -399,14 +411,23 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
                 return false;
             }
             const std::size_t bytes = bundle.encoded_bytes_with(entry);
-            if (bytes > max_bytes && !chunked_ && !passed_over && peek.payload_bytes >= MIN_FILLING_SAMPLE_BYTES &&
-                bundle.encoded_bytes() + MIN_FILLING_ROOM_BYTES <= max_bytes && fills_in_two(peek, start)) {
-                // A large sample fills the room left in chunks: the bundle leaves full, its headers paid once.
-                // Only when nothing more urgent waits: the room it takes delays the next bundle.
-                if (start_chunks(slot, start, sink)) {
-                    try_chunk();
+            if (bytes > max_bytes && !chunked_ && peek.payload_bytes >= MIN_FILLING_SAMPLE_BYTES &&
+                bundle.encoded_bytes() + MIN_FILLING_ROOM_BYTES <= max_bytes && fits_two_bundles(peek)) {
+                if (!arrives_in_two_bundles(peek, start) ||
+                    chunks_arrive_by(peek.payload_bytes, start, rate_left(peek.topic)) > peek.deadline) {
+                    // Filled in, it would arrive late, and it goes whole only when nothing more urgent waits. Not
+                    // passed over: while the oldest of a starved topic sits here until it expires, a younger one
+                    // of the same topic that can still arrive takes the room.
+                    return true;
                 }
-                return bundle.encoded_bytes() < max_bytes;
+                if (!passed_over) {
+                    // A large sample fills the room left in chunks: the bundle leaves full, its headers paid once.
+                    // Only when nothing more urgent waits: the room it takes delays the next bundle.
+                    if (start_chunks(slot, start, sink)) {
+                        try_chunk();
+                    }
+                    return bundle.encoded_bytes() < max_bytes;
+                }
             }
             const base::Duration tx = budget_.transmit_time(bundle.wire_bits(bytes));
             // Joining must cost no entry its deadline, nor the most urgent topic its own (DESIGN section 4).
@@ -430,7 +451,7 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
 
 bool Scheduler::start_chunks(DeadlineQueue::Slot slot, base::SteadyTime start, SampleSink& sink) {
     const DeadlineQueue::Peek peek = queue_.at(slot);
-    if (start + budget_.transmit_time(chunk_bits(peek.payload_bytes)) + config_.link_latency > peek.deadline) {
+    if (chunks_arrive_by(peek.payload_bytes, start, rate_left_bps(rank_of(peek.topic), start)) > peek.deadline) {
         drop(take(slot), DropReason::doomed, sink);
         return false;
     }
@@ -446,13 +467,37 @@ bool Scheduler::start_chunks(DeadlineQueue::Slot slot, base::SteadyTime start, S
     return true;
 }
 
-bool Scheduler::fills_in_two(const DeadlineQueue::Peek& sample, base::SteadyTime start) const {
-    // Its rest must fit the next bundle, and both bundles full must leave before its deadline: a sample that
-    // only gets the room others leave must not be started to be abandoned, its chunks sent for nothing.
+bool Scheduler::fits_two_bundles(const DeadlineQueue::Peek& sample) const {
     const std::size_t room = config_.bundles->max_encoded_bytes - compact::BundleCodec::MAX_FRAME_BYTES;
+    return sample.payload_bytes <= 2 * room;
+}
+
+bool Scheduler::arrives_in_two_bundles(const DeadlineQueue::Peek& sample, base::SteadyTime start) const {
+    // Its rest goes in the next bundle, and both bundles full must leave before its deadline: a sample that only
+    // gets the room others leave must not be started to be abandoned, its chunks sent for nothing.
     const std::uint64_t two_full = 2 * BundleBuilder(config_.wire).wire_bits(config_.bundles->max_encoded_bytes);
-    return sample.payload_bytes <= 2 * room &&
-           start + budget_.transmit_time(two_full) + config_.link_latency <= sample.deadline;
+    return start + budget_.transmit_time(two_full) + config_.link_latency <= sample.deadline;
+}
+
+double Scheduler::rate_left_bps(std::int64_t rank, base::SteadyTime at) const {
+    // What the more urgent topics took of the link lately they will take while a sample of `rank` is on its way.
+    double rate_bps = budget_.rate_bps();
+    for (TopicId t = 0; t < topics_.size(); ++t) {
+        if (rank_of(t) < rank) {
+            rate_bps -= topics_[t].link_use.per_second(at);
+        }
+    }
+    return rate_bps;
+}
+
+base::SteadyTime Scheduler::chunks_arrive_by(std::size_t payload_bytes, base::SteadyTime start, double rate_bps) const {
+    if (rate_bps <= 0.0) {
+        return base::SteadyTime::max();
+    }
+    // Its last chunk arrives with the bundle it is in: at worst a full one that starts once the rest has gone.
+    const std::uint64_t last_bundle = BundleBuilder(config_.wire).wire_bits(config_.bundles->max_encoded_bytes);
+    return start + base::from_seconds(static_cast<double>(chunk_bits(payload_bytes)) / rate_bps) +
+           budget_.transmit_time(last_bundle) + config_.link_latency;
 }
 
 std::uint64_t Scheduler::chunk_bits(std::size_t payload_bytes) const {

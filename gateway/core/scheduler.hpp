@@ -7,6 +7,7 @@
 
 #include "gateway/core/bundle_builder.hpp"
 #include "gateway/core/deadline_queue.hpp"
+#include "gateway/core/decaying_rate.hpp"
 #include "gateway/core/link_budget.hpp"
 #include "gateway/core/policy_kind.hpp"
 #include "gateway/core/sample_sink.hpp"
@@ -116,6 +117,8 @@ class Scheduler {
         bool seen = false;
         /// protect_epoch_ when this topic's present limit was last offered to protect_.
         std::uint64_t protect_epoch = 0;
+        /// Compact mode: the link bits its entries took lately, their share of the bundle headers included.
+        DecayingRate link_use;
     };
 
     /// The two shortest-limit active topics (limit: TTL minus the topic's last wire time), so that a candidate
@@ -156,9 +159,15 @@ class Scheduler {
     /// deadlines and `limit` (the non-preemptive rule) allow. False when not even a small one fits.
     bool add_chunk(base::SteadyTime start, base::SteadyTime earliest_deadline, base::Duration limit,
                    BundleBuilder& bundle, std::vector<Sample>& samples);
-    /// A sample that does not fit the room left may fill it with its first chunk: its rest fits one more bundle,
-    /// and two full bundles from `start` leave before its deadline.
-    bool fills_in_two(const DeadlineQueue::Peek& sample, base::SteadyTime start) const;
+    /// A sample that does not fit the room left may fill it with its first chunk when its rest fits one more
+    /// bundle, and two full bundles from `start` leave before its deadline.
+    bool fits_two_bundles(const DeadlineQueue::Peek& sample) const;
+    bool arrives_in_two_bundles(const DeadlineQueue::Peek& sample, base::SteadyTime start) const;
+    /// Compact mode: the budget's rate less what the topics more urgent than `rank` spent of the link lately.
+    double rate_left_bps(std::int64_t rank, base::SteadyTime at) const;
+    /// When the last chunk of a sample of `payload_bytes` started at `start` arrives, given `rate_bps` of the link;
+    /// SteadyTime::max() for none.
+    base::SteadyTime chunks_arrive_by(std::size_t payload_bytes, base::SteadyTime start, double rate_bps) const;
     /// The least a sample of `payload_bytes` puts on the link in chunks: the whole link its own, a chunk a bundle.
     std::uint64_t chunk_bits(std::size_t payload_bytes) const;
     /// The chunked sample goes to the log with `reason`; its chunks already sent are wasted.

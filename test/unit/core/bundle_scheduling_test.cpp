@@ -5,6 +5,7 @@
 #include <random>
 
 #include "gateway/compact/bundle_codec.hpp"
+#include "gateway/core/paper_workload.hpp"
 #include "test/unit/core/scheduler_fixture.hpp"
 
 namespace tgw::core {
@@ -254,6 +255,30 @@ TEST_F(BundleSchedulingTest, ARefusedBundleCountsEachEntryAsWriteFailed) {
     EXPECT_EQ(sut->counters(b).dropped_for(DropReason::write_failed), 1u);
     EXPECT_EQ(sut->counters(a).forwarded, 0u);
     EXPECT_EQ(sink.dropped_count(DropReason::write_failed), 2u);
+}
+
+TEST_F(BundleSchedulingTest, TheRoomMoreUrgentTopicsLeaveCarriesTheLeastUrgentTopicSamplesThatCanStillArrive) {
+    // The paper's workload at 25,000 bit/s: A, B and C take about 22,000 of it. D's backlog reaches the head of its
+    // queue only with less time left than its chunks need; the room left must go to a D that can still arrive,
+    // not wait behind the one that cannot until it expires.
+    make_sut(25'000);
+    const std::size_t sizes[] = {paper_message_serialized_bytes(41), paper_message_serialized_bytes(66),
+                                 paper_message_serialized_bytes(266), paper_message_serialized_bytes(1'016)};
+    const auto publish_for = [&](base::Duration span) {
+        for (base::Duration t{}; t < span; t += milliseconds(200)) {
+            for (TopicId topic : {a, b, c, d})
+                push(topic, sizes[topic]);
+            run_for(milliseconds(200));
+        }
+    };
+    publish_for(seconds(40));  // D's queue fills to its TTL
+    const std::uint64_t d_before = sut->counters(d).forwarded;
+    publish_for(seconds(40));
+    // About 2,500 bit/s are left: a D every 4 s or so.
+    EXPECT_GE(sut->counters(d).forwarded - d_before, 6u) << "expired " << sink.dropped_count(DropReason::expired)
+                                                         << ", doomed " << sink.dropped_count(DropReason::doomed);
+    for (TopicId topic : {a, b, c})
+        EXPECT_EQ(sut->counters(topic).dropped_total(), 0u) << "topic " << topic;
 }
 
 TEST_F(BundleSchedulingTest, EverySampleIsForwardedQueuedOrLogged) {

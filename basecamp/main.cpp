@@ -20,6 +20,7 @@
 #include "basecamp/linkmap_command.hpp"
 #include "basecamp/mcap_recording.hpp"
 #include "basecamp/merge_command.hpp"
+#include "basecamp/on_time_payload.hpp"
 #include "basecamp/progress_line.hpp"
 #include "basecamp/recorder.hpp"
 #include "basecamp/relay.hpp"
@@ -149,6 +150,11 @@ int main(int argc, char** argv) {
     CLI::Option* since =
         report->add_option("--since-ns", since_ns,
                            "ignore samples (recording and log) with a source time before this, ns since the epoch");
+    double link_rate_bps = 0.0;
+    CLI::Option* link_rate =
+        report->add_option("--link-rate", link_rate_bps,
+                           "bit/s: also print the on-time payload, the serialized bytes that arrived within their TTL "
+                           "over the steady window, as a share of this rate");
 
     // Subcommands in files of their own.
     const std::vector<tgw::basecamp::Subcommand> subcommands = {
@@ -286,7 +292,16 @@ int main(int argc, char** argv) {
                 options.since_ns = since_ns;
             if (!options.forwarded.empty() && robot_log.empty())
                 throw tgw::base::ConfigError("--forwarded: needs --robot-log");
-            tgw::basecamp::print_report(std::cout, tgw::basecamp::read_report(in, options));
+            if (link_rate->count() > 0 && !(link_rate_bps > 0.0))
+                throw tgw::base::ConfigError("--link-rate " + link_rate->as<std::string>() +
+                                             ": expected bit/s above 0");
+            const std::vector<tgw::basecamp::TopicReport> reports = tgw::basecamp::read_report(in, options);
+            tgw::basecamp::print_report(std::cout, reports);
+            if (link_rate_bps > 0.0) {
+                tgw::basecamp::print_on_time_payload(
+                    std::cout, tgw::basecamp::read_on_time_payload(in, reports, options.since_ns, link_rate_bps),
+                    link_rate_bps);
+            }
         }
     } catch (const tgw::base::ConfigError& e) {
         std::cerr << "tm-basecamp: " << e.what() << "\n";

@@ -25,4 +25,14 @@ Duration RateProfile::finish_offset(Duration offset, std::uint64_t bits) const {
     }
 }
 
+double RateProfile::capacity_bits(Duration from, Duration to) const {
+    double bits = 0.0;
+    for (Duration t = from; t < to;) {
+        const Duration step_end = std::min(to, next_change_after(t));
+        bits += rate_at(t) * base::to_seconds(step_end - t);
+        t = step_end;
+    }
+    return bits;
+}
+
 }  // namespace tgw::sim

@@ -18,6 +18,8 @@ class RateProfile : public base::RateSteps {
     /// When `bits` started at `offset` have left the link, integrating across rate steps (a step at 0 bit/s
     /// pauses the transmission); Duration::max() if the link never carries them.
     base::Duration finish_offset(base::Duration offset, std::uint64_t bits) const;
+    /// The bits the link carries from `from` to `to` when never idle.
+    double capacity_bits(base::Duration from, base::Duration to) const;
 };
 
 }  // namespace tgw::sim

@@ -17,6 +17,15 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
 ResultTable::ResultTable(std::vector<core::MessageStream> workload, core::PolicyKind policy, double duration_s)
     : workload_(std::move(workload)), policy_(policy), duration_s_(duration_s) {}
 
+double ResultTable::on_time_payload_bits(const SimulationResult& result) const {
+    double bits = 0.0;
+    for (std::size_t i = 0; i < workload_.size(); ++i) {
+        bits += 8.0 * static_cast<double>(result.per_stream[i].on_time) *
+                static_cast<double>(core::paper_message_serialized_bytes(workload_[i].data_bytes));
+    }
+    return bits;
+}
+
 void ResultTable::add(std::string link_name, SimulationResult result) {
     rows_.emplace_back(std::move(link_name), std::move(result));
 }
@@ -43,7 +52,11 @@ std::string ResultTable::detailed_markdown() const {
             out << ' ' << format("%.3f", s.mean_s()) << " | " << format("%.3f", s.stddev_s()) << " |\n";
         }
         out << "\nlink: " << result.link_sent_bits / 8 << " bytes sent, " << result.link_dropped_bits / 8
-            << " bytes dropped by the shaper\n\n";
+            << " bytes dropped by the shaper\n";
+        out << "on-time payload: " << format("%.0f", on_time_payload_bits(result) / duration_s_)
+            << " bit/s of serialized samples, "
+            << format("%.1f", 100.0 * on_time_payload_bits(result) / result.measured_capacity_bits)
+            << " % of what the link could carry\n\n";
     }
     return out.str();
 }

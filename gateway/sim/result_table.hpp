@@ -22,6 +22,9 @@ class ResultTable {
     std::string summary_markdown() const;
 
   private:
+    /// The serialized bytes, in bits, of the samples that arrived in time.
+    double on_time_payload_bits(const SimulationResult& result) const;
+
     std::vector<core::MessageStream> workload_;
     core::PolicyKind policy_;
     double duration_s_;

@@ -140,6 +140,7 @@ SimulationResult run_simulation(const SimulationConfig& config) {
     result.gateway_counters = scheduler.total_counters();
     result.link_sent_bits = link.sent_bits();
     result.link_dropped_bits = link.dropped_bits();
+    result.measured_capacity_bits = config.link.capacity_bits(config.warmup, config.warmup + config.duration);
     return result;
 }
 

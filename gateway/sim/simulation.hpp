@@ -31,6 +31,8 @@ struct SimulationResult {
     core::TopicCounters gateway_counters;
     std::uint64_t link_sent_bits = 0;
     std::uint64_t link_dropped_bits = 0;
+    /// What the link could carry over the measured window: the bar the on-time payload is held against.
+    double measured_capacity_bits = 0.0;
 };
 
 /// The scheduler alone in simulated time: the workload's streams publish periodically (phases spread within

@@ -23,6 +23,10 @@ struct SchedulerConfig {
     /// WAN participant's discovery traffic, charge_link) and a sensor that reads a little high, so that the
     /// shaper's queue drains instead of standing full.
     double budget_fraction = 0.95;
+    /// The default in compact WAN mode: the budget there charges each bundle at the bytes the writer put on the
+    /// wire rather than at a model of them, so less is kept back (measured on the testbed: 2 to 3 points more
+    /// on-time payload at 25,000 and 40,000 bit/s, nothing lost on the link).
+    static constexpr double COMPACT_BUDGET_FRACTION = 0.98;
     /// How long the unspent rest of the rate is saved up for traffic charged from outside (charge_link): a
     /// participant announcing itself every 20 s fits in it, a burst beyond it holds the budget.
     base::Duration reserve_window = std::chrono::seconds(20);

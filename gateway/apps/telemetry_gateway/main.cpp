@@ -224,10 +224,11 @@ int main(int argc, char** argv) {
                    "interface whose counters the delivered-rate check reads (default: --wan-interface)")
         ->needs(check);
     app.add_option("--policy", policy_name, "ttl, edf, paper or fifo")->capture_default_str();
-    app.add_option("--budget-fraction", config.scheduler.budget_fraction,
-                   "share of the sensed rate the scheduler spends; the rest absorbs discovery traffic")
-        ->check(tgw::base::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"))
-        ->capture_default_str();
+    CLI::Option* budget_fraction =
+        app.add_option("--budget-fraction", config.scheduler.budget_fraction,
+                       "share of the sensed rate the scheduler spends; the rest absorbs discovery traffic (default: "
+                       "0.95, in --wan-mode compact 0.98)")
+            ->check(tgw::base::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"));
     double queue_mib = static_cast<double>(config.scheduler.memory_cap_bytes) / (1 << 20);
     app.add_option("--queue-memory", queue_mib,
                    "MiB the queue may hold (payloads and bookkeeping); past it the least urgent sample goes to the log")
@@ -273,6 +274,9 @@ int main(int argc, char** argv) {
         config.wan_coalesce_window = std::chrono::microseconds(coalesce_us);
         config.status_period = tgw::base::from_seconds(status_period_s);
         config.compact_wan = wan_mode == "compact";
+        if (config.compact_wan && budget_fraction->count() == 0) {
+            config.scheduler.budget_fraction = tgw::core::SchedulerConfig::COMPACT_BUDGET_FRACTION;
+        }
 
         guard.hold = tgw::base::from_seconds(hold_s);
         if (!(guard.smoothing > 0.0 && guard.smoothing <= 1.0)) {

@@ -80,9 +80,10 @@ int main(int argc, char** argv) {
         ->check(tgw::base::positive());
     app.add_option("--paper-overhead", paper_overhead, "paper policy: assumed overhead, 0.25 = 25 %")
         ->check(tgw::base::non_negative());
-    app.add_option("--budget-fraction", budget_fraction, "share of the sensed rate the scheduler spends")
-        ->check(tgw::base::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"))
-        ->capture_default_str();
+    CLI::Option* budget_fraction_option =
+        app.add_option("--budget-fraction", budget_fraction,
+                       "share of the sensed rate the scheduler spends (default: 0.95, in --wan-mode compact 0.98)")
+            ->check(tgw::base::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"));
     app.add_flag("--summary", summary, "one Markdown row per rate: percent on time per type");
     try {
         app.parse(argc, argv);
@@ -93,6 +94,9 @@ int main(int argc, char** argv) {
     try {
         const std::vector<PolicyKind> policies = parse_policies(policy_names);
         const bool compact = wan_mode == "compact";
+        if (compact && budget_fraction_option->count() == 0) {
+            budget_fraction = tgw::core::SchedulerConfig::COMPACT_BUDGET_FRACTION;  // as telemetry-gateway
+        }
         for (PolicyKind policy : policies) {
             if (compact && policy != PolicyKind::ttl && policy != PolicyKind::edf) {
                 throw ConfigError("--wan-mode compact: bundles are for --policy ttl and edf, not " +

@@ -162,8 +162,23 @@ void DeadlineQueue::push(Sample&& sample, std::int64_t rank) {
     }
     if (lane.slots.front() == slot) {
         const Key key = key_of(slot);
-        head_by_urgency_.set(key);
+        if (!parked(lane.topic))
+            head_by_urgency_.set(key);
         head_by_deadline_.set(Key{0, key.deadline, key.sequence, lane_id});
+    }
+}
+
+void DeadlineQueue::park(TopicId topic, bool parked) {
+    if (topic >= parked_.size())
+        parked_.resize(static_cast<std::size_t>(topic) + 1, false);
+    parked_[topic] = parked;
+    if (topic >= lanes_of_topic_.size())
+        return;
+    for (LaneId lane : lanes_of_topic_[topic]) {
+        if (parked)
+            head_by_urgency_.erase(lane);
+        else if (!lanes_[lane].slots.empty())
+            head_by_urgency_.set(key_of(lanes_[lane].slots.front()));
     }
 }
 
@@ -279,7 +294,8 @@ void DeadlineQueue::settle(LaneId lane_id) {
         compact(lane);  // keeps both ends
     if (new_head) {
         const Key head = key_of(slots.front());
-        head_by_urgency_.set(head);
+        if (!parked(lane.topic))
+            head_by_urgency_.set(head);
         head_by_deadline_.set(Key{0, head.deadline, head.sequence, lane_id});
     }
     if (new_tail)

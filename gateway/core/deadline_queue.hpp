@@ -73,7 +73,7 @@ class DeadlineQueue {
     /// Payload plus bookkeeping of everything queued.
     std::size_t memory_bytes() const { return memory_bytes_; }
 
-    /// The ends of the order; the queue must not be empty.
+    /// The ends of the order; the queue must not be empty, and for most_urgent() not all parked.
     Slot most_urgent() const;
     Slot least_urgent() const;
     Slot earliest_deadline() const;
@@ -81,6 +81,11 @@ class DeadlineQueue {
     Peek at(Slot slot) const;
     /// Remove the sample from the queue and hand it over.
     Sample take(Slot slot);
+
+    /// A parked topic's samples stay queued (for expiry, eviction and the memory count) but are left out of
+    /// most_urgent() and visit_by_urgency(): the gateway parks a topic while no base-camp reader matches it.
+    void park(TopicId topic, bool parked);
+    bool parked(TopicId topic) const { return topic < parked_.size() && parked_[topic]; }
 
     /// Call `visit(slot)` on queued samples in urgency order, most urgent first, until it returns false. The
     /// visitor may take() the slot it is given, and nothing else may change the queue meanwhile. Costs
@@ -173,6 +178,7 @@ class DeadlineQueue {
     Slot allocated_ = 0;
     std::vector<Lane> lanes_;
     std::vector<std::vector<LaneId>> lanes_of_topic_;
+    std::vector<bool> parked_;  ///< per topic; its lanes are kept out of head_by_urgency_
     std::vector<LaneId> free_lanes_;
     LaneHeap head_by_urgency_{false};
     LaneHeap head_by_deadline_{false};  ///< keys with rank 0

@@ -14,12 +14,13 @@ enum class DropReason {
     oversize,      ///< its wire time would block a more urgent topic, and it could no longer wait
     shutdown,      ///< still queued when the gateway stopped
     write_failed,  ///< released, but the WAN writer refused it: it never left the robot
+    no_reader,     ///< its deadline passed while no base-camp reader took its topic: held back, not sent to no one
 };
 
-inline constexpr std::size_t DROP_REASON_COUNT = 6;
+inline constexpr std::size_t DROP_REASON_COUNT = 7;
 
 inline constexpr std::array<std::string_view, DROP_REASON_COUNT> DROP_REASON_NAMES = {
-    "expired", "doomed", "evicted", "oversize", "shutdown", "write_failed"};
+    "expired", "doomed", "evicted", "oversize", "shutdown", "write_failed", "no_reader"};
 
 inline std::string_view to_string(DropReason r) {
     return DROP_REASON_NAMES[static_cast<std::size_t>(r)];

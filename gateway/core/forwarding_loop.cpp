@@ -67,6 +67,14 @@ void ForwardingLoop::set_rate(double rate_bps) {
     }
 }
 
+void ForwardingLoop::set_reachable(TopicId topic, bool reachable) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (scheduler_.reachable(topic) != reachable) {
+        scheduler_.set_reachable(topic, reachable);
+        kick_nts();  // what waited for a reader may go now
+    }
+}
+
 void ForwardingLoop::charge_link(std::uint64_t bits) {
     std::lock_guard<std::mutex> lock(mutex_);
     scheduler_.charge_link(clock_.now(), bits);

@@ -29,6 +29,8 @@ class ForwardingLoop {
     void set_ttl(TopicId topic, base::Duration ttl);
     void submit(Sample&& sample);
     void set_rate(double rate_bps);
+    /// See Scheduler::set_reachable.
+    void set_reachable(TopicId topic, bool reachable);
     /// See Scheduler::charge_link.
     void charge_link(std::uint64_t bits);
     /// See Scheduler::observe_link_backlog.

@@ -56,7 +56,7 @@ void Scheduler::set_rate(double sensed_rate_bps) {
 }
 
 TopicId Scheduler::add_topic(const TopicConfig& topic) {
-    topics_.push_back(TopicState{topic, {}, {}, 0, false, 0, DecayingRate{}});
+    topics_.push_back(TopicState{topic, {}, {}, 0, false, 0, DecayingRate{}, true});
     return static_cast<TopicId>(topics_.size() - 1);
 }
 
@@ -65,9 +65,18 @@ void Scheduler::set_ttl(TopicId topic, base::Duration ttl) {
     protect_valid_ = false;
 }
 
+void Scheduler::set_reachable(TopicId topic, bool reachable) {
+    if (topics_[topic].reachable == reachable) {
+        return;
+    }
+    topics_[topic].reachable = reachable;
+    queue_.park(topic, !reachable);
+    protect_valid_ = false;  // a topic that cannot send protects no one
+}
+
 bool Scheduler::active(TopicId topic, base::SteadyTime now) const {
     const TopicState& t = topics_[topic];
-    return t.seen && now - t.last_arrival <= t.config.ttl;
+    return t.seen && t.reachable && now - t.last_arrival <= t.config.ttl;
 }
 
 base::Duration Scheduler::protect_limit(TopicId topic) const {
@@ -125,12 +134,16 @@ void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_
     topic.last_wire_bits = wire_bits;
     topic.seen = true;
     // Offering a topic again with the limit it was last offered with changes nothing.
-    if (protect_valid_ && !same_limit) {
+    if (protect_valid_ && !same_limit && topic.reachable) {
         protect_valid_ = protect_.update(sample.topic, protect_limit(sample.topic));
         topic.protect_epoch = protect_epoch_;
     }
 
     if (config_.policy == PolicyKind::fifo) {
+        if (!topic.reachable) {
+            drop(std::move(sample), DropReason::no_reader, sink);
+            return;
+        }
         forward(std::move(sample), wire_bits, sink);
         return;
     }
@@ -199,7 +212,9 @@ void Scheduler::expire(base::SteadyTime now, SampleSink& sink) {
         abandon_chunks(DropReason::expired, sink);
     }
     while (!queue_.empty() && queue_.at(queue_.earliest_deadline()).deadline <= now) {
-        drop(take(queue_.earliest_deadline()), DropReason::expired, sink);
+        const TopicId topic = queue_.at(queue_.earliest_deadline()).topic;
+        drop(take(queue_.earliest_deadline()), topics_[topic].reachable ? DropReason::expired : DropReason::no_reader,
+             sink);
     }
 }
 
@@ -671,7 +686,7 @@ void Scheduler::drain(SampleSink& sink, DropReason reason) {
         abandon_chunks(reason, sink);
     }
     while (!queue_.empty()) {
-        drop(take(queue_.most_urgent()), reason, sink);
+        drop(take(queue_.earliest_deadline()), reason, sink);  // parked ones too
     }
 }
 

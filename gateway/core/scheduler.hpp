@@ -80,6 +80,12 @@ class Scheduler {
     /// When release() has something to do next, absent new samples or rate changes; nullopt if nothing.
     std::optional<base::SteadyTime> next_wakeup(base::SteadyTime now) const;
 
+    /// Whether anyone at the other end of the link takes the topic (a base-camp reader matched with its WAN
+    /// writer). An unreachable topic's samples stay queued, not sent, until it is reachable again or their
+    /// deadline passes; then they go to `sink.drop` as no_reader. Topics start reachable.
+    void set_reachable(TopicId topic, bool reachable);
+    bool reachable(TopicId topic) const { return topics_[topic].reachable; }
+
     /// Follow a new reading of the rate sensor.
     void set_rate(double sensed_rate_bps);
     /// The last sensed rate.
@@ -123,6 +129,7 @@ class Scheduler {
         std::uint64_t protect_epoch = 0;
         /// Compact mode: the link bits its entries took lately, their share of the bundle headers included.
         DecayingRate link_use;
+        bool reachable = true;  ///< see set_reachable
     };
 
     /// The two shortest-limit active topics (limit: TTL minus the topic's last wire time), so that a candidate

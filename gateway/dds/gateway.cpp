@@ -31,6 +31,10 @@ constexpr int MAX_DOMAIN_ID = 232;
 constexpr double RATE_LOG_CHANGE = 0.02;
 constexpr auto RATE_LOG_PERIOD = std::chrono::seconds(1);
 
+// How often the worker looks whether base-camp readers matched or left. A topic nobody reads keeps its samples
+// queued (Scheduler::set_reachable); they start to flow within this of a reader matching.
+constexpr auto REACHABILITY_POLL = std::chrono::milliseconds(100);
+
 void check_domain(const char* flag, int domain) {
     if (domain < 0 || domain > MAX_DOMAIN_ID) {
         throw base::ConfigError(std::string(flag) + " " + std::to_string(domain) + ": must be 0 to " +
@@ -86,6 +90,13 @@ void GatewayConfig::validate() const {
                 throw base::ConfigError(std::string(globs == &allow ? "--allow" : "--deny") + ": empty glob");
             }
         }
+    }
+    if (wan_peers.empty()) {
+        // The WAN participant announces itself only to its peers (multicast costs the radio and rarely crosses
+        // it), so without one no base camp would ever hear of this gateway, and it would run sending nothing.
+        throw base::ConfigError(
+            "--wan-peer: missing: give the base camp's host, IPv4[:PORT] (repeatable); the "
+            "gateway announces itself to no one else");
     }
 }
 
@@ -190,6 +201,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         });
     discovery_->ignore_participant(wan_->guid_prefix());
     worker_ = std::thread([this] { run_worker(); });
+    post([this] { poll_reachability_nts(); });
     if (config_.status_period > base::Duration::zero()) {
         // The first after one period: by then the sensor has been described and read.
         post_at(std::chrono::steady_clock::now() +
@@ -348,6 +360,26 @@ void Gateway::run_worker() {
     }
 }
 
+void Gateway::poll_reachability_nts() {
+    const auto reachable = [this](core::TopicId id, bool reaches) {
+        if (id >= reachable_.size()) {
+            reachable_.resize(static_cast<std::size_t>(id) + 1, -1);
+        }
+        const signed char now = reaches ? 1 : 0;
+        if (reachable_[id] != now) {
+            reachable_[id] = now;
+            loop_->set_reachable(id, now == 1);
+        }
+    };
+    for (const TopicBridge* bridge : topics_->all()) {
+        reachable(bridge->id(), bridge->reaches_anyone());
+    }
+    if (status_topic_) {
+        reachable(*status_topic_, (compact_ ? compact_->matched_readers() : status_writer_->matched_readers()) > 0);
+    }
+    post_at(std::chrono::steady_clock::now() + REACHABILITY_POLL, [this] { poll_reachability_nts(); });
+}
+
 void Gateway::forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
     TopicBridge* bridge = topics_->find(topic);
     const std::optional<std::uint16_t> lane = bridge != nullptr ? bridge->release(writer) : std::nullopt;
@@ -376,6 +408,8 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     }
     const ResolvedTtl ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
     const core::TopicId id = loop_->add_topic(core::TopicConfig{pub.topic, ttl.ttl});
+    // Held until a base-camp reader matches its WAN writer, which takes discovery a moment at least.
+    loop_->set_reachable(id, false);
     auto bridge = std::make_unique<TopicBridge>(id, pub.topic, pub.type_name, pub.keyed, ttl,
                                                 TopicBridge::Ends{*robot_, *wan_, *loop_, clock_, compact_.get()});
     if (bridge->admit(pub, declared)) {
@@ -506,6 +540,7 @@ void Gateway::publish_status_nts() {
         t.oversize(c.dropped_for(core::DropReason::oversize));
         t.shutdown(c.dropped_for(core::DropReason::shutdown));
         t.write_failed(c.dropped_for(core::DropReason::write_failed));
+        t.no_reader(c.dropped_for(core::DropReason::no_reader));
         t.matched_readers(topic->matched_readers());
         all_readers += t.matched_readers();
         status.topics().push_back(std::move(t));

@@ -184,6 +184,8 @@ class Gateway {
     std::uint64_t forwarded_robot_samples() const;
     /// Writes the status and schedules the next one.
     void publish_status_nts();  // the worker thread only
+    /// Tells the loop which topics a base-camp reader takes now, and looks again after REACHABILITY_POLL.
+    void poll_reachability_nts();  // the worker thread only
     /// Counts traffic the WAN transport sent outside the schedule and has the worker charge it to the loop.
     void charge_unscheduled(std::uint64_t frame_bytes);
 
@@ -213,6 +215,7 @@ class Gateway {
     std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};
     std::shared_ptr<WanWriter> status_writer_;   ///< standard WAN mode
     std::optional<core::TopicId> status_topic_;  ///< with a status period
+    std::vector<signed char> reachable_;         ///< per topic, as last told to the loop; -1: not yet
     std::atomic<std::uint64_t> statuses_published_{0};
     std::mutex sensor_mutex_;
     std::string sensor_description_;

@@ -157,6 +157,19 @@ std::int32_t TopicBridge::matched_readers() const {
     return matched;
 }
 
+bool TopicBridge::reaches_anyone() const {
+    if (ends_.compact != nullptr) {
+        return ends_.compact->matched_readers() > 0;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const Lane& lane : lanes_) {
+        if (lane.writer && (lane.writer->matched_readers() > 0 || (lane.live && lane.offer.transient_local))) {
+            return true;
+        }
+    }
+    return false;
+}
+
 std::optional<base::Duration> TopicBridge::writer_lifespan(std::uint16_t index) const {
     std::lock_guard<std::mutex> lock(mutex_);
     if (index >= lanes_.size() || !lanes_[index].writer) {

@@ -93,6 +93,9 @@ class TopicBridge {
     std::int32_t matched_writers() const;
     /// Base-camp readers matched now, all lanes together.
     std::int32_t matched_readers() const;
+    /// Whether a sample written now reaches anyone: a base-camp reader is matched, or a lane's WAN writer keeps
+    /// its samples for readers that join later (transient local, standard mode).
+    bool reaches_anyone() const;
     /// The Lifespan QoS of the lane's WAN writer; nullopt without a writer or when it is infinite.
     std::optional<base::Duration> writer_lifespan(std::uint16_t lane) const;
     BridgedTopic describe() const;

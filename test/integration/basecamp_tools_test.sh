@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # tm-basecamp stats and status, run as programs the way an operator runs them, against a known pattern: a gateway
-# on loopback (1 Mbit/s, nothing held back) bridges tm-robot-sim's stats/ten_hz (100 B at 10 Hz, TTL 1 s) and
-# stats/two_hz (500 B at 2 Hz, TTL 5 s). stats --once must show those rates, the bit/s of what tm-robot-sim says it
-# serialized, everything within its TTL and nothing logged on the robot; status --once, taken after publishing
-# ended, must show per topic the counts of the gateway's own exit summary.
+# on loopback (1 Mbit/s, nothing held back, a recorder reading from the start) bridges tm-robot-sim's
+# stats/ten_hz (100 B at 10 Hz, TTL 1 s) and stats/two_hz (500 B at 2 Hz, TTL 5 s). stats --once must show those
+# rates, the bit/s of what tm-robot-sim says it serialized, everything within its TTL and nothing logged on the
+# robot; status --once, taken after publishing ended, must show per topic the counts of the gateway's own exit
+# summary.
 set -euo pipefail
 BIN=$1
 ROBOT=$((200 + $$ % 15 * 2))  # 200..228: above the in-process tests' domains, apart from parallel runs
@@ -27,12 +28,31 @@ check() {  # DESCRIPTION CONDITION(awk expression over a, b) A B
 }
 
 printf 'ten stats/ten_hz 100 1 10\ntwo stats/two_hz 500 5 2\n' >"$work/workload"
+# The camp as it runs: the topics declared in a --qos file, so their WAN writers exist from the start, and a
+# recorder that reads them before the robot publishes. Otherwise the gateway would hold the first samples for a
+# reader (it sends nothing to no one), and stats, joining, would see them come in a burst.
+profile() {  # TOPIC TTL_S
+    printf '<data_writer profile_name="%s"><qos><reliability><kind>BEST_EFFORT</kind></reliability>' "$1"
+    printf '<lifespan><duration><sec>%s</sec><nanosec>0</nanosec></duration></lifespan></qos>' "$2"
+    printf '<topic><kind>NO_KEY</kind><dataType>tgw::idl::PaperMessage</dataType></topic></data_writer>\n'
+}
+{
+    echo '<?xml version="1.0" encoding="UTF-8"?>'
+    echo '<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"><profiles>'
+    profile stats/ten_hz 1
+    profile stats/two_hz 5
+    echo '</profiles></dds>'
+} >"$work/qos.xml"
 # Stopped with SIGINT once status has run: a fixed duration left status, after stats' discovery and window,
 # too little of the gateway's life.
 "$BIN/telemetry-gateway" --robot-domain "$ROBOT" --wan-domain "$WAN" --wan-peer 127.0.0.1 --sensor fixed:1000000 \
-    --duration 60 >"$work/gateway.out" 2>&1 &
+    --qos "$work/qos.xml" --duration 60 >"$work/gateway.out" 2>&1 &
 gateway=$!
 pids+=("$gateway")
+"$BIN/tm-basecamp" record --domain "$WAN" --peer 127.0.0.1 --out "$work/camp.db" --duration 40 \
+    >"$work/record.out" 2>&1 &
+pids+=("$!")
+sleep 3
 "$BIN/tm-robot-sim" --domain "$ROBOT" --workload "$work/workload" --duration 9 >"$work/sim.out" 2>&1 &
 sim=$!
 pids+=("$sim")

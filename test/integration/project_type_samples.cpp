@@ -121,6 +121,7 @@ int main(int argc, char** argv) {
                  "topics": [{"name": "telemetry/A", "ttl_ms": 1000, "queued_samples": 0, "queued_bytes": "0",
                              "received": "300", "forwarded": "298", "forwarded_wire_bytes": "0", "expired": "2",
                              "doomed": "0", "evicted": "0", "oversize": "0", "shutdown": "0", "write_failed": "0",
+                             "no_reader": "0",
                              "matched_readers": 1}]}
 }
 )";

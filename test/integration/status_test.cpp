@@ -73,7 +73,8 @@ TEST_F(StatusTest, SaysWhatTheGatewayCountsAboutEachTopic) {
     EXPECT_EQ(t.forwarded_wire_bytes(), counters.forwarded_wire_bytes);
     EXPECT_EQ(t.queued_samples(), 0u);
     EXPECT_EQ(t.queued_bytes(), 0u);
-    EXPECT_EQ(t.expired() + t.doomed() + t.evicted() + t.oversize() + t.shutdown() + t.write_failed(), 0u);
+    EXPECT_EQ(t.expired() + t.doomed() + t.evicted() + t.oversize() + t.shutdown() + t.write_failed() + t.no_reader(),
+              0u);
     EXPECT_EQ(t.ttl_ms(), 5000u);
     EXPECT_EQ(t.matched_readers(), 1);
     EXPECT_DOUBLE_EQ(last->sensed_rate_bps(), c.scheduler.initial_rate_bps);

@@ -90,12 +90,13 @@ void print_summary(const tgw::dds::Gateway& gateway) {
         const tgw::core::TopicCounters status = gateway.status_counters();
         std::printf(
             "status on tgw/status: %llu made, %llu forwarded, %llu past their 1 s TTL, %llu held back as "
-            "too long for the link\n",
+            "too long for the link, %llu with no reader\n",
             static_cast<unsigned long long>(gateway.statuses_published()),
             static_cast<unsigned long long>(status.forwarded),
             static_cast<unsigned long long>(status.dropped_for(tgw::core::DropReason::expired) +
                                             status.dropped_for(tgw::core::DropReason::doomed)),
-            static_cast<unsigned long long>(status.dropped_for(tgw::core::DropReason::oversize)));
+            static_cast<unsigned long long>(status.dropped_for(tgw::core::DropReason::oversize)),
+            static_cast<unsigned long long>(status.dropped_for(tgw::core::DropReason::no_reader)));
     }
     if (const auto report = gateway.receiver_report()) {
         std::printf(
@@ -149,8 +150,8 @@ int main(int argc, char** argv) {
     app.add_option("--robot-domain", config.robot_domain, "DDS domain of the robot's processes")->capture_default_str();
     app.add_option("--wan-domain", config.wan_domain, "DDS domain towards the base camp")->capture_default_str();
     app.add_option("--wan-peer", config.wan_peers,
-                   "base-camp host, IPv4[:PORT]; without a port, the gateway announces itself to the ports of its "
-                   "first --wan-peer-participants participants; repeatable");
+                   "base-camp host, IPv4[:PORT], required: the gateway announces itself to its peers only; without "
+                   "a port, to the ports of its first --wan-peer-participants participants; repeatable");
     app.add_option("--wan-peer-participants", config.wan_peer_participants,
                    "base-camp programs (DDS participants) per --wan-peer host that find the gateway without "
                    "announcing themselves to the robot; each costs an announcement on the link")

@@ -74,6 +74,7 @@ idl::GatewayStatus example_status() {
         topic.oversize(4);
         topic.shutdown(5);
         topic.write_failed(6);
+        topic.no_reader(8);
         topic.matched_readers(i);
         status.topics().push_back(topic);
     }
@@ -120,6 +121,7 @@ TEST_P(CdrDecoderByteOrderTest, DecodesEveryFieldOfAGatewayStatusAsItsGeneratedT
         EXPECT_EQ(member(topic, "oversize").unsigned_integer, 4u);
         EXPECT_EQ(member(topic, "shutdown").unsigned_integer, 5u);
         EXPECT_EQ(member(topic, "write_failed").unsigned_integer, 6u);
+        EXPECT_EQ(member(topic, "no_reader").unsigned_integer, 8u);
         EXPECT_EQ(member(topic, "matched_readers").signed_integer, static_cast<std::int64_t>(i));
     }
 }

@@ -252,12 +252,12 @@ TEST_F(MissionArchiveTest, KeepsEveryDropReasonOfTheRobotLogByName) {
 
     const MergeCounts counts = write_and_merge();
 
-    EXPECT_EQ(archive_rows("reason"),
-              (std::vector<std::string>{"expired", "doomed", "evicted", "oversize", "shutdown", "write_failed"}));
+    EXPECT_EQ(archive_rows("reason"), (std::vector<std::string>{"expired", "doomed", "evicted", "oversize", "shutdown",
+                                                                "write_failed", "no_reader"}));
     for (std::size_t i = 0; i < core::DROP_REASON_COUNT; ++i)
         EXPECT_EQ(fates_of(counts, "telemetry/D").dropped[i], 1u) << core::DROP_REASON_NAMES[i];
     EXPECT_EQ(archive_rows("COUNT(*)", "payload_bytes = length(payload) AND logged_ns IS NOT NULL"),
-              (std::vector<std::string>{"6"}));
+              (std::vector<std::string>{"7"}));
 }
 
 TEST_F(MissionArchiveTest, MatchesIdenticalSamplesByMultiplicity) {

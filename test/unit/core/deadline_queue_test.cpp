@@ -35,6 +35,38 @@ TEST_F(DeadlineQueueTest, OrdersByRankThenDeadlineThenArrival) {
     EXPECT_EQ(order, (std::vector<TopicId>{1, 3, 2, 0}));
 }
 
+TEST_F(DeadlineQueueTest, AParkedTopicIsLeftOutOfTheUrgencyOrderButNotOutOfExpiry) {
+    sut.push(make(0, 900, 0), 1);
+    sut.push(make(1, 100, 1), 1);
+    sut.park(1, true);
+    sut.push(make(1, 200, 2), 1);  // pushed while parked
+    EXPECT_EQ(sut.at(sut.most_urgent()).topic, 0u);
+    std::vector<TopicId> visited;
+    sut.visit_by_urgency([&](DeadlineQueue::Slot slot) {
+        visited.push_back(sut.at(slot).topic);
+        return true;
+    });
+    EXPECT_EQ(visited, (std::vector<TopicId>{0}));
+    EXPECT_EQ(sut.at(sut.earliest_deadline()).topic, 1u);
+    EXPECT_EQ(sut.size(), 3u);
+
+    sut.park(1, false);
+    std::vector<TopicId> order;
+    while (!sut.empty())
+        order.push_back(sut.take(sut.most_urgent()).topic);
+    EXPECT_EQ(order, (std::vector<TopicId>{1, 1, 0}));
+}
+
+TEST_F(DeadlineQueueTest, TakingAParkedTopicsHeadKeepsItParked) {
+    sut.park(0, true);
+    sut.push(make(0, 100, 0), 1);
+    sut.push(make(0, 200, 1), 1);
+    sut.push(make(1, 900, 2), 1);
+    EXPECT_EQ(sut.take(sut.earliest_deadline()).sequence, 0u);
+    EXPECT_EQ(sut.at(sut.most_urgent()).topic, 1u);
+    EXPECT_TRUE(sut.parked(0));
+}
+
 TEST_F(DeadlineQueueTest, EarliestDeadlineIgnoresRank) {
     sut.push(make(0, 500, 0), 1);
     sut.push(make(1, 100, 1), 9);

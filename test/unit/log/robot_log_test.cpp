@@ -225,8 +225,8 @@ TEST_F(RobotLogTest, StoresEveryReasonByName) {
     std::vector<std::string> reasons;
     for (const auto& row : rows)
         reasons.push_back(row.reason);
-    EXPECT_EQ(reasons,
-              (std::vector<std::string>{"expired", "doomed", "evicted", "oversize", "shutdown", "write_failed"}));
+    EXPECT_EQ(reasons, (std::vector<std::string>{"expired", "doomed", "evicted", "oversize", "shutdown", "write_failed",
+                                                 "no_reader"}));
 }
 
 TEST_F(RobotLogTest, FlushReturnsOnlyOnceEverythingAppendedIsInTheFile) {

@@ -113,7 +113,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     config_.validate();
     unscheduled_link_->gateway = this;
     if (!config_.log_file.empty()) {
-        log_ = std::make_unique<log::RobotLog>(config_.log_file);
+        log_ = std::make_unique<log::RobotLog>(config_.log_file, config_.log_max_bytes);
     }
     if (!config_.qos_file.empty()) {
         load_qos_file(config_.qos_file);

@@ -56,9 +56,10 @@ struct GatewayConfig {
     std::string wan_interface;   ///< interface name or IPv4 address; empty: every interface
     std::uint16_t wan_port = 0;  ///< own metatraffic port on the WAN; 0: Fast DDS's well-known port
     RobotTransport robot;
-    std::string qos_file;            ///< Fast DDS XML; empty: none
-    std::string log_file;            ///< on-robot SQLite log; empty: none
-    std::vector<std::string> allow;  ///< topic globs; empty: all
+    std::string qos_file;             ///< Fast DDS XML; empty: none
+    std::string log_file;             ///< on-robot SQLite log; empty: none
+    std::uint64_t log_max_bytes = 0;  ///< the log's cap (RobotLog); 0: none
+    std::vector<std::string> allow;   ///< topic globs; empty: all
     std::vector<std::string> deny;
     base::Duration default_ttl = std::chrono::seconds(5);
     core::SchedulerConfig scheduler;

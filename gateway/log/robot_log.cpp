@@ -2,11 +2,13 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -27,6 +29,9 @@ constexpr auto BATCH_DELAY = std::chrono::milliseconds(50);
 constexpr std::size_t MAX_BUFFERED_BYTES = std::size_t{256} << 20;
 /// How long a write waits for a reader of the file (sqlite3, tm-basecamp) to let go of a lock.
 constexpr int BUSY_TIMEOUT_MS = 2000;
+/// Rows deleted per statement while the file is over its cap: few, so that large rows do not take the file far
+/// below the cap.
+constexpr int PRUNE_ROWS = 16;
 
 constexpr const char* SCHEMA_SQL =
     "CREATE TABLE IF NOT EXISTS meta ("
@@ -102,7 +107,7 @@ struct Row {
 
 class RobotLog::Impl {
   public:
-    explicit Impl(const std::string& path) : path_(path) {
+    Impl(const std::string& path, std::uint64_t max_bytes) : path_(path), max_bytes_(max_bytes) {
         open();
         writer_ = std::thread([this] { run(); });
     }
@@ -182,6 +187,10 @@ class RobotLog::Impl {
     std::uint64_t write_errors() const {
         std::lock_guard<std::mutex> lock(mutex_);
         return write_errors_;
+    }
+    std::uint64_t pruned_rows() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return pruned_rows_;
     }
     const std::string& path() const { return path_; }
 
@@ -320,8 +329,10 @@ class RobotLog::Impl {
             flush_requested_ = false;
             lock.unlock();
             const std::size_t written = write_batch(batch);
+            const std::uint64_t pruned = max_bytes_ > 0 ? keep_under_cap() : 0;
             lock.lock();
             rows_written_ += written;
+            pruned_rows_ += pruned;
             done_ += batch.size();
             done_changed_.notify_all();
         }
@@ -409,6 +420,63 @@ class RobotLog::Impl {
         return ok;
     }
 
+    /// The bytes the file's rows take: its pages less those free for reuse.
+    std::uint64_t live_bytes() {
+        const auto pragma = [this](const char* sql) -> std::int64_t {
+            sqlite3_stmt* raw = nullptr;
+            if (sqlite3_prepare_v2(db_.get(), sql, -1, &raw, nullptr) != SQLITE_OK)
+                return 0;
+            StmtPtr stmt(raw);
+            return sqlite3_step(stmt.get()) == SQLITE_ROW ? sqlite3_column_int64(stmt.get(), 0) : 0;
+        };
+        const std::int64_t pages = pragma("PRAGMA page_count;") - pragma("PRAGMA freelist_count;");
+        return static_cast<std::uint64_t>(std::max<std::int64_t>(0, pages) * pragma("PRAGMA page_size;"));
+    }
+
+    /// Deletes the oldest rows (by insertion) of `table`, PRUNE_ROWS at a time; returns how many.
+    std::uint64_t delete_oldest(const char* table) {
+        const std::string sql = std::string("DELETE FROM ") + table + " WHERE rowid IN (SELECT rowid FROM " + table +
+                                " ORDER BY rowid LIMIT " + std::to_string(PRUNE_ROWS) + ");";
+        if (sqlite3_exec(db_.get(), sql.c_str(), nullptr, nullptr, nullptr) != SQLITE_OK)
+            return 0;
+        return static_cast<std::uint64_t>(sqlite3_changes(db_.get()));
+    }
+
+    /// Past the cap, the oldest rows go until the rows take 90 % of it: freed pages are reused, so the file
+    /// stops growing. Returns the rows deleted. Writer thread only.
+    std::uint64_t keep_under_cap() {
+        if (live_bytes() <= max_bytes_)
+            return 0;
+        const std::uint64_t target = max_bytes_ / 10 * 9;
+        std::uint64_t forwarded = 0;
+        std::uint64_t dropped = 0;
+        while (live_bytes() > target) {
+            if (const std::uint64_t n = delete_oldest("forwarded_samples"); n > 0) {
+                forwarded += n;
+            } else if (const std::uint64_t m = delete_oldest("dropped_samples"); m > 0) {
+                dropped += m;
+            } else {
+                break;  // the link rates and the schema are all that is left
+            }
+        }
+        for (const auto& [key, n] : {std::pair<const char*, std::uint64_t>{"pruned_forwarded_rows", forwarded},
+                                     std::pair<const char*, std::uint64_t>{"pruned_dropped_rows", dropped}}) {
+            const std::string sql = std::string("INSERT INTO meta (key, value) VALUES ('") + key + "', '" +
+                                    std::to_string(n) +
+                                    "') ON CONFLICT(key) DO UPDATE SET value = CAST(CAST(value AS INTEGER) + "
+                                    "CAST(excluded.value AS INTEGER) AS TEXT);";
+            sqlite3_exec(db_.get(), sql.c_str(), nullptr, nullptr, nullptr);
+        }
+        if (!cap_reported_) {
+            cap_reported_ = true;
+            std::fprintf(stderr,
+                         "on-robot log %s: at its cap of %llu MiB: the oldest rows make room, sent ones first (counts "
+                         "in its meta table)\n",
+                         path_.c_str(), static_cast<unsigned long long>(max_bytes_ >> 20));
+        }
+        return forwarded + dropped;
+    }
+
     /// Counts `n` rows as lost; the first failure is reported on stderr, the rest only counted.
     void fail_rows(std::size_t n, const char* why) noexcept {
         if (n == 0)
@@ -425,6 +493,8 @@ class RobotLog::Impl {
     }
 
     const std::string path_;
+    const std::uint64_t max_bytes_;
+    bool cap_reported_ = false;  ///< writer thread only
     DbPtr db_;
     StmtPtr insert_;
     StmtPtr insert_forwarded_;
@@ -440,12 +510,13 @@ class RobotLog::Impl {
     std::uint64_t done_ = 0;      ///< rows the writer has finished with, written or failed
     std::uint64_t rows_written_ = 0;
     std::uint64_t write_errors_ = 0;
+    std::uint64_t pruned_rows_ = 0;
     bool flush_requested_ = false;
     bool stopping_ = false;
     std::thread writer_;
 };
 
-RobotLog::RobotLog(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
+RobotLog::RobotLog(const std::string& path, std::uint64_t max_bytes) : impl_(std::make_unique<Impl>(path, max_bytes)) {}
 
 RobotLog::~RobotLog() = default;
 
@@ -467,6 +538,10 @@ void RobotLog::flush() {
 
 std::uint64_t RobotLog::rows_written() const {
     return impl_->rows_written();
+}
+
+std::uint64_t RobotLog::pruned_rows() const {
+    return impl_->pruned_rows();
 }
 
 std::uint64_t RobotLog::write_errors() const {

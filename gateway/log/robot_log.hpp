@@ -49,8 +49,11 @@ struct RateRecord {
 /// still buffered.
 class RobotLog {
   public:
-    /// Opens or creates `path` (WAL mode). Throws base::ConfigError naming the file if it cannot.
-    explicit RobotLog(const std::string& path);
+    /// Opens or creates `path` (WAL mode). Throws base::ConfigError naming the file if it cannot. With
+    /// `max_bytes` (0: no cap), the file stops growing there: once its rows take more, the oldest go, those of
+    /// forwarded_samples first (they only say that a sample left), then those of dropped_samples, down to 90 % of
+    /// the cap; the meta table counts them (pruned_forwarded_rows, pruned_dropped_rows).
+    explicit RobotLog(const std::string& path, std::uint64_t max_bytes = 0);
     ~RobotLog();
 
     RobotLog(const RobotLog&) = delete;
@@ -69,6 +72,8 @@ class RobotLog {
     /// Sample rows committed, of both sample tables.
     std::uint64_t rows_written() const;
     std::uint64_t write_errors() const;
+    /// Rows deleted to keep the file under its cap, of both sample tables, since it was opened.
+    std::uint64_t pruned_rows() const;
     const std::string& path() const;
 
   private:

@@ -4,7 +4,9 @@
 
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -16,6 +18,7 @@
 #include "gateway/dds/gateway.hpp"
 #include "gateway/dds/rate_poller.hpp"
 #include "gateway/dds/wan_address.hpp"
+#include "gateway/log/default_log_path.hpp"
 #include "sensor/delivered_rate_check.hpp"
 #include "sensor/guarded_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
@@ -236,9 +239,17 @@ int main(int argc, char** argv) {
         ->check(tgw::base::positive())
         ->capture_default_str();
     app.add_option("--qos", config.qos_file, "Fast DDS XML profiles (data_writer profiles named after topics)");
-    app.add_option(
+    CLI::Option* log_option = app.add_option(
         "--log", config.log_file,
-        "on-robot SQLite log: every sample not sent, with its payload and why, and a row per sample sent (no payload)");
+        "on-robot SQLite log: every sample not sent, with its payload and why, and a row per sample sent (no "
+        "payload); default: robot-log.db in $XDG_STATE_HOME/telemetry-gateway, else ~/.local/state/telemetry-gateway");
+    bool no_log = false;
+    app.add_flag("--no-log", no_log, "keep no on-robot log: what is not sent is only counted")->excludes(log_option);
+    double log_max_mib = 1024;
+    app.add_option("--log-max-mib", log_max_mib,
+                   "MiB the on-robot log may take; past it the oldest rows make room, those of samples sent first")
+        ->check(tgw::base::positive())
+        ->capture_default_str();
     app.add_option("--allow", config.allow, "bridge only topics matching this glob; repeatable");
     app.add_option("--deny", config.deny, "never bridge topics matching this glob; repeatable, wins over --allow");
     app.add_option("--duration", duration_s, "seconds to run (default: until SIGINT/SIGTERM)")
@@ -275,6 +286,18 @@ int main(int argc, char** argv) {
         config.wan_coalesce_window = std::chrono::microseconds(coalesce_us);
         config.status_period = tgw::base::from_seconds(status_period_s);
         config.compact_wan = wan_mode == "compact";
+        if (!no_log) {
+            if (config.log_file.empty()) {
+                config.log_file = tgw::log::default_log_path(std::getenv("XDG_STATE_HOME"), std::getenv("HOME"));
+                const std::filesystem::path dir = std::filesystem::path(config.log_file).parent_path();
+                std::error_code error;
+                if (!dir.empty() && (std::filesystem::create_directories(dir, error), error)) {
+                    throw ConfigError("--log: cannot create " + dir.string() + " for the default on-robot log: " +
+                                      error.message() + " (give --log FILE, or --no-log)");
+                }
+            }
+            config.log_max_bytes = static_cast<std::uint64_t>(log_max_mib * (1 << 20));
+        }
         if (config.compact_wan && budget_fraction->count() == 0) {
             config.scheduler.budget_fraction = tgw::core::SchedulerConfig::COMPACT_BUDGET_FRACTION;
         }
@@ -350,7 +373,9 @@ int main(int argc, char** argv) {
             SENSOR_POLL_INTERVAL);
         poller.start();
         std::cerr << "telemetry-gateway: robot domain " << config.robot_domain << " -> WAN domain " << config.wan_domain
-                  << " (" << wan_mode << "), policy " << policy_name << ", sensor " << sensor->describe() << '\n';
+                  << " (" << wan_mode << "), policy " << policy_name << ", sensor " << sensor->describe()
+                  << ", on-robot log " << (config.log_file.empty() ? std::string("none (--no-log)") : config.log_file)
+                  << '\n';
 
         wait_for_end(signals, duration_s);
 

@@ -189,6 +189,42 @@ TEST_F(RobotLogTest, StoresTheLinkRateApartFromTheSamples) {
     EXPECT_EQ(sut->rows_written(), 0u);
 }
 
+TEST_F(RobotLogTest, AtItsCapTheOldestRowsMakeRoomSentOnesFirst) {
+    constexpr std::uint64_t CAP = 1u << 20;
+    sut = std::make_unique<RobotLog>(path, CAP);
+    const core::Sample sent = sample({1, 2, 3});
+    for (int i = 0; i < 3000; ++i)
+        sut->append_forwarded(
+            {"telemetry/A", "tgw::PaperMessage", &sent, clock.wall_now(), clock.wall_now(), clock.wall_now()});
+    sut->flush();
+    // 6 MB of samples not sent, 10 kB each, committed 200 kB at a time as a slow link would drop them.
+    constexpr int DROPPED = 600;
+    for (int i = 0; i < DROPPED; ++i) {
+        const core::Sample s = sample(std::vector<std::uint8_t>(10'000, static_cast<std::uint8_t>(i)));
+        sut->append(record(s));
+        if (i % 20 == 19)
+            sut->flush();
+    }
+    sut->flush();
+
+    LogReader reader(path);
+    const std::uint64_t file_bytes =
+        std::stoull(reader.scalar("SELECT page_count * page_size FROM pragma_page_count(), pragma_page_size()"));
+    EXPECT_LE(file_bytes, CAP + 300'000) << "the file grows past its cap by one batch at most";
+    EXPECT_EQ(reader.scalar("SELECT COUNT(*) FROM forwarded_samples"), "0") << "the sent rows go first";
+    EXPECT_EQ(reader.scalar("SELECT value FROM meta WHERE key = 'pruned_forwarded_rows'"), "3000");
+    const std::int64_t kept = reader.count();
+    const std::int64_t pruned = std::stoll(reader.scalar("SELECT value FROM meta WHERE key = 'pruned_dropped_rows'"));
+    EXPECT_GT(kept, 50);
+    EXPECT_EQ(kept + pruned, DROPPED);
+    const auto rows = reader.rows();
+    ASSERT_FALSE(rows.empty());
+    EXPECT_EQ(rows.back().payload.front(), static_cast<std::uint8_t>(DROPPED - 1)) << "the newest are kept";
+    EXPECT_EQ(rows.front().payload.front(), static_cast<std::uint8_t>(pruned)) << "the oldest went";
+    EXPECT_EQ(sut->pruned_rows(), static_cast<std::uint64_t>(3000 + pruned));
+    EXPECT_EQ(sut->write_errors(), 0u);
+}
+
 TEST_F(RobotLogTest, StoresNullInstanceKeyForUnkeyedSamples) {
     sut = std::make_unique<RobotLog>(path);
     core::Sample s = sample({1, 2, 3});

@@ -19,6 +19,7 @@
 #include "basecamp/wan_capture.hpp"
 #include "gateway/dds/compact_topics.hpp"
 #include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/guarded_type.hpp"
 #include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
@@ -134,8 +135,8 @@ CompactUnpacker::CompactUnpacker(fdds::DomainParticipant* wan, fdds::DomainParti
                          BUNDLE_ENVELOPE_BYTES + bundle.bytes().size());
               on_bundle(writer_prefix(info), bundle.bytes(), receive_ns(info));
           })) {
-    fdds::TypeSupport catalog_type(new wan::CatalogEntryPubSubType());
-    fdds::TypeSupport bundle_type(new wan::BundlePubSubType());
+    fdds::TypeSupport catalog_type(new dds::GuardedType<wan::CatalogEntryPubSubType>());
+    fdds::TypeSupport bundle_type(new dds::GuardedType<wan::BundlePubSubType>());
     fdds::Subscriber* subscriber = wan_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (subscriber == nullptr || catalog_type.register_type(wan_) != ReturnCode_t::RETCODE_OK ||
         bundle_type.register_type(wan_) != ReturnCode_t::RETCODE_OK) {

@@ -187,8 +187,8 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     loop_->start();
     if (config_.receiver_reports) {
         // After the loop: each report is compared with what the loop had forwarded when it came.
-        reports_ =
-            std::make_unique<ReceiverReportReader>(wan_->guid_prefix(), [this] { return forwarded_robot_samples(); });
+        reports_ = std::make_unique<ReceiverReportReader>(
+            wan_->guid_prefix(), [this] { return forwarded_robot_samples(); }, clock_);
         if (!wan_->subscribe_receiver_reports(reports_.get())) {
             throw base::ConfigError("--receiver-reports: cannot subscribe to the base camp's reports");
         }

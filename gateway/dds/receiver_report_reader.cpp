@@ -1,6 +1,7 @@
 #include "gateway/dds/receiver_report_reader.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <utility>
 
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -14,8 +15,8 @@ namespace fdds = eprosima::fastdds::dds;
 using eprosima::fastrtps::types::ReturnCode_t;
 
 ReceiverReportReader::ReceiverReportReader(const eprosima::fastrtps::rtps::GuidPrefix_t& own,
-                                           std::function<std::uint64_t()> forwarded_samples)
-    : own_(own), forwarded_samples_(std::move(forwarded_samples)) {}
+                                           std::function<std::uint64_t()> forwarded_samples, const base::Clock& clock)
+    : own_(own), forwarded_samples_(std::move(forwarded_samples)), ledger_(clock, RECEIVER_SILENCE) {}
 
 void ReceiverReportReader::on_data_available(fdds::DataReader* reader) {
     idl::ReceiverReport report;
@@ -26,29 +27,18 @@ void ReceiverReportReader::on_data_available(fdds::DataReader* reader) {
             continue;
         }
         const std::uint64_t forwarded = forwarded_samples_();
-        const eprosima::fastrtps::rtps::GUID_t receiver = info.sample_identity.writer_guid();
+        const eprosima::fastrtps::rtps::GUID_t& writer = info.sample_identity.writer_guid();
+        sensor::ReceiverId from{};
+        std::copy(std::begin(writer.guidPrefix.value), std::end(writer.guidPrefix.value), from.begin());
+        std::copy(std::begin(writer.entityId.value), std::end(writer.entityId.value), from.begin() + 12);
         std::lock_guard<std::mutex> lock(mutex_);
-        if (!receiver_) {
-            receiver_ = receiver;
-        } else if (*receiver_ != receiver) {
-            continue;
-        }
-        ReceiverReportTotals totals;
-        totals.received_samples = report.received_samples();
-        totals.received_bytes = report.received_bytes();
-        totals.lost_samples = report.lost_samples();
-        const std::uint64_t accounted = totals.received_samples + totals.lost_samples;
-        const std::uint64_t raw = forwarded > accounted ? forwarded - accounted : 0;
-        never_accounted_ = std::min(raw, never_accounted_.value_or(raw));
-        totals.in_flight_samples = raw - *never_accounted_;
-        totals.reports = latest_ ? latest_->reports + 1 : 1;
-        latest_ = totals;
+        ledger_.take(from, {report.received_samples(), report.received_bytes(), report.lost_samples()}, forwarded);
     }
 }
 
 std::optional<ReceiverReportTotals> ReceiverReportReader::latest() const {
     std::lock_guard<std::mutex> lock(mutex_);
-    return latest_;
+    return ledger_.latest();
 }
 
 }  // namespace tgw::dds

@@ -17,6 +17,7 @@
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/dds_time.hpp"
+#include "gateway/dds/guarded_type.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
@@ -171,7 +172,7 @@ std::size_t WanRouter::remote_participants() const {
 }
 
 bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {
-    fdds::TypeSupport type(new idl::ReceiverReportPubSubType());
+    fdds::TypeSupport type(new GuardedType<idl::ReceiverReportPubSubType>());
     if (participant_->register_type(type) != ReturnCode_t::RETCODE_OK) {
         std::cerr << "telemetry-gateway: cannot register the receiver report type\n";
         return false;

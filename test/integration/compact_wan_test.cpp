@@ -13,6 +13,7 @@
 #include "gateway/compact/bundle_codec.hpp"
 #include "gateway/dds/compact_topics.hpp"
 #include "gateway/dds/wan_address.hpp"
+#include "test/integration/raw_sample_type.hpp"
 #include "test/integration/relay_fixture.hpp"
 
 namespace tgw::test {
@@ -264,6 +265,23 @@ TEST_F(CompactWanTest, TheRelayRejectsCorruptAndTruncatedBundlesAndGoesOn) {
     ASSERT_TRUE(wait_until([&] { return relay_->compact()->counts().rejected_bundles >= forged.size(); }))
         << relay_->compact()->counts().rejected_bundles << " rejected";
 
+    // And samples that are not even CDR: an encapsulation that does not exist makes Fast-CDR throw inside take().
+    TestParticipant raw(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 63),
+                                                               domains_.wan_reader_port));
+    ASSERT_TRUE(raw.ok());
+    auto& raw_matches = listener<MatchCounter>();
+    auto* raw_forger = raw.make_writer(dds::COMPACT_BUNDLE_TOPIC,
+                                       fdds::TypeSupport(new RawSampleType(wan::BundlePubSubType().getName(), false)),
+                                       qos, &raw_matches);
+    ASSERT_NE(raw_forger, nullptr);
+    ASSERT_TRUE(wait_until([&] { return raw_matches.matched.load() > 0; }, 3 * MATCH_TIMEOUT));
+    for (const std::vector<std::uint8_t>& bytes :
+         {std::vector<std::uint8_t>{0x00, 0x07, 0x00, 0x00, 4, 0, 0, 0, 1, 2, 3, 4},
+          std::vector<std::uint8_t>{0x05, 0x01, 0x00, 0x00}, std::vector<std::uint8_t>{0x00, 0x01, 0x00, 0x00, 0xff}}) {
+        RawSample sample{bytes, 0};
+        ASSERT_TRUE(raw_forger->write(&sample));
+    }
+
     publish_paper(writer, 0, 10);
     ASSERT_TRUE(wait_until([&] { return reader.count() >= 10; }))
         << reader.count() << " of 10 after the forgeries; the relay took " << relay_->compact()->counts().bundles
@@ -271,6 +289,10 @@ TEST_F(CompactWanTest, TheRelayRejectsCorruptAndTruncatedBundlesAndGoesOn) {
         << relay_->compact()->counts().relayed << ", could not place " << relay_->compact()->counts().unknown_entries
         << "; the gateway wrote " << gateway_->wan_bundles()->bundles << " bundles";
     EXPECT_EQ(relay_->compact()->counts().rejected_bundles, forged.size());
+    // Fast DDS logs each sample it could not deserialize; that is the only error expected here.
+    for (const std::string& error : ErrorLogCounter::instance().take_errors()) {
+        EXPECT_NE(error.find("deserializ"), std::string::npos) << error;
+    }
 }
 
 }  // namespace

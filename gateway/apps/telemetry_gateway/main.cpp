@@ -22,6 +22,7 @@
 #include "sensor/delivered_rate_check.hpp"
 #include "sensor/guarded_sensor.hpp"
 #include "sensor/rate_sensor.hpp"
+#include "sensor/receiver_report_ledger.hpp"
 #include "sensor/receiver_report_source.hpp"
 
 namespace {
@@ -352,13 +353,8 @@ int main(int argc, char** argv) {
                     if (!report) {
                         return std::nullopt;
                     }
-                    // Bytes on the wire of what arrived, as if each sample (each bundle in compact mode) went in a
-                    // datagram of its own; what is in flight at the mean size of what was forwarded.
-                    const std::uint64_t mean_wire_bytes = gateway.mean_wan_sample_wire_bytes();
-                    return tgw::sensor::ReceiverCounts{
-                        report->received_bytes +
-                            report->received_samples * (wire.per_datagram_bytes + wire.per_sample_bytes),
-                        report->lost_samples, report->in_flight_samples * mean_wire_bytes};
+                    return tgw::sensor::receiver_counts(*report, wire.per_datagram_bytes + wire.per_sample_bytes,
+                                                        gateway.mean_wan_sample_wire_bytes());
                 });
         }
         if (delivered_sources) {

@@ -14,7 +14,9 @@ require_netns
 run_demo receiver-reports-test --routed --rate 20000 --duration 20 --sensor fixed:26000 --receiver-reports --no-control
 read_demo_result "$out" telemetry/A
 
-check "the router's queue stands over 250 ms in at most 10 % of samples" "a <= 10" "$long_pct"
+# Before the first report and the first cuts the queue builds: over 250 ms in 0 to 15 % of samples in ten runs
+# (2026-11-25, old and new builds alike). Without the reports: 85 %, 16 packets dropped, A 32 % on time.
+check "the router's queue stands over 250 ms in at most 25 % of samples" "a <= 25" "$long_pct"
 check "the router dropped at most 2 packets while the robot published" "a <= 2" "$dropped"
 # Until the first report arrives (its discovery crosses the 20,000 bit/s link) the sensor's over-reading stands:
 # 3 to 6 of the 100 A samples, measured. Without the reports A is 15 % on time.

@@ -200,7 +200,6 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
             post([this, topic, writer] { forget_writer_nts(topic, writer); });
         });
     discovery_->ignore_participant(wan_->guid_prefix());
-    worker_ = std::thread([this] { run_worker(); });
     post([this] { poll_reachability_nts(); });
     if (config_.status_period > base::Duration::zero()) {
         // The first after one period: by then the sensor has been described and read.
@@ -213,9 +212,12 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         for (std::string& interface : transport.interfaces) {
             interface = resolve_interface_address(interface, "--robot-interface");
         }
+        // Discovery starts inside the participant's creation, and what it finds is posted to the worker: the
+        // worker starts once robot_ is set, so that nothing found meanwhile meets a participant not yet there.
         robot_ = std::make_unique<RobotParticipant>(config_.robot_domain, discovery_.get(), transport,
                                                     participant_profile(ROBOT_PARTICIPANT_PROFILE));
         discovery_->ignore_participant(robot_->guid_prefix());
+        worker_ = std::thread([this] { run_worker(); });
         if (!config_.qos_file.empty()) {
             for (const DeclaredTopic& declared : declared_topics(config_.qos_file)) {
                 DiscoveredPublisher pub;
@@ -246,6 +248,11 @@ void Gateway::stop() {
         return;
     }
     stopped_ = true;
+    if (reports_) {
+        // Reports keep coming until the WAN participant goes, after the loop and the topics they are counted
+        // against.
+        reports_->close();
+    }
     stop_worker();
     if (robot_) {
         for (TopicBridge* bridge : topics_->all()) {
@@ -393,9 +400,8 @@ void Gateway::forget_writer_nts(const std::string& topic, const eprosima::fastrt
 }
 
 void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
-    // The robot participant exists once discovery reports anything; stop() joins this thread before
-    // resetting it.
-    if (!filter_.admits(pub.topic) || !robot_) {
+    // The worker starts after robot_ is set, and stop() joins it before resetting robot_.
+    if (!filter_.admits(pub.topic)) {
         return;
     }
     if (TopicBridge* bridge = topics_->find(pub.topic)) {
@@ -506,12 +512,31 @@ void Gateway::charge_unscheduled(std::uint64_t frame_bytes) {
     }
 }
 
+base::Duration Gateway::status_spacing(double rate_bps, double wire_bits) const {
+    // At most STATUS_RATE_SHARE of the rate: a status and its headers on the wire, alone in a datagram.
+    if (rate_bps <= 0) {
+        return config_.status_period;
+    }
+    return std::max(config_.status_period, base::from_seconds(wire_bits / (STATUS_RATE_SHARE * rate_bps)));
+}
+
 void Gateway::publish_status_nts() {
+    // Looked at every status period, made once the spacing the rate allows now has passed since the last: a
+    // spacing fixed when a status was made during an outage (minutes at 1,000 bit/s) would silence it for as long
+    // after the link came back.
+    const auto now = std::chrono::steady_clock::now();
+    post_at(now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(config_.status_period),
+            [this] { publish_status_nts(); });
+    const double rate = loop_->rate_bps();
+    if (last_status_at_ && now - *last_status_at_ < std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                        status_spacing(rate, last_status_bits_))) {
+        return;
+    }
+
     idl::GatewayStatus status;
     const auto prefix = wan_->guid_prefix();
     std::copy(std::begin(prefix.value), std::end(prefix.value), status.gateway_prefix().begin());
     status.sent_ns(static_cast<std::uint64_t>(base::to_ns(clock_.wall_now())));
-    const double rate = loop_->rate_bps();
     status.sensed_rate_bps(rate);
     status.budget_bps(rate * config_.scheduler.budget_fraction);
     {
@@ -547,15 +572,12 @@ void Gateway::publish_status_nts() {
     }
     status.matched_readers(compact_ ? compact_->matched_readers() : all_readers + status_writer_->matched_readers());
 
-    // At most STATUS_RATE_SHARE of the rate: a status and its headers on the wire, alone in a datagram.
     idl::GatewayStatusPubSubType type;
     const std::size_t bytes = type.getSerializedSizeProvider(&status)();
     const double wire_bits = static_cast<double>(config_.scheduler.wire.wire_bits(bytes));
-    base::Duration period = config_.status_period;
-    if (rate > 0) {
-        period = std::max(period, base::from_seconds(wire_bits / (STATUS_RATE_SHARE * rate)));
-    }
-    status.status_period_s(base::to_seconds(period));
+    status.status_period_s(base::to_seconds(status_spacing(rate, wire_bits)));
+    last_status_at_ = now;
+    last_status_bits_ = wire_bits;
 
     core::Sample sample;
     sample.topic = *status_topic_;
@@ -564,8 +586,6 @@ void Gateway::publish_status_nts() {
         loop_->submit(std::move(sample));
         statuses_published_.fetch_add(1, std::memory_order_relaxed);
     }
-    post_at(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(period),
-            [this] { publish_status_nts(); });
 }
 
 std::uint64_t Gateway::forwarded_robot_samples() const {

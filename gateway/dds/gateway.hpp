@@ -183,8 +183,11 @@ class Gateway {
     /// Samples of the robot's topics written to the WAN so far: what base-camp receiver reports count (the
     /// status is not among them); in compact mode the bundles, which the relay counts.
     std::uint64_t forwarded_robot_samples() const;
-    /// Writes the status and schedules the next one.
+    /// Writes the status when its spacing has passed, and looks again after a status period.
     void publish_status_nts();  // the worker thread only
+    /// The time between statuses at `rate_bps` for a status of `wire_bits` on the wire: the status period, longer
+    /// where a status would take more than STATUS_RATE_SHARE of the rate.
+    base::Duration status_spacing(double rate_bps, double wire_bits) const;
     /// Tells the loop which topics a base-camp reader takes now, and looks again after REACHABILITY_POLL.
     void poll_reachability_nts();  // the worker thread only
     /// Counts traffic the WAN transport sent outside the schedule and has the worker charge it to the loop.
@@ -221,6 +224,8 @@ class Gateway {
     std::mutex sensor_mutex_;
     std::string sensor_description_;
     std::string sensor_detail_;
+    std::optional<std::chrono::steady_clock::time_point> last_status_at_;  ///< the worker thread only
+    double last_status_bits_ = 0.0;  ///< the last status's size on the wire; the worker thread only
     double logged_rate_bps_ = -1.0;  ///< the last rate written to the log's link_rates
     base::SteadyTime logged_rate_at_{};
     double delivered_cap_bps_ = 0.0;                           ///< 0: the delivered-rate check does not cap

@@ -21,19 +21,25 @@ ReceiverReportReader::ReceiverReportReader(const eprosima::fastrtps::rtps::GuidP
 void ReceiverReportReader::on_data_available(fdds::DataReader* reader) {
     idl::ReceiverReport report;
     fdds::SampleInfo info;
-    while (reader->take_next_sample(&report, &info) == ReturnCode_t::RETCODE_OK) {
+    // Held throughout, forwarded_samples_ included: close() waits for a report being taken.
+    std::lock_guard<std::mutex> lock(mutex_);
+    while (!closed_ && reader->take_next_sample(&report, &info) == ReturnCode_t::RETCODE_OK) {
         if (!info.valid_data ||
             !std::equal(report.gateway_prefix().begin(), report.gateway_prefix().end(), std::begin(own_.value))) {
             continue;
         }
-        const std::uint64_t forwarded = forwarded_samples_();
         const eprosima::fastrtps::rtps::GUID_t& writer = info.sample_identity.writer_guid();
         sensor::ReceiverId from{};
         std::copy(std::begin(writer.guidPrefix.value), std::end(writer.guidPrefix.value), from.begin());
         std::copy(std::begin(writer.entityId.value), std::end(writer.entityId.value), from.begin() + 12);
-        std::lock_guard<std::mutex> lock(mutex_);
-        ledger_.take(from, {report.received_samples(), report.received_bytes(), report.lost_samples()}, forwarded);
+        ledger_.take(from, {report.received_samples(), report.received_bytes(), report.lost_samples()},
+                     forwarded_samples_());
     }
+}
+
+void ReceiverReportReader::close() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    closed_ = true;
 }
 
 std::optional<ReceiverReportTotals> ReceiverReportReader::latest() const {

@@ -33,11 +33,16 @@ class ReceiverReportReader final : public eprosima::fastdds::dds::DataReaderList
     /// The followed receiver's latest report; nullopt before the first and while no receiver reports.
     std::optional<ReceiverReportTotals> latest() const;
 
+    /// Takes no further report: once it returns, `forwarded_samples` is neither running nor called again, so
+    /// what it reads may go while the reader still exists.
+    void close();
+
   private:
     eprosima::fastrtps::rtps::GuidPrefix_t own_;
     std::function<std::uint64_t()> forwarded_samples_;
     mutable std::mutex mutex_;
     sensor::ReceiverReportLedger ledger_;  ///< guarded by mutex_
+    bool closed_ = false;                  ///< guarded by mutex_
 };
 
 }  // namespace tgw::dds

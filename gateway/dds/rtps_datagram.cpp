@@ -74,6 +74,9 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
         } else if (id == INFO_TS) {
             shape.timestamp_in_force = (sub[1] & FLAG_INVALIDATE) == 0;
             shape.sets_timestamp_first = shape.sets_timestamp_first || leading_info;
+        } else if (id == SRTPS_PREFIX) {
+            shape.rtps_protected = true;
+            shape.mergeable = false;
         } else if (id == INFO_SRC || id == INFO_REPLY || id == INFO_REPLY_IP4) {
             shape.mergeable = false;
         } else if (id == HEARTBEAT) {
@@ -121,8 +124,8 @@ bool RtpsDatagram::append(const std::uint8_t* message, std::size_t size) {
         trailer_bytes_ = shape.trailer_bytes;
         return true;
     }
-    if (closed_ || !shape.well_formed || std::memcmp(message, bytes_.data(), HEADER_BYTES) != 0 ||
-        (destination_in_force_ && !shape.sets_destination)) {
+    if (closed_ || !shape.well_formed || shape.rtps_protected ||
+        std::memcmp(message, bytes_.data(), HEADER_BYTES) != 0 || (destination_in_force_ && !shape.sets_destination)) {
         return false;
     }
     const bool invalidate_timestamp = timestamp_in_force_ && !shape.sets_timestamp_first;

@@ -16,7 +16,8 @@ namespace tgw::dds {
 /// force (Fast DDS 2.9 ignores an INFO_DST to GUIDPREFIX_UNKNOWN, so the destination cannot be reset), and a
 /// timestamp in force is invalidated (INFO_TS with the I flag, 4 bytes) before a message that sets none. A
 /// message whose state changes are not tracked (INFO_SRC, INFO_REPLY), whose last submessage runs to the end,
-/// or that does not end on a 4-byte boundary closes the datagram.
+/// or that does not end on a 4-byte boundary closes the datagram. A message protected as a whole (DDS Security's
+/// SRTPS_PREFIX) goes alone: its signature covers its own submessages, and a receiver reads nothing after them.
 ///
 /// Fast DDS built with statistics (as Debian's is) ends every message with its network-statistics submessage,
 /// which its sending transport fills in and its receiver expects last, once. Only the last message's is kept.
@@ -49,6 +50,7 @@ class RtpsDatagram {
     struct Shape {
         bool well_formed = false;
         bool mergeable = false;             ///< nothing untracked, no run-to-end submessage, 4-byte aligned
+        bool rtps_protected = false;        ///< DDS Security protects it as a whole (SRTPS_PREFIX)
         bool sets_destination = false;      ///< the first submessage is an INFO_DST to a participant
         bool sets_timestamp_first = false;  ///< an INFO_TS comes before the first submessage that is not INFO_*
         bool destination_in_force = false;  ///< at the end

@@ -18,6 +18,7 @@ using test::rtps::info_dst;
 using test::rtps::info_src;
 using test::rtps::info_ts;
 using test::rtps::message;
+using test::rtps::signed_rtps;
 using test::rtps::statistics;
 
 constexpr std::size_t MAX_BYTES = 1472;
@@ -175,6 +176,29 @@ TEST(RtpsStatisticsTrailer, IsNothingWhenTheStatisticsSubmessageIsNotLastOrTheMe
     cyclone[6] = 0x01;
     cyclone[7] = 0x10;
     EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(cyclone.data(), cyclone.size()), 0u);
+}
+
+TEST_F(RtpsDatagramTest, SendsAMessageProtectedAsAWholeAlone) {
+    // A receiver decodes the protected message and reads nothing after its SRTPS_POSTFIX.
+    const Bytes secured = message(signed_rtps({info_ts(1), data(40)}));
+    ASSERT_TRUE(append(sut, secured));
+    EXPECT_FALSE(append(sut, message(signed_rtps({info_ts(2), data(40)}))));
+    EXPECT_FALSE(append(sut, message({info_ts(2), data(40)})));
+    EXPECT_EQ(contents(sut), secured);
+}
+
+TEST_F(RtpsDatagramTest, RefusesAMessageProtectedAsAWholeAfterAPlainOne) {
+    ASSERT_TRUE(append(sut, message({info_ts(1), data(40)})));
+    EXPECT_FALSE(append(sut, message(signed_rtps({info_ts(2), data(40)}))));
+}
+
+TEST_F(RtpsDatagramTest, KeepsTheStatisticsSubmessageAfterAProtectedMessage) {
+    // Fast DDS adds it after the protection: stripping it leaves the protected message whole.
+    const Bytes secured = message(signed_rtps({info_ts(1), data(40)}));
+    Bytes with_trailer = secured;
+    const Bytes trailer = statistics(7);
+    with_trailer.insert(with_trailer.end(), trailer.begin(), trailer.end());
+    EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(with_trailer.data(), with_trailer.size()), trailer.size());
 }
 
 TEST_F(RtpsDatagramTest, ClearStartsOver) {

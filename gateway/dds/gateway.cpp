@@ -57,6 +57,11 @@ void GatewayConfig::validate() const {
                                 std::to_string(core::WireModel::MIN_DATAGRAM_PAYLOAD_BYTES) + " to " +
                                 std::to_string(core::WireModel::MAX_UDP_PAYLOAD_BYTES) + " bytes");
     }
+    if (!wan_security.empty() && datagram < SECURE_MIN_DATAGRAM_BYTES) {
+        throw base::ConfigError("--wan-max-datagram " + std::to_string(datagram) + ": with --wan-security at least " +
+                                std::to_string(SECURE_MIN_DATAGRAM_BYTES) +
+                                " bytes, or Fast DDS cannot send its authentication handshake");
+    }
     if (robot.receive_buffer_bytes < RobotTransport::MIN_RECEIVE_BUFFER_BYTES ||
         robot.receive_buffer_bytes > RobotTransport::MAX_RECEIVE_BUFFER_BYTES) {
         throw base::ConfigError("--robot-receive-buffer " + std::to_string(robot.receive_buffer_bytes) + ": expected " +
@@ -121,6 +126,9 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
 
     WanConfig wan;
     wan.domain = config_.wan_domain;
+    if (!config_.wan_security.empty()) {
+        wan.security = base::SecurityFiles::load(config_.wan_security, "--wan-security");
+    }
     for (const std::string& text : config_.wan_peers) {
         const WanPeer peer = parse_wan_peer(text, config_.wan_domain);
         for (const std::uint16_t port : peer_ports(peer, config_.wan_domain, config_.wan_peer_participants)) {

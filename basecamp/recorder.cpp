@@ -15,6 +15,7 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "base/config_error.hpp"
+#include "base/dds_security.hpp"
 #include "basecamp/receiver_reporter.hpp"
 #include "basecamp/wan_capture.hpp"
 #include "gateway/dds/dds_time.hpp"
@@ -54,16 +55,19 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
 };
 
 Recorder::Recorder(int domain, const base::PeerTransport& transport, SampleConsumer& store,
-                   base::Duration report_period)
+                   base::Duration report_period, const std::optional<base::SecurityFiles>& security)
     : store_(store), report_period_(report_period) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
     qos.name("tm-basecamp");
     base::apply_peer_transport(qos, transport);
+    if (security)
+        base::apply_dds_security(qos, *security);
     participant_ = factory->create_participant(domain, qos, discovery_.get(), fdds::StatusMask::none());
     if (participant_ == nullptr)
-        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));
+        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain) +
+                                (security ? " (see Fast DDS's log about --security)" : ""));
     discovery_->ignore_participant(participant_->guid().guidPrefix);
     subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (subscriber_ == nullptr)

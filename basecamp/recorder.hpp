@@ -7,10 +7,12 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "base/peer_transport.hpp"
+#include "base/security_files.hpp"
 #include "base/time.hpp"
 #include "basecamp/delivery_tally.hpp"
 #include "basecamp/discovery_queue.hpp"
@@ -32,10 +34,11 @@ class ReceiverReporter;
 /// sending gateway what arrived and what was lost on the way (ReceiverReporter, DeliveryTally).
 class Recorder {
   public:
-    /// Creates the participant. `report_period` zero: no receiver reports. Throws base::ConfigError when DDS
-    /// refuses it.
+    /// Creates the participant, with DDS Security when `security` is given. `report_period` zero: no receiver
+    /// reports. Throws base::ConfigError when DDS refuses it.
     Recorder(int domain, const base::PeerTransport& transport, SampleConsumer& store,
-             base::Duration report_period = std::chrono::seconds(1));
+             base::Duration report_period = std::chrono::seconds(1),
+             const std::optional<base::SecurityFiles>& security = std::nullopt);
     ~Recorder();
     Recorder(const Recorder&) = delete;
     Recorder& operator=(const Recorder&) = delete;

@@ -151,6 +151,10 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         wan.strip_statistics = true;
         config_.scheduler.wire = config_.scheduler.wire.without_statistics();
     }
+    if (wan.security) {
+        // Every message signed, every sample's submessages and payload encrypted (WireModel::with_security).
+        config_.scheduler.wire = config_.scheduler.wire.with_security();
+    }
     // Discovery, heartbeats, repairs, copies to further readers: charged as they leave, so that the budget
     // counts every byte the WAN participant puts on the link (DESIGN section 3).
     wan.on_unscheduled = [link = unscheduled_link_](std::uint64_t frame_bytes) {

@@ -46,6 +46,9 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
     Shape shape;
     shape.mergeable = true;
     bool leading_info = true;  // still in the run of INFO_* submessages the message starts with
+    std::size_t protected_groups = 0;
+    std::size_t group_start = 0;  // where the SEC_PREFIX of the protected submessage being read is
+    std::size_t protected_extra_bytes = 0;
     std::size_t pos = HEADER_BYTES;
     while (pos < size) {
         if (size - pos < SUBMESSAGE_HEADER_BYTES) {
@@ -81,6 +84,8 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
             shape.mergeable = false;
         } else if (id == HEARTBEAT) {
             shape.heartbeat_bytes += SUBMESSAGE_HEADER_BYTES + length;
+        } else if (id == SEC_PREFIX) {
+            group_start = pos;
         }
         leading_info = leading_info && is_info(id);
         // Receivers step to the next 4-byte boundary.
@@ -92,7 +97,13 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
             }
             shape.trailer_bytes = SUBMESSAGE_HEADER_BYTES + length;
         }
+        if (id == SEC_POSTFIX && ++protected_groups > 2) {
+            protected_extra_bytes += next - group_start;
+        }
         pos = next;
+    }
+    if (shape.rtps_protected) {
+        shape.heartbeat_bytes += protected_extra_bytes;
     }
     if (pos != size) {
         shape.mergeable = false;  // the last submessage is not padded to 4 bytes

@@ -39,7 +39,9 @@ class RtpsDatagram {
     std::size_t messages() const { return messages_; }
 
     /// The bytes of HEARTBEAT submessages (headers included) in one RTPS message: what a reliable writer adds
-    /// to a sample's message beyond the wire model. 0 for a message that is not well formed.
+    /// to a sample's message beyond the wire model. 0 for a message that is not well formed. In a message
+    /// protected as a whole, whose submessages are encrypted one by one, a HEARTBEAT cannot be told from the rest:
+    /// every protected submessage after the first two (the sample's INFO_TS and DATA, or DATA_FRAG) counts as one.
     static std::size_t heartbeat_bytes(const std::uint8_t* message, std::size_t size);
     /// The bytes of the statistics submessage (header included) that ends a well-formed eProsima RTPS message,
     /// or 0 when it does not end with one. Receivers read it only for eProsima's statistics module.

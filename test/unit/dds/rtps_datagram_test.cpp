@@ -201,6 +201,36 @@ TEST_F(RtpsDatagramTest, KeepsTheStatisticsSubmessageAfterAProtectedMessage) {
     EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(with_trailer.data(), with_trailer.size()), trailer.size());
 }
 
+TEST_F(RtpsDatagramTest, CountsProtectedSubmessagesPastASamplesOwnAsItsHeartbeat) {
+    // Shaped as a capture of a secured reliable writer's sample: INFO_DST in clear, then INFO_TS, DATA and the
+    // piggy-backed HEARTBEAT each as SEC_PREFIX, SEC_BODY, SEC_POSTFIX (24 + 40 + 24 bytes for the HEARTBEAT).
+    const auto protect = [](std::size_t body_bytes) {
+        return std::vector<Bytes>{test::rtps::submessage(0x31, 0x01, Bytes(20, 1)),
+                                  test::rtps::submessage(0x30, 0x01, Bytes(body_bytes, 2)),
+                                  test::rtps::submessage(0x32, 0x01, Bytes(20, 3))};
+    };
+    std::vector<Bytes> alone{info_dst(0x33)};
+    for (std::size_t body : {16u, 136u}) {
+        const auto group = protect(body);
+        alone.insert(alone.end(), group.begin(), group.end());
+    }
+    std::vector<Bytes> with_heartbeat = alone;
+    const auto heartbeat_group = protect(36);
+    with_heartbeat.insert(with_heartbeat.end(), heartbeat_group.begin(), heartbeat_group.end());
+    const auto wrap = [](const std::vector<Bytes>& inner) {
+        std::vector<Bytes> out{test::rtps::submessage(0x33, 0x01, Bytes(20, 0x3c)),
+                               test::rtps::submessage(0x0c, 0x01, Bytes(20, 7))};
+        out.insert(out.end(), inner.begin(), inner.end());
+        out.push_back(test::rtps::submessage(0x34, 0x01, Bytes(20, 0x4d)));
+        out.push_back(statistics(1));
+        return out;
+    };
+    const Bytes sample = message(wrap(alone));
+    const Bytes sample_and_heartbeat = message(wrap(with_heartbeat));
+    EXPECT_EQ(RtpsDatagram::heartbeat_bytes(sample.data(), sample.size()), 0u);
+    EXPECT_EQ(RtpsDatagram::heartbeat_bytes(sample_and_heartbeat.data(), sample_and_heartbeat.size()), 88u);
+}
+
 TEST_F(RtpsDatagramTest, ClearStartsOver) {
     ASSERT_TRUE(append(sut, message({info_dst(0x33), info_ts(1), data(40)})));
     sut.clear();

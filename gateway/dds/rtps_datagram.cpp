@@ -121,6 +121,24 @@ std::size_t RtpsDatagram::statistics_trailer_bytes(const std::uint8_t* message, 
     return shape.well_formed && shape.trailer_last ? shape.trailer_bytes : 0;
 }
 
+std::size_t RtpsDatagram::padding_against_statistics_fill(const std::uint8_t* datagram, std::size_t size) {
+    if (size < HEADER_BYTES || statistics_trailer_bytes(datagram, size) != 0) {
+        return 0;  // its own statistics submessage, the one to fill in
+    }
+    // Each PAD moves the byte the transport looks at 4 bytes on; the last bytes of the datagram, then the PADs'
+    // own (id 0x01, flags 0x01, length 0), none of which is the statistics id.
+    std::size_t padding = 0;
+    while (size + padding >= HEADER_BYTES + STATISTICS_BYTES) {
+        const std::size_t at = size + padding - STATISTICS_BYTES;
+        const std::uint8_t byte = at < size ? datagram[at] : PAD_SUBMESSAGE[(at - size) % 4];
+        if (byte != EPROSIMA_STATISTICS) {
+            break;
+        }
+        padding += sizeof(PAD_SUBMESSAGE);
+    }
+    return padding;
+}
+
 bool RtpsDatagram::append(const std::uint8_t* message, std::size_t size) {
     const Shape shape = shape_of(message, size);
     if (empty()) {

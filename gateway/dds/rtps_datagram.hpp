@@ -46,6 +46,13 @@ class RtpsDatagram {
     /// The bytes of the statistics submessage (header included) that ends a well-formed eProsima RTPS message,
     /// or 0 when it does not end with one. Receivers read it only for eProsima's statistics module.
     static std::size_t statistics_trailer_bytes(const std::uint8_t* message, std::size_t size);
+    /// The bytes of PAD submessages to append to a datagram that does not end with a statistics submessage (its
+    /// own was left out) so that Fast DDS's UDP transport does not take it for one: the transport fills in the
+    /// last STATISTICS_BYTES of every datagram whose byte there is the submessage's id, over whatever they hold
+    /// (a payload's bytes, a protected message's signature). 0 for most datagrams; else a multiple of 4.
+    static std::size_t padding_against_statistics_fill(const std::uint8_t* datagram, std::size_t size);
+    static constexpr std::size_t STATISTICS_BYTES = 60;
+    static constexpr std::uint8_t PAD_SUBMESSAGE[4] = {0x01, 0x01, 0x00, 0x00};
 
   private:
     /// What a receiver's state is after a run of submessages, and whether more may follow.

@@ -231,6 +231,22 @@ TEST_F(RtpsDatagramTest, CountsProtectedSubmessagesPastASamplesOwnAsItsHeartbeat
     EXPECT_EQ(RtpsDatagram::heartbeat_bytes(sample_and_heartbeat.data(), sample_and_heartbeat.size()), 88u);
 }
 
+TEST_F(RtpsDatagramTest, PadsADatagramWhoseEndAFastDdsTransportWouldTakeForStatistics) {
+    // A DATA whose payload has the statistics id 60 bytes before the end of the message.
+    Bytes m = message({info_ts(1), data(80)});
+    EXPECT_EQ(RtpsDatagram::padding_against_statistics_fill(m.data(), m.size()), 0u);
+    m[m.size() - RtpsDatagram::STATISTICS_BYTES] = 0x80;
+    EXPECT_EQ(RtpsDatagram::padding_against_statistics_fill(m.data(), m.size()), 4u);
+    // ... and 4 bytes on too: one PAD more.
+    m[m.size() - RtpsDatagram::STATISTICS_BYTES + 4] = 0x80;
+    EXPECT_EQ(RtpsDatagram::padding_against_statistics_fill(m.data(), m.size()), 8u);
+}
+
+TEST_F(RtpsDatagramTest, LeavesAMessageThatEndsWithItsStatisticsAsItIs) {
+    const Bytes m = message({info_ts(1), data(40), statistics(0)});
+    EXPECT_EQ(RtpsDatagram::padding_against_statistics_fill(m.data(), m.size()), 0u);
+}
+
 TEST_F(RtpsDatagramTest, ClearStartsOver) {
     ASSERT_TRUE(append(sut, message({info_dst(0x33), info_ts(1), data(40)})));
     sut.clear();

@@ -44,9 +44,14 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
         }
     }
 
+    void on_subscription_matched(fdds::DataReader* /*reader*/, const fdds::SubscriptionMatchedStatus& info) override {
+        matched.store(info.current_count);
+    }
+
     const TopicRecord& topic() const { return topic_; }
 
     std::atomic<std::uint64_t> received{0};
+    std::atomic<std::int32_t> matched{0};
 
   private:
     TopicRecord topic_;
@@ -119,6 +124,7 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
         return;
     }
     store_.add_topic(reader->topic());
+    std::lock_guard<std::mutex> lock(readers_mutex_);
     readers_.emplace(publisher.topic, std::move(reader));
 }
 
@@ -136,10 +142,17 @@ void Recorder::run(base::Duration duration, const std::atomic<bool>& stop) {
 }
 
 std::map<std::string, std::uint64_t> Recorder::received() const {
+    std::lock_guard<std::mutex> lock(readers_mutex_);
     std::map<std::string, std::uint64_t> counts;
     for (const auto& [topic, reader] : readers_)
         counts[topic] = reader->received.load();
     return counts;
+}
+
+std::int32_t Recorder::matched_writers(const std::string& topic) const {
+    std::lock_guard<std::mutex> lock(readers_mutex_);
+    const auto it = readers_.find(topic);
+    return it == readers_.end() ? 0 : it->second->matched.load();
 }
 
 }  // namespace tgw::basecamp

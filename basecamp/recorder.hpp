@@ -51,6 +51,9 @@ class Recorder {
 
     /// Samples received so far, per topic.
     std::map<std::string, std::uint64_t> received() const;
+    /// Writers the reader of `topic` has matched now; 0 before the topic has a reader. A writer's samples reach
+    /// the recording from its match on: with DDS Security, once the two have exchanged their keys.
+    std::int32_t matched_writers(const std::string& topic) const;
     /// Received and lost samples so far, per sending participant.
     std::map<ParticipantPrefix, DeliveryTotals> delivery() const { return tally_.totals(); }
 
@@ -68,6 +71,7 @@ class Recorder {
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+    mutable std::mutex readers_mutex_;  ///< readers_ is filled by run() and read from other threads
     std::map<std::string, std::unique_ptr<TopicReader>> readers_;
     std::vector<std::string> only_;
     std::unique_ptr<ReceiverReporter> reporter_;

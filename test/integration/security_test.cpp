@@ -185,9 +185,14 @@ TEST_F(SecurityTest, SecuredBaseCampGetsEverySampleTheStatusAndSendsItsReports) 
     auto& wan = listener<CollectingReader<idl::PaperMessage>>();
     auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_), wan);
     ASSERT_NE(writer, nullptr);
-    ASSERT_TRUE(
-        wait_until([&] { return gateway_->wan_matched_readers(gateway_->find_topic(topic)->id) >= 2; }, MATCH_TIMEOUT))
-        << "the recorder never matched the gateway's writer of " << topic << " (" << gateway_->wan_participants()
+    // Both ends: a volatile reader gets nothing its writer sent before the reader matched it.
+    ASSERT_TRUE(wait_until(
+        [&] {
+            return gateway_->wan_matched_readers(gateway_->find_topic(topic)->id) >= 2 &&
+                   recorder.recorder->matched_writers(topic) > 0;
+        },
+        MATCH_TIMEOUT))
+        << "the recorder and the gateway's writer of " << topic << " never matched (" << gateway_->wan_participants()
         << " base-camp participants)";
     publish(writer, N);
 
@@ -268,9 +273,13 @@ TEST_F(SecurityTest, LimitedIdentityGetsNothingOfTheTopicItsPermissionsExclude) 
     auto* restricted_writer =
         bridge<idl::PaperMessagePubSubType>(restricted, robot_writer_qos(*robot_), restricted_wan);
     ASSERT_TRUE(open_writer && restricted_writer);
-    ASSERT_TRUE(
-        wait_until([&] { return gateway_->wan_matched_readers(gateway_->find_topic(open)->id) >= 2; }, MATCH_TIMEOUT))
-        << "the limited recorder never matched the gateway's writer of " << open;
+    ASSERT_TRUE(wait_until(
+        [&] {
+            return gateway_->wan_matched_readers(gateway_->find_topic(open)->id) >= 2 &&
+                   limited.recorder->matched_writers(open) > 0;
+        },
+        MATCH_TIMEOUT))
+        << "the limited recorder and the gateway's writer of " << open << " never matched";
     publish(open_writer, N);
     publish(restricted_writer, N);
 

@@ -116,6 +116,11 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
       filter_(config_.allow, config_.deny),
       unscheduled_link_(std::make_shared<UnscheduledLink>()) {
     config_.validate();
+    // The identity first: a missing or tampered file stops the start before anything is created.
+    std::optional<base::SecurityFiles> security;
+    if (!config_.wan_security.empty()) {
+        security = base::SecurityFiles::load(config_.wan_security, "--wan-security");
+    }
     unscheduled_link_->gateway = this;
     if (!config_.log_file.empty()) {
         log_ = std::make_unique<log::RobotLog>(config_.log_file);
@@ -126,9 +131,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
 
     WanConfig wan;
     wan.domain = config_.wan_domain;
-    if (!config_.wan_security.empty()) {
-        wan.security = base::SecurityFiles::load(config_.wan_security, "--wan-security");
-    }
+    wan.security = std::move(security);
     for (const std::string& text : config_.wan_peers) {
         const WanPeer peer = parse_wan_peer(text, config_.wan_domain);
         for (const std::uint16_t port : peer_ports(peer, config_.wan_domain, config_.wan_peer_participants)) {

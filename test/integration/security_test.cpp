@@ -5,18 +5,23 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <set>
 
 #include "GatewayStatusPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
+#include "ReceiverReportPubSubTypes.h"
 #include "base/dds_security.hpp"
 #include "base/security_files.hpp"
 #include "basecamp/recorder.hpp"
 #include "basecamp/sample_consumer.hpp"
+#include "gateway/dds/receiver_report_topic.hpp"
 #include "gateway/dds/status_topic.hpp"
+#include "gateway/dds/wan_address.hpp"
 #include "gateway/dds/wan_router.hpp"
 #include "test/integration/relay_fixture.hpp"
 
@@ -44,6 +49,26 @@ class KeptSamples final : public basecamp::SampleConsumer {
   private:
     mutable std::mutex mutex_;
     std::map<std::string, std::vector<std::vector<std::uint8_t>>> by_topic_;
+};
+
+/// The participants a participant has discovered, by GUID prefix.
+class ParticipantsSeen final : public fdds::DomainParticipantListener {
+  public:
+    void on_participant_discovery(fdds::DomainParticipant*,
+                                  eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+        if (info.status == eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            seen_.insert(info.info.m_guid.guidPrefix);
+        }
+    }
+    bool has(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return seen_.count(prefix) != 0;
+    }
+
+  private:
+    mutable std::mutex mutex_;
+    std::set<eprosima::fastrtps::rtps::GuidPrefix_t> seen_;
 };
 
 class SecurityTest : public RelayTest {
@@ -293,6 +318,59 @@ TEST_F(SecurityTest, LimitedIdentityGetsNothingOfTheTopicItsPermissionsExclude) 
     EXPECT_EQ(limited.kept.count(restricted), 0u);
     // The gateway's writer of the restricted topic has the base camp's reader alone.
     EXPECT_EQ(gateway_->wan_matched_readers(gateway_->find_topic(restricted)->id), 1);
+}
+
+TEST_F(SecurityTest, PlainParticipantGetsNothingAndItsReportsNeverReachTheGateway) {
+    expected_errors_ = {"SECURITY: "};
+    secured_basecamp("basecamp");
+    GatewayConfig c = secured_config();
+    c.receiver_reports = true;
+    start_gateway(c);
+    const std::string topic = topic_prefix_ + "paper";
+    // A participant without security on the WAN domain, announcing itself to the gateway: a reader of the robot's
+    // topic, and a writer of receiver reports that tell the gateway a million samples arrived.
+    auto& seen = listener<ParticipantsSeen>();
+    TestParticipant plain(
+        domains_.wan,
+        TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 62), domains_.gateway_wan_port), &seen);
+    ASSERT_TRUE(plain.ok());
+    // In touch: the gateway's announcements, which are never protected, reach it.
+    ASSERT_TRUE(wait_until([&] { return seen.has(gateway_->wan_guid_prefix()); }, MATCH_TIMEOUT))
+        << "the plain participant never heard of the gateway";
+    auto& eavesdropped = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_NE(plain.make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()), plain.default_reader_qos(),
+                                &eavesdropped),
+              nullptr);
+    fdds::DataWriter* forged = plain.make_writer(
+        dds::RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new idl::ReceiverReportPubSubType()), plain.default_writer_qos());
+    ASSERT_NE(forged, nullptr);
+    idl::ReceiverReport report;
+    const auto prefix = gateway_->wan_guid_prefix();
+    std::array<std::uint8_t, 12> prefix_bytes{};
+    std::copy(std::begin(prefix.value), std::end(prefix.value), prefix_bytes.begin());
+    report.gateway_prefix(prefix_bytes);
+    report.received_samples(1'000'000);
+
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_), wan);
+    ASSERT_NE(writer, nullptr);
+    // A forged report with each sample, while the secured base camp receives them all.
+    for (std::uint32_t i = 0; i < N; ++i) {
+        idl::PaperMessage m;
+        m.generated_ns(i);
+        m.data(std::vector<std::uint8_t>(41, static_cast<std::uint8_t>(i)));
+        ASSERT_TRUE(writer->write(&m));
+        forged->write(&report);  // matched by no one: it goes nowhere, which is the point
+    }
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= N; })) << "got " << wan.count() << " of " << N;
+    expect_intact(wan, N);
+
+    // With the gateway and the base camp plain (tried by hand on 2026-11-25), the same participant took all 20
+    // samples, its report reached the gateway, and the gateway counted it as a second base-camp participant.
+    EXPECT_EQ(eavesdropped.count(), 0u);
+    EXPECT_EQ(eavesdropped.matched.load(), 0);
+    EXPECT_FALSE(gateway_->receiver_report().has_value()) << "a forged receiver report reached the gateway";
+    EXPECT_EQ(gateway_->wan_participants(), 1u);
 }
 
 }  // namespace

@@ -33,6 +33,7 @@ WireModel WireModel::with_security() const {
     model.per_sample_bytes += sample_headers;
     model.per_fragment_bytes += sample_headers;
     model.payload_overhead_bytes += SECURE_PAYLOAD_BYTES;
+    model.protected_fill_margin_bytes = SECURE_FILL_MARGIN_BYTES;
     const std::size_t headroom = SECURE_MESSAGE_BYTES + sample_headers + SECURE_PAYLOAD_BYTES;
     model.max_unfragmented_bytes = std::max(model.max_unfragmented_bytes, headroom + 1) - headroom;
     model.fragment_payload_bytes = std::max(model.fragment_payload_bytes, headroom + 1) - headroom;

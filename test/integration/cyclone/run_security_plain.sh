@@ -8,7 +8,9 @@
 #   - what plain publishers on the WAN domain write, whether they matched anyone or not, reaches nothing: on a topic
 #     of their own (first phase), and on the robot topic's name numbered past what the robot sends (second phase,
 #     apart from the plain subscriber, which would take them), nothing arrives on the camp's domain, and the relay
-#     relays none of it.
+#     relays none of it;
+#   - tm-basecamp echo as DIR/basecamp prints samples of the robot topic (in compact mode: of the bundles), and
+#     tm-basecamp record as DIR/intruder (another CA) records nothing at all.
 #
 #   run_security_plain.sh GATEWAY TM_BASECAMP XV_PUB XV_SUB CERTS_DIR [GATEWAY_FLAGS...]
 set -euo pipefail
@@ -37,7 +39,17 @@ start relay "$BASECAMP" relay --domain "$WAN_DOMAIN" --peer 127.0.0.1 --interfac
     --local-domain "$LOCAL_DOMAIN" --local-interface 127.0.0.1 --duration $((TIMEOUT_S + 10)) \
     --security "$CERTS/basecamp"
 sleep 1
-start_gateway $((TIMEOUT_S + 10)) --wan-security "$CERTS/gateway" "${GATEWAY_FLAGS[@]}"
+# More announcement ports than the default 4: the Cyclone participants take some of this host's first ones.
+start_gateway $((TIMEOUT_S + 10)) --wan-security "$CERTS/gateway" --wan-peer-participants 12 "${GATEWAY_FLAGS[@]}"
+# In compact mode the WAN carries the robot's samples in bundles, which only the relay unpacks.
+ECHO_TOPIC="$TOPIC"
+[[ " ${GATEWAY_FLAGS[*]} " == *" compact "* ]] && ECHO_TOPIC="tgw/compact/bundles"
+start echo-basecamp "$BASECAMP" echo "$ECHO_TOPIC" --domain "$WAN_DOMAIN" --peer 127.0.0.1 --interface 127.0.0.1 \
+    --count 3 --timeout "$TIMEOUT_S" --security "$CERTS/basecamp"
+ECHO_BASECAMP=$LAST_PID
+start record-intruder "$BASECAMP" record --domain "$WAN_DOMAIN" --peer 127.0.0.1 --interface 127.0.0.1 \
+    --out "$WORK/intruder.db" --duration "$PHASE_S" --security "$CERTS/intruder"
+RECORD_INTRUDER=$LAST_PID
 XV_EXPECT_NONE=1 start sub-plain "$SUB" "$WAN_DOMAIN" "$TOPIC" blob "$COUNT" 1 "$PHASE_S"
 SUB_PLAIN=$LAST_PID
 XV_WRITE_UNMATCHED=1 start pub-plain-injected "$PUB" "$WAN_DOMAIN" "$INJECTED" blob "$COUNT" 1 "$PHASE_S"
@@ -49,6 +61,12 @@ wait "$SUB_CAMP" || { echo "FAIL: the camp's subscriber did not get every sample
 wait "$SUB_PLAIN" || { echo "FAIL: the plain subscriber on the WAN domain received samples"; status=1; }
 wait "$SUB_CAMP_INJECTED" || { echo "FAIL: a plain publisher's own topic reached the camp's domain"; status=1; }
 wait "$PUB_PLAIN_INJECTED" || true
+wait "$ECHO_BASECAMP" || { echo "FAIL: tm-basecamp echo --security DIR/basecamp did not print 3 samples"; status=1; }
+wait "$RECORD_INTRUDER" || { echo "FAIL: tm-basecamp record --security DIR/intruder did not run"; status=1; }
+if grep -q "$TOPIC" "$WORK/record-intruder.out" || ! grep -q "rows written: 0," "$WORK/record-intruder.out"; then
+    echo "FAIL: tm-basecamp record --security DIR/intruder recorded something"
+    status=1
+fi
 
 # Second phase: a plain publisher on the robot topic's name, numbering up to twice what the robot sends, while a
 # subscriber on the camp's domain fails on any sample numbered past the robot's.
@@ -76,5 +94,5 @@ for injector in pub-plain-injected pub-plain-robot-name; do
         status=1
     fi
 done
-finish "$status" sub-camp sub-plain sub-camp-injected sub-camp-late relay pub-plain-injected pub-plain-robot-name \
-    pub gateway
+finish "$status" sub-camp sub-plain sub-camp-injected sub-camp-late echo-basecamp record-intruder relay \
+    pub-plain-injected pub-plain-robot-name pub gateway

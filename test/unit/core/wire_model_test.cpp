@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gateway/core/bundle_builder.hpp"
 #include "gateway/core/paper_workload.hpp"
 
 namespace tgw::core {
@@ -70,6 +71,14 @@ TEST(WireModelWithSecurity, CostsEachMessageAndEachSampleTheirProtection) {
     EXPECT_EQ(sut.fragment_payload_bytes, 7'788u);
     EXPECT_EQ(sut.wire_bytes(3 * 7'788 - 44), 3 * (8'158u + 5 * 34u));
     EXPECT_EQ(sut.max_unfragmented_bytes, plain.max_unfragmented_bytes - 228u);
+}
+
+TEST(WireModelWithSecurity, KeepsCompactBundlesClearOfFastDdsFillLimit) {
+    const WireModel plain = WireModel::for_max_datagram(8192);
+    const WireModel sut = plain.with_security();
+    // The payload's protection and the margin Fast DDS 2.9 needs for the message's: 7,800 - 44 - 256 - 8 - 16.
+    EXPECT_EQ(BundleLimits::one_datagram(sut), 7'476u);
+    EXPECT_EQ(BundleLimits::one_datagram(plain), plain.max_unfragmented_bytes - 24u);
 }
 
 TEST(WireModelWithSecurity, LeavesOutTheStatisticsSubmessageAsThePlainModelDoes) {

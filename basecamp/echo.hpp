@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "base/peer_transport.hpp"
+#include "base/security_files.hpp"
 #include "base/time.hpp"
 #include "basecamp/discovery_queue.hpp"
 #include "basecamp/sample_printer.hpp"
@@ -35,10 +36,11 @@ namespace tgw::basecamp {
 /// once, from its writer's lane.
 class Echo {
   public:
-    /// Creates the participant. `out` must outlive the Echo. Throws base::ConfigError naming --domain,
-    /// --peer or --interface when DDS refuses it.
+    /// Creates the participant, with DDS Security when `security` is given. `out` must outlive the Echo. Throws
+    /// base::ConfigError naming --domain, --peer or --interface when DDS refuses it.
     Echo(int domain, const base::PeerTransport& transport, std::string topic, TypeLibrary types,
-         SamplePrinter::Format format, std::ostream& out);
+         SamplePrinter::Format format, std::ostream& out,
+         const std::optional<base::SecurityFiles>& security = std::nullopt);
     ~Echo();
     Echo(const Echo&) = delete;
     Echo& operator=(const Echo&) = delete;

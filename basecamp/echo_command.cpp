@@ -54,7 +54,8 @@ CLI::Validator positive_seconds() {
 
 int run_echo(const EchoArguments& args) {
     Echo echo(args.domain, args.transport, args.topic, TypeLibrary::project_and(args.idl_dirs, "--idl"),
-              args.json ? SamplePrinter::Format::json : SamplePrinter::Format::text, std::cout);
+              args.json ? SamplePrinter::Format::json : SamplePrinter::Format::text, std::cout,
+              security_files(args.security_dir));
     stop_on_signals();
     const base::Duration duration = args.timeout_s > 0 ? base::from_seconds(args.timeout_s) : base::Duration::max() / 2;
     const std::uint64_t printed = echo.run(args.count, duration, stop_requested());

@@ -11,6 +11,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "base/config_error.hpp"
+#include "base/dds_security.hpp"
 #include "base/peer_transport.hpp"
 #include "basecamp/compact_unpacker.hpp"
 #include "basecamp/consumer_fan_out.hpp"
@@ -84,6 +85,8 @@ int main(int argc, char** argv) {
     tgw::basecamp::add_mcap_options(*record, record_mcap, false);
     record->add_option("--duration", duration_s, "seconds to record; until SIGINT/SIGTERM without it")
         ->check(CLI::PositiveNumber);
+    std::string record_security;
+    tgw::basecamp::add_security_option(*record, record_security);
     double report_period_s = 1.0;
     record
         ->add_option("--report-period", report_period_s,
@@ -106,6 +109,8 @@ int main(int argc, char** argv) {
                      "the camp's own domain: every topic appears there, for programs with their vendors' defaults")
         ->check(CLI::Range(0, 232))
         ->required();
+    std::string relay_security;
+    tgw::basecamp::add_security_option(*relay, relay_security);
     tgw::base::PeerTransport local_transport;
     local_transport.interface_flag = "--local-interface";
     relay->add_option("--local-interface", local_transport.interface,
@@ -175,12 +180,17 @@ int main(int argc, char** argv) {
                 return subcommand.run();
         }
         if (relay->parsed()) {
+            // Checked first: nothing is created when an identity's file is missing or tampered with.
+            const auto security = tgw::basecamp::security_files(relay_security);
             if (local_domain == domain)
                 throw tgw::base::ConfigError("--local-domain: must differ from --domain (" + std::to_string(domain) +
                                              "), or every sample would come back to the relay");
             auto* factory = eprosima::fastdds::dds::DomainParticipantFactory::get_instance();
             auto wan_qos = factory->get_default_participant_qos();
             tgw::base::apply_peer_transport(wan_qos, relay_transport);
+            // The WAN participant only: the camp's own domain stays plain, for programs with their defaults.
+            if (security)
+                tgw::base::apply_dds_security(wan_qos, *security);
             auto local_qos = factory->get_default_participant_qos();
             tgw::base::apply_peer_transport(local_qos, local_transport);
             std::vector<tgw::basecamp::SampleConsumer*> consumers;
@@ -229,6 +239,7 @@ int main(int argc, char** argv) {
         } else if (record->parsed()) {
             if (out.empty() && record_mcap.path.empty())
                 throw tgw::base::ConfigError("--out or --mcap: say where to record");
+            const auto security = tgw::basecamp::security_files(record_security);
             std::vector<tgw::basecamp::SampleConsumer*> files;
             std::unique_ptr<tgw::basecamp::SampleStore> store;
             if (!out.empty()) {
@@ -244,7 +255,8 @@ int main(int argc, char** argv) {
                 files.push_back(mcap.get());
             }
             tgw::basecamp::ConsumerFanOut recording(files);
-            tgw::basecamp::Recorder recorder(domain, transport, recording, tgw::base::from_seconds(report_period_s));
+            tgw::basecamp::Recorder recorder(domain, transport, recording, tgw::base::from_seconds(report_period_s),
+                                             security);
             tgw::basecamp::stop_on_signals();
             const auto duration = duration_s > 0 ? tgw::base::from_seconds(duration_s) : tgw::base::Duration::max() / 2;
             tgw::basecamp::run_with_progress(

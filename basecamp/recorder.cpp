@@ -15,6 +15,7 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "base/config_error.hpp"
+#include "base/dds_security.hpp"
 #include "basecamp/receiver_reporter.hpp"
 #include "basecamp/wan_capture.hpp"
 #include "gateway/dds/dds_time.hpp"
@@ -43,9 +44,14 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
         }
     }
 
+    void on_subscription_matched(fdds::DataReader* /*reader*/, const fdds::SubscriptionMatchedStatus& info) override {
+        matched.store(info.current_count);
+    }
+
     const TopicRecord& topic() const { return topic_; }
 
     std::atomic<std::uint64_t> received{0};
+    std::atomic<std::int32_t> matched{0};
 
   private:
     TopicRecord topic_;
@@ -54,16 +60,19 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
 };
 
 Recorder::Recorder(int domain, const base::PeerTransport& transport, SampleConsumer& store,
-                   base::Duration report_period)
+                   base::Duration report_period, const std::optional<base::SecurityFiles>& security)
     : store_(store), report_period_(report_period) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
     qos.name("tm-basecamp");
     base::apply_peer_transport(qos, transport);
+    if (security)
+        base::apply_dds_security(qos, *security);
     participant_ = factory->create_participant(domain, qos, discovery_.get(), fdds::StatusMask::none());
     if (participant_ == nullptr)
-        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));
+        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain) +
+                                (security ? " (see Fast DDS's log about --security)" : ""));
     discovery_->ignore_participant(participant_->guid().guidPrefix);
     subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (subscriber_ == nullptr)
@@ -115,6 +124,7 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
         return;
     }
     store_.add_topic(reader->topic());
+    std::lock_guard<std::mutex> lock(readers_mutex_);
     readers_.emplace(publisher.topic, std::move(reader));
 }
 
@@ -132,10 +142,17 @@ void Recorder::run(base::Duration duration, const std::atomic<bool>& stop) {
 }
 
 std::map<std::string, std::uint64_t> Recorder::received() const {
+    std::lock_guard<std::mutex> lock(readers_mutex_);
     std::map<std::string, std::uint64_t> counts;
     for (const auto& [topic, reader] : readers_)
         counts[topic] = reader->received.load();
     return counts;
+}
+
+std::int32_t Recorder::matched_writers(const std::string& topic) const {
+    std::lock_guard<std::mutex> lock(readers_mutex_);
+    const auto it = readers_.find(topic);
+    return it == readers_.end() ? 0 : it->second->matched.load();
 }
 
 }  // namespace tgw::basecamp

@@ -7,10 +7,12 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "base/peer_transport.hpp"
+#include "base/security_files.hpp"
 #include "base/time.hpp"
 #include "basecamp/delivery_tally.hpp"
 #include "basecamp/discovery_queue.hpp"
@@ -32,10 +34,11 @@ class ReceiverReporter;
 /// sending gateway what arrived and what was lost on the way (ReceiverReporter, DeliveryTally).
 class Recorder {
   public:
-    /// Creates the participant. `report_period` zero: no receiver reports. Throws base::ConfigError when DDS
-    /// refuses it.
+    /// Creates the participant, with DDS Security when `security` is given. `report_period` zero: no receiver
+    /// reports. Throws base::ConfigError when DDS refuses it.
     Recorder(int domain, const base::PeerTransport& transport, SampleConsumer& store,
-             base::Duration report_period = std::chrono::seconds(1));
+             base::Duration report_period = std::chrono::seconds(1),
+             const std::optional<base::SecurityFiles>& security = std::nullopt);
     ~Recorder();
     Recorder(const Recorder&) = delete;
     Recorder& operator=(const Recorder&) = delete;
@@ -48,6 +51,9 @@ class Recorder {
 
     /// Samples received so far, per topic.
     std::map<std::string, std::uint64_t> received() const;
+    /// Writers the reader of `topic` has matched now; 0 before the topic has a reader. A writer's samples reach
+    /// the recording from its match on: with DDS Security, once the two have exchanged their keys.
+    std::int32_t matched_writers(const std::string& topic) const;
     /// Received and lost samples so far, per sending participant.
     std::map<ParticipantPrefix, DeliveryTotals> delivery() const { return tally_.totals(); }
 
@@ -65,6 +71,7 @@ class Recorder {
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+    mutable std::mutex readers_mutex_;  ///< readers_ is filled by run() and read from other threads
     std::map<std::string, std::unique_ptr<TopicReader>> readers_;
     std::vector<std::string> only_;
     std::unique_ptr<ReceiverReporter> reporter_;

@@ -29,7 +29,8 @@ std::int64_t wall_now_ns() {
 int run_stats(const StatsOptions& options) {
     TopicStats stats(base::from_seconds(options.window_s));
     // An observer: it sends no receiver reports, so the gateways' view of the link is the recorder's or relay's.
-    Recorder subscriber(options.domain, options.transport, stats, base::Duration::zero());
+    Recorder subscriber(options.domain, options.transport, stats, base::Duration::zero(),
+                        security_files(options.security_dir));
     stop_on_signals();
     if (options.once) {
         // The window starts once a topic is subscribed: discovery on a link takes a few seconds, and a window that

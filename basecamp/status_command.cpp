@@ -21,7 +21,8 @@ struct StatusOptions : DomainOptions {
 
 int run_status(const StatusOptions& options) {
     StatusView view(base::from_seconds(60.0 * options.minutes));
-    Recorder subscriber(options.domain, options.transport, view, base::Duration::zero());
+    Recorder subscriber(options.domain, options.transport, view, base::Duration::zero(),
+                        security_files(options.security_dir));
     subscriber.only({dds::STATUS_TOPIC});
     stop_on_signals();
     const auto now_ns = [] { return base::to_ns(base::WallClock::now()); };

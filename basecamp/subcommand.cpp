@@ -25,6 +25,19 @@ void add_domain_options(CLI::App& command, DomainOptions& options) {
         ->allow_extra_args(false);
     command.add_option("--interface", options.transport.interface,
                        "interface name or IPv4 address to bind every socket to");
+    add_security_option(command, options.security_dir);
+}
+
+void add_security_option(CLI::App& command, std::string& dir) {
+    command.add_option("--security", dir,
+                       "DDS Security on the WAN participant (authentication, encryption, access control) with this "
+                       "identity directory, made by scripts/make-certs (DIR/basecamp); checked at start");
+}
+
+std::optional<base::SecurityFiles> security_files(const std::string& dir) {
+    if (dir.empty())
+        return std::nullopt;
+    return base::SecurityFiles::load(dir, "--security");
 }
 
 void add_idl_option(CLI::App& command, std::vector<std::string>& dirs) {

@@ -6,10 +6,12 @@
 
 #include <atomic>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "base/peer_transport.hpp"
+#include "base/security_files.hpp"
 
 namespace tgw::basecamp {
 
@@ -19,14 +21,23 @@ struct Subcommand {
     std::function<int()> run;
 };
 
-/// Where a live tool (stats, status, echo) subscribes: the domain, and the link transport as `record` has it.
+/// Where a live tool (stats, status, echo) subscribes: the domain, the link transport as `record` has it, and the
+/// DDS Security identity on a secured WAN domain.
 struct DomainOptions {
     int domain = 1;
     base::PeerTransport transport;
+    std::string security_dir;  ///< empty: a plain participant
 };
 
-/// Adds --domain, --peer and --interface to `command` for `options`, which must outlive the app.
+/// Adds --domain, --peer, --interface and --security to `command` for `options`, which must outlive the app.
 void add_domain_options(CLI::App& command, DomainOptions& options);
+
+/// Adds --security DIR to `command`: the WAN participant's DDS Security identity (scripts/make-certs).
+void add_security_option(CLI::App& command, std::string& dir);
+
+/// The checked files of the identity directory `dir` given to --security, or none when `dir` is empty. Throws
+/// base::ConfigError naming --security and the file at fault.
+std::optional<base::SecurityFiles> security_files(const std::string& dir);
 
 /// Where an MCAP file goes (record, export) and how: the file, its chunks' compression, the IDL of types other
 /// than the project's for its schemas.

@@ -16,9 +16,12 @@ struct BundleLimits {
     /// Bytes kept clear of Fast DDS's own limit: at the limit itself, bundles were sent as DATA_FRAG (measured on
     /// the testbed, 2026-11-25), and a fragmented bundle arrived corrupt now and then (its CRC caught it).
     static constexpr std::size_t FRAGMENTATION_MARGIN_BYTES = 16;
-    /// The largest encoding that leaves in one DATA submessage, with the margin (1284 at the default 1472).
+    /// The largest encoding that leaves in one DATA submessage, with the margin (1284 at the default 1472), and
+    /// with DDS Security room for what protection adds (WireModel::payload_overhead_bytes,
+    /// WireModel::protected_fill_margin_bytes).
     static std::size_t one_datagram(const WireModel& wire) {
-        return wire.max_unfragmented_bytes - DDS_ENVELOPE_BYTES - FRAGMENTATION_MARGIN_BYTES;
+        return wire.max_unfragmented_bytes - wire.payload_overhead_bytes - wire.protected_fill_margin_bytes -
+               DDS_ENVELOPE_BYTES - FRAGMENTATION_MARGIN_BYTES;
     }
 
     std::size_t max_encoded_bytes = one_datagram(WireModel{});

@@ -26,6 +26,20 @@ WireModel WireModel::for_max_datagram(std::size_t max_datagram_bytes) {
     return model;
 }
 
+WireModel WireModel::with_security() const {
+    WireModel model = *this;
+    const std::size_t sample_headers = 2 * SECURE_SUBMESSAGE_BYTES;  // INFO_TS and DATA, or INFO_TS and DATA_FRAG
+    model.per_datagram_bytes += SECURE_MESSAGE_BYTES;
+    model.per_sample_bytes += sample_headers;
+    model.per_fragment_bytes += sample_headers;
+    model.payload_overhead_bytes += SECURE_PAYLOAD_BYTES;
+    model.protected_fill_margin_bytes = SECURE_FILL_MARGIN_BYTES;
+    const std::size_t headroom = SECURE_MESSAGE_BYTES + sample_headers + SECURE_PAYLOAD_BYTES;
+    model.max_unfragmented_bytes = std::max(model.max_unfragmented_bytes, headroom + 1) - headroom;
+    model.fragment_payload_bytes = std::max(model.fragment_payload_bytes, headroom + 1) - headroom;
+    return model;
+}
+
 std::size_t WireModel::datagram_wire_bytes(std::size_t submessage_bytes) const {
     const std::size_t bytes = per_datagram_bytes + submessage_bytes;
     // per_datagram_bytes holds one frame's Ethernet, IP and UDP headers; a datagram past one frame's IP
@@ -35,7 +49,8 @@ std::size_t WireModel::datagram_wire_bytes(std::size_t submessage_bytes) const {
     return bytes + (frames - 1) * ETHERNET_IP_HEADER_BYTES;
 }
 
-std::size_t WireModel::wire_bytes(std::size_t payload_bytes) const {
+std::size_t WireModel::wire_bytes(std::size_t serialized_bytes) const {
+    const std::size_t payload_bytes = serialized_bytes + payload_overhead_bytes;
     if (payload_bytes <= max_unfragmented_bytes || fragment_payload_bytes == 0) {
         return datagram_wire_bytes(per_sample_bytes + padded_to_4(payload_bytes));
     }

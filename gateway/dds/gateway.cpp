@@ -57,6 +57,11 @@ void GatewayConfig::validate() const {
                                 std::to_string(core::WireModel::MIN_DATAGRAM_PAYLOAD_BYTES) + " to " +
                                 std::to_string(core::WireModel::MAX_UDP_PAYLOAD_BYTES) + " bytes");
     }
+    if (!wan_security.empty() && datagram < SECURE_MIN_DATAGRAM_BYTES) {
+        throw base::ConfigError("--wan-max-datagram " + std::to_string(datagram) + ": with --wan-security at least " +
+                                std::to_string(SECURE_MIN_DATAGRAM_BYTES) +
+                                " bytes, or Fast DDS cannot send its authentication handshake");
+    }
     if (robot.receive_buffer_bytes < RobotTransport::MIN_RECEIVE_BUFFER_BYTES ||
         robot.receive_buffer_bytes > RobotTransport::MAX_RECEIVE_BUFFER_BYTES) {
         throw base::ConfigError("--robot-receive-buffer " + std::to_string(robot.receive_buffer_bytes) + ": expected " +
@@ -111,6 +116,11 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
       filter_(config_.allow, config_.deny),
       unscheduled_link_(std::make_shared<UnscheduledLink>()) {
     config_.validate();
+    // The identity first: a missing or tampered file stops the start before anything is created.
+    std::optional<base::SecurityFiles> security;
+    if (!config_.wan_security.empty()) {
+        security = base::SecurityFiles::load(config_.wan_security, "--wan-security");
+    }
     unscheduled_link_->gateway = this;
     if (!config_.log_file.empty()) {
         log_ = std::make_unique<log::RobotLog>(config_.log_file, config_.log_max_bytes);
@@ -121,6 +131,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
 
     WanConfig wan;
     wan.domain = config_.wan_domain;
+    wan.security = std::move(security);
     for (const std::string& text : config_.wan_peers) {
         const WanPeer peer = parse_wan_peer(text, config_.wan_domain);
         for (const std::uint16_t port : peer_ports(peer, config_.wan_domain, config_.wan_peer_participants)) {
@@ -142,6 +153,10 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         // 60 bytes less in every datagram, bundles and discovery alike.
         wan.strip_statistics = true;
         config_.scheduler.wire = config_.scheduler.wire.without_statistics();
+    }
+    if (wan.security) {
+        // Every message signed, every sample's submessages and payload encrypted (WireModel::with_security).
+        config_.scheduler.wire = config_.scheduler.wire.with_security();
     }
     // Discovery, heartbeats, repairs, copies to further readers: charged as they leave, so that the budget
     // counts every byte the WAN participant puts on the link (DESIGN section 3).

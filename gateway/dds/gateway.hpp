@@ -68,6 +68,9 @@ struct GatewayConfig {
     bool compact_wan = false;
     /// Compact WAN mode: zstd-compress a bundle's entries where that makes it smaller (--wan-compress).
     bool wan_compress = false;
+    /// An identity directory made by scripts/make-certs (--wan-security): DDS Security on the WAN participant only;
+    /// empty: none. Its files are checked before the participant is created (base::SecurityFiles::load).
+    std::string wan_security;
     std::chrono::seconds wan_lease{120};
     std::chrono::seconds wan_announcement_period{20};
     /// Read the base camp's receiver reports (tgw/receiver_report), see receiver_report().

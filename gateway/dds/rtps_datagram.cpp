@@ -46,6 +46,9 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
     Shape shape;
     shape.mergeable = true;
     bool leading_info = true;  // still in the run of INFO_* submessages the message starts with
+    std::size_t protected_groups = 0;
+    std::size_t group_start = 0;  // where the SEC_PREFIX of the protected submessage being read is
+    std::size_t protected_extra_bytes = 0;
     std::size_t pos = HEADER_BYTES;
     while (pos < size) {
         if (size - pos < SUBMESSAGE_HEADER_BYTES) {
@@ -74,10 +77,15 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
         } else if (id == INFO_TS) {
             shape.timestamp_in_force = (sub[1] & FLAG_INVALIDATE) == 0;
             shape.sets_timestamp_first = shape.sets_timestamp_first || leading_info;
+        } else if (id == SRTPS_PREFIX) {
+            shape.rtps_protected = true;
+            shape.mergeable = false;
         } else if (id == INFO_SRC || id == INFO_REPLY || id == INFO_REPLY_IP4) {
             shape.mergeable = false;
         } else if (id == HEARTBEAT) {
             shape.heartbeat_bytes += SUBMESSAGE_HEADER_BYTES + length;
+        } else if (id == SEC_PREFIX) {
+            group_start = pos;
         }
         leading_info = leading_info && is_info(id);
         // Receivers step to the next 4-byte boundary.
@@ -89,7 +97,13 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
             }
             shape.trailer_bytes = SUBMESSAGE_HEADER_BYTES + length;
         }
+        if (id == SEC_POSTFIX && ++protected_groups > 2) {
+            protected_extra_bytes += next - group_start;
+        }
         pos = next;
+    }
+    if (shape.rtps_protected) {
+        shape.heartbeat_bytes += protected_extra_bytes;
     }
     if (pos != size) {
         shape.mergeable = false;  // the last submessage is not padded to 4 bytes
@@ -107,6 +121,24 @@ std::size_t RtpsDatagram::statistics_trailer_bytes(const std::uint8_t* message, 
     return shape.well_formed && shape.trailer_last ? shape.trailer_bytes : 0;
 }
 
+std::size_t RtpsDatagram::padding_against_statistics_fill(const std::uint8_t* datagram, std::size_t size) {
+    if (size < HEADER_BYTES || statistics_trailer_bytes(datagram, size) != 0) {
+        return 0;  // its own statistics submessage, the one to fill in
+    }
+    // Each PAD moves the byte the transport looks at 4 bytes on; the last bytes of the datagram, then the PADs'
+    // own (id 0x01, flags 0x01, length 0), none of which is the statistics id.
+    std::size_t padding = 0;
+    while (size + padding >= HEADER_BYTES + STATISTICS_BYTES) {
+        const std::size_t at = size + padding - STATISTICS_BYTES;
+        const std::uint8_t byte = at < size ? datagram[at] : PAD_SUBMESSAGE[(at - size) % 4];
+        if (byte != EPROSIMA_STATISTICS) {
+            break;
+        }
+        padding += sizeof(PAD_SUBMESSAGE);
+    }
+    return padding;
+}
+
 bool RtpsDatagram::append(const std::uint8_t* message, std::size_t size) {
     const Shape shape = shape_of(message, size);
     if (empty()) {
@@ -121,8 +153,8 @@ bool RtpsDatagram::append(const std::uint8_t* message, std::size_t size) {
         trailer_bytes_ = shape.trailer_bytes;
         return true;
     }
-    if (closed_ || !shape.well_formed || std::memcmp(message, bytes_.data(), HEADER_BYTES) != 0 ||
-        (destination_in_force_ && !shape.sets_destination)) {
+    if (closed_ || !shape.well_formed || shape.rtps_protected ||
+        std::memcmp(message, bytes_.data(), HEADER_BYTES) != 0 || (destination_in_force_ && !shape.sets_destination)) {
         return false;
     }
     const bool invalidate_timestamp = timestamp_in_force_ && !shape.sets_timestamp_first;

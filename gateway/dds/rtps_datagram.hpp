@@ -16,7 +16,8 @@ namespace tgw::dds {
 /// force (Fast DDS 2.9 ignores an INFO_DST to GUIDPREFIX_UNKNOWN, so the destination cannot be reset), and a
 /// timestamp in force is invalidated (INFO_TS with the I flag, 4 bytes) before a message that sets none. A
 /// message whose state changes are not tracked (INFO_SRC, INFO_REPLY), whose last submessage runs to the end,
-/// or that does not end on a 4-byte boundary closes the datagram.
+/// or that does not end on a 4-byte boundary closes the datagram. A message protected as a whole (DDS Security's
+/// SRTPS_PREFIX) goes alone: its signature covers its own submessages, and a receiver reads nothing after them.
 ///
 /// Fast DDS built with statistics (as Debian's is) ends every message with its network-statistics submessage,
 /// which its sending transport fills in and its receiver expects last, once. Only the last message's is kept.
@@ -38,17 +39,27 @@ class RtpsDatagram {
     std::size_t messages() const { return messages_; }
 
     /// The bytes of HEARTBEAT submessages (headers included) in one RTPS message: what a reliable writer adds
-    /// to a sample's message beyond the wire model. 0 for a message that is not well formed.
+    /// to a sample's message beyond the wire model. 0 for a message that is not well formed. In a message
+    /// protected as a whole, whose submessages are encrypted one by one, a HEARTBEAT cannot be told from the rest:
+    /// every protected submessage after the first two (the sample's INFO_TS and DATA, or DATA_FRAG) counts as one.
     static std::size_t heartbeat_bytes(const std::uint8_t* message, std::size_t size);
     /// The bytes of the statistics submessage (header included) that ends a well-formed eProsima RTPS message,
     /// or 0 when it does not end with one. Receivers read it only for eProsima's statistics module.
     static std::size_t statistics_trailer_bytes(const std::uint8_t* message, std::size_t size);
+    /// The bytes of PAD submessages to append to a datagram that does not end with a statistics submessage (its
+    /// own was left out) so that Fast DDS's UDP transport does not take it for one: the transport fills in the
+    /// last STATISTICS_BYTES of every datagram whose byte there is the submessage's id, over whatever they hold
+    /// (a payload's bytes, a protected message's signature). 0 for most datagrams; else a multiple of 4.
+    static std::size_t padding_against_statistics_fill(const std::uint8_t* datagram, std::size_t size);
+    static constexpr std::size_t STATISTICS_BYTES = 60;
+    static constexpr std::uint8_t PAD_SUBMESSAGE[4] = {0x01, 0x01, 0x00, 0x00};
 
   private:
     /// What a receiver's state is after a run of submessages, and whether more may follow.
     struct Shape {
         bool well_formed = false;
         bool mergeable = false;             ///< nothing untracked, no run-to-end submessage, 4-byte aligned
+        bool rtps_protected = false;        ///< DDS Security protects it as a whole (SRTPS_PREFIX)
         bool sets_destination = false;      ///< the first submessage is an INFO_DST to a participant
         bool sets_timestamp_first = false;  ///< an INFO_TS comes before the first submessage that is not INFO_*
         bool destination_in_force = false;  ///< at the end

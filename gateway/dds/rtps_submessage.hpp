@@ -19,6 +19,13 @@ constexpr std::uint8_t INFO_SRC = 0x0c;
 constexpr std::uint8_t INFO_REPLY_IP4 = 0x0d;
 constexpr std::uint8_t INFO_DST = 0x0e;
 constexpr std::uint8_t INFO_REPLY = 0x0f;
+/// DDS Security 1.1, 7.3.7: a submessage protected on its own is SEC_PREFIX, SEC_BODY (its encrypted bytes),
+/// SEC_POSTFIX.
+constexpr std::uint8_t SEC_PREFIX = 0x31;
+constexpr std::uint8_t SEC_POSTFIX = 0x32;
+/// DDS Security 1.1, 7.3.7: the prefix of an RTPS message protected as a whole (rtps_protection_kind SIGN or
+/// ENCRYPT). Its SRTPS_POSTFIX closes it; a receiver decodes the protected message and ignores what follows.
+constexpr std::uint8_t SRTPS_PREFIX = 0x33;
 /// eProsima's vendor-specific network-statistics submessage, which Debian's Fast DDS (built with statistics)
 /// ends every message with.
 constexpr std::uint8_t EPROSIMA_STATISTICS = 0x80;

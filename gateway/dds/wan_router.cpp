@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <iostream>
+#include <set>
 #include <utility>
 
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
@@ -14,6 +15,7 @@
 
 #include "ReceiverReportPubSubTypes.h"
 #include "base/config_error.hpp"
+#include "base/dds_security.hpp"
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/dds_time.hpp"
@@ -32,19 +34,53 @@ using eprosima::fastrtps::rtps::Locator_t;
 using eprosima::fastrtps::types::ReturnCode_t;
 
 /// Counts the base-camp participants the WAN participant has discovered: each new endpoint's SEDP announcement
-/// goes to each of them.
+/// goes to each of them. With DDS Security, those it has authenticated: Fast DDS reports a participant discovered
+/// from its first announcement, before the handshake, and one that fails it (another CA's) never gets an SEDP.
 class WanRouter::ParticipantCounter final : public TypeObjectGuard {
   public:
+    explicit ParticipantCounter(bool secured) : secured_(secured) {}
+
     void on_participant_discovery(fdds::DomainParticipant* /*participant*/,
                                   eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
         using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
+        const auto& prefix = info.info.m_guid.guidPrefix;
+        std::lock_guard<std::mutex> lock(mutex_);
         if (info.status == Status::DISCOVERED_PARTICIPANT) {
-            count.fetch_add(1);
+            discovered_.insert(prefix);
         } else if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
-            count.fetch_sub(1);
+            discovered_.erase(prefix);
+            authenticated_.erase(prefix);
         }
     }
-    std::atomic<std::int32_t> count{0};
+
+#if HAVE_SECURITY
+    void onParticipantAuthentication(fdds::DomainParticipant* /*participant*/,
+                                     eprosima::fastrtps::rtps::ParticipantAuthenticationInfo&& info) override {
+        using Status = eprosima::fastrtps::rtps::ParticipantAuthenticationInfo;
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (info.status == Status::AUTHORIZED_PARTICIPANT) {
+            authenticated_.insert(info.guid.guidPrefix);
+        } else {
+            authenticated_.erase(info.guid.guidPrefix);
+        }
+    }
+#endif
+
+    std::size_t count() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!secured_) {
+            return discovered_.size();
+        }
+        // Authenticated and not yet removed.
+        return static_cast<std::size_t>(std::count_if(authenticated_.begin(), authenticated_.end(),
+                                                      [this](const auto& p) { return discovered_.count(p) != 0; }));
+    }
+
+  private:
+    const bool secured_;
+    mutable std::mutex mutex_;
+    std::set<eprosima::fastrtps::rtps::GuidPrefix_t> discovered_;     // under mutex_
+    std::set<eprosima::fastrtps::rtps::GuidPrefix_t> authenticated_;  // under mutex_
 };
 
 namespace {
@@ -63,7 +99,7 @@ Locator_t udp_locator(const std::string& address, std::uint16_t port) {
 
 WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainParticipantQos>& base)
     : coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_)),
-      participants_(std::make_unique<ParticipantCounter>()) {
+      participants_(std::make_unique<ParticipantCounter>(config.security.has_value())) {
     fdds::DomainParticipantQos qos =
         base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
     qos.name("telemetry-gateway/wan");
@@ -101,12 +137,18 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
         builtin.discovery_config.leaseDuration_announcementperiod = to_dds_duration(config.announcement_period);
     }
 
+    if (config.security) {
+        // On top of a participant profile too: the flag's identity is the one to use.
+        base::apply_dds_security(qos, *config.security);
+    }
+
     fdds::StatusMask discovery_only = fdds::StatusMask::none();
     participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
         static_cast<fdds::DomainId_t>(config.domain), qos, participants_.get(), discovery_only);
     if (participant_ == nullptr) {
         throw base::ConfigError("--wan-domain " + std::to_string(config.domain) +
-                                ": cannot create the WAN participant (check --wan-interface and --wan-peer)");
+                                ": cannot create the WAN participant (check --wan-interface and --wan-peer" +
+                                (config.security ? ", and Fast DDS's log about --wan-security" : "") + ")");
     }
     publisher_ = publishers_.get(participant_, OfferedQos{});
     if (publisher_ == nullptr) {
@@ -168,7 +210,7 @@ std::shared_ptr<WanWriter> WanRouter::create_writer(
 }
 
 std::size_t WanRouter::remote_participants() const {
-    return static_cast<std::size_t>(std::max(0, participants_->count.load()));
+    return participants_->count();
 }
 
 bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {

@@ -20,6 +20,7 @@
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 
 #include "base/clock.hpp"
+#include "base/security_files.hpp"
 #include "gateway/core/sample.hpp"
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
@@ -30,6 +31,14 @@
 #include "gateway/dds/wan_writer.hpp"
 
 namespace tgw::dds {
+
+/// The smallest WAN datagram limit (WanConfig::max_datagram_bytes) with DDS Security, and its default then. Fast DDS
+/// 2.9 sizes its authentication messages' buffers by the participant's largest message and fails to serialize a
+/// handshake that does not fit ("Cannot serialize ParticipantGenericMessage", and no one is ever authenticated). The
+/// handshake carries the certificate and the signed permissions: with scripts/make-certs' files its messages were
+/// 5,550 and 5,730 bytes on loopback, a 4,500-byte limit failed and 8,192 passed. Samples up to this size then
+/// leave as one datagram in IP fragments, which WireModel counts.
+constexpr std::size_t SECURE_MIN_DATAGRAM_BYTES = 8192;
 
 /// How the WAN participant reaches the base camp.
 struct WanConfig {
@@ -59,6 +68,9 @@ struct WanConfig {
     /// Sends every RTPS message without the statistics submessage this Fast DDS build ends it with (60 bytes; only
     /// eProsima's statistics module reads it): WireModel::without_statistics() must then be the model.
     bool strip_statistics = false;
+    /// DDS Security (--wan-security): the identity whose checked files the participant authenticates with, and
+    /// the governance and permissions it follows; none: a plain participant.
+    std::optional<base::SecurityFiles> security;
     /// What the participant sends beyond the scheduled writes (see CoalescingTransport), so the caller can
     /// charge it to the link budget.
     UnscheduledTrafficCallback on_unscheduled;

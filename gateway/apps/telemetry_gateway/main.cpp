@@ -18,6 +18,7 @@
 #include "gateway/dds/gateway.hpp"
 #include "gateway/dds/rate_poller.hpp"
 #include "gateway/dds/wan_address.hpp"
+#include "gateway/dds/wan_router.hpp"
 #include "gateway/log/default_log_path.hpp"
 #include "sensor/delivered_rate_check.hpp"
 #include "sensor/guarded_sensor.hpp"
@@ -163,10 +164,12 @@ int main(int argc, char** argv) {
     app.add_option("--wan-interface", config.wan_interface, "interface name or IPv4 address to bind the WAN to");
     app.add_option("--wan-port", config.wan_port, "own WAN metatraffic port (default: Fast DDS's well-known port)");
     std::size_t max_datagram = config.scheduler.wire.max_datagram_bytes;
-    app.add_option("--wan-max-datagram", max_datagram,
-                   "largest UDP payload on the WAN, bytes; larger samples are fragmented. The default fits one "
-                   "Ethernet frame; up to 65500 on a fast link saves the fragments' headers and syscalls")
-        ->capture_default_str();
+    CLI::Option* max_datagram_option =
+        app.add_option("--wan-max-datagram", max_datagram,
+                       "largest UDP payload on the WAN, bytes; larger samples are fragmented. The default fits one "
+                       "Ethernet frame (with --wan-security: 8192, the least its handshake needs); up to 65500 on a "
+                       "fast link saves the fragments' headers and syscalls")
+            ->capture_default_str();
     auto coalesce_us = static_cast<std::int64_t>(config.wan_coalesce_window.count());
     app.add_option("--wan-coalesce-us", coalesce_us,
                    "a WAN sample that follows the previous datagram within this many microseconds waits as long "
@@ -180,6 +183,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_flag("--wan-compress", config.wan_compress,
                  "compact mode: zstd-compress a bundle's entries where that makes it smaller");
+    app.add_option("--wan-security", config.wan_security,
+                   "DDS Security on the WAN participant (authentication, encryption, access control) with this "
+                   "identity directory, made by scripts/make-certs (DIR/gateway); checked at start. The robot "
+                   "domain stays plain");
     app.add_option("--wan-heartbeat-bytes", config.wan_heartbeat_bytes,
                    "a reliable WAN writer piggy-backs a HEARTBEAT (and draws an ACKNACK from each reader) once "
                    "per this many bytes it sends; 0: with every sample, so a lost one is repaired a sample later")
@@ -282,6 +289,9 @@ int main(int argc, char** argv) {
         config.scheduler.trust_source_clock = !arrival_clock;
         config.default_ttl = tgw::base::from_seconds(default_ttl_s);
         config.scheduler.memory_cap_bytes = static_cast<std::size_t>(queue_mib * (1 << 20));
+        if (!config.wan_security.empty() && max_datagram_option->count() == 0) {
+            max_datagram = tgw::dds::SECURE_MIN_DATAGRAM_BYTES;
+        }
         config.scheduler.wire = tgw::core::WireModel::for_max_datagram(max_datagram);
         config.robot.shm = !robot_udp_only;
         config.wan_coalesce_window = std::chrono::microseconds(coalesce_us);

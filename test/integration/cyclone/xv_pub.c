@@ -4,7 +4,8 @@
  * 0 writes each round as one burst, whose samples the gateway packs into shared WAN datagrams.
  * XV_ROUNDS=N stops writing after N rounds and stays until SECONDS have passed (a latched publisher's history
  * then stays with it); each round ends with a line "xv_pub: round N written". XV_PARTITION and
- * XV_TRANSIENT_LOCAL: see xv_common.h. */
+ * XV_TRANSIENT_LOCAL: see xv_common.h. XV_WRITE_UNMATCHED=1 writes without waiting for a reader (an intruder's
+ * attempt to inject samples into a secured domain, whose readers it never matches). */
 #include <dds/dds.h>
 
 #include "CrossVendor.h"
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
     unsigned long written = 0;
     const uint32_t rounds = xv_env_uint("XV_ROUNDS", UINT32_MAX);
     uint32_t round = 0;
+    const int write_unmatched = xv_env_uint("XV_WRITE_UNMATCHED", 0) == 1;
     while (dds_time() < end) {
         if (round >= rounds) {
             dds_sleepfor(DDS_MSECS(50));
@@ -48,7 +50,7 @@ int main(int argc, char** argv) {
         }
         dds_publication_matched_status_t matched;
         dds_get_publication_matched_status(writer, &matched);
-        if (matched.current_count == 0) {
+        if (matched.current_count == 0 && !write_unmatched) {
             dds_sleepfor(DDS_MSECS(50));
             continue;
         }

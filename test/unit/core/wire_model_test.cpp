@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gateway/core/bundle_builder.hpp"
 #include "gateway/core/paper_workload.hpp"
 
 namespace tgw::core {
@@ -49,6 +50,40 @@ TEST(WireModelForMaxDatagram, LargeDatagramPaysIpFragmentHeadersInsteadOfRtpsFra
     // 64 KiB: two DATA_FRAGs (65,324 + 212 bytes) instead of 51.
     EXPECT_LT(sut.wire_bytes(65'536), WireModel{}.wire_bytes(65'536));
     EXPECT_EQ(sut.max_unfragmented_bytes, 65'336u);
+}
+
+TEST(WireModelWithSecurity, PaperMessagesCostWhatTheLoopbackCaptureShowed) {
+    // Frames on loopback (UDP length + 42) with scripts/make-certs' governance, --wan-max-datagram 8192.
+    const WireModel sut = WireModel::for_max_datagram(8192).with_security();
+    EXPECT_EQ(sut.wire_bytes(paper_message_serialized_bytes(41)), 466u);
+    EXPECT_EQ(sut.wire_bytes(paper_message_serialized_bytes(66)), 490u);
+    EXPECT_EQ(sut.wire_bytes(paper_message_serialized_bytes(266)), 690u);
+    EXPECT_EQ(sut.wire_bytes(paper_message_serialized_bytes(1016)), 1438u);
+}
+
+TEST(WireModelWithSecurity, CostsEachMessageAndEachSampleTheirProtection) {
+    const WireModel plain = WireModel::for_max_datagram(8192);
+    const WireModel sut = plain.with_security();
+    EXPECT_EQ(sut.wire_bytes(64) - plain.wire_bytes(64), 72u + 2 * 56u + 44u);
+    // A fragmented sample pays the payload's protection once and each fragment's message and headers: 3 full
+    // DATA_FRAGs of 8,192 - 176 - 228 = 7,788 bytes, each in a datagram of 210 + 48 + 112 + 7,788 = 8,158 bytes, six
+    // IP fragments (five more Ethernet and IP headers of 34 bytes).
+    EXPECT_EQ(sut.fragment_payload_bytes, 7'788u);
+    EXPECT_EQ(sut.wire_bytes(3 * 7'788 - 44), 3 * (8'158u + 5 * 34u));
+    EXPECT_EQ(sut.max_unfragmented_bytes, plain.max_unfragmented_bytes - 228u);
+}
+
+TEST(WireModelWithSecurity, KeepsCompactBundlesClearOfFastDdsFillLimit) {
+    const WireModel plain = WireModel::for_max_datagram(8192);
+    const WireModel sut = plain.with_security();
+    // The payload's protection and the margin Fast DDS 2.9 needs for the message's: 7,800 - 44 - 256 - 8 - 16.
+    EXPECT_EQ(BundleLimits::one_datagram(sut), 7'476u);
+    EXPECT_EQ(BundleLimits::one_datagram(plain), plain.max_unfragmented_bytes - 24u);
+}
+
+TEST(WireModelWithSecurity, LeavesOutTheStatisticsSubmessageAsThePlainModelDoes) {
+    const WireModel sut = WireModel::for_max_datagram(8192).with_security().without_statistics();
+    EXPECT_EQ(sut.wire_bytes(paper_message_serialized_bytes(41)), 466u - WireModel::STATISTICS_SUBMESSAGE_BYTES);
 }
 
 }  // namespace

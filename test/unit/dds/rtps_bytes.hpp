@@ -60,8 +60,27 @@ inline Bytes statistics(std::uint8_t fill) {
     return submessage(0x80, 0x00, Bytes(56, fill));
 }
 
+/// An RTPS message's protection as a whole (DDS Security, rtps_protection_kind SIGN): SRTPS_PREFIX (transformation
+/// id, session id, IV suffix: 20 bytes), `inner` as they are, SRTPS_POSTFIX (common MAC 16 bytes, no receiver MACs).
+inline std::vector<Bytes> signed_rtps(std::initializer_list<Bytes> inner) {
+    std::vector<Bytes> out{submessage(0x33, 0x01, Bytes(20, 0x3c))};
+    out.insert(out.end(), inner.begin(), inner.end());
+    out.push_back(submessage(0x34, 0x01, Bytes(20, 0x4d)));
+    return out;
+}
+
 /// A message of the eProsima participant whose GUID prefix bytes are all `participant`.
 inline Bytes message(std::initializer_list<Bytes> submessages, std::uint8_t participant = 0x01) {
+    Bytes out{'R', 'T', 'P', 'S', 2, 3, 0x01, 0x0f};
+    out.insert(out.end(), 12, participant);
+    for (const Bytes& s : submessages) {
+        out.insert(out.end(), s.begin(), s.end());
+    }
+    return out;
+}
+
+/// A message of the eProsima participant `participant` whose submessages are `submessages`, in order.
+inline Bytes message(const std::vector<Bytes>& submessages, std::uint8_t participant = 0x01) {
     Bytes out{'R', 'T', 'P', 'S', 2, 3, 0x01, 0x0f};
     out.insert(out.end(), 12, participant);
     for (const Bytes& s : submessages) {

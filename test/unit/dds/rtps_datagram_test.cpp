@@ -18,6 +18,7 @@ using test::rtps::info_dst;
 using test::rtps::info_src;
 using test::rtps::info_ts;
 using test::rtps::message;
+using test::rtps::signed_rtps;
 using test::rtps::statistics;
 
 constexpr std::size_t MAX_BYTES = 1472;
@@ -175,6 +176,75 @@ TEST(RtpsStatisticsTrailer, IsNothingWhenTheStatisticsSubmessageIsNotLastOrTheMe
     cyclone[6] = 0x01;
     cyclone[7] = 0x10;
     EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(cyclone.data(), cyclone.size()), 0u);
+}
+
+TEST_F(RtpsDatagramTest, SendsAMessageProtectedAsAWholeAlone) {
+    // A receiver decodes the protected message and reads nothing after its SRTPS_POSTFIX.
+    const Bytes secured = message(signed_rtps({info_ts(1), data(40)}));
+    ASSERT_TRUE(append(sut, secured));
+    EXPECT_FALSE(append(sut, message(signed_rtps({info_ts(2), data(40)}))));
+    EXPECT_FALSE(append(sut, message({info_ts(2), data(40)})));
+    EXPECT_EQ(contents(sut), secured);
+}
+
+TEST_F(RtpsDatagramTest, RefusesAMessageProtectedAsAWholeAfterAPlainOne) {
+    ASSERT_TRUE(append(sut, message({info_ts(1), data(40)})));
+    EXPECT_FALSE(append(sut, message(signed_rtps({info_ts(2), data(40)}))));
+}
+
+TEST_F(RtpsDatagramTest, KeepsTheStatisticsSubmessageAfterAProtectedMessage) {
+    // Fast DDS adds it after the protection: stripping it leaves the protected message whole.
+    const Bytes secured = message(signed_rtps({info_ts(1), data(40)}));
+    Bytes with_trailer = secured;
+    const Bytes trailer = statistics(7);
+    with_trailer.insert(with_trailer.end(), trailer.begin(), trailer.end());
+    EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(with_trailer.data(), with_trailer.size()), trailer.size());
+}
+
+TEST_F(RtpsDatagramTest, CountsProtectedSubmessagesPastASamplesOwnAsItsHeartbeat) {
+    // Shaped as a capture of a secured reliable writer's sample: INFO_DST in clear, then INFO_TS, DATA and the
+    // piggy-backed HEARTBEAT each as SEC_PREFIX, SEC_BODY, SEC_POSTFIX (24 + 40 + 24 bytes for the HEARTBEAT).
+    const auto protect = [](std::size_t body_bytes) {
+        return std::vector<Bytes>{test::rtps::submessage(0x31, 0x01, Bytes(20, 1)),
+                                  test::rtps::submessage(0x30, 0x01, Bytes(body_bytes, 2)),
+                                  test::rtps::submessage(0x32, 0x01, Bytes(20, 3))};
+    };
+    std::vector<Bytes> alone{info_dst(0x33)};
+    for (std::size_t body : {16u, 136u}) {
+        const auto group = protect(body);
+        alone.insert(alone.end(), group.begin(), group.end());
+    }
+    std::vector<Bytes> with_heartbeat = alone;
+    const auto heartbeat_group = protect(36);
+    with_heartbeat.insert(with_heartbeat.end(), heartbeat_group.begin(), heartbeat_group.end());
+    const auto wrap = [](const std::vector<Bytes>& inner) {
+        std::vector<Bytes> out{test::rtps::submessage(0x33, 0x01, Bytes(20, 0x3c)),
+                               test::rtps::submessage(0x0c, 0x01, Bytes(20, 7))};
+        out.insert(out.end(), inner.begin(), inner.end());
+        out.push_back(test::rtps::submessage(0x34, 0x01, Bytes(20, 0x4d)));
+        out.push_back(statistics(1));
+        return out;
+    };
+    const Bytes sample = message(wrap(alone));
+    const Bytes sample_and_heartbeat = message(wrap(with_heartbeat));
+    EXPECT_EQ(RtpsDatagram::heartbeat_bytes(sample.data(), sample.size()), 0u);
+    EXPECT_EQ(RtpsDatagram::heartbeat_bytes(sample_and_heartbeat.data(), sample_and_heartbeat.size()), 88u);
+}
+
+TEST_F(RtpsDatagramTest, PadsADatagramWhoseEndAFastDdsTransportWouldTakeForStatistics) {
+    // A DATA whose payload has the statistics id 60 bytes before the end of the message.
+    Bytes m = message({info_ts(1), data(80)});
+    EXPECT_EQ(RtpsDatagram::padding_against_statistics_fill(m.data(), m.size()), 0u);
+    m[m.size() - RtpsDatagram::STATISTICS_BYTES] = 0x80;
+    EXPECT_EQ(RtpsDatagram::padding_against_statistics_fill(m.data(), m.size()), 4u);
+    // ... and 4 bytes on too: one PAD more.
+    m[m.size() - RtpsDatagram::STATISTICS_BYTES + 4] = 0x80;
+    EXPECT_EQ(RtpsDatagram::padding_against_statistics_fill(m.data(), m.size()), 8u);
+}
+
+TEST_F(RtpsDatagramTest, LeavesAMessageThatEndsWithItsStatisticsAsItIs) {
+    const Bytes m = message({info_ts(1), data(40), statistics(0)});
+    EXPECT_EQ(RtpsDatagram::padding_against_statistics_fill(m.data(), m.size()), 0u);
 }
 
 TEST_F(RtpsDatagramTest, ClearStartsOver) {

@@ -2,7 +2,6 @@
 
 #include <sqlite3.h>
 
-#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -422,15 +421,15 @@ class RobotLog::Impl {
 
     /// The bytes the file's rows take: its pages less those free for reuse.
     std::uint64_t live_bytes() {
-        const auto pragma = [this](const char* sql) -> std::int64_t {
-            sqlite3_stmt* raw = nullptr;
-            if (sqlite3_prepare_v2(db_.get(), sql, -1, &raw, nullptr) != SQLITE_OK)
-                return 0;
-            StmtPtr stmt(raw);
-            return sqlite3_step(stmt.get()) == SQLITE_ROW ? sqlite3_column_int64(stmt.get(), 0) : 0;
-        };
-        const std::int64_t pages = pragma("PRAGMA page_count;") - pragma("PRAGMA freelist_count;");
-        return static_cast<std::uint64_t>(std::max<std::int64_t>(0, pages) * pragma("PRAGMA page_size;"));
+        sqlite3_stmt* raw = nullptr;
+        if (sqlite3_prepare_v2(db_.get(),
+                               "SELECT MAX(0, page_count - freelist_count) * page_size "
+                               "FROM pragma_page_count(), pragma_freelist_count(), pragma_page_size();",
+                               -1, &raw, nullptr) != SQLITE_OK)
+            return 0;
+        StmtPtr stmt(raw);
+        return sqlite3_step(stmt.get()) == SQLITE_ROW ? static_cast<std::uint64_t>(sqlite3_column_int64(stmt.get(), 0))
+                                                      : 0;
     }
 
     /// Deletes the oldest rows (by insertion) of `table`, PRUNE_ROWS at a time; returns how many.

@@ -44,11 +44,11 @@ class LocatorVectorIterator final : public eprosima::fastdds::rtps::LocatorsIter
 CoalescingTransportDescriptor::CoalescingTransportDescriptor(
     std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> low_level,
     std::shared_ptr<DatagramCoalescer> coalescer_in, UnscheduledTrafficCallback on_unscheduled_in,
-    std::shared_ptr<HeartbeatThrottle> heartbeat_throttle_in)
+    std::shared_ptr<RepeatThrottle> repeat_throttle_in)
     : ChainingTransportDescriptor(std::move(low_level)),
       coalescer(std::move(coalescer_in)),
       on_unscheduled(std::move(on_unscheduled_in)),
-      heartbeat_throttle(std::move(heartbeat_throttle_in)) {}
+      repeat_throttle(std::move(repeat_throttle_in)) {}
 
 eprosima::fastdds::rtps::TransportInterface* CoalescingTransportDescriptor::create_transport() const {
     return new CoalescingTransport(*this);
@@ -76,9 +76,9 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
             static_cast<std::uint32_t>(RtpsDatagram::statistics_trailer_bytes(send_buffer, send_buffer_size));
     }
     const bool scheduled_write = DatagramCoalescer::DeferScope::current() != 0;
-    if (!scheduled_write && descriptor_.heartbeat_throttle &&
-        !descriptor_.heartbeat_throttle->admit(destination, send_buffer, send_buffer_size, base::SteadyClock::now())) {
-        return true;  // the same HEARTBEAT went there a moment ago
+    if (!scheduled_write && descriptor_.repeat_throttle &&
+        !descriptor_.repeat_throttle->admit(destination, send_buffer, send_buffer_size, base::SteadyClock::now())) {
+        return true;  // the same HEARTBEAT or ACKNACK went there a moment ago
     }
     // A scheduled write was charged for one copy of its message, without the HEARTBEAT a reliable writer may
     // have put in it; everything else is reported. Only locators this transport sends to count (a remote

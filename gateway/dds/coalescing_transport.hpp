@@ -9,7 +9,7 @@
 #include <fastdds/rtps/transport/ChainingTransportDescriptor.h>
 
 #include "gateway/dds/datagram_coalescer.hpp"
-#include "gateway/dds/heartbeat_throttle.hpp"
+#include "gateway/dds/repeat_throttle.hpp"
 
 namespace tgw::dds {
 
@@ -28,7 +28,7 @@ struct CoalescingTransportDescriptor : public eprosima::fastdds::rtps::ChainingT
     CoalescingTransportDescriptor(std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> low_level,
                                   std::shared_ptr<DatagramCoalescer> coalescer,
                                   UnscheduledTrafficCallback on_unscheduled = {},
-                                  std::shared_ptr<HeartbeatThrottle> heartbeat_throttle = {});
+                                  std::shared_ptr<RepeatThrottle> repeat_throttle = {});
 
     eprosima::fastdds::rtps::TransportInterface* create_transport() const override;
 
@@ -42,11 +42,11 @@ struct CoalescingTransportDescriptor : public eprosima::fastdds::rtps::ChainingT
     bool strip_statistics = false;
     std::shared_ptr<DatagramCoalescer> coalescer;
     UnscheduledTrafficCallback on_unscheduled;
-    /// Holds back repeated HEARTBEATs; none: every message goes.
-    std::shared_ptr<HeartbeatThrottle> heartbeat_throttle;
+    /// Holds back repeated HEARTBEATs and ACKNACKs; none: every message goes.
+    std::shared_ptr<RepeatThrottle> repeat_throttle;
 };
 
-/// Receives as the low-level transport does; hands every outgoing RTPS message to the coalescer, but a HEARTBEAT
+/// Receives as the low-level transport does; hands every outgoing RTPS message to the coalescer, but a repeat
 /// the descriptor's throttle holds back. A message sent outside a write's DatagramCoalescer::DeferScope (and
 /// every copy of a write's message after the first, and the HEARTBEAT in a write's message) is reported to the
 /// descriptor's on_unscheduled.

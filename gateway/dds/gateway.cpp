@@ -618,8 +618,12 @@ core::TopicCounters Gateway::status_counters() const {
     return status_topic_ ? loop_->counters(*status_topic_) : core::TopicCounters{};
 }
 
-std::uint64_t Gateway::suppressed_heartbeats() const {
-    return wan_->suppressed_heartbeats();
+std::uint64_t Gateway::suppressed_repeats() const {
+    return wan_->suppressed_repeats();
+}
+
+std::uint64_t Gateway::introductions() const {
+    return wan_->introductions();
 }
 
 std::uint64_t Gateway::unscheduled_wire_bytes() const {

@@ -155,8 +155,10 @@ class Gateway {
     /// What the WAN participant sent beyond the scheduled writes, in Ethernet frame bytes: discovery,
     /// heartbeats, repairs, further copies (CoalescingTransport). Each byte is charged to the link budget.
     std::uint64_t unscheduled_wire_bytes() const;
-    /// Repeated HEARTBEATs the WAN transport held back (HeartbeatThrottle), never sent nor charged.
-    std::uint64_t suppressed_heartbeats() const;
+    /// Repeated HEARTBEATs and ACKNACKs the WAN transport held back (RepeatThrottle), never sent nor charged.
+    std::uint64_t suppressed_repeats() const;
+    /// Announcements the WAN participant sent again to base camps that had not answered (IntroductionSchedule).
+    std::uint64_t introductions() const;
     /// Samples handed to the on-robot log.
     std::uint64_t logged() const;
     /// The gateway's own processing time of every sample forwarded so far: from its arrival in the scheduler

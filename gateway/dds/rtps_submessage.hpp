@@ -13,6 +13,7 @@ constexpr std::size_t GUID_PREFIX_BYTES = 12;
 
 // Submessage ids (DDSI-RTPS 9.4.5.1.1).
 constexpr std::uint8_t PAD = 0x01;
+constexpr std::uint8_t ACKNACK = 0x06;
 constexpr std::uint8_t HEARTBEAT = 0x07;
 constexpr std::uint8_t INFO_TS = 0x09;
 constexpr std::uint8_t INFO_SRC = 0x0c;

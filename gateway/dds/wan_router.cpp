@@ -1,8 +1,10 @@
 #include "gateway/dds/wan_router.hpp"
 
 #include <algorithm>
+#include <condition_variable>
 #include <iostream>
 #include <set>
+#include <thread>
 #include <utility>
 
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
@@ -20,6 +22,7 @@
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/guarded_type.hpp"
+#include "gateway/dds/introduction_schedule.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
@@ -33,12 +36,100 @@ using eprosima::fastrtps::rtps::IPLocator;
 using eprosima::fastrtps::rtps::Locator_t;
 using eprosima::fastrtps::types::ReturnCode_t;
 
+/// Announces the WAN participant again to participants that discovered it not (IntroductionSchedule), from a
+/// thread of its own: Fast DDS's listener callbacks must not call back into the participant.
+class WanRouter::Introducer {
+  public:
+    ~Introducer() { stop(); }
+
+    void discovered(const IntroductionSchedule::Prefix& participant) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            schedule_.discovered(participant, base::SteadyClock::now());
+        }
+        wake_.notify_one();
+    }
+    void answered(const IntroductionSchedule::Prefix& participant) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        schedule_.answered(participant);
+    }
+    void removed(const IntroductionSchedule::Prefix& participant) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        schedule_.removed(participant);
+    }
+
+    /// Starts announcing through `participant`, which must outlive stop().
+    void start(fdds::DomainParticipant* participant) {
+        participant_ = participant;
+        thread_ = std::thread([this] { run(); });
+    }
+    void stop() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stopping_ = true;
+        }
+        wake_.notify_one();
+        if (thread_.joinable()) {
+            thread_.join();
+        }
+    }
+
+    std::uint64_t announcements() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return announcements_;
+    }
+
+  private:
+    void run() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        while (!stopping_) {
+            const std::optional<base::SteadyTime> next = schedule_.next_due();
+            if (!next) {
+                wake_.wait(lock);
+                continue;
+            }
+            wake_.wait_until(lock, *next);
+            if (stopping_ || !schedule_.take_due(base::SteadyClock::now())) {
+                continue;
+            }
+            ++announcements_;
+            const std::uint64_t count = announcements_;
+            lock.unlock();
+            announce(count);
+            lock.lock();
+        }
+    }
+
+    /// Fast DDS 2.9 offers no call that sends the participant's announcement, but sends it at once to every peer
+    /// when the participant's user data changes: a trailing byte counts the introductions.
+    void announce(std::uint64_t count) {
+        fdds::DomainParticipantQos qos = participant_->get_qos();
+        std::vector<eprosima::fastrtps::rtps::octet> data = qos.user_data().data_vec();
+        if (count > 1 && !data.empty()) {
+            data.pop_back();  // the previous introduction's byte
+        }
+        data.push_back(static_cast<eprosima::fastrtps::rtps::octet>(count));
+        qos.user_data().data_vec(data);
+        if (participant_->set_qos(qos) != ReturnCode_t::RETCODE_OK) {
+            std::cerr << "telemetry-gateway: cannot announce the WAN participant again\n";
+        }
+    }
+
+    fdds::DomainParticipant* participant_ = nullptr;
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    IntroductionSchedule schedule_;    // under mutex_
+    bool stopping_ = false;            // under mutex_
+    std::uint64_t announcements_ = 0;  // under mutex_
+    std::thread thread_;
+};
+
 /// Counts the base-camp participants the WAN participant has discovered: each new endpoint's SEDP announcement
 /// goes to each of them. With DDS Security, those it has authenticated: Fast DDS reports a participant discovered
 /// from its first announcement, before the handshake, and one that fails it (another CA's) never gets an SEDP.
 class WanRouter::ParticipantCounter final : public TypeObjectGuard {
   public:
-    explicit ParticipantCounter(bool secured) : secured_(secured) {}
+    ParticipantCounter(bool secured, Introducer& introducer) : secured_(secured), introducer_(introducer) {}
 
     void on_participant_discovery(fdds::DomainParticipant* /*participant*/,
                                   eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
@@ -47,10 +138,28 @@ class WanRouter::ParticipantCounter final : public TypeObjectGuard {
         std::lock_guard<std::mutex> lock(mutex_);
         if (info.status == Status::DISCOVERED_PARTICIPANT) {
             discovered_.insert(prefix);
+            introducer_.discovered(to_array(prefix));
         } else if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
             discovered_.erase(prefix);
             authenticated_.erase(prefix);
+            introducer_.removed(to_array(prefix));
         }
+    }
+
+    // A participant announces its endpoints to those it has discovered only: one announced to us knows us.
+    void on_publisher_discovery(fdds::DomainParticipant* participant,
+                                eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
+        if (info.status == eprosima::fastrtps::rtps::WriterDiscoveryInfo::DISCOVERED_WRITER) {
+            introducer_.answered(to_array(info.info.guid().guidPrefix));
+        }
+        TypeObjectGuard::on_publisher_discovery(participant, std::move(info));
+    }
+    void on_subscriber_discovery(fdds::DomainParticipant* participant,
+                                 eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) override {
+        if (info.status == eprosima::fastrtps::rtps::ReaderDiscoveryInfo::DISCOVERED_READER) {
+            introducer_.answered(to_array(info.info.guid().guidPrefix));
+        }
+        TypeObjectGuard::on_subscriber_discovery(participant, std::move(info));
     }
 
 #if HAVE_SECURITY
@@ -77,7 +186,14 @@ class WanRouter::ParticipantCounter final : public TypeObjectGuard {
     }
 
   private:
+    static IntroductionSchedule::Prefix to_array(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {
+        IntroductionSchedule::Prefix out;
+        std::copy(std::begin(prefix.value), std::end(prefix.value), out.begin());
+        return out;
+    }
+
     const bool secured_;
+    Introducer& introducer_;
     mutable std::mutex mutex_;
     std::set<eprosima::fastrtps::rtps::GuidPrefix_t> discovered_;     // under mutex_
     std::set<eprosima::fastrtps::rtps::GuidPrefix_t> authenticated_;  // under mutex_
@@ -99,7 +215,8 @@ Locator_t udp_locator(const std::string& address, std::uint16_t port) {
 
 WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainParticipantQos>& base)
     : coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_)),
-      participants_(std::make_unique<ParticipantCounter>(config.security.has_value())) {
+      introducer_(std::make_unique<Introducer>()),
+      participants_(std::make_unique<ParticipantCounter>(config.security.has_value(), *introducer_)) {
     fdds::DomainParticipantQos qos =
         base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
     qos.name("telemetry-gateway/wan");
@@ -115,7 +232,7 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
         udp->interfaceWhiteList.push_back(config.interface_address);
     }
     auto coalescing =
-        std::make_shared<CoalescingTransportDescriptor>(udp, coalescer_, config.on_unscheduled, heartbeat_throttle_);
+        std::make_shared<CoalescingTransportDescriptor>(udp, coalescer_, config.on_unscheduled, repeat_throttle_);
     coalescing->heartbeat_spacing_bytes = config.heartbeat_spacing_bytes;
     coalescing->strip_statistics = config.strip_statistics;
     qos.transport().user_transports.push_back(coalescing);
@@ -156,9 +273,11 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
         throw base::ConfigError("--wan-domain " + std::to_string(config.domain) + ": cannot create a publisher");
     }
     coalescer_->start();
+    introducer_->start(participant_);
 }
 
 WanRouter::~WanRouter() {
+    introducer_->stop();
     // Sends what waits while the transport's channels still exist.
     coalescer_->stop();
     if (participant_ != nullptr) {
@@ -211,6 +330,10 @@ std::shared_ptr<WanWriter> WanRouter::create_writer(
 
 std::size_t WanRouter::remote_participants() const {
     return participants_->count();
+}
+
+std::uint64_t WanRouter::introductions() const {
+    return introducer_->announcements();
 }
 
 bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {

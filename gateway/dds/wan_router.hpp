@@ -112,21 +112,25 @@ class WanRouter {
     std::size_t remote_participants() const;
     /// How the samples' datagrams were packed.
     const DatagramCoalescer& coalescer() const { return *coalescer_; }
-    /// Repeated HEARTBEATs the transport held back (HeartbeatThrottle).
-    std::uint64_t suppressed_heartbeats() const { return heartbeat_throttle_->suppressed(); }
+    /// Announcements sent again to participants that had not answered (IntroductionSchedule).
+    std::uint64_t introductions() const;
+    /// Repeated HEARTBEATs and ACKNACKs the transport held back (RepeatThrottle).
+    std::uint64_t suppressed_repeats() const { return repeat_throttle_->suppressed(); }
 
     eprosima::fastrtps::rtps::GuidPrefix_t guid_prefix() const;
 
   private:
+    class Introducer;
     class ParticipantCounter;
 
     base::SystemClock clock_;  // datagrams wait in real time, whatever clock the scheduler runs on
     std::shared_ptr<DatagramCoalescer> coalescer_;
-    std::shared_ptr<HeartbeatThrottle> heartbeat_throttle_ = std::make_shared<HeartbeatThrottle>();
+    std::shared_ptr<RepeatThrottle> repeat_throttle_ = std::make_shared<RepeatThrottle>();
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Publisher* publisher_ = nullptr;  ///< the default partition's
     mutable std::mutex mutex_;
     PartitionGroups<eprosima::fastdds::dds::Publisher> publishers_;  // under mutex_
+    std::unique_ptr<Introducer> introducer_;                         ///< stopped before participant_'s deletion
     std::unique_ptr<ParticipantCounter> participants_;               ///< before participant_'s deletion
 };
 

@@ -95,18 +95,7 @@ set_rate "$RATE"
 recover_ns=$(date +%s%N)
 echo "recovery: shaper back at $RATE bit/s after $(((recover_ns - outage_ns) / 1000000)) ms"
 
-sim_status=0
-wait "$sim_pid" || sim_status=$?
-# The gateway drains what it can, then logs what is still queued ('shutdown'); the recorder takes what is in
-# flight (the shaper's queue is at most 1 s deep).
-sleep 2
-kill -TERM "$gateway_pid" 2>/dev/null || true
-gateway_status=0
-wait "$gateway_pid" || gateway_status=$?
-sleep 2
-kill -TERM "$record_pid" 2>/dev/null || true
-wait "$record_pid" 2>/dev/null || true
-TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed stats >"$WORK/tc.txt" 2>&1 || true
+finish_run "$sim_pid" "$gateway_pid" "$record_pid"
 shaper_dropped="$(sed -nE 's/.*\(dropped ([0-9]+),.*/\1/p' "$WORK/tc.txt" | head -1)"
 shaper_dropped="${shaper_dropped:-0}"
 

@@ -69,3 +69,20 @@ stop_testbed() {
     TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed down 2>/dev/null || true
     rm -rf "$WORK"
 }
+
+# finish_run SIM_PID GATEWAY_PID RECORD_PID: waits for tm-robot-sim (sets sim_status); lets the gateway drain for
+# 2 s, then stops it (sets gateway_status; it logs what is still queued as 'shutdown'); gives the recorder 2 s for
+# what is in flight (the shaper's queue is at most 1 s deep), then stops it; the shaper's counters go to
+# $WORK/tc.txt.
+finish_run() {
+    sim_status=0
+    wait "$1" || sim_status=$?
+    sleep 2
+    kill -TERM "$2" 2>/dev/null || true
+    gateway_status=0
+    wait "$2" || gateway_status=$?
+    sleep 2
+    kill -TERM "$3" 2>/dev/null || true
+    wait "$3" 2>/dev/null || true
+    TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed stats >"$WORK/tc.txt" 2>&1 || true
+}

@@ -88,9 +88,11 @@ void print_summary(const tgw::dds::Gateway& gateway) {
     std::printf("\n");
     std::printf(
         "WAN traffic outside the schedule (discovery, heartbeats, repairs, copies to further readers): %llu "
-        "bytes, charged to the budget; %llu repeated heartbeats held back\n",
+        "bytes, charged to the budget; %llu repeated heartbeats and acknacks held back; %llu announcements repeated "
+        "to base camps that had not answered\n",
         static_cast<unsigned long long>(gateway.unscheduled_wire_bytes()),
-        static_cast<unsigned long long>(gateway.suppressed_heartbeats()));
+        static_cast<unsigned long long>(gateway.suppressed_repeats()),
+        static_cast<unsigned long long>(gateway.introductions()));
     if (gateway.statuses_published() > 0) {
         const tgw::core::TopicCounters status = gateway.status_counters();
         std::printf(

@@ -23,6 +23,9 @@ namespace dds = eprosima::fastdds::dds;
 
 namespace {
 
+/// Long enough for an announcement or a sample to cross the robot's own host.
+constexpr auto IN_FLIGHT = std::chrono::milliseconds(200);
+
 eprosima::fastrtps::Duration_t to_dds_duration(base::Duration d) {
     const auto ns = d.count();
     return eprosima::fastrtps::Duration_t(static_cast<int32_t>(ns / 1'000'000'000),
@@ -76,6 +79,9 @@ PaperPublisher::PaperPublisher(int domain, const std::vector<core::MessageStream
 
 PaperPublisher::~PaperPublisher() {
     if (participant_ != nullptr) {
+        // A best-effort reader acknowledges nothing, so linger() does not wait for it, yet the last samples may
+        // still be on their way: through shared memory, whose segment goes with the participant.
+        std::this_thread::sleep_for(IN_FLIGHT);
         participant_->delete_contained_entities();
         dds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
     }
@@ -136,7 +142,13 @@ std::size_t PaperPublisher::wait_for_readers(base::Duration max_wait) {
             if (status.current_count == 0)
                 ++unmatched;
         }
-        if (unmatched == 0 || base::SteadyClock::now() >= end)
+        if (unmatched == 0) {
+            // Our writer matched the reader on its announcement; the reader matches our writer on ours, which
+            // may be processed a moment later, and a best-effort reader drops what comes before.
+            std::this_thread::sleep_for(IN_FLIGHT);
+            return 0;
+        }
+        if (base::SteadyClock::now() >= end)
             return unmatched;
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }

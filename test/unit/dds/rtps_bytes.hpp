@@ -55,6 +55,19 @@ inline Bytes heartbeat(std::uint8_t writer = 0x11, std::uint8_t last = 1, std::u
     return submessage(0x07, 0x01, body);
 }
 
+/// An ACKNACK submessage from the reader whose entity id bytes are all `reader` to the writer whose entity id
+/// bytes are all `writer`: a sequence number set based at `base` with `bits` bits (all clear), then the count.
+inline Bytes acknack(std::uint8_t reader = 0x22, std::uint8_t writer = 0x11, std::uint8_t base = 0,
+                     std::uint8_t bits = 0, std::uint8_t count = 1) {
+    Bytes body(4 + 4 + 8 + 4 + 4 * ((bits + 31u) / 32u) + 4, 0);
+    std::fill(body.begin(), body.begin() + 4, reader);
+    std::fill(body.begin() + 4, body.begin() + 8, writer);
+    body[12] = base;  // the set's base, low word (little endian)
+    body[16] = bits;
+    body[body.size() - 4] = count;
+    return submessage(0x06, 0x01, body);
+}
+
 /// Fast DDS's network-statistics submessage (id 0x80, big-endian, 56 bytes), which its transport fills in.
 inline Bytes statistics(std::uint8_t fill) {
     return submessage(0x80, 0x00, Bytes(56, fill));

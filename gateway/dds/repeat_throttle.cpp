@@ -1,4 +1,4 @@
-#include "gateway/dds/heartbeat_throttle.hpp"
+#include "gateway/dds/repeat_throttle.hpp"
 
 #include <cstring>
 
@@ -43,25 +43,25 @@ std::uint64_t destination_hash(const DatagramDestination& destination) {
 
 }  // namespace
 
-bool HeartbeatThrottle::Key::operator==(const Key& other) const {
-    return destination == other.destination &&
+bool RepeatThrottle::Key::operator==(const Key& other) const {
+    return destination == other.destination && kind == other.kind && length == other.length &&
            std::memcmp(reader_prefix, other.reader_prefix, sizeof(reader_prefix)) == 0 &&
-           std::memcmp(heartbeat, other.heartbeat, sizeof(heartbeat)) == 0;
+           std::memcmp(body, other.body, length) == 0;
 }
 
-std::size_t HeartbeatThrottle::KeyHash::operator()(const Key& key) const {
+std::size_t RepeatThrottle::KeyHash::operator()(const Key& key) const {
     Fnv1a h(key.destination);
     h.mix(key.reader_prefix, sizeof(key.reader_prefix));
-    h.mix(key.heartbeat, sizeof(key.heartbeat));
+    h.mix(&key.kind, sizeof(key.kind));
+    h.mix(key.body, key.length);
     return static_cast<std::size_t>(h.value());
 }
 
-bool HeartbeatThrottle::lone_heartbeat(const std::uint8_t* message, std::size_t size, Key& key) {
+bool RepeatThrottle::lone_repeatable(const std::uint8_t* message, std::size_t size, Key& key) {
     if (size < MESSAGE_HEADER_BYTES || std::memcmp(message, "RTPS", 4) != 0) {
         return false;
     }
     key = Key{};
-    bool heartbeat = false;
     std::size_t pos = MESSAGE_HEADER_BYTES;
     while (pos + SUBMESSAGE_HEADER_BYTES <= size) {
         const std::uint8_t* sub = message + pos;
@@ -78,11 +78,14 @@ bool HeartbeatThrottle::lone_heartbeat(const std::uint8_t* message, std::size_t 
                 std::memcpy(key.reader_prefix, body, sizeof(key.reader_prefix));
                 break;
             case HEARTBEAT:
-                if (heartbeat || length < sizeof(key.heartbeat)) {
+            case ACKNACK:
+                // One per message, and its count (the last 4 bytes) is all that may differ from a repeat.
+                if (key.kind != 0 || length < 4 + 4 + 4 || length - 4 > MAX_REPEAT_BYTES) {
                     return false;
                 }
-                std::memcpy(key.heartbeat, body, sizeof(key.heartbeat));
-                heartbeat = true;
+                key.kind = sub[0];
+                key.length = static_cast<std::uint8_t>(length - 4);
+                std::memcpy(key.body, body, key.length);
                 break;
             case EPROSIMA_STATISTICS:
                 break;
@@ -94,16 +97,16 @@ bool HeartbeatThrottle::lone_heartbeat(const std::uint8_t* message, std::size_t 
         }
         pos += SUBMESSAGE_HEADER_BYTES + length;
     }
-    return heartbeat;
+    return key.kind != 0;
 }
 
-bool HeartbeatThrottle::admit(const DatagramDestination& destination, const std::uint8_t* message, std::size_t size,
-                              base::SteadyTime now) {
+bool RepeatThrottle::admit(const DatagramDestination& destination, const std::uint8_t* message, std::size_t size,
+                           base::SteadyTime now) {
     Key key;
-    if (!lone_heartbeat(message, size, key)) {
+    if (!lone_repeatable(message, size, key)) {
         return true;
     }
-    key.destination = destination_hash(destination);  // only for the few messages that are lone HEARTBEATs
+    key.destination = destination_hash(destination);  // only for the few messages that are lone HEARTBEATs or ACKNACKs
     std::lock_guard<std::mutex> lock(mutex_);
     auto [it, inserted] = last_sent_.try_emplace(key, now);
     if (!inserted) {
@@ -121,7 +124,7 @@ bool HeartbeatThrottle::admit(const DatagramDestination& destination, const std:
     return true;
 }
 
-std::uint64_t HeartbeatThrottle::suppressed() const {
+std::uint64_t RepeatThrottle::suppressed() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return suppressed_;
 }

@@ -1,15 +1,16 @@
-// HeartbeatThrottle: which HEARTBEATs repeat one sent a moment ago, and are held back.
+// RepeatThrottle: which HEARTBEATs and ACKNACKs repeat one sent a moment ago, and are held back.
 #include <gtest/gtest.h>
 
 #include <chrono>
 
-#include "gateway/dds/heartbeat_throttle.hpp"
+#include "gateway/dds/repeat_throttle.hpp"
 #include "test/unit/dds/rtps_bytes.hpp"
 
 namespace tgw::dds {
 namespace {
 
 using namespace std::chrono_literals;
+using test::rtps::acknack;
 using test::rtps::Bytes;
 using test::rtps::data;
 using test::rtps::heartbeat;
@@ -26,18 +27,18 @@ DatagramDestination to_port(std::uint32_t port) {
     return DatagramDestination{nullptr, {locator}};
 }
 
-class HeartbeatThrottleTest : public ::testing::Test {
+class RepeatThrottleTest : public ::testing::Test {
   protected:
     bool admit(const Bytes& m, base::Duration at, const DatagramDestination& to = to_port(7661)) {
         return sut.admit(to, m.data(), m.size(), base::SteadyTime{} + at);
     }
 
-    HeartbeatThrottle sut{1s};
+    RepeatThrottle sut{1s};
     /// A lone HEARTBEAT as Fast DDS 2.9 answers an ACKNACK: to one reader, with the statistics trailer.
     Bytes answer = message({info_dst(0x33), heartbeat(0x11, 5, 1), statistics(0)});
 };
 
-TEST_F(HeartbeatThrottleTest, HoldsBackTheSameHeartbeatToTheSameReaderWithinTheInterval) {
+TEST_F(RepeatThrottleTest, HoldsBackTheSameHeartbeatToTheSameReaderWithinTheInterval) {
     EXPECT_TRUE(admit(answer, 0ms));
     const Bytes again = message({info_dst(0x33), heartbeat(0x11, 5, 2), statistics(0)});  // only the count moved
     EXPECT_FALSE(admit(again, 70ms));
@@ -45,14 +46,14 @@ TEST_F(HeartbeatThrottleTest, HoldsBackTheSameHeartbeatToTheSameReaderWithinTheI
     EXPECT_EQ(sut.suppressed(), 2u);
 }
 
-TEST_F(HeartbeatThrottleTest, LetsTheSameHeartbeatGoOnceTheIntervalHasPassed) {
+TEST_F(RepeatThrottleTest, LetsTheSameHeartbeatGoOnceTheIntervalHasPassed) {
     EXPECT_TRUE(admit(answer, 0ms));
     EXPECT_TRUE(admit(answer, 1000ms));
     EXPECT_FALSE(admit(answer, 1500ms)) << "the interval counts from the last one sent";
     EXPECT_TRUE(admit(answer, 2000ms));
 }
 
-TEST_F(HeartbeatThrottleTest, LetsAHeartbeatWithNewsGo) {
+TEST_F(RepeatThrottleTest, LetsAHeartbeatWithNewsGo) {
     EXPECT_TRUE(admit(answer, 0ms));
     EXPECT_TRUE(admit(message({info_dst(0x33), heartbeat(0x11, 6, 2), statistics(0)}), 10ms)) << "a new sample";
     EXPECT_TRUE(admit(message({info_dst(0x33), heartbeat(0x22, 5, 1), statistics(0)}), 20ms)) << "another writer";
@@ -61,13 +62,40 @@ TEST_F(HeartbeatThrottleTest, LetsAHeartbeatWithNewsGo) {
     EXPECT_EQ(sut.suppressed(), 0u);
 }
 
-TEST_F(HeartbeatThrottleTest, NeverHoldsBackAnythingButALoneHeartbeat) {
+// A reader matched to a writer that has not heard of it (a base camp that restarted, before the gateway's
+// announcement reached it) sends it the same preemptive ACKNACK every 70 ms, only the count moving.
+TEST_F(RepeatThrottleTest, HoldsBackTheSamePreemptiveAcknackWithinTheInterval) {
+    const auto preemptive = [](std::uint8_t count) {
+        return message({info_dst(0x44), acknack(0x22, 0x11, 0, 0, count), statistics(0)});
+    };
+    EXPECT_TRUE(admit(preemptive(1), 0ms));
+    for (std::uint8_t count = 2; count <= 14; ++count) {
+        EXPECT_FALSE(admit(preemptive(count), std::chrono::milliseconds(70 * (count - 1))));
+    }
+    EXPECT_TRUE(admit(preemptive(15), 1000ms));
+    EXPECT_EQ(sut.suppressed(), 13u);
+}
+
+TEST_F(RepeatThrottleTest, LetsAnAcknackWithNewsGo) {
+    EXPECT_TRUE(admit(message({info_dst(0x44), acknack(0x22, 0x11, 1, 0, 1)}), 0ms));
+    EXPECT_TRUE(admit(message({info_dst(0x44), acknack(0x22, 0x11, 3, 0, 2)}), 10ms)) << "acknowledges more";
+    EXPECT_TRUE(admit(message({info_dst(0x44), acknack(0x22, 0x11, 3, 8, 3)}), 20ms)) << "asks for a repair";
+    EXPECT_TRUE(admit(message({info_dst(0x44), acknack(0x23, 0x11, 3, 8, 1)}), 30ms)) << "another reader";
+    EXPECT_TRUE(admit(message({info_dst(0x44), acknack(0x22, 0x12, 3, 8, 1)}), 40ms)) << "another writer";
+    EXPECT_TRUE(admit(message({info_dst(0x45), acknack(0x22, 0x11, 3, 8, 1)}), 50ms)) << "another participant";
+    EXPECT_TRUE(admit(message({info_dst(0x44), heartbeat(0x22, 3, 1)}), 60ms)) << "a HEARTBEAT is no ACKNACK";
+    EXPECT_EQ(sut.suppressed(), 0u);
+}
+
+TEST_F(RepeatThrottleTest, NeverHoldsBackAnythingButALoneHeartbeatOrAcknack) {
     const Bytes piggy_backed = message({info_dst(0x33), info_ts(1), data(40), heartbeat(0x11, 5, 1), statistics(0)});
     const Bytes two = message({info_dst(0x33), heartbeat(0x11, 5, 1), heartbeat(0x22, 5, 1)});
+    const Bytes both = message({info_dst(0x33), acknack(), heartbeat(0x11, 5, 1)});
     const Bytes sample = message({info_ts(1), data(40)});
     for (int i = 0; i < 3; ++i) {
         EXPECT_TRUE(admit(piggy_backed, std::chrono::milliseconds(i)));
         EXPECT_TRUE(admit(two, std::chrono::milliseconds(i)));
+        EXPECT_TRUE(admit(both, std::chrono::milliseconds(i)));
         EXPECT_TRUE(admit(sample, std::chrono::milliseconds(i)));
     }
     Bytes truncated = answer;
@@ -77,7 +105,7 @@ TEST_F(HeartbeatThrottleTest, NeverHoldsBackAnythingButALoneHeartbeat) {
     EXPECT_EQ(sut.suppressed(), 0u);
 }
 
-TEST_F(HeartbeatThrottleTest, RemembersManyWritersAndReadersApart) {
+TEST_F(RepeatThrottleTest, RemembersManyWritersAndReadersApart) {
     for (int writer = 1; writer <= 200; ++writer) {
         for (std::uint8_t reader = 1; reader <= 10; ++reader) {
             const Bytes hb = message({info_dst(reader), heartbeat(static_cast<std::uint8_t>(writer), 5, 1)});

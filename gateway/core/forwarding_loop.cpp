@@ -5,7 +5,7 @@
 namespace tgw::core {
 
 ForwardingLoop::ForwardingLoop(const SchedulerConfig& config, const base::Clock& clock, SampleSink& sink)
-    : clock_(clock), sink_(sink), scheduler_(config) {}
+    : clock_(clock), sink_(sink), scheduler_(config), defer_writes_(!config.bundles) {}
 
 ForwardingLoop::~ForwardingLoop() {
     stop();
@@ -25,8 +25,10 @@ void ForwardingLoop::stop() {
     wake_.notify_all();
     if (thread_.joinable())
         thread_.join();
-    std::lock_guard<std::mutex> lock(mutex_);
-    scheduler_.drain(sink_, DropReason::shutdown);
+    std::unique_lock<std::mutex> lock(mutex_);
+    scheduler_.drain(decisions(), DropReason::shutdown);
+    write_outbox(lock);
+    written_.wait(lock, [this] { return !writing_ && outbox_.empty(); });
     stopped_ = true;
 }
 
@@ -41,22 +43,21 @@ void ForwardingLoop::set_ttl(TopicId topic, base::Duration ttl) {
 }
 
 void ForwardingLoop::submit(Sample&& sample) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    {
-        if (stopped_) {
-            // Arrived after shutdown drained the queue: still logged, never lost.
-            scheduler_.push(std::move(sample), clock_.now(), clock_.wall_now(), sink_);
-            scheduler_.drain(sink_, DropReason::shutdown);
-            return;
-        }
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (stopped_) {
+        // Arrived after shutdown drained the queue: still logged, never lost.
+        scheduler_.push(std::move(sample), clock_.now(), clock_.wall_now(), decisions());
+        scheduler_.drain(decisions(), DropReason::shutdown);
+    } else {
         const base::SteadyTime now = clock_.now();
-        scheduler_.push(std::move(sample), now, clock_.wall_now(), sink_);
-        scheduler_.release(now, sink_);
+        scheduler_.push(std::move(sample), now, clock_.wall_now(), decisions());
+        scheduler_.release(now, decisions());
         // The loop thread must recompute its wake-up: the new sample may be due before what it waits for.
         if (scheduler_.queued_samples() > 0) {
             kick_nts();
         }
     }
+    write_outbox(lock);
 }
 
 void ForwardingLoop::set_rate(double rate_bps) {
@@ -105,6 +106,38 @@ std::size_t ForwardingLoop::queued_samples() const {
     return scheduler_.queued_samples();
 }
 
+void ForwardingLoop::write_outbox(std::unique_lock<std::mutex>& lock) {
+    if (writing_) {
+        return;  // the writing thread takes what was just added, after what it is writing
+    }
+    writing_ = true;
+    while (!outbox_.empty()) {
+        outbox_.take(writing_now_);
+        lock.unlock();
+        struct Failed {
+            TopicId topic;
+            std::size_t payload_bytes;
+        };
+        std::vector<Failed> failed;  // rare: allocates only when a write fails
+        for (WriteOutbox::Decision& d : writing_now_) {
+            if (!d.forward) {
+                sink_.drop(std::move(d.sample), d.reason);
+                continue;
+            }
+            const Failed f{d.sample.topic, d.sample.payload.size()};
+            if (!sink_.forward(std::move(d.sample))) {
+                failed.push_back(f);
+            }
+        }
+        lock.lock();
+        for (const Failed& f : failed) {
+            scheduler_.forward_failed(f.topic, f.payload_bytes);
+        }
+    }
+    writing_ = false;
+    written_.notify_all();
+}
+
 void ForwardingLoop::kick_nts() {
     kicked_ = true;
     wake_.notify_one();
@@ -114,7 +147,11 @@ void ForwardingLoop::run() {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!stopping_) {
         const base::SteadyTime now = clock_.now();
-        scheduler_.release(now, sink_);
+        scheduler_.release(now, decisions());
+        if (!outbox_.empty() && !writing_) {
+            write_outbox(lock);
+            continue;  // writing took time: the link may take more already
+        }
         const auto next = scheduler_.next_wakeup(now);
         // The clock is injected, but waiting needs real time: sleep for the span the scheduler asked for.
         if (next) {

@@ -6,13 +6,20 @@
 
 #include "base/clock.hpp"
 #include "gateway/core/scheduler.hpp"
+#include "gateway/core/write_outbox.hpp"
 
 namespace tgw::core {
 
 /// Runs a Scheduler for the gateway: DDS listener threads submit samples, which are released at once
 /// in the submitting thread when the budget admits them (no thread hop on the fast path); one thread wakes
-/// when the scheduler asks to (link free again, a deadline) and releases or logs what is due. Every call into
-/// the scheduler and the sink happens under one lock, so the sink need not be thread-safe.
+/// when the scheduler asks to (link free again, a deadline) and releases or logs what is due.
+///
+/// Every call into the scheduler happens under one lock; the sink is called by one thread at a time, in the
+/// order the scheduler decided. In standard WAN mode the decisions go into a WriteOutbox under the lock and are
+/// written after it: a WAN write that blocks then holds up only the thread writing, never a listener that
+/// brings a sample while it writes (it finds the writer busy, leaves its decisions to it and returns). In
+/// compact mode (SchedulerConfig::bundles) the sink is called under the lock: a bundle's real size is charged
+/// as soon as it is written.
 class ForwardingLoop {
   public:
     ForwardingLoop(const SchedulerConfig& config, const base::Clock& clock, SampleSink& sink);
@@ -42,6 +49,11 @@ class ForwardingLoop {
     std::size_t queued_samples() const;
 
   private:
+    /// Where the scheduler's decisions go while the lock is held: the outbox, or in compact mode the sink.
+    SampleSink& decisions() { return defer_writes_ ? static_cast<SampleSink&>(outbox_) : sink_; }
+    /// Writes the outbox to the sink, releasing `lock` meanwhile, until it stays empty; returns at once when
+    /// another thread is writing (it takes what was added). `lock` is held on entry and on return.
+    void write_outbox(std::unique_lock<std::mutex>& lock);
     void run();
     void kick_nts();  // the lock is held
 
@@ -50,6 +62,11 @@ class ForwardingLoop {
     mutable std::mutex mutex_;
     std::condition_variable wake_;
     Scheduler scheduler_;
+    const bool defer_writes_;
+    WriteOutbox outbox_;                              // under mutex_
+    bool writing_ = false;                            // under mutex_: a thread is writing the outbox to the sink
+    std::vector<WriteOutbox::Decision> writing_now_;  // the writing thread's, while writing_
+    std::condition_variable written_;                 // writing_ went false
     std::thread thread_;
     bool kicked_ = false;
     bool stopping_ = false;

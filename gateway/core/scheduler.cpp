@@ -202,6 +202,14 @@ void Scheduler::forward(Sample&& sample, std::uint64_t wire_bits, SampleSink& si
     c.forwarded_wire_bytes += wire_bits / 8;
 }
 
+void Scheduler::forward_failed(TopicId topic, std::size_t payload_bytes) {
+    TopicCounters& c = topics_[topic].counters;
+    --c.forwarded;
+    c.forwarded_payload_bytes -= payload_bytes;
+    c.forwarded_wire_bytes -= wire_bits(payload_bytes) / 8;
+    ++c.dropped_for(DropReason::write_failed);
+}
+
 void Scheduler::drop(Sample&& sample, DropReason reason, SampleSink& sink) {
     ++topics_[sample.topic].counters.dropped_for(reason);
     sink.drop(std::move(sample), reason);

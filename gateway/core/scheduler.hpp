@@ -104,6 +104,10 @@ class Scheduler {
     /// high left behind drains instead of standing.
     void observe_link_backlog(base::SteadyTime now, std::uint64_t bits);
 
+    /// A sample `sink.forward` took turned out not to be written (ForwardingLoop writes after deciding, see
+    /// WriteOutbox): it counts as DropReason::write_failed instead of forwarded. The sink kept it as such. Its
+    /// link time stays charged: whether any of it left is not known.
+    void forward_failed(TopicId topic, std::size_t payload_bytes);
     /// Everything still queued goes to `sink.drop` with `reason` (shutdown).
     void drain(SampleSink& sink, DropReason reason = DropReason::shutdown);
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <future>
 #include <thread>
 
 #include "test/fakes/recording_sink.hpp"
@@ -90,6 +91,93 @@ TEST_F(ForwardingLoopTest, ConcurrentSubmittersLoseNothing) {
     EXPECT_EQ(total.received, 2'000u);
     EXPECT_TRUE(total.balanced());
     EXPECT_EQ(sink.forwarded().size() + sink.dropped().size(), 2'000u);
+}
+
+TEST_F(ForwardingLoopTest, AWriteThatFailsAfterTheDecisionCountsAsWriteFailed) {
+    make_sut(1e9);
+    sink.refuse_writes();
+    sut->submit(sample());
+    sut->stop();
+    const TopicCounters total = sut->total_counters();
+    EXPECT_EQ(total.forwarded, 0u);
+    EXPECT_EQ(total.forwarded_payload_bytes, 0u);
+    EXPECT_EQ(total.forwarded_wire_bytes, 0u);
+    EXPECT_EQ(total.dropped_for(DropReason::write_failed), 1u);
+    EXPECT_TRUE(total.balanced());
+    EXPECT_EQ(sink.dropped_count(DropReason::write_failed), 1u);
+}
+
+/// A sink whose first forward blocks until open() is called, as a WAN write on a full socket does.
+class BlockingSink final : public SampleSink {
+  public:
+    bool forward(Sample&& sample) override {
+        {
+            std::unique_lock<std::mutex> lock(mutex_);
+            if (!first_started_) {
+                first_started_ = true;
+                changed_.notify_all();
+                changed_.wait(lock, [this] { return open_; });
+            }
+        }
+        return inner.forward(std::move(sample));
+    }
+    std::size_t forward_bundle(std::vector<Sample>&& samples, std::size_t wire_bytes) override {
+        return inner.forward_bundle(std::move(samples), wire_bytes);
+    }
+    void drop(Sample&& sample, DropReason reason) override { inner.drop(std::move(sample), reason); }
+
+    void wait_until_blocked() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        changed_.wait(lock, [this] { return first_started_; });
+    }
+    void open() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        open_ = true;
+        changed_.notify_all();
+    }
+
+    test::RecordingSink inner;
+
+  private:
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    bool first_started_ = false;
+    bool open_ = false;
+};
+
+// Before the decisions were written after the lock, a listener bringing a sample waited for every WAN write
+// in progress, and its reader's history filled meanwhile.
+TEST(ForwardingLoopWritesTest, AListenerIsNotHeldUpByAWanWriteThatBlocks) {
+    base::SystemClock clock;
+    BlockingSink sink;
+    SchedulerConfig config;
+    config.initial_rate_bps = 1e9;
+    ForwardingLoop sut(config, clock, sink);
+    const TopicId topic = sut.add_topic({"A", seconds(5)});
+    sut.start();
+    const auto sample = [&](std::uint8_t fill) {
+        Sample s;
+        s.topic = topic;
+        s.payload.assign(64, fill);
+        s.source_time = clock.wall_now();
+        return s;
+    };
+
+    std::thread writer([&] { sut.submit(sample(1)); });  // admitted at once, and its write blocks
+    sink.wait_until_blocked();
+    auto second = std::async(std::launch::async, [&] { sut.submit(sample(2)); });
+    const bool returned = second.wait_for(seconds(10)) == std::future_status::ready;
+    sink.open();
+    writer.join();
+    second.get();
+    sut.stop();
+
+    EXPECT_TRUE(returned) << "submit() waited for another thread's WAN write";
+    const std::vector<Sample> forwarded = sink.inner.forwarded();
+    ASSERT_EQ(forwarded.size(), 2u);
+    EXPECT_EQ(forwarded[0].payload[0], 1) << "written in the order decided";
+    EXPECT_EQ(forwarded[1].payload[0], 2);
+    EXPECT_EQ(sut.total_counters().forwarded, 2u);
 }
 
 }  // namespace

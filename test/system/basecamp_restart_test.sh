@@ -54,10 +54,7 @@ gateway_pid=$!
 PIDS+=("$gateway_pid")
 
 sleep 2
-"${tb[@]}" robot "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload paper --rate-hz 5 \
-    --duration "$PUBLISH_S" --linger 0 --wait-match 10 >"$WORK/robot.out" 2>&1 &
-sim_pid=$!
-PIDS+=("$sim_pid")
+start_paper_publisher "$PUBLISH_S"
 
 sleep "$RUN_BEFORE_S"
 kill -"$SIGNAL" "$first_record_pid"

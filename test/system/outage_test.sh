@@ -79,10 +79,7 @@ sample_rss &
 PIDS+=("$!")
 
 sleep 2
-"${tb[@]}" robot "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload paper --rate-hz 5 \
-    --duration "$PUBLISH_S" --linger 0 --wait-match 10 >"$WORK/robot.out" 2>&1 &
-sim_pid=$!
-PIDS+=("$sim_pid")
+start_paper_publisher "$PUBLISH_S"
 sim_started_ns=$(date +%s%N)
 
 set_rate() { TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed set-rate "$1"; }

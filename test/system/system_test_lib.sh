@@ -70,6 +70,15 @@ stop_testbed() {
     rm -rf "$WORK"
 }
 
+# start_paper_publisher SECONDS: tm-robot-sim publishing the paper's workload at 5 Hz on the robot's loopback (domain
+# 0) for SECONDS, once the gateway's readers match, into $WORK/robot.out; sets sim_pid.
+start_paper_publisher() {
+    "${tb[@]}" robot "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload paper --rate-hz 5 \
+        --duration "$1" --linger 0 --wait-match 10 >"$WORK/robot.out" 2>&1 &
+    sim_pid=$!
+    PIDS+=("$sim_pid")
+}
+
 # finish_run SIM_PID GATEWAY_PID RECORD_PID: waits for tm-robot-sim (sets sim_status); lets the gateway drain for
 # 2 s, then stops it (sets gateway_status; it logs what is still queued as 'shutdown'); gives the recorder 2 s for
 # what is in flight (the shaper's queue is at most 1 s deep), then stops it; the shaper's counters go to

@@ -339,7 +339,7 @@ check "samples lost on the WAN at most the packets the shaper dropped" "a <= b" 
 
 a_published="$(awk '$2 == "telemetry/A" { print $5 }' "$WORK/robot.out")"
 read -r a_on_time a_rec a_mean_ms <<<"$(qr "SELECT COALESCE(SUM(receive_ns - source_ns <= 1000000000), 0), COUNT(*),
-        COALESCE(printf('%.0f', AVG(receive_ns - source_ns) / 1e6), '-')
+        COALESCE(printf('%.1f', AVG(receive_ns - source_ns) / 1e6), '-')
     FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM samples WHERE topic = 'telemetry/A'
           GROUP BY source_ns)" "0|0|-" | tr '|' ' ')"
 a_logged="$(q "SELECT group_concat(reason || ' ' || n, ', ') FROM (SELECT reason, COUNT(*) AS n

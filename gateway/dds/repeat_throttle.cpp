@@ -1,5 +1,6 @@
 #include "gateway/dds/repeat_throttle.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "gateway/dds/rtps_submessage.hpp"
@@ -12,6 +13,12 @@ using namespace rtps_bytes;
 
 /// Entries kept before old ones are swept: a few per matched reader and writer.
 constexpr std::size_t SWEEP_ABOVE = 1024;
+
+/// ENTITYID_P2P_BUILTIN_PARTICIPANT_STATELESS_WRITER (DDS Security 1.1, 7.4.3): its DATA carry the
+/// authentication handshake.
+constexpr std::uint8_t STATELESS_WRITER_ID[4] = {0x00, 0x02, 0x01, 0xc3};
+/// A DATA's extraFlags, octetsToInlineQos, readerId, writerId and writerSN (DDSI-RTPS 9.4.5.3).
+constexpr std::size_t DATA_HEADER_BYTES = 2 + 2 + 4 + 4 + 8;
 
 /// FNV-1a, for keys of a few dozen bytes.
 class Fnv1a {
@@ -87,6 +94,25 @@ bool RepeatThrottle::lone_repeatable(const std::uint8_t* message, std::size_t si
                 key.length = static_cast<std::uint8_t>(length - 4);
                 std::memcpy(key.body, body, key.length);
                 break;
+            case DATA: {
+                // A handshake message: the same payload again under a new sequence number.
+                const std::size_t data_length = length == 0 ? size - pos - SUBMESSAGE_HEADER_BYTES : length;
+                if (key.kind != 0 || data_length < DATA_HEADER_BYTES ||
+                    std::memcmp(body + 8, STATELESS_WRITER_ID, sizeof(STATELESS_WRITER_ID)) != 0) {
+                    return false;
+                }
+                key.kind = DATA;
+                std::memcpy(key.body, body + 4, 8);  // reader and writer ids
+                Fnv1a h;
+                h.mix(body + DATA_HEADER_BYTES, data_length - DATA_HEADER_BYTES);
+                const std::uint64_t payload_hash = h.value();
+                std::memcpy(key.body + 8, &payload_hash, sizeof(payload_hash));
+                key.length = 8 + sizeof(payload_hash);
+                break;
+            }
+            case INFO_TS:
+                // Only around a handshake message, which the stateless writer time-stamps.
+                break;
             case EPROSIMA_STATISTICS:
                 break;
             default:
@@ -107,10 +133,11 @@ bool RepeatThrottle::admit(const DatagramDestination& destination, const std::ui
         return true;
     }
     key.destination = destination_hash(destination);  // only for the few messages that are lone HEARTBEATs or ACKNACKs
+    const base::Duration interval = key.kind == DATA ? handshake_interval_ : interval_;
     std::lock_guard<std::mutex> lock(mutex_);
     auto [it, inserted] = last_sent_.try_emplace(key, now);
     if (!inserted) {
-        if (now - it->second < interval_) {
+        if (now - it->second < interval) {
             ++suppressed_;
             return false;
         }
@@ -118,7 +145,8 @@ bool RepeatThrottle::admit(const DatagramDestination& destination, const std::ui
     }
     if (last_sent_.size() > SWEEP_ABOVE) {
         for (auto entry = last_sent_.begin(); entry != last_sent_.end();) {
-            entry = now - entry->second >= interval_ ? last_sent_.erase(entry) : std::next(entry);
+            entry = now - entry->second >= std::max(interval_, handshake_interval_) ? last_sent_.erase(entry)
+                                                                                    : std::next(entry);
         }
     }
     return true;

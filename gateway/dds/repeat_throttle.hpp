@@ -21,17 +21,27 @@ namespace tgw::dds {
 ///   builtin writers, enough to fill a 20,000 bit/s link (174 kB in one run) and crowd out the announcement
 ///   that would have introduced them.
 ///
+/// - With DDS Security, Fast DDS 2.9 resends an authentication handshake message every 500 ms until it is
+///   answered (hard-coded): 5.5 kB each with scripts/make-certs' files, 88,000 bit/s, where one takes 1.1 s to
+///   cross a 40,000 bit/s link.
+///
 /// This passes every message except a lone HEARTBEAT or ACKNACK (alone, with only INFO_DST and Fast DDS's
 /// statistics around it) that repeats one sent to the same destination less than `interval` ago: same reader,
-/// writer and sequence numbers, only its count moved. The one sent first brings the other side what the repeat
-/// would have; one that says anything new, a piggy-backed one, and every other submessage pass.
+/// writer and sequence numbers, only its count moved; and a handshake message (the DATA of the participant
+/// stateless message writer) that repeats one sent there less than `handshake_interval` ago: the same payload
+/// under a new sequence number. The one sent first brings the other side what the repeat would have; one that
+/// says anything new, a piggy-backed one, and every other submessage pass.
 class RepeatThrottle {
   public:
     /// What the scheduler lets the link queue hold (SchedulerConfig::link_queue): a message sent that long ago
     /// has had time to arrive.
     static constexpr base::Duration DEFAULT_INTERVAL = std::chrono::seconds(1);
+    /// Long enough for a 5.5 kB handshake message to cross a 10,000 bit/s link before the next.
+    static constexpr base::Duration DEFAULT_HANDSHAKE_INTERVAL = std::chrono::seconds(5);
 
-    explicit RepeatThrottle(base::Duration interval = DEFAULT_INTERVAL) : interval_(interval) {}
+    explicit RepeatThrottle(base::Duration interval = DEFAULT_INTERVAL,
+                            base::Duration handshake_interval = DEFAULT_HANDSHAKE_INTERVAL)
+        : interval_(interval), handshake_interval_(handshake_interval) {}
 
     /// True if `message`, an RTPS message to `destination`, may be sent at `now`.
     bool admit(const DatagramDestination& destination, const std::uint8_t* message, std::size_t size,
@@ -46,22 +56,25 @@ class RepeatThrottle {
     static constexpr std::size_t MAX_REPEAT_BYTES = 4 + 4 + 8 + 4 + 32;
 
     struct Key {
-        std::uint64_t destination = 0;             ///< a hash of the channel and the locators
-        std::uint8_t reader_prefix[12] = {};       ///< INFO_DST's GUID prefix; zeros without one
-        std::uint8_t kind = 0;                     ///< HEARTBEAT or ACKNACK
-        std::uint8_t length = 0;                   ///< bytes of `body` in use
-        std::uint8_t body[MAX_REPEAT_BYTES] = {};  ///< the submessage's body without its trailing count
+        std::uint64_t destination = 0;        ///< a hash of the channel and the locators
+        std::uint8_t reader_prefix[12] = {};  ///< INFO_DST's GUID prefix; zeros without one
+        std::uint8_t kind = 0;                ///< HEARTBEAT or ACKNACK
+        std::uint8_t length = 0;              ///< bytes of `body` in use
+        /// The submessage's body without its trailing count; for a handshake message its reader and writer ids
+        /// and a hash of what follows its sequence number.
+        std::uint8_t body[MAX_REPEAT_BYTES] = {};
         bool operator==(const Key& other) const;
     };
     struct KeyHash {
         std::size_t operator()(const Key& key) const;
     };
 
-    /// The key (but its destination) of a message that carries a lone HEARTBEAT or ACKNACK; false for any
-    /// other message.
+    /// The key (but its destination) of a message that carries a lone HEARTBEAT, ACKNACK or handshake message;
+    /// false for any other message.
     static bool lone_repeatable(const std::uint8_t* message, std::size_t size, Key& key);
 
     const base::Duration interval_;
+    const base::Duration handshake_interval_;
     mutable std::mutex mutex_;
     std::unordered_map<Key, base::SteadyTime, KeyHash> last_sent_;
     std::uint64_t suppressed_ = 0;

@@ -16,6 +16,7 @@ constexpr std::uint8_t PAD = 0x01;
 constexpr std::uint8_t ACKNACK = 0x06;
 constexpr std::uint8_t HEARTBEAT = 0x07;
 constexpr std::uint8_t INFO_TS = 0x09;
+constexpr std::uint8_t DATA = 0x15;
 constexpr std::uint8_t INFO_SRC = 0x0c;
 constexpr std::uint8_t INFO_REPLY_IP4 = 0x0d;
 constexpr std::uint8_t INFO_DST = 0x0e;

@@ -87,6 +87,39 @@ TEST_F(RepeatThrottleTest, LetsAnAcknackWithNewsGo) {
     EXPECT_EQ(sut.suppressed(), 0u);
 }
 
+/// An authentication handshake message as Fast DDS 2.9 sends it with DDS Security: a DATA of the participant
+/// stateless message writer (entity id 00.02.01.c3), `sequence` its writer sequence number.
+Bytes handshake(std::uint8_t sequence, std::uint8_t payload_fill = 0x42, std::uint8_t writer_kind = 0xc3) {
+    Bytes body = {0, 0, 16, 0, 0x00, 0x02, 0x01, 0xc4, 0x00, 0x02, 0x01, writer_kind};
+    const Bytes sn = {0, 0, 0, 0, sequence, 0, 0, 0};
+    body.insert(body.end(), sn.begin(), sn.end());
+    body.insert(body.end(), 5500, payload_fill);
+    return test::rtps::submessage(0x15, 0x05, body);
+}
+
+// Fast DDS 2.9 resends a handshake message every 500 ms until it is answered, under a new sequence number.
+TEST_F(RepeatThrottleTest, HoldsBackAResentHandshakeMessageForFiveSeconds) {
+    EXPECT_TRUE(admit(message({info_dst(0x44), info_ts(1), handshake(1), statistics(0)}), 0ms));
+    for (std::uint8_t resend = 2; resend <= 10; ++resend) {
+        EXPECT_FALSE(admit(message({info_dst(0x44), info_ts(resend), handshake(resend), statistics(0)}),
+                           std::chrono::milliseconds(500 * (resend - 1))));
+    }
+    EXPECT_TRUE(admit(message({info_dst(0x44), info_ts(11), handshake(11), statistics(0)}), 5000ms));
+    EXPECT_EQ(sut.suppressed(), 9u);
+}
+
+TEST_F(RepeatThrottleTest, LetsANewHandshakeMessageAndOtherDataGo) {
+    EXPECT_TRUE(admit(message({info_dst(0x44), info_ts(1), handshake(1)}), 0ms));
+    EXPECT_TRUE(admit(message({info_dst(0x44), info_ts(2), handshake(2, 0x43)}), 10ms)) << "the next message";
+    EXPECT_TRUE(admit(message({info_dst(0x45), info_ts(3), handshake(3)}), 20ms)) << "to another participant";
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_TRUE(
+            admit(message({info_dst(0x44), info_ts(4), handshake(4, 0x42, 0x02)}), std::chrono::milliseconds(30 + i)))
+            << "a DATA of any other writer";
+    }
+    EXPECT_EQ(sut.suppressed(), 0u);
+}
+
 TEST_F(RepeatThrottleTest, NeverHoldsBackAnythingButALoneHeartbeatOrAcknack) {
     const Bytes piggy_backed = message({info_dst(0x33), info_ts(1), data(40), heartbeat(0x11, 5, 1), statistics(0)});
     const Bytes two = message({info_dst(0x33), heartbeat(0x11, 5, 1), heartbeat(0x22, 5, 1)});

@@ -35,6 +35,16 @@ TopicId ForwardingLoop::add_topic(const TopicConfig& topic) {
     return scheduler_.add_topic(topic);
 }
 
+bool ForwardingLoop::add_topic_at(TopicId slot, const TopicConfig& topic) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return scheduler_.add_topic_at(slot, topic);
+}
+
+std::optional<TopicCounters> ForwardingLoop::retire_topic(TopicId topic, bool reusable) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return scheduler_.retire_topic(topic, reusable);
+}
+
 void ForwardingLoop::set_ttl(TopicId topic, base::Duration ttl) {
     std::lock_guard<std::mutex> lock(mutex_);
     scheduler_.set_ttl(topic, ttl);
@@ -103,6 +113,11 @@ double ForwardingLoop::rate_bps() const {
 std::size_t ForwardingLoop::queued_samples() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return scheduler_.queued_samples();
+}
+
+std::size_t ForwardingLoop::live_topics() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return scheduler_.live_topics();
 }
 
 void ForwardingLoop::kick_nts() {

@@ -2,6 +2,7 @@
 
 #include <condition_variable>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "base/clock.hpp"
@@ -26,6 +27,10 @@ class ForwardingLoop {
     void stop();
 
     TopicId add_topic(const TopicConfig& topic);
+    /// See Scheduler::add_topic_at.
+    bool add_topic_at(TopicId slot, const TopicConfig& topic);
+    /// See Scheduler::retire_topic.
+    std::optional<TopicCounters> retire_topic(TopicId topic, bool reusable);
     void set_ttl(TopicId topic, base::Duration ttl);
     void submit(Sample&& sample);
     void set_rate(double rate_bps);
@@ -40,6 +45,8 @@ class ForwardingLoop {
     TopicCounters total_counters() const;
     double rate_bps() const;
     std::size_t queued_samples() const;
+    /// Topics not retired (Scheduler::live_topics).
+    std::size_t live_topics() const;
 
   private:
     void run();

@@ -50,6 +50,7 @@ struct Options {
     bool no_log = false;
     double max_growth_percent = 10.0;
     int timeout_s = 30;
+    std::vector<std::string> gateway_args;  ///< more flags for the gateway (--wan-mode compact, ...)
 };
 
 /// Counts the gateway's readers of the churned topics on the robot domain, as discovery reports them.
@@ -228,6 +229,7 @@ int run(const Options& options) {
                                      "fixed:1000000",
                                      "--default-ttl",
                                      std::to_string(options.ttl_s)};
+    argv.insert(argv.end(), options.gateway_args.begin(), options.gateway_args.end());
     if (options.no_log) {
         argv.push_back("--no-log");
     } else {
@@ -247,9 +249,13 @@ int run(const Options& options) {
         return 1;
     }
     const long baseline_kb = warm_up.gone_kb;
-    std::printf("publisher churn: %d topics a cycle, %d samples each, TTL %d s, %s names, log %s\n", options.topics,
-                options.samples, options.ttl_s, options.fresh_names ? "fresh" : "the same",
-                options.no_log ? "no" : "yes");
+    std::string extra;
+    for (const std::string& arg : options.gateway_args) {
+        extra += " " + arg;
+    }
+    std::printf("publisher churn: %d topics a cycle, %d samples each, TTL %d s, %s names, log %s, gateway flags:%s\n",
+                options.topics, options.samples, options.ttl_s, options.fresh_names ? "fresh" : "the same",
+                options.no_log ? "no" : "yes", extra.empty() ? " none" : extra.c_str());
     std::printf(
         "gateway VmRSS: %ld kB at start; %ld kB with %d topics bridged in the warm-up cycle; baseline %ld kB "
         "after it\n",
@@ -320,6 +326,7 @@ int main(int argc, char** argv) {
                    "exit 1 when the last cycle ends this far above the baseline")
         ->capture_default_str();
     app.add_option("--timeout-s", options.timeout_s, "how long a cycle's steps may take")->capture_default_str();
+    app.add_option("--gateway-arg", options.gateway_args, "a further flag for the gateway, as --gateway-arg=FLAG");
     CLI11_PARSE(app, argc, argv);
     return run(options);
 }

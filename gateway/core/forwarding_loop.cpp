@@ -37,6 +37,19 @@ TopicId ForwardingLoop::add_topic(const TopicConfig& topic) {
     return scheduler_.add_topic(topic);
 }
 
+bool ForwardingLoop::add_topic_at(TopicId slot, const TopicConfig& topic) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return scheduler_.add_topic_at(slot, topic);
+}
+
+std::optional<TopicCounters> ForwardingLoop::retire_topic(TopicId topic, bool reusable) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    // A decision of the topic may still be on its way to the sink, which finds the topic by its id: the id must
+    // not go (nor be taken by another topic) before it is written, and its write settled.
+    written_.wait(lock, [this] { return !writing_ && outbox_.empty(); });
+    return scheduler_.retire_topic(topic, reusable);
+}
+
 void ForwardingLoop::set_ttl(TopicId topic, base::Duration ttl) {
     std::lock_guard<std::mutex> lock(mutex_);
     scheduler_.set_ttl(topic, ttl);
@@ -104,6 +117,11 @@ double ForwardingLoop::rate_bps() const {
 std::size_t ForwardingLoop::queued_samples() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return scheduler_.queued_samples();
+}
+
+std::size_t ForwardingLoop::live_topics() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return scheduler_.live_topics();
 }
 
 void ForwardingLoop::write_outbox(std::unique_lock<std::mutex>& lock) {

@@ -2,6 +2,7 @@
 
 #include <condition_variable>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "base/clock.hpp"
@@ -33,6 +34,10 @@ class ForwardingLoop {
     void stop();
 
     TopicId add_topic(const TopicConfig& topic);
+    /// See Scheduler::add_topic_at.
+    bool add_topic_at(TopicId slot, const TopicConfig& topic);
+    /// See Scheduler::retire_topic; waits until what was decided is written. Not from within the sink.
+    std::optional<TopicCounters> retire_topic(TopicId topic, bool reusable);
     void set_ttl(TopicId topic, base::Duration ttl);
     void submit(Sample&& sample);
     void set_rate(double rate_bps);
@@ -47,6 +52,8 @@ class ForwardingLoop {
     TopicCounters total_counters() const;
     double rate_bps() const;
     std::size_t queued_samples() const;
+    /// Topics not retired (Scheduler::live_topics).
+    std::size_t live_topics() const;
 
   private:
     /// Where the scheduler's decisions go while the lock is held: the outbox, or in compact mode the sink.

@@ -56,8 +56,40 @@ void Scheduler::set_rate(double sensed_rate_bps) {
 }
 
 TopicId Scheduler::add_topic(const TopicConfig& topic) {
-    topics_.push_back(TopicState{topic, {}, {}, 0, false, 0, DecayingRate{}, true});
+    if (!free_topics_.empty()) {
+        const TopicId slot = free_topics_.back();
+        add_topic_at(slot, topic);
+        return slot;
+    }
+    topics_.push_back(TopicState{topic, {}, {}, 0, false, 0, DecayingRate{}, true, false});
     return static_cast<TopicId>(topics_.size() - 1);
+}
+
+bool Scheduler::add_topic_at(TopicId slot, const TopicConfig& topic) {
+    if (slot >= topics_.size() || !topics_[slot].retired) {
+        return false;
+    }
+    free_topics_.erase(std::remove(free_topics_.begin(), free_topics_.end(), slot), free_topics_.end());
+    --retired_slots_;
+    topics_[slot] = TopicState{topic, {}, {}, 0, false, 0, DecayingRate{}, true, false};
+    return true;
+}
+
+std::optional<TopicCounters> Scheduler::retire_topic(TopicId topic, bool reusable) {
+    if (topic >= topics_.size() || topics_[topic].retired || topics_[topic].counters.queued > 0) {
+        return std::nullopt;  // a chunked sample counts as queued until its last chunk left
+    }
+    TopicState& t = topics_[topic];
+    const TopicCounters final_counts = t.counters;
+    retired_counters_ += final_counts;
+    queue_.park(topic, false);
+    t = TopicState{TopicConfig{{}, t.config.ttl}, {}, {}, 0, false, 0, DecayingRate{}, true, true};
+    ++retired_slots_;
+    if (reusable) {
+        free_topics_.push_back(topic);
+    }
+    protect_valid_ = false;  // it may have been one of the two protected topics
+    return final_counts;
 }
 
 void Scheduler::set_ttl(TopicId topic, base::Duration ttl) {
@@ -699,7 +731,7 @@ void Scheduler::drain(SampleSink& sink, DropReason reason) {
 }
 
 TopicCounters Scheduler::total_counters() const {
-    TopicCounters total;
+    TopicCounters total = retired_counters_;
     for (const TopicState& t : topics_) {
         total += t.counters;
     }

@@ -64,10 +64,25 @@ class Scheduler {
   public:
     explicit Scheduler(const SchedulerConfig& config);
 
+    /// A new topic, in the slot of a retired one where retire_topic() allowed it (the per-topic tables do not grow
+    /// with topics that come and go), else in a new slot.
     TopicId add_topic(const TopicConfig& topic);
+    /// A new topic in `slot`, which must be a retired one's (compact WAN mode gives a topic that comes back the id
+    /// its catalog entry already names). Any slot retired, reusable by anyone or not, may be taken. False, changing
+    /// nothing, when `slot` is not a retired one.
+    bool add_topic_at(TopicId slot, const TopicConfig& topic);
+    /// Forgets a topic that has nothing queued: its counts leave its slot for retired_counters() (total_counters()
+    /// keeps them), and the slot is free for add_topic() when `reusable`, else only for add_topic_at(). Returns
+    /// the topic's final counts; nullopt, changing nothing, while samples of it are queued or when it is retired.
+    std::optional<TopicCounters> retire_topic(TopicId topic, bool reusable);
+    /// Whether `topic` is a slot retire_topic() emptied and no topic took again.
+    bool retired(TopicId topic) const { return topics_[topic].retired; }
     void set_ttl(TopicId topic, base::Duration ttl);
     const TopicConfig& topic(TopicId id) const { return topics_[id].config; }
+    /// Slots, retired ones included: every TopicId is below this.
     std::size_t topic_count() const { return topics_.size(); }
+    /// Topics not retired.
+    std::size_t live_topics() const { return topics_.size() - retired_slots_; }
 
     /// Take a sample in. `now` and `wall_now` are the same instant on the two clocks. Samples already
     /// expired, and the least urgent when over the memory cap, go to `sink.drop`; under `fifo` the sample is
@@ -112,7 +127,10 @@ class Scheduler {
     void drain(SampleSink& sink, DropReason reason = DropReason::shutdown);
 
     const TopicCounters& counters(TopicId topic) const { return topics_[topic].counters; }
+    /// Every topic's counts, retired ones included.
     TopicCounters total_counters() const;
+    /// The counts retired topics took with them, summed.
+    const TopicCounters& retired_counters() const { return retired_counters_; }
     std::size_t queued_samples() const { return queue_.size() + (chunked_ ? 1 : 0); }
     std::size_t queued_bytes() const { return queue_.memory_bytes(); }
     const SchedulerConfig& config() const { return config_; }
@@ -134,6 +152,7 @@ class Scheduler {
         /// Compact mode: the link bits its entries took lately, their share of the bundle headers included.
         DecayingRate link_use;
         bool reachable = true;  ///< see set_reachable
+        bool retired = false;   ///< see retire_topic
     };
 
     /// The two shortest-limit active topics (limit: TTL minus the topic's last wire time), so that a candidate
@@ -194,6 +213,9 @@ class Scheduler {
 
     SchedulerConfig config_;
     std::vector<TopicState> topics_;
+    std::vector<TopicId> free_topics_;  ///< retired slots add_topic() may take
+    std::size_t retired_slots_ = 0;
+    TopicCounters retired_counters_;
     DeadlineQueue queue_;
     double sensed_rate_bps_;
     LinkBudget budget_;

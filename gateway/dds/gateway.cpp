@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <set>
 #include <utility>
 
 #include "GatewayStatusPubSubTypes.h"
@@ -270,7 +271,7 @@ void Gateway::stop() {
     }
     stop_worker();
     if (robot_) {
-        for (TopicBridge* bridge : topics_->all()) {
+        for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
             bridge->close_readers();
         }
     }
@@ -393,7 +394,7 @@ void Gateway::poll_reachability_nts() {
             loop_->set_reachable(id, now == 1);
         }
     };
-    for (const TopicBridge* bridge : topics_->all()) {
+    for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
         reachable(bridge->id(), bridge->reaches_anyone());
     }
     if (status_topic_) {
@@ -403,7 +404,7 @@ void Gateway::poll_reachability_nts() {
 }
 
 void Gateway::forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
-    TopicBridge* bridge = topics_->find(topic);
+    const std::shared_ptr<TopicBridge> bridge = topics_->find(topic);
     const std::optional<std::uint16_t> lane = bridge != nullptr ? bridge->release(writer) : std::nullopt;
     if (!lane) {
         return;
@@ -411,7 +412,79 @@ void Gateway::forget_writer_nts(const std::string& topic, const eprosima::fastrt
     // What the publisher sent is still the base camp's due: the lane stays until its queued samples are past
     // their TTL. A publisher of the same offer that comes back meanwhile keeps it.
     const auto ttl = std::chrono::duration_cast<std::chrono::steady_clock::duration>(bridge->ttl().ttl);
-    post_at(std::chrono::steady_clock::now() + ttl + LANE_LINGER, [bridge, lane = *lane] { bridge->retire(lane); });
+    post_at(std::chrono::steady_clock::now() + ttl + LANE_LINGER,
+            [this, weak = std::weak_ptr<TopicBridge>(bridge), lane = *lane] { retire_lane_nts(weak, lane); });
+}
+
+void Gateway::retire_lane_nts(const std::weak_ptr<TopicBridge>& weak, std::uint16_t lane) {
+    if (const std::shared_ptr<TopicBridge> bridge = weak.lock()) {
+        bridge->retire(lane);
+        retire_topic_nts(weak);
+    }
+}
+
+void Gateway::retire_topic_nts(const std::weak_ptr<TopicBridge>& weak) {
+    const std::shared_ptr<TopicBridge> bridge = weak.lock();
+    // A publisher that came back meanwhile has a lane again; a bridge already retired is no longer in the table.
+    if (bridge == nullptr || !bridge->idle() || topics_->find(bridge->name()) != bridge) {
+        return;
+    }
+    bool retired = false;
+    {
+        std::lock_guard<std::mutex> lock(retired_mutex_);
+        // In compact mode the slot is the topic's id in the catalog, whose entry stays on the WAN (see
+        // compact_slots_): only the same name takes it again.
+        const std::optional<core::TopicCounters> counts = loop_->retire_topic(bridge->id(), compact_ == nullptr);
+        if (counts) {
+            topics_->remove(bridge->name());
+            keep_retired_nts(bridge->name(), bridge->ttl(), *counts);
+            if (compact_) {
+                compact_slots_[bridge->name()] = bridge->id();
+            }
+            retired = true;
+        }
+    }
+    if (!retired) {
+        // Its readers are gone, so nothing more comes; what is queued is sent or logged by its deadline.
+        post_at(std::chrono::steady_clock::now() + RETIRE_RETRY, [this, weak] { retire_topic_nts(weak); });
+        return;
+    }
+    if (bridge->id() < reachable_.size()) {
+        reachable_[bridge->id()] = -1;
+    }
+    // The bridge, its listeners and its WAN writers go here, or after a write that holds the bridge now.
+}
+
+void Gateway::keep_retired_nts(const std::string& name, const ResolvedTtl& ttl, const core::TopicCounters& counts) {
+    retired_total_ += counts;
+    auto it = retired_.find(name);
+    if (it == retired_.end() && retired_.size() >= MAX_RETIRED_TOPICS) {
+        other_retired_.counters += counts;
+        other_retired_.ttl = ttl;
+        return;
+    }
+    if (it == retired_.end()) {
+        it = retired_.emplace(name, RetiredTopic{}).first;
+    }
+    it->second.counters += counts;
+    it->second.ttl = ttl;
+}
+
+core::TopicId Gateway::add_topic_nts(const core::TopicConfig& topic) {
+    core::TopicId id = 0;
+    const auto kept = compact_slots_.find(topic.name);
+    if (kept != compact_slots_.end() && loop_->add_topic_at(kept->second, topic)) {
+        id = kept->second;
+    } else {
+        id = loop_->add_topic(topic);
+    }
+    // Held until a base-camp reader matches its WAN writer, which takes discovery a moment at least.
+    loop_->set_reachable(id, false);
+    if (id >= reachable_.size()) {
+        reachable_.resize(static_cast<std::size_t>(id) + 1, -1);
+    }
+    reachable_[id] = 0;
+    return id;
 }
 
 void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
@@ -419,8 +492,10 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     if (!filter_.admits(pub.topic)) {
         return;
     }
-    if (TopicBridge* bridge = topics_->find(pub.topic)) {
-        bridge->admit(pub, false);
+    if (const std::shared_ptr<TopicBridge> bridge = topics_->find(pub.topic)) {
+        if (!bridge->admit(pub, false)) {
+            refused_lanes_.fetch_add(1, std::memory_order_relaxed);
+        }
         return;
     }
     std::optional<base::Duration> profile_lifespan;
@@ -428,26 +503,74 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
         profile_lifespan = to_duration(profile->lifespan().duration);
     }
     const ResolvedTtl ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
-    const core::TopicId id = loop_->add_topic(core::TopicConfig{pub.topic, ttl.ttl});
-    // Held until a base-camp reader matches its WAN writer, which takes discovery a moment at least.
-    loop_->set_reachable(id, false);
-    auto bridge = std::make_unique<TopicBridge>(id, pub.topic, pub.type_name, pub.keyed, ttl,
+    const core::TopicId id = add_topic_nts(core::TopicConfig{pub.topic, ttl.ttl});
+    auto bridge = std::make_shared<TopicBridge>(id, pub.topic, pub.type_name, pub.keyed, ttl,
                                                 TopicBridge::Ends{*robot_, *wan_, *loop_, clock_, compact_.get()});
     if (bridge->admit(pub, declared)) {
         topics_->add(std::move(bridge));
+        return;
+    }
+    // Fast DDS refused the WAN writer or the robot reader (admit logged which): nothing of the topic stays, so that
+    // the next publisher of it gets one bridge, made afresh. No reader was made, so nothing of it is queued.
+    refused_lanes_.fetch_add(1, std::memory_order_relaxed);
+    std::lock_guard<std::mutex> lock(retired_mutex_);
+    loop_->retire_topic(id, compact_ == nullptr);
+    if (compact_) {
+        compact_slots_[pub.topic] = id;  // its catalog entry may have been written
     }
 }
 
 std::vector<BridgedTopic> Gateway::topics() const {
     std::vector<BridgedTopic> out;
-    for (const TopicBridge* bridge : topics_->all()) {
+    for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
         out.push_back(bridge->describe());
     }
     return out;
 }
 
+std::size_t Gateway::bridged_topics() const {
+    return topics_->size();
+}
+
+std::size_t Gateway::scheduled_topics() const {
+    return loop_->live_topics();
+}
+
+std::size_t Gateway::wan_topics() const {
+    return wan_->topic_count();
+}
+
+std::vector<TopicCount> Gateway::topic_counts() const {
+    std::lock_guard<std::mutex> lock(retired_mutex_);
+    std::vector<TopicCount> out;
+    std::set<std::string> bridged;
+    for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
+        TopicCount row;
+        row.name = bridge->name();
+        row.ttl = bridge->ttl();
+        row.counters = loop_->counters(bridge->id());
+        row.bridged = true;
+        row.matched_readers = bridge->matched_readers();
+        // A topic that came back: its earlier bridges' counts too.
+        if (const auto it = retired_.find(row.name); it != retired_.end()) {
+            row.counters += it->second.counters;
+        }
+        bridged.insert(row.name);
+        out.push_back(std::move(row));
+    }
+    for (const auto& [name, retired] : retired_) {
+        if (bridged.count(name) == 0) {
+            out.push_back(TopicCount{name, retired.ttl, retired.counters, false, 0});
+        }
+    }
+    if (other_retired_.counters.received > 0) {
+        out.push_back(TopicCount{OTHER_RETIRED_TOPICS, other_retired_.ttl, other_retired_.counters, false, 0});
+    }
+    return out;
+}
+
 std::optional<BridgedTopic> Gateway::find_topic(const std::string& name) const {
-    const TopicBridge* bridge = topics_->find(name);
+    const std::shared_ptr<TopicBridge> bridge = topics_->find(name);
     return bridge != nullptr ? std::optional<BridgedTopic>(bridge->describe()) : std::nullopt;
 }
 
@@ -468,12 +591,12 @@ std::size_t Gateway::queued_samples() const {
 }
 
 std::int32_t Gateway::robot_matched_writers(core::TopicId id) const {
-    const TopicBridge* bridge = topics_->find(id);
+    const std::shared_ptr<TopicBridge> bridge = topics_->find(id);
     return bridge != nullptr ? bridge->matched_writers() : 0;
 }
 
 std::int32_t Gateway::wan_matched_readers(core::TopicId id) const {
-    const TopicBridge* bridge = topics_->find(id);
+    const std::shared_ptr<TopicBridge> bridge = topics_->find(id);
     return bridge != nullptr ? bridge->matched_readers() : 0;
 }
 
@@ -486,7 +609,7 @@ std::size_t Gateway::wan_participants() const {
 }
 
 std::optional<base::Duration> Gateway::wan_writer_lifespan(core::TopicId id, std::uint16_t lane) const {
-    const TopicBridge* bridge = topics_->find(id);
+    const std::shared_ptr<TopicBridge> bridge = topics_->find(id);
     return bridge != nullptr ? bridge->writer_lifespan(lane) : std::nullopt;
 }
 
@@ -563,12 +686,27 @@ void Gateway::publish_status_nts() {
     status.unscheduled_wire_bytes(unscheduled_wire_bytes_.load());
     status.log_samples(logged());
     std::int32_t all_readers = 0;
-    for (const TopicBridge* topic : topics_->all()) {
-        const core::TopicCounters c = loop_->counters(topic->id());
+    // The topics bridged now, each with its earlier bridges' counts, and the retired ones in one row: the status
+    // stays small whatever came and went, and its sums never go down.
+    core::TopicCounters retired;
+    std::vector<TopicCount> rows;
+    for (TopicCount& row : topic_counts()) {
+        if (row.bridged) {
+            rows.push_back(std::move(row));
+        } else {
+            retired += row.counters;
+        }
+    }
+    if (retired.received > 0) {
+        rows.push_back(TopicCount{RETIRED_TOPICS_ROW, ResolvedTtl{}, retired, false, 0});
+    }
+    for (const TopicCount& row : rows) {
+        const core::TopicCounters& c = row.counters;
         idl::TopicStatus t;
-        t.name(topic->name());
-        t.ttl_ms(static_cast<std::uint32_t>(
-            std::chrono::duration_cast<std::chrono::milliseconds>(topic->ttl().ttl).count()));
+        t.name(row.name);
+        t.ttl_ms(row.bridged ? static_cast<std::uint32_t>(
+                                   std::chrono::duration_cast<std::chrono::milliseconds>(row.ttl.ttl).count())
+                             : 0u);
         t.queued_samples(static_cast<std::uint32_t>(c.queued));
         t.queued_bytes(c.queued_payload_bytes);
         t.received(c.received);
@@ -581,7 +719,7 @@ void Gateway::publish_status_nts() {
         t.shutdown(c.dropped_for(core::DropReason::shutdown));
         t.write_failed(c.dropped_for(core::DropReason::write_failed));
         t.no_reader(c.dropped_for(core::DropReason::no_reader));
-        t.matched_readers(topic->matched_readers());
+        t.matched_readers(row.matched_readers);
         all_readers += t.matched_readers();
         status.topics().push_back(std::move(t));
     }
@@ -607,8 +745,9 @@ std::uint64_t Gateway::forwarded_robot_samples() const {
     if (compact_) {
         return compact_->stats().bundles;  // what the relay counts in compact mode
     }
-    std::uint64_t forwarded = 0;
-    for (const TopicBridge* bridge : topics_->all()) {
+    std::lock_guard<std::mutex> lock(retired_mutex_);
+    std::uint64_t forwarded = retired_total_.forwarded;
+    for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
         forwarded += loop_->counters(bridge->id()).forwarded;
     }
     return forwarded;

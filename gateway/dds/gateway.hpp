@@ -89,12 +89,26 @@ struct GatewayConfig {
     void validate() const;
 };
 
+/// One row of the gateway's per-topic accounting (Gateway::topic_counts): a topic bridged now, one retired, or
+/// the retired topics past Gateway::MAX_RETIRED_TOPICS together (named Gateway::OTHER_RETIRED_TOPICS).
+struct TopicCount {
+    std::string name;
+    ResolvedTtl ttl;  ///< the latest bridge's
+    /// Every bridge the topic had, summed: received = forwarded + queued + dropped holds for each, so for the sum.
+    core::TopicCounters counters;
+    bool bridged = false;              ///< bridged now
+    std::int32_t matched_readers = 0;  ///< base-camp readers matched now, when bridged
+};
+
 /// The whole gateway in one object (main stays thin; integration tests create it in-process): the on-robot
 /// log, the WAN participant, the ForwardingLoop with its sink, and the robot participant whose discovery
 /// makes one TopicBridge per admitted topic, with a lane per QoS its publishers offer: a type-agnostic reader
 /// that asks for that QoS and a WAN writer that offers it. A lane whose last publisher left is retired a TTL later
-/// (plus LANE_LINGER), so base-camp readers see its writer go, unless it was declared in the --qos file. Entities are
-/// created and deleted in a worker thread of its own, never in Fast DDS's callbacks.
+/// (plus LANE_LINGER), so base-camp readers see its writer go, unless it was declared in the --qos file. A topic whose
+/// last lane was retired is retired too once nothing of it is queued: its bridge, its scheduler slot and WAN topic
+/// go, and its counts are kept by name (topic_counts()), so that topics that come and go cost no memory for good.
+/// A publisher that comes back gets a new bridge. Entities are created and deleted in a worker thread of its own,
+/// never in Fast DDS's callbacks.
 class Gateway {
   public:
     /// Starts everything. Throws base::ConfigError (bad flag, file, or a participant that cannot be created).
@@ -123,12 +137,28 @@ class Gateway {
     /// The rate the scheduler budgets with (before its budget fraction).
     double rate_bps() const;
 
+    /// The topics bridged now (a retired topic is not among them; see topic_counts()).
     std::vector<BridgedTopic> topics() const;
+    /// Topics bridged now: each has a bridge, a scheduler slot and, in standard mode, a WAN topic.
+    std::size_t bridged_topics() const;
+    /// Topics the scheduler holds now: the bridged ones, and the status topic.
+    std::size_t scheduled_topics() const;
+    /// Topics the WAN participant has writers of now (the status topic's included; compact mode: its two).
+    std::size_t wan_topics() const;
+    /// Lanes Fast DDS refused to make (their WAN writer or robot reader; each logged when it happened): their
+    /// publishers' samples are not bridged, and nothing of the refused lane stays.
+    std::uint64_t refused_lanes() const { return refused_lanes_.load(); }
+    /// Per topic name, what became of its samples, over every bridge it had: the topics bridged now, by name, then
+    /// the retired ones, by name.
+    std::vector<TopicCount> topic_counts() const;
     std::optional<BridgedTopic> find_topic(const std::string& name) const;
     /// Waits until `name` is bridged (reader and WAN writer exist); false on timeout.
     bool wait_for_topic(const std::string& name, std::chrono::milliseconds timeout) const;
 
+    /// The counts of the topic bridged under `id` now (BridgedTopic::id): once a topic is retired its id may be
+    /// another topic's, and its counts are in topic_counts().
     core::TopicCounters counters(core::TopicId id) const;
+    /// Every topic's counts together, retired topics' included.
     core::TopicCounters total_counters() const;
     std::size_t queued_samples() const;
 
@@ -167,6 +197,14 @@ class Gateway {
 
     /// How long a lane whose last publisher left outlives the TTL of its samples still queued.
     static constexpr std::chrono::seconds LANE_LINGER{1};
+    /// A topic whose last lane was retired with samples still queued (their deadline later than its TTL from
+    /// then: a source clock ahead) is looked at again this often, until they are sent or logged.
+    static constexpr std::chrono::seconds RETIRE_RETRY{1};
+    /// Retired topics whose counts are kept by name; those of more go into one row, OTHER_RETIRED_TOPICS.
+    static constexpr std::size_t MAX_RETIRED_TOPICS = 4096;
+    static constexpr const char* OTHER_RETIRED_TOPICS = "(other retired topics)";
+    /// The status's row of every retired topic's counts together.
+    static constexpr const char* RETIRED_TOPICS_ROW = "(retired topics)";
 
   private:
     /// Writes the rate to the on-robot log's link_rates, when there is a log, at most once a second unless it
@@ -184,6 +222,16 @@ class Gateway {
     void bridge_nts(const DiscoveredPublisher& pub, bool declared = false);  // the worker thread only
     /// A publisher left: if it was its lane's last, the lane is retired once its queued samples are past.
     void forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer);
+    /// Retires the lane, then the topic if that was its last lane (retire_topic_nts). The worker thread only.
+    void retire_lane_nts(const std::weak_ptr<TopicBridge>& bridge, std::uint16_t lane);
+    /// Retires an idle bridge's topic once nothing of it is queued (else looks again after RETIRE_RETRY): the bridge
+    /// leaves the table, its scheduler slot is freed and its counts are kept by name. The worker thread only.
+    void retire_topic_nts(const std::weak_ptr<TopicBridge>& bridge);
+    /// The scheduler slot for a new topic: in compact mode the one its name had before, if any (its catalog
+    /// entry says so already), else a free or new one. `reachable_` starts at "no reader". The worker thread only.
+    core::TopicId add_topic_nts(const core::TopicConfig& topic);
+    /// Adds `counts` to the retired record of `name`. Under retired_mutex_.
+    void keep_retired_nts(const std::string& name, const ResolvedTtl& ttl, const core::TopicCounters& counts);
     void stop_worker();
     /// Samples of the robot's topics written to the WAN so far: what base-camp receiver reports count (the
     /// status is not among them); in compact mode the bundles, which the relay counts.
@@ -226,6 +274,7 @@ class Gateway {
     std::optional<core::TopicId> status_topic_;  ///< with a status period
     std::vector<signed char> reachable_;         ///< per topic, as last told to the loop; -1: not yet
     std::atomic<std::uint64_t> statuses_published_{0};
+    std::atomic<std::uint64_t> refused_lanes_{0};
     std::mutex sensor_mutex_;
     std::string sensor_description_;
     std::string sensor_detail_;
@@ -238,6 +287,21 @@ class Gateway {
     std::atomic<bool> unscheduled_charge_posted_{false};
     std::mutex stop_mutex_;
     bool stopped_ = false;
+
+    /// What a retired topic left: its counts over every bridge it had, and its last TTL.
+    struct RetiredTopic {
+        core::TopicCounters counters;
+        ResolvedTtl ttl;
+    };
+    /// Held while a topic is retired and while the counts are read, so that a topic's counts are never seen in
+    /// both its slot and its record, nor in neither.
+    mutable std::mutex retired_mutex_;
+    std::map<std::string, RetiredTopic> retired_;  // under retired_mutex_
+    RetiredTopic other_retired_;                   ///< beyond MAX_RETIRED_TOPICS; under retired_mutex_
+    core::TopicCounters retired_total_;            ///< every retired record together; under retired_mutex_
+    /// Compact WAN mode: the scheduler slot (the catalog's topic id) of each topic ever bridged and now retired,
+    /// taken again by the same name only, so that an id in the catalog never changes its topic. The worker only.
+    std::map<std::string, core::TopicId> compact_slots_;
 };
 
 }  // namespace tgw::dds

@@ -17,7 +17,7 @@ void GatewaySink::set_status_route(core::TopicId id, std::shared_ptr<WanWriter> 
 bool GatewaySink::forward(core::Sample&& sample) {
     WriteResult result = WriteResult::unknown_topic;
     const bool status = sample.topic == status_topic_;
-    const TopicBridge* bridge = status ? nullptr : topics_.find(sample.topic);
+    const std::shared_ptr<TopicBridge> bridge = status ? nullptr : topics_.find(sample.topic);
     if (status) {
         result = status_writer_->write(sample);
     } else if (bridge != nullptr) {
@@ -29,7 +29,7 @@ bool GatewaySink::forward(core::Sample&& sample) {
         drop(std::move(sample), core::DropReason::write_failed);
         return false;
     }
-    note_forwarded(sample, bridge);
+    note_forwarded(sample, bridge.get());
     return true;
 }
 
@@ -44,7 +44,7 @@ std::size_t GatewaySink::forward_bundle(std::vector<core::Sample>&& samples, std
                 drop(std::move(sample), core::DropReason::write_failed);
             }
         } else if (sample.completes_sample()) {
-            note_forwarded(sample, sample.topic == status_topic_ ? nullptr : topics_.find(sample.topic));
+            note_forwarded(sample, sample.topic == status_topic_ ? nullptr : topics_.find(sample.topic).get());
         }
     }
     return written;
@@ -78,7 +78,7 @@ void GatewaySink::drop(core::Sample&& sample, core::DropReason reason) {
         return;
     }
     log::LogRecord record;
-    if (const TopicBridge* bridge = topics_.find(sample.topic)) {
+    if (const std::shared_ptr<TopicBridge> bridge = topics_.find(sample.topic)) {
         record.topic = bridge->name();
         record.type_name = bridge->type_name();
     }

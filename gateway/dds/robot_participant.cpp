@@ -88,8 +88,15 @@ fdds::DataReader* RobotParticipant::create_reader(const std::string& topic_name,
     std::lock_guard<std::mutex> lock(mutex_);
     fdds::Topic* topic = passthrough_topic(participant_, topic_name, type_name, keyed);
     fdds::Subscriber* subscriber = subscribers_.get(participant_, offer);
+    // A topic made here for a reader that could not be made goes again: nothing half-made stays behind.
+    const auto drop_unused_topic = [&] {
+        if (topic != nullptr && readers_of_topic_.count(topic_name) == 0) {
+            participant_->delete_topic(topic);
+        }
+    };
     if (topic == nullptr || subscriber == nullptr) {
         std::cerr << "telemetry-gateway: cannot create robot topic " << topic_name << " (type " << type_name << ")\n";
+        drop_unused_topic();
         return nullptr;
     }
 
@@ -99,6 +106,7 @@ fdds::DataReader* RobotParticipant::create_reader(const std::string& topic_name,
     if (reader == nullptr) {
         std::cerr << "telemetry-gateway: cannot create a reader for " << topic_name << " (" << offer.describe()
                   << ")\n";
+        drop_unused_topic();
         return nullptr;
     }
     ++readers_of_topic_[topic_name];

@@ -125,6 +125,11 @@ void TopicBridge::close_readers() {
     }
 }
 
+bool TopicBridge::idle() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::none_of(lanes_.begin(), lanes_.end(), [](const Lane& lane) { return lane.live; });
+}
+
 WriteResult TopicBridge::write(core::Sample& sample) const {
     std::shared_ptr<WanWriter> writer;
     {

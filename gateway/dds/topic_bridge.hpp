@@ -85,6 +85,9 @@ class TopicBridge {
     void retire(std::uint16_t lane);
     /// Deletes every robot reader: no sample comes in after this. The WAN writers stay.
     void close_readers();
+    /// True when every lane was retired (or none was made): the bridge reads and writes nothing, and the gateway
+    /// may retire the topic. A lane declared in the --qos file is never retired, so its topic is never idle.
+    bool idle() const;
 
     /// Writes (or disposes, or unregisters) through the WAN writer of the sample's lane. Never throws.
     WriteResult write(core::Sample& sample) const;

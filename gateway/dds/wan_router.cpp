@@ -305,6 +305,7 @@ std::shared_ptr<WanWriter> WanRouter::create_writer(
     fdds::Publisher* publisher = publishers_.get(participant_, offer);
     if (wan_topic == nullptr || publisher == nullptr) {
         std::cerr << "telemetry-gateway: cannot create WAN topic " << topic << " (type " << type_name << ")\n";
+        drop_unused_topic_nts(wan_topic);
         return nullptr;
     }
 
@@ -323,9 +324,34 @@ std::shared_ptr<WanWriter> WanRouter::create_writer(
     if (writer == nullptr) {
         std::cerr << "telemetry-gateway: cannot create the WAN writer for " << topic << " (" << offer.describe()
                   << ")\n";
+        drop_unused_topic_nts(wan_topic);
         return nullptr;
     }
-    return std::make_shared<WanWriter>(writer, std::move(matches), topic, keyed);
+    ++writers_of_topic_[topic];
+    return std::make_shared<WanWriter>(writer, std::move(matches), topic, keyed,
+                                       [this](fdds::DataWriter* w) { delete_writer(w); });
+}
+
+void WanRouter::delete_writer(fdds::DataWriter* writer) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    fdds::Topic* topic = writer->get_topic();
+    const_cast<fdds::Publisher*>(writer->get_publisher())->delete_datawriter(writer);
+    const auto it = writers_of_topic_.find(topic->get_name());
+    if (it != writers_of_topic_.end() && --it->second == 0) {
+        writers_of_topic_.erase(it);
+        participant_->delete_topic(topic);
+    }
+}
+
+void WanRouter::drop_unused_topic_nts(fdds::Topic* topic) {
+    if (topic != nullptr && writers_of_topic_.count(topic->get_name()) == 0) {
+        participant_->delete_topic(topic);
+    }
+}
+
+std::size_t WanRouter::topic_count() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return writers_of_topic_.size();
 }
 
 std::size_t WanRouter::remote_participants() const {

@@ -119,9 +119,18 @@ class WanRouter {
 
     eprosima::fastrtps::rtps::GuidPrefix_t guid_prefix() const;
 
+    /// Topics of the writers made here that the participant has now: each goes with its last writer, so topics
+    /// that come and go leave none behind.
+    std::size_t topic_count() const;
+
   private:
     class Introducer;
     class ParticipantCounter;
+
+    /// Deletes `writer`, and its topic when it was the topic's last writer.
+    void delete_writer(eprosima::fastdds::dds::DataWriter* writer);
+    /// Deletes `topic` if no writer of ours uses it (a writer that could not be made left it behind). Under mutex_.
+    void drop_unused_topic_nts(eprosima::fastdds::dds::Topic* topic);
 
     base::SystemClock clock_;  // datagrams wait in real time, whatever clock the scheduler runs on
     std::shared_ptr<DatagramCoalescer> coalescer_;
@@ -130,6 +139,7 @@ class WanRouter {
     eprosima::fastdds::dds::Publisher* publisher_ = nullptr;  ///< the default partition's
     mutable std::mutex mutex_;
     PartitionGroups<eprosima::fastdds::dds::Publisher> publishers_;  // under mutex_
+    std::map<std::string, int> writers_of_topic_;                    // under mutex_
     std::unique_ptr<Introducer> introducer_;                         ///< stopped before participant_'s deletion
     std::unique_ptr<ParticipantCounter> participants_;               ///< before participant_'s deletion
 };

@@ -16,11 +16,15 @@ namespace fdds = eprosima::fastdds::dds;
 using eprosima::fastrtps::types::ReturnCode_t;
 
 WanWriter::WanWriter(fdds::DataWriter* writer, std::unique_ptr<WriterMatchCounter> matches, std::string topic,
-                     bool keyed)
-    : writer_(writer), matches_(std::move(matches)), topic_(std::move(topic)), keyed_(keyed) {}
+                     bool keyed, Deleter deleter)
+    : writer_(writer),
+      matches_(std::move(matches)),
+      deleter_(std::move(deleter)),
+      topic_(std::move(topic)),
+      keyed_(keyed) {}
 
 WanWriter::~WanWriter() {
-    const_cast<fdds::Publisher*>(writer_->get_publisher())->delete_datawriter(writer_);
+    deleter_(writer_);
 }
 
 WriteResult WanWriter::write(core::Sample& sample) {

@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -25,9 +26,12 @@ enum class WriteResult { ok, unknown_topic, failed };
 /// before the WAN participant goes.
 class WanWriter {
   public:
-    /// Takes `writer`, which must have been created with `matches` as its listener.
+    /// Deletes a writer when its WanWriter goes (WanRouter's, which deletes the topic with its last writer).
+    using Deleter = std::function<void(eprosima::fastdds::dds::DataWriter*)>;
+
+    /// Takes `writer`, which must have been created with `matches` as its listener; `deleter` deletes it.
     WanWriter(eprosima::fastdds::dds::DataWriter* writer, std::unique_ptr<WriterMatchCounter> matches,
-              std::string topic, bool keyed);
+              std::string topic, bool keyed, Deleter deleter);
     ~WanWriter();
 
     WanWriter(const WanWriter&) = delete;
@@ -44,6 +48,7 @@ class WanWriter {
   private:
     eprosima::fastdds::dds::DataWriter* writer_;
     std::unique_ptr<WriterMatchCounter> matches_;
+    Deleter deleter_;
     const std::string topic_;
     const bool keyed_;
     std::atomic<bool> failure_reported_{false};

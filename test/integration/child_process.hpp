@@ -59,6 +59,8 @@ class ChildProcess {
     ChildProcess& operator=(const ChildProcess&) = delete;
 
     bool started() const { return pid_ > 0; }
+    /// Its process id; -1 when it did not start.
+    pid_t pid() const { return pid_; }
 
     /// The next line it printed; nullopt when none came by `deadline` or it closed its output.
     std::optional<std::string> read_line(Deadline deadline) {

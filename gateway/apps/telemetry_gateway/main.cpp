@@ -38,16 +38,18 @@ void print_summary(const tgw::dds::Gateway& gateway) {
         std::printf(" %9.*s", static_cast<int>(name.size()), name.data());
     }
     std::printf("  ttl\n");
-    for (const auto& topic : gateway.topics()) {
-        const tgw::core::TopicCounters c = gateway.counters(topic.id);
+    // Every topic the gateway bridged, retired ones too (their bridges went when their publishers did).
+    const std::vector<tgw::dds::TopicCount> counts = gateway.topic_counts();
+    for (const auto& topic : counts) {
+        const tgw::core::TopicCounters& c = topic.counters;
         std::printf("%-32s %10llu %10llu %8llu", topic.name.c_str(), static_cast<unsigned long long>(c.received),
                     static_cast<unsigned long long>(c.forwarded), static_cast<unsigned long long>(c.queued));
         for (auto d : c.dropped) {
             std::printf(" %9llu", static_cast<unsigned long long>(d));
         }
         const auto source = tgw::dds::to_string(topic.ttl.source);
-        std::printf("  %.3g s (%.*s)\n", tgw::base::to_seconds(topic.ttl.ttl), static_cast<int>(source.size()),
-                    source.data());
+        std::printf("  %.3g s (%.*s%s)\n", tgw::base::to_seconds(topic.ttl.ttl), static_cast<int>(source.size()),
+                    source.data(), topic.bridged ? "" : ", retired");
     }
     const auto latency = gateway.processing_latency();
     const auto us = [](tgw::base::Duration d) { return std::chrono::duration<double, std::micro>(d).count(); };
@@ -57,8 +59,8 @@ void print_summary(const tgw::dds::Gateway& gateway) {
         static_cast<unsigned long long>(latency.count), us(latency.median()), us(latency.percentile(0.99)),
         us(latency.max));
     std::printf("wire bytes per forwarded sample, as the budget charged them:");
-    for (const auto& topic : gateway.topics()) {
-        const tgw::core::TopicCounters c = gateway.counters(topic.id);
+    for (const auto& topic : counts) {
+        const tgw::core::TopicCounters& c = topic.counters;
         if (c.forwarded > 0) {
             std::printf(" %s %.1f", topic.name.c_str(),
                         static_cast<double>(c.forwarded_wire_bytes) / static_cast<double>(c.forwarded));

@@ -179,14 +179,7 @@ TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed stats >"$WORK/tc.txt" 2>&1 || true
 shaper_dropped="$(sed -nE 's/.*\(dropped ([0-9]+),.*/\1/p' "$WORK/tc.txt" | head -1)"
 shaper_dropped="${shaper_dropped:-0}"
 
-echo "--- tm-robot-sim"
-cat "$WORK/robot.out"
-echo "--- gateway (exit status $gateway_status)"
-cat "$WORK/gateway.out"
-echo "--- recorder"
-tail -n 5 "$WORK/record.out"
-echo "--- shaper"
-cat "$WORK/tc.txt"
+show_outputs "$WORK/record.out"
 
 q() { sqlite3 -batch -noheader "$LOG" "$1"; }
 # The recording may hold nothing at all at this rate; an absent table counts as no sample.

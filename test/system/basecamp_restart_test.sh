@@ -69,14 +69,7 @@ echo "a new base camp started $(((restart_ns - killed_ns) / 1000000)) ms later"
 
 finish_run "$sim_pid" "$gateway_pid" "$second_record_pid"
 
-echo "--- tm-robot-sim"
-cat "$WORK/robot.out"
-echo "--- gateway (exit status $gateway_status)"
-cat "$WORK/gateway.out"
-echo "--- the second base camp"
-tail -n 5 "$WORK/record2.out"
-echo "--- shaper"
-cat "$WORK/tc.txt"
+show_outputs "$WORK/record2.out"
 
 LOG="$WORK/robot-log.db" REC="$WORK/basecamp2.db"
 q() { sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log; $1"; }

@@ -96,14 +96,7 @@ finish_run "$sim_pid" "$gateway_pid" "$record_pid"
 shaper_dropped="$(sed -nE 's/.*\(dropped ([0-9]+),.*/\1/p' "$WORK/tc.txt" | head -1)"
 shaper_dropped="${shaper_dropped:-0}"
 
-echo "--- tm-robot-sim"
-cat "$WORK/robot.out"
-echo "--- gateway (exit status $gateway_status)"
-cat "$WORK/gateway.out"
-echo "--- recorder"
-tail -n 5 "$WORK/record.out"
-echo "--- shaper"
-cat "$WORK/tc.txt"
+show_outputs "$WORK/record.out"
 
 LOG="$WORK/robot-log.db" REC="$WORK/basecamp.db"
 q() { sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log; $1"; }

@@ -95,3 +95,16 @@ finish_run() {
     wait "$3" 2>/dev/null || true
     TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed stats >"$WORK/tc.txt" 2>&1 || true
 }
+
+# show_outputs RECORD_OUT: what the programs printed (tm-robot-sim; the gateway, with $gateway_status; the last
+# lines of the recorder's RECORD_OUT) and the shaper's counters ($WORK/tc.txt).
+show_outputs() {
+    echo "--- tm-robot-sim"
+    cat "$WORK/robot.out"
+    echo "--- gateway (exit status $gateway_status)"
+    cat "$WORK/gateway.out"
+    echo "--- recorder"
+    tail -n 5 "$1"
+    echo "--- shaper"
+    cat "$WORK/tc.txt"
+}

@@ -61,6 +61,7 @@ class WanRouter::Introducer {
     /// Starts announcing through `participant`, which must outlive stop().
     void start(fdds::DomainParticipant* participant) {
         participant_ = participant;
+        user_data_ = participant->get_qos().user_data().data_vec();
         thread_ = std::thread([this] { run(); });
     }
     void stop() {
@@ -101,13 +102,10 @@ class WanRouter::Introducer {
     }
 
     /// Fast DDS 2.9 offers no call that sends the participant's announcement, but sends it at once to every peer
-    /// when the participant's user data changes: a trailing byte counts the introductions.
+    /// when the participant's user data changes: a byte after the participant's own counts the introductions.
     void announce(std::uint64_t count) {
         fdds::DomainParticipantQos qos = participant_->get_qos();
-        std::vector<eprosima::fastrtps::rtps::octet> data = qos.user_data().data_vec();
-        if (count > 1 && !data.empty()) {
-            data.pop_back();  // the previous introduction's byte
-        }
+        std::vector<eprosima::fastrtps::rtps::octet> data = user_data_;
         data.push_back(static_cast<eprosima::fastrtps::rtps::octet>(count));
         qos.user_data().data_vec(data);
         if (participant_->set_qos(qos) != ReturnCode_t::RETCODE_OK) {
@@ -116,6 +114,7 @@ class WanRouter::Introducer {
     }
 
     fdds::DomainParticipant* participant_ = nullptr;
+    std::vector<eprosima::fastrtps::rtps::octet> user_data_;  ///< the participant's own, from its QoS
     mutable std::mutex mutex_;
     std::condition_variable wake_;
     IntroductionSchedule schedule_;    // under mutex_

@@ -72,9 +72,7 @@ cd "$(dirname "$0")/../.."
 # shellcheck source=test/system/system_test_lib.sh
 source test/system/system_test_lib.sh
 require_netns
-for tool in sqlite3 python3; do
-    command -v "$tool" >/dev/null || { echo "SKIP: needs $tool"; exit 77; }
-done
+require_tools sqlite3 python3
 for program in telemetry-gateway tm-robot-sim tm-basecamp; do
     [ -x "$BIN/$program" ] || { echo "low_rate_soak: $BIN/$program is missing" >&2; exit 2; }
 done

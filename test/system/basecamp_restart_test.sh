@@ -22,7 +22,7 @@ cd "$(dirname "$0")/../.."
 # shellcheck source=test/system/system_test_lib.sh
 source test/system/system_test_lib.sh
 require_netns
-command -v sqlite3 >/dev/null || { echo "SKIP: needs sqlite3"; exit 77; }
+require_tools sqlite3
 case "$HOW" in
     sigkill) SIGNAL=KILL ;;
     sigterm) SIGNAL=TERM ;;

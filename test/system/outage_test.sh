@@ -40,9 +40,7 @@ cd "$(dirname "$0")/../.."
 # shellcheck source=test/system/system_test_lib.sh
 source test/system/system_test_lib.sh
 require_netns
-for tool in sqlite3 python3; do
-    command -v "$tool" >/dev/null || { echo "SKIP: needs $tool"; exit 77; }
-done
+require_tools sqlite3 python3
 
 RATE=20000
 OUTAGE_RATE=1000

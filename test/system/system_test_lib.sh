@@ -8,6 +8,14 @@ require_netns() {
     fi
 }
 
+# Exits 77 unless every TOOL given is installed.
+require_tools() {
+    local tool
+    for tool in "$@"; do
+        command -v "$tool" >/dev/null || { echo "SKIP: needs $tool"; exit 77; }
+    done
+}
+
 # check DESCRIPTION CONDITION A [B]: prints ok or FAIL; CONDITION is awk over a and b. A failure sets fail=1.
 fail=0
 check() {

@@ -73,4 +73,33 @@ class BundleBuilder {
     base::WallTime base_time_{};
 };
 
+/// Splits a bundle's bytes among its entries, each its payload's share of the whole (equal shares when every
+/// payload is empty), rounded so that the shares add up to the bundle. Call next() once per entry, in order.
+class BundleShares {
+  public:
+    BundleShares(std::uint64_t bundle_bytes, std::uint64_t payload_bytes, std::size_t entries)
+        : bundle_bytes_(bundle_bytes), payload_bytes_(payload_bytes), entries_(entries) {}
+
+    std::uint64_t next(std::size_t entry_payload_bytes) {
+        const std::uint64_t before = share_until(payload_before_, index_);
+        payload_before_ += entry_payload_bytes;
+        ++index_;
+        return share_until(payload_before_, index_) - before;
+    }
+
+  private:
+    std::uint64_t share_until(std::uint64_t payload, std::size_t entries) const {
+        if (entries_ == 0) {
+            return 0;
+        }
+        return payload_bytes_ == 0 ? bundle_bytes_ * entries / entries_ : bundle_bytes_ * payload / payload_bytes_;
+    }
+
+    std::uint64_t bundle_bytes_;
+    std::uint64_t payload_bytes_;
+    std::size_t entries_;
+    std::uint64_t payload_before_ = 0;
+    std::size_t index_ = 0;
+};
+
 }  // namespace tgw::core

@@ -1,11 +1,12 @@
 #include "gateway/core/forwarding_loop.hpp"
 
+#include <algorithm>
 #include <utility>
 
 namespace tgw::core {
 
 ForwardingLoop::ForwardingLoop(const SchedulerConfig& config, const base::Clock& clock, SampleSink& sink)
-    : clock_(clock), sink_(sink), scheduler_(config), defer_writes_(!config.bundles) {}
+    : clock_(clock), sink_(sink), scheduler_(config), outbox_(sink) {}
 
 ForwardingLoop::~ForwardingLoop() {
     stop();
@@ -132,28 +133,101 @@ void ForwardingLoop::write_outbox(std::unique_lock<std::mutex>& lock) {
     while (!outbox_.empty()) {
         outbox_.take(writing_now_);
         lock.unlock();
-        struct Failed {
-            TopicId topic;
-            std::size_t payload_bytes;
-        };
-        std::vector<Failed> failed;  // rare: allocates only when a write fails
-        for (WriteOutbox::Decision& d : writing_now_) {
-            if (!d.forward) {
-                sink_.drop(std::move(d.sample), d.reason);
-                continue;
-            }
-            const Failed f{d.sample.topic, d.sample.payload.size()};
-            if (!sink_.forward(std::move(d.sample))) {
-                failed.push_back(f);
-            }
-        }
+        write_decisions();
         lock.lock();
-        for (const Failed& f : failed) {
-            scheduler_.forward_failed(f.topic, f.payload_bytes);
-        }
+        settle_failures();
     }
     writing_ = false;
     written_.notify_all();
+}
+
+void ForwardingLoop::write_decisions() {
+    for (WriteOutbox::Decision& d : writing_now_) {
+        switch (d.kind) {
+            case WriteOutbox::Decision::Kind::drop:
+                sink_.drop(std::move(d.sample), d.reason);
+                break;
+            case WriteOutbox::Decision::Kind::forward: {
+                const FailedWrite f{FailedWrite::Kind::sample, d.sample.topic, d.sample.payload.size(), 0, 0};
+                if (!sink_.forward(std::move(d.sample))) {
+                    failed_.push_back(f);
+                }
+                break;
+            }
+            case WriteOutbox::Decision::Kind::bundle:
+                write_bundle(d);
+                break;
+        }
+    }
+}
+
+void ForwardingLoop::write_bundle(WriteOutbox::Decision& d) {
+    // What settling a failure needs, read before the sink takes the samples.
+    std::uint64_t payload_bytes = 0;
+    std::optional<std::uint32_t> completed_id;  // of the sample whose last chunk this is
+    for (const Sample& s : d.bundle) {
+        payload_bytes += s.payload.size();
+        if (s.chunk && s.completes_sample()) {
+            completed_id = s.chunk->id;
+        }
+    }
+    const std::size_t settled_before = failed_.size();
+    BundleShares shares(d.encoded.wire_bytes, payload_bytes, d.bundle.size());
+    for (const Sample& s : d.bundle) {
+        const std::uint64_t share = shares.next(s.payload.size());
+        if (s.chunk) {
+            failed_.push_back(FailedWrite{FailedWrite::Kind::chunk, s.topic, 0, 0, s.chunk->id});
+        } else {
+            failed_.push_back(FailedWrite{FailedWrite::Kind::bundle_entry, s.topic, s.payload.size(), share, 0});
+        }
+    }
+    if (sink_.write_bundle(std::move(d.bundle), std::move(d.encoded))) {
+        failed_.resize(settled_before);
+    } else {
+        for (std::size_t i = settled_before; i < failed_.size(); ++i) {
+            if (failed_[i].kind == FailedWrite::Kind::chunk) {
+                failed_chunks_.push_back(failed_[i].chunk_id);
+            }
+        }
+    }
+    if (d.completed && completed_id) {
+        // The scheduler counted the sample forwarded when it decided its last chunk. If one of its chunks, this or
+        // an earlier, was not written, it cannot arrive whole: it is logged whole.
+        const auto failed = std::find(failed_chunks_.begin(), failed_chunks_.end(), *completed_id);
+        if (failed != failed_chunks_.end()) {
+            failed_chunks_.erase(failed);
+            const std::size_t bytes = d.completed->payload.size();
+            failed_.push_back(FailedWrite{FailedWrite::Kind::bundle_entry, d.completed->topic, bytes, 0, 0});
+            sink_.drop(std::move(*d.completed), DropReason::write_failed);
+        }
+    }
+    // Ids of samples long gone (abandoned meanwhile by the scheduler) are not kept for ever.
+    constexpr std::size_t MAX_FAILED_CHUNKS = 16;
+    if (failed_chunks_.size() > MAX_FAILED_CHUNKS) {
+        failed_chunks_.erase(failed_chunks_.begin());
+    }
+}
+
+void ForwardingLoop::settle_failures() {
+    for (const FailedWrite& f : failed_) {
+        switch (f.kind) {
+            case FailedWrite::Kind::sample:
+                scheduler_.forward_failed(f.topic, f.payload_bytes);
+                break;
+            case FailedWrite::Kind::bundle_entry:
+                scheduler_.forward_failed(f.topic, f.payload_bytes, f.wire_bytes);
+                break;
+            case FailedWrite::Kind::chunk:
+                // Still leaving in chunks: abandoned now, logged through the outbox. Else it left already, and its
+                // last chunk's bundle settles it.
+                if (scheduler_.chunk_failed(f.chunk_id, outbox_)) {
+                    failed_chunks_.erase(std::remove(failed_chunks_.begin(), failed_chunks_.end(), f.chunk_id),
+                                         failed_chunks_.end());
+                }
+                break;
+        }
+    }
+    failed_.clear();
 }
 
 void ForwardingLoop::kick_nts() {

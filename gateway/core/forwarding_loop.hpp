@@ -16,11 +16,12 @@ namespace tgw::core {
 /// when the scheduler asks to (link free again, a deadline) and releases or logs what is due.
 ///
 /// Every call into the scheduler happens under one lock; the sink is called by one thread at a time, in the
-/// order the scheduler decided. In standard WAN mode the decisions go into a WriteOutbox under the lock and are
-/// written after it: a WAN write that blocks then holds up only the thread writing, never a listener that
-/// brings a sample while it writes (it finds the writer busy, leaves its decisions to it and returns). In
-/// compact mode (SchedulerConfig::bundles) the sink is called under the lock: a bundle's real size is charged
-/// as soon as it is written.
+/// order the scheduler decided. The decisions go into a WriteOutbox under the lock and are written after it: a
+/// WAN write that blocks then holds up only the thread writing, never a listener that brings a sample while it
+/// writes (it finds the writer busy, leaves its decisions to it and returns). In compact mode
+/// (SchedulerConfig::bundles) the sink encodes each bundle under the lock, so that the budget charges its real
+/// size, and writes it after. A write that fails is settled with the scheduler afterwards: the sample counts as
+/// write_failed, and a sample sent in chunks is logged whole if any of its chunks failed.
 class ForwardingLoop {
   public:
     ForwardingLoop(const SchedulerConfig& config, const base::Clock& clock, SampleSink& sink);
@@ -56,11 +57,16 @@ class ForwardingLoop {
     std::size_t live_topics() const;
 
   private:
-    /// Where the scheduler's decisions go while the lock is held: the outbox, or in compact mode the sink.
-    SampleSink& decisions() { return defer_writes_ ? static_cast<SampleSink&>(outbox_) : sink_; }
+    /// Where the scheduler's decisions go while the lock is held.
+    SampleSink& decisions() { return outbox_; }
     /// Writes the outbox to the sink, releasing `lock` meanwhile, until it stays empty; returns at once when
     /// another thread is writing (it takes what was added). `lock` is held on entry and on return.
     void write_outbox(std::unique_lock<std::mutex>& lock);
+    /// The writing thread's, without the lock: writes writing_now_ and notes what failed.
+    void write_decisions();
+    void write_bundle(WriteOutbox::Decision& decision);
+    /// The writing thread's, under the lock: tells the scheduler what failed.
+    void settle_failures();
     void run();
     void kick_nts();  // the lock is held
 
@@ -69,11 +75,27 @@ class ForwardingLoop {
     mutable std::mutex mutex_;
     std::condition_variable wake_;
     Scheduler scheduler_;
-    const bool defer_writes_;
-    WriteOutbox outbox_;                              // under mutex_
-    bool writing_ = false;                            // under mutex_: a thread is writing the outbox to the sink
-    std::vector<WriteOutbox::Decision> writing_now_;  // the writing thread's, while writing_
-    std::condition_variable written_;                 // writing_ went false
+    WriteOutbox outbox_;    // under mutex_
+    bool writing_ = false;  // under mutex_: a thread is writing the outbox to the sink
+    // The rest is the writing thread's, while writing_.
+    std::vector<WriteOutbox::Decision> writing_now_;
+    /// A write that failed, to settle with the scheduler.
+    struct FailedWrite {
+        enum class Kind : std::uint8_t {
+            sample,        ///< forward() failed
+            bundle_entry,  ///< a whole sample in a bundle that failed, or a chunked one a chunk of which did
+            chunk,         ///< a chunk in a bundle that failed
+        };
+        Kind kind;
+        TopicId topic;
+        std::size_t payload_bytes;
+        std::uint64_t wire_bytes;  ///< bundle_entry: its share of the bundle
+        std::uint32_t chunk_id;    ///< chunk
+    };
+    std::vector<FailedWrite> failed_;
+    /// Chunk ids (Sample::Chunk::id) of samples a chunk of which failed after the scheduler let them go.
+    std::vector<std::uint32_t> failed_chunks_;
+    std::condition_variable written_;  // writing_ went false
     std::thread thread_;
     bool kicked_ = false;
     bool stopping_ = false;

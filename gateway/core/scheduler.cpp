@@ -235,11 +235,23 @@ void Scheduler::forward(Sample&& sample, std::uint64_t wire_bits, SampleSink& si
 }
 
 void Scheduler::forward_failed(TopicId topic, std::size_t payload_bytes) {
+    forward_failed(topic, payload_bytes, wire_bits(payload_bytes) / 8);
+}
+
+void Scheduler::forward_failed(TopicId topic, std::size_t payload_bytes, std::uint64_t wire_bytes) {
     TopicCounters& c = topics_[topic].counters;
     --c.forwarded;
     c.forwarded_payload_bytes -= payload_bytes;
-    c.forwarded_wire_bytes -= wire_bits(payload_bytes) / 8;
+    c.forwarded_wire_bytes -= wire_bytes;
     ++c.dropped_for(DropReason::write_failed);
+}
+
+bool Scheduler::chunk_failed(std::uint32_t chunk_id, SampleSink& sink) {
+    if (!chunked_ || chunked_->id != chunk_id) {
+        return false;
+    }
+    abandon_chunks(DropReason::write_failed, sink);
+    return true;
 }
 
 void Scheduler::drop(Sample&& sample, DropReason reason, SampleSink& sink) {
@@ -341,19 +353,10 @@ void Scheduler::release_bundles(base::SteadyTime now, SampleSink& sink) {
             8u * sink.forward_bundle(std::move(samples), static_cast<std::size_t>(most_bits / 8));
         const bool written = bits > 0;
         budget_.charge(now, written ? bits : most_bits);
-        // Each entry's share of the bundle's bytes is its payload's share of the whole, rounded so that the shares
-        // add up to the bundle.
-        const std::uint64_t bytes = bits / 8;
-        std::uint64_t payload_before = 0;
-        for (std::size_t i = 0; i < tallies.size(); ++i) {
-            const Tally& t = tallies[i];
+        BundleShares shares(bits / 8, payload_bytes, tallies.size());
+        for (const Tally& t : tallies) {
             TopicCounters& c = topics_[t.topic].counters;
-            const auto share_until = [&](std::uint64_t payload, std::size_t entries) {
-                return payload_bytes == 0 ? bytes * entries / tallies.size() : bytes * payload / payload_bytes;
-            };
-            const std::uint64_t share =
-                share_until(payload_before + t.payload_bytes, i + 1) - share_until(payload_before, i);
-            payload_before += t.payload_bytes;
+            const std::uint64_t share = shares.next(t.payload_bytes);
             if (written) {
                 topics_[t.topic].link_use.add(now, 8.0 * static_cast<double>(share));
             }
@@ -378,6 +381,7 @@ void Scheduler::release_bundles(base::SteadyTime now, SampleSink& sink) {
             c.queued_payload_bytes -= chunked_->sample.payload.size();
             ++c.forwarded;
             c.forwarded_payload_bytes += chunked_->sample.payload.size();
+            sink.chunked_sample_left(std::move(chunked_->sample));
             chunked_.reset();
         }
     }
@@ -517,8 +521,8 @@ bool Scheduler::start_chunks(DeadlineQueue::Slot slot, base::SteadyTime start, S
     TopicCounters& c = topics_[chunked.sample.topic].counters;
     ++c.queued;
     c.queued_payload_bytes += chunked.sample.payload.size();
+    chunked.id = ++next_chunk_id_;
     chunked_ = std::move(chunked);
-    ++next_chunk_id_;
     return true;
 }
 
@@ -572,7 +576,7 @@ bool Scheduler::add_chunk(base::SteadyTime start, base::SteadyTime earliest_dead
     if (remaining == 0) {
         return false;
     }
-    const Sample::Chunk info{next_chunk_id_, static_cast<std::uint32_t>(whole.payload.size()),
+    const Sample::Chunk info{c.id, static_cast<std::uint32_t>(whole.payload.size()),
                              static_cast<std::uint32_t>(c.sent_bytes)};
     const bool plain = c.sent_bytes == 0 && compact::BundleCodec::plain_cdr(whole.payload.data(), whole.payload.size());
     const auto entry_of = [&](std::size_t n) {

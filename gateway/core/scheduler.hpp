@@ -123,6 +123,14 @@ class Scheduler {
     /// WriteOutbox): it counts as DropReason::write_failed instead of forwarded. The sink kept it as such. Its
     /// link time stays charged: whether any of it left is not known.
     void forward_failed(TopicId topic, std::size_t payload_bytes);
+    /// The same for a sample that left in a bundle whose write failed, or in chunks one of which did: its share of
+    /// the bundle's bytes (0 for a sample sent in chunks: a chunk's bytes stay counted, as when a chunked sample
+    /// is abandoned).
+    void forward_failed(TopicId topic, std::size_t payload_bytes, std::uint64_t wire_bytes);
+    /// A chunk (Sample::Chunk::id) that the sink took turned out not to be written. If its sample is still leaving
+    /// in chunks, it can no longer arrive whole: it goes to `sink.drop` as DropReason::write_failed, and true.
+    /// False when the sample has left already (its last chunk was taken too): see forward_failed.
+    bool chunk_failed(std::uint32_t chunk_id, SampleSink& sink);
     /// Everything still queued goes to `sink.drop` with `reason` (shutdown).
     void drain(SampleSink& sink, DropReason reason = DropReason::shutdown);
 
@@ -234,6 +242,7 @@ class Scheduler {
     /// Compact WAN mode: the sample leaving in chunks, at most one at a time. Counted as queued until its last
     /// chunk leaves.
     struct ChunkedSample {
+        std::uint32_t id = 0;  ///< Sample::Chunk::id of its chunks
         Sample sample;
         std::int64_t rank = 0;
         std::size_t sent_bytes = 0;

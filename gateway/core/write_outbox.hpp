@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -12,42 +13,75 @@ namespace tgw::core {
 /// A SampleSink that only records: ForwardingLoop decides under its lock into an outbox, and writes it to the
 /// real sink after releasing the lock, so that a WAN write that blocks (up to 100 ms on a full socket) holds up
 /// no robot listener. forward() reports success; a write that fails later is settled with
-/// Scheduler::forward_failed. Standard WAN mode only: a bundle's real size feeds the budget at once, so compact
-/// mode writes under the lock; should forward_bundle be called here anyway, its samples are kept as
-/// DropReason::write_failed (the contract of a bundle not written), never lost.
+/// Scheduler::forward_failed. A bundle is encoded at once by the real sink (encode_bundle), so that the budget
+/// charges its real size, and written later (write_bundle).
 class WriteOutbox final : public SampleSink {
   public:
     struct Decision {
-        Sample sample;
-        bool forward = false;  ///< forward it; else drop it with `reason`
+        enum class Kind : std::uint8_t { forward, drop, bundle };
+        Kind kind = Kind::drop;
+        Sample sample;  ///< forward, drop
         DropReason reason = DropReason::shutdown;
+        std::vector<Sample> bundle;  ///< bundle: its entries, encoded as `encoded`
+        EncodedBundle encoded;
+        /// bundle: the chunked sample whose last chunk it carries (SampleSink::chunked_sample_left)
+        std::optional<Sample> completed;
     };
 
+    /// `encoder` encodes the bundles (the sink the decisions will be written to).
+    explicit WriteOutbox(SampleSink& encoder) : encoder_(encoder) {}
+
     bool forward(Sample&& sample) override {
-        decisions_.push_back(Decision{std::move(sample), true, DropReason::shutdown});
+        Decision& d = push(Decision::Kind::forward);
+        d.sample = std::move(sample);
         return true;
     }
-    std::size_t forward_bundle(std::vector<Sample>&& samples, std::size_t /*wire_bytes*/) override {
-        for (Sample& sample : samples) {
-            if (!sample.chunk) {  // the scheduler keeps a chunked sample whole and logs it then
-                decisions_.push_back(Decision{std::move(sample), false, DropReason::write_failed});
+    std::size_t forward_bundle(std::vector<Sample>&& samples, std::size_t wire_bytes) override {
+        EncodedBundle encoded;
+        const std::size_t real_bytes = encoder_.encode_bundle(samples, wire_bytes, encoded);
+        if (real_bytes == 0) {
+            // Not written, by the contract of forward_bundle: each sample is kept, but the chunks, whose sample
+            // the scheduler logs whole.
+            for (Sample& sample : samples) {
+                if (!sample.chunk) {
+                    drop(std::move(sample), DropReason::write_failed);
+                }
             }
+            return 0;
         }
-        return 0;
+        Decision& d = push(Decision::Kind::bundle);
+        d.bundle = std::move(samples);
+        d.encoded = std::move(encoded);
+        return real_bytes;
+    }
+    void chunked_sample_left(Sample&& whole) override {
+        // Called right after the bundle that carried its last chunk was recorded.
+        if (!decisions_.empty() && decisions_.back().kind == Decision::Kind::bundle) {
+            decisions_.back().completed = std::move(whole);
+        }
     }
     void drop(Sample&& sample, DropReason reason) override {
-        decisions_.push_back(Decision{std::move(sample), false, reason});
+        Decision& d = push(Decision::Kind::drop);
+        d.sample = std::move(sample);
+        d.reason = reason;
     }
 
     bool empty() const { return decisions_.empty(); }
     /// Moves everything recorded so far, in order, into `out` (cleared first); the outbox is empty after and
-    /// keeps `out`'s storage, so that a steady flow allocates nothing.
+    /// keeps `out`'s storage, so that a steady flow allocates little.
     void take(std::vector<Decision>& out) {
         out.clear();
         std::swap(out, decisions_);
     }
 
   private:
+    Decision& push(Decision::Kind kind) {
+        Decision& d = decisions_.emplace_back();
+        d.kind = kind;
+        return d;
+    }
+
+    SampleSink& encoder_;
     std::vector<Decision> decisions_;
 };
 

@@ -94,8 +94,8 @@ bool CompactWan::announce(const CatalogLane& lane) {
     return catalog_writer_->write(sample) == WriteResult::ok;
 }
 
-std::size_t CompactWan::write(std::vector<core::Sample>& samples) {
-    bundle_.sequence = next_sequence_;
+std::size_t CompactWan::encode(std::vector<core::Sample>& samples, core::EncodedBundle& out) {
+    bundle_.sequence = next_sequence_++;
     bundle_.entries.resize(samples.size());
     for (std::size_t i = 0; i < samples.size(); ++i) {
         core::Sample& sample = samples[i];
@@ -118,7 +118,7 @@ std::size_t CompactWan::write(std::vector<core::Sample>& samples) {
         samples[i].payload = std::move(bundle_.entries[i].payload);
     }
 
-    // The DDS sample: plain CDR of wan::Bundle, the sequence's length and the bytes. Its buffer is reused.
+    // The DDS sample: plain CDR of wan::Bundle, the sequence's length and the bytes.
     const auto length = static_cast<std::uint32_t>(encoded_.size());
     const std::uint8_t envelope[core::BundleLimits::DDS_ENVELOPE_BYTES] = {0x00,
                                                                            0x01,
@@ -128,25 +128,31 @@ std::size_t CompactWan::write(std::vector<core::Sample>& samples) {
                                                                            static_cast<std::uint8_t>(length >> 8),
                                                                            static_cast<std::uint8_t>(length >> 16),
                                                                            static_cast<std::uint8_t>(length >> 24)};
-    carrier_.payload.assign(std::begin(envelope), std::end(envelope));
-    carrier_.payload.insert(carrier_.payload.end(), encoded_.begin(), encoded_.end());
+    out.bytes.assign(std::begin(envelope), std::end(envelope));
+    out.bytes.insert(out.bytes.end(), encoded_.begin(), encoded_.end());
+    out.wire_bytes = wire_.wire_bytes(out.bytes.size());
+    return out.wire_bytes;
+}
+
+bool CompactWan::send(core::EncodedBundle&& bundle, std::size_t entries) {
+    std::swap(carrier_.payload, bundle.bytes);  // the carrier's buffer goes back to be reused or freed
     carrier_.source_time = base::WallClock::now();
     if (bundle_writer_->write(carrier_) != WriteResult::ok) {
-        return 0;
+        return false;
     }
-    ++next_sequence_;
-    const std::size_t wire_bytes = wire_.wire_bytes(carrier_.payload.size());
+    const std::size_t wire_bytes = bundle.wire_bytes;
+    const std::size_t encoded_bytes = carrier_.payload.size() - core::BundleLimits::DDS_ENVELOPE_BYTES;
     const base::SteadyTime now = base::SteadyClock::now();
     std::lock_guard<std::mutex> lock(stats_mutex_);
     if (stats_.bundles == 0) {
         stats_.first = now;
     }
     ++stats_.bundles;
-    stats_.entries += samples.size();
-    stats_.encoded_bytes += encoded_.size();
+    stats_.entries += entries;
+    stats_.encoded_bytes += encoded_bytes;
     stats_.wire_bytes += wire_bytes;
     stats_.last = now;
-    return wire_bytes;
+    return true;
 }
 
 CompactWan::Stats CompactWan::stats() const {

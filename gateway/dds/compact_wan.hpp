@@ -14,6 +14,7 @@
 #include "base/time.hpp"
 #include "gateway/compact/bundle_codec.hpp"
 #include "gateway/core/sample.hpp"
+#include "gateway/core/sample_sink.hpp"
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/offered_qos.hpp"
 
@@ -50,10 +51,13 @@ class CompactWan {
     /// write failed. Any thread.
     bool announce(const CatalogLane& lane);
 
-    /// Encodes `samples` as the next bundle and writes it. Returns the bytes it put on the link (the wire model of
-    /// its encoded size), or 0 when the write failed; the samples keep their payloads either way. Called by one
-    /// thread at a time (the forwarding loop's).
-    std::size_t write(std::vector<core::Sample>& samples);
+    /// Encodes `samples` as the next bundle into `out` (the bundle's DDS sample) and returns the bytes it will put
+    /// on the link (the wire model of its encoded size); the samples keep their payloads. No I/O: the forwarding
+    /// loop calls it under its lock, one thread at a time, and sends the bundles after it, in the same order. A
+    /// bundle that is encoded but not sent leaves a gap in the sequence, which the relay counts as lost.
+    std::size_t encode(std::vector<core::Sample>& samples, core::EncodedBundle& out);
+    /// Writes a bundle `encode` made, of `entries` samples. False when the write failed. One thread at a time.
+    bool send(core::EncodedBundle&& bundle, std::size_t entries);
 
     /// What the bundles written so far were like.
     struct Stats {
@@ -77,9 +81,9 @@ class CompactWan {
     std::mutex catalog_mutex_;
     std::map<core::TopicId, wan::CatalogEntry> catalog_;  // under catalog_mutex_
     std::uint32_t next_sequence_ = 0;
-    compact::Bundle bundle_;             ///< reused between writes
-    std::vector<std::uint8_t> encoded_;  ///< reused between writes
-    core::Sample carrier_;               ///< the bundle's DDS sample, reused between writes
+    compact::Bundle bundle_;             ///< encode()'s, reused
+    std::vector<std::uint8_t> encoded_;  ///< encode()'s, reused
+    core::Sample carrier_;               ///< send()'s: the bundle's DDS sample
     mutable std::mutex stats_mutex_;
     Stats stats_;  // under stats_mutex_
 };

@@ -33,12 +33,26 @@ bool GatewaySink::forward(core::Sample&& sample) {
     return true;
 }
 
-std::size_t GatewaySink::forward_bundle(std::vector<core::Sample>&& samples, std::size_t /*wire_bytes*/) {
-    const std::size_t written = compact_ != nullptr ? compact_->write(samples) : 0;
+std::size_t GatewaySink::forward_bundle(std::vector<core::Sample>&& samples, std::size_t wire_bytes) {
+    core::EncodedBundle bundle;
+    const std::size_t written = encode_bundle(samples, wire_bytes, bundle);
+    return written > 0 && write_bundle(std::move(samples), std::move(bundle)) ? written : 0;
+}
+
+std::size_t GatewaySink::encode_bundle(std::vector<core::Sample>& samples, std::size_t /*wire_bytes*/,
+                                       core::EncodedBundle& out) {
+    if (compact_ == nullptr) {
+        return 0;
+    }
+    return compact_->encode(samples, out);
+}
+
+bool GatewaySink::write_bundle(std::vector<core::Sample>&& samples, core::EncodedBundle&& bundle) {
+    const bool written = compact_ != nullptr && compact_->send(std::move(bundle), samples.size());
     for (core::Sample& sample : samples) {
         // A chunk is a piece of a sample the scheduler keeps whole: it logs the sample if the chunks fail, and the
         // sample has left once its last chunk has.
-        if (written == 0) {
+        if (!written) {
             wan_write_failures_.fetch_add(1, std::memory_order_relaxed);
             if (!sample.chunk) {
                 drop(std::move(sample), core::DropReason::write_failed);

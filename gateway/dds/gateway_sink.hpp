@@ -33,6 +33,9 @@ class GatewaySink final : public core::SampleSink {
 
     bool forward(core::Sample&& sample) override;
     std::size_t forward_bundle(std::vector<core::Sample>&& samples, std::size_t wire_bytes) override;
+    std::size_t encode_bundle(std::vector<core::Sample>& samples, std::size_t wire_bytes,
+                              core::EncodedBundle& out) override;
+    bool write_bundle(std::vector<core::Sample>&& samples, core::EncodedBundle&& bundle) override;
     void drop(core::Sample&& sample, core::DropReason reason) override;
 
     std::uint64_t wan_write_failures() const { return wan_write_failures_.load(); }

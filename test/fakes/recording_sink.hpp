@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -26,21 +27,23 @@ class RecordingSink final : public core::SampleSink {
 
     bool forward(core::Sample&& sample) override {
         std::lock_guard<std::mutex> lock(mutex_);
-        if (refuse_writes_) {
+        const bool refused = refuses_nts();
+        if (refused) {
             dropped_.push_back(Dropped{std::move(sample), core::DropReason::write_failed});
         } else {
             forwarded_.push_back(std::move(sample));
         }
         changed_.notify_all();
-        return !refuse_writes_;
+        return !refused;
     }
     /// Keeps the samples as forwarded (or refused) one by one, and the bundle's topics and wire size.
     std::size_t forward_bundle(std::vector<core::Sample>&& samples, std::size_t wire_bytes) override {
         std::lock_guard<std::mutex> lock(mutex_);
+        const bool refused = refuses_nts();
         Bundle bundle{{}, wire_bytes};
         for (core::Sample& sample : samples) {
             bundle.topics.push_back(sample.topic);
-            if (refuse_writes_) {
+            if (refused) {
                 if (!sample.chunk)  // the scheduler logs a chunked sample whole
                     dropped_.push_back(Dropped{std::move(sample), core::DropReason::write_failed});
             } else {
@@ -49,12 +52,14 @@ class RecordingSink final : public core::SampleSink {
         }
         bundles_.push_back(std::move(bundle));
         changed_.notify_all();
-        return refuse_writes_ ? 0 : wire_bytes;
+        return refused ? 0 : wire_bytes;
     }
-    /// From now on, every forward fails as a refused WAN write does.
-    void refuse_writes() {
+    /// From now on, after `after` more writes (forwards or bundles) that pass, the next `count` (all of them by
+    /// default) fail as a refused WAN write does.
+    void refuse_writes(std::size_t count = ALL, std::size_t after = 0) {
         std::lock_guard<std::mutex> lock(mutex_);
-        refuse_writes_ = true;
+        passes_left_ = after;
+        refusals_left_ = count;
     }
     void drop(core::Sample&& sample, core::DropReason reason) override {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -94,12 +99,28 @@ class RecordingSink final : public core::SampleSink {
     }
 
   private:
+    static constexpr std::size_t ALL = SIZE_MAX;
+    bool refuses_nts() {
+        if (passes_left_ > 0) {
+            --passes_left_;
+            return false;
+        }
+        if (refusals_left_ == 0) {
+            return false;
+        }
+        if (refusals_left_ != ALL) {
+            --refusals_left_;
+        }
+        return true;
+    }
+
     mutable std::mutex mutex_;
     mutable std::condition_variable changed_;
     std::vector<core::Sample> forwarded_;
     std::vector<Dropped> dropped_;
     std::vector<Bundle> bundles_;
-    bool refuse_writes_ = false;
+    std::size_t passes_left_ = 0;
+    std::size_t refusals_left_ = 0;
 };
 
 }  // namespace tgw::test

@@ -17,9 +17,12 @@ using std::chrono::seconds;
 // milliseconds; they wait on conditions with generous timeouts, never on fixed sleeps.
 class ForwardingLoopTest : public ::testing::Test {
   protected:
-    void make_sut(double rate_bps) {
+    void make_sut(double rate_bps, bool bundles = false) {
         SchedulerConfig config;
         config.initial_rate_bps = rate_bps;
+        if (bundles) {
+            config.bundles = BundleLimits{};
+        }
         sut = std::make_unique<ForwardingLoop>(config, clock, sink);
         topic = sut->add_topic({"A", seconds(5)});
         sut->start();
@@ -30,6 +33,16 @@ class ForwardingLoopTest : public ::testing::Test {
         s.payload.assign(bytes, 1);
         s.source_time = clock.wall_now();
         return s;
+    }
+    /// After stop(): none of the `count` samples counts as forwarded, each is write_failed and in the sink's log.
+    void expect_every_sample_write_failed(std::uint64_t count) {
+        const TopicCounters total = sut->total_counters();
+        EXPECT_EQ(total.forwarded, 0u);
+        EXPECT_EQ(total.forwarded_payload_bytes, 0u);
+        EXPECT_EQ(total.forwarded_wire_bytes, 0u);
+        EXPECT_EQ(total.dropped_for(DropReason::write_failed), count);
+        EXPECT_TRUE(total.balanced());
+        EXPECT_EQ(sink.dropped_count(DropReason::write_failed), count);
     }
 
     base::SystemClock clock;
@@ -98,30 +111,61 @@ TEST_F(ForwardingLoopTest, AWriteThatFailsAfterTheDecisionCountsAsWriteFailed) {
     sink.refuse_writes();
     sut->submit(sample());
     sut->stop();
+    expect_every_sample_write_failed(1);
+}
+
+TEST_F(ForwardingLoopTest, ABundleWhoseWriteFailsAfterTheDecisionCountsAsWriteFailed) {
+    make_sut(1e9, true);
+    sink.refuse_writes();
+    sut->submit(sample());
+    sut->submit(sample());
+    sut->stop();
+    expect_every_sample_write_failed(2);
+}
+
+// A sample too large for one bundle leaves in chunks, all decided before any is written: the sample has left
+// (as far as the scheduler knows) by the time a write fails. It is logged whole, once, and counted write_failed.
+TEST_F(ForwardingLoopTest, AChunkedSampleWhoseFirstChunkFailsAfterTheDecisionIsLoggedWhole) {
+    make_sut(1e9, true);
+    sink.refuse_writes(1);
+    sut->submit(sample(6'000));
+    sut->stop();
     const TopicCounters total = sut->total_counters();
     EXPECT_EQ(total.forwarded, 0u);
     EXPECT_EQ(total.forwarded_payload_bytes, 0u);
-    EXPECT_EQ(total.forwarded_wire_bytes, 0u);
     EXPECT_EQ(total.dropped_for(DropReason::write_failed), 1u);
     EXPECT_TRUE(total.balanced());
-    EXPECT_EQ(sink.dropped_count(DropReason::write_failed), 1u);
+    const std::vector<test::RecordingSink::Dropped> dropped = sink.dropped();
+    ASSERT_EQ(dropped.size(), 1u);
+    EXPECT_EQ(dropped[0].reason, DropReason::write_failed);
+    EXPECT_EQ(dropped[0].sample.payload.size(), 6'000u) << "the whole sample, not a chunk";
+    EXPECT_FALSE(dropped[0].sample.chunk);
+}
+
+TEST_F(ForwardingLoopTest, AChunkedSampleWhoseLastChunkFailsAfterTheDecisionIsLoggedWhole) {
+    make_sut(1e9, true);
+    sink.refuse_writes(1, 4);  // 6,000 bytes leave in 5 bundles of at most 1,284: the fifth fails
+    sut->submit(sample(6'000));
+    sut->stop();
+    ASSERT_EQ(sink.bundles().size(), 5u);
+    const TopicCounters total = sut->total_counters();
+    EXPECT_EQ(total.forwarded, 0u);
+    EXPECT_EQ(total.dropped_for(DropReason::write_failed), 1u);
+    EXPECT_TRUE(total.balanced());
+    const std::vector<test::RecordingSink::Dropped> dropped = sink.dropped();
+    ASSERT_EQ(dropped.size(), 1u);
+    EXPECT_EQ(dropped[0].sample.payload.size(), 6'000u);
 }
 
 /// A sink whose first forward blocks until open() is called, as a WAN write on a full socket does.
 class BlockingSink final : public SampleSink {
   public:
     bool forward(Sample&& sample) override {
-        {
-            std::unique_lock<std::mutex> lock(mutex_);
-            if (!first_started_) {
-                first_started_ = true;
-                changed_.notify_all();
-                changed_.wait(lock, [this] { return open_; });
-            }
-        }
+        block_the_first();
         return inner.forward(std::move(sample));
     }
     std::size_t forward_bundle(std::vector<Sample>&& samples, std::size_t wire_bytes) override {
+        block_the_first();
         return inner.forward_bundle(std::move(samples), wire_bytes);
     }
     void drop(Sample&& sample, DropReason reason) override { inner.drop(std::move(sample), reason); }
@@ -139,6 +183,15 @@ class BlockingSink final : public SampleSink {
     test::RecordingSink inner;
 
   private:
+    void block_the_first() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        if (!first_started_) {
+            first_started_ = true;
+            changed_.notify_all();
+            changed_.wait(lock, [this] { return open_; });
+        }
+    }
+
     std::mutex mutex_;
     std::condition_variable changed_;
     bool first_started_ = false;
@@ -146,12 +199,17 @@ class BlockingSink final : public SampleSink {
 };
 
 // Before the decisions were written after the lock, a listener bringing a sample waited for every WAN write
-// in progress, and its reader's history filled meanwhile.
-TEST(ForwardingLoopWritesTest, AListenerIsNotHeldUpByAWanWriteThatBlocks) {
+// in progress, and its reader's history filled meanwhile. In both WAN modes: a bundle is one write.
+class ForwardingLoopWritesTest : public ::testing::TestWithParam<bool> {};
+
+TEST_P(ForwardingLoopWritesTest, AListenerIsNotHeldUpByAWanWriteThatBlocks) {
     base::SystemClock clock;
     BlockingSink sink;
     SchedulerConfig config;
     config.initial_rate_bps = 1e9;
+    if (GetParam()) {
+        config.bundles = BundleLimits{};
+    }
     ForwardingLoop sut(config, clock, sink);
     const TopicId topic = sut.add_topic({"A", seconds(5)});
     sut.start();
@@ -179,6 +237,11 @@ TEST(ForwardingLoopWritesTest, AListenerIsNotHeldUpByAWanWriteThatBlocks) {
     EXPECT_EQ(forwarded[1].payload[0], 2);
     EXPECT_EQ(sut.total_counters().forwarded, 2u);
 }
+
+INSTANTIATE_TEST_SUITE_P(WanModes, ForwardingLoopWritesTest, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool>& info) {
+                             return info.param ? "Compact" : "Standard";
+                         });
 
 }  // namespace
 }  // namespace tgw::core

@@ -55,13 +55,13 @@ compact::EntryKind entry_kind(core::SampleKind kind) {
 CompactWan::CompactWan(WanRouter& wan, const core::WireModel& wire, compact::BundleCompression compression)
     : wire_(wire), compression_(compression) {
     OfferedQos best_effort;
-    bundle_writer_ = wan.create_writer(COMPACT_BUNDLE_TOPIC, wan::BundlePubSubType().getName(), false, std::nullopt,
-                                       best_effort, nullptr);
+    bundle_writer_ = wan.create_writer(COMPACT_BUNDLE_TOPIC, COMPACT_BUNDLE_TOPIC, wan::BundlePubSubType().getName(),
+                                       false, std::nullopt, best_effort, nullptr);
     OfferedQos latched;
     latched.reliable = true;
     latched.transient_local = true;
-    catalog_writer_ = wan.create_writer(COMPACT_CATALOG_TOPIC, wan::CatalogEntryPubSubType().getName(), true,
-                                        std::nullopt, latched, nullptr);
+    catalog_writer_ = wan.create_writer(COMPACT_CATALOG_TOPIC, COMPACT_CATALOG_TOPIC,
+                                        wan::CatalogEntryPubSubType().getName(), true, std::nullopt, latched, nullptr);
     if (bundle_writer_ == nullptr || catalog_writer_ == nullptr) {
         throw base::ConfigError("--wan-mode compact: cannot create the WAN writers of " +
                                 std::string(COMPACT_BUNDLE_TOPIC) + " and " + COMPACT_CATALOG_TOPIC);

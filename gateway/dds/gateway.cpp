@@ -8,6 +8,7 @@
 
 #include "GatewayStatusPubSubTypes.h"
 #include "base/config_error.hpp"
+#include "base/robot_namespace.hpp"
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway_sink.hpp"
@@ -48,6 +49,11 @@ void check_domain(const char* flag, int domain) {
 void GatewayConfig::validate() const {
     check_domain("--robot-domain", robot_domain);
     check_domain("--wan-domain", wan_domain);
+    if (!robot_name.empty()) {
+        if (const std::string problem = base::robot_name_problem(robot_name); !problem.empty()) {
+            throw base::ConfigError("--robot-name '" + robot_name + "': " + problem);
+        }
+    }
     if (robot_domain == wan_domain) {
         // One domain would make the gateway read its own WAN writers back.
         throw base::ConfigError("--wan-domain " + std::to_string(wan_domain) + ": must differ from --robot-domain");
@@ -192,8 +198,8 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
             compact_->announce(CatalogLane{*status_topic_, STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true,
                                            STATUS_TTL, 0, offer, STATUS_TTL});
         } else {
-            status_writer_ = wan_->create_writer(STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true,
-                                                 STATUS_TTL, offer, nullptr);
+            status_writer_ = wan_->create_writer(STATUS_TOPIC, STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(),
+                                                 true, STATUS_TTL, offer, nullptr);
             if (status_writer_ == nullptr) {
                 throw base::ConfigError("--status-period: cannot create the writer of " + std::string(STATUS_TOPIC));
             }
@@ -504,7 +510,8 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     }
     const ResolvedTtl ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
     const core::TopicId id = add_topic_nts(core::TopicConfig{pub.topic, ttl.ttl});
-    auto bridge = std::make_shared<TopicBridge>(id, pub.topic, pub.type_name, pub.keyed, ttl,
+    auto bridge = std::make_shared<TopicBridge>(id, pub.topic, base::namespaced_topic(config_.robot_name, pub.topic),
+                                                pub.type_name, pub.keyed, ttl,
                                                 TopicBridge::Ends{*robot_, *wan_, *loop_, clock_, compact_.get()});
     if (bridge->admit(pub, declared)) {
         topics_->add(std::move(bridge));
@@ -703,7 +710,8 @@ void Gateway::publish_status_nts() {
     for (const TopicCount& row : rows) {
         const core::TopicCounters& c = row.counters;
         idl::TopicStatus t;
-        t.name(row.name);
+        // The base camp's name of the topic: what it records it as.
+        t.name(row.bridged ? base::namespaced_topic(config_.robot_name, row.name) : row.name);
         t.ttl_ms(row.bridged ? static_cast<std::uint32_t>(
                                    std::chrono::duration_cast<std::chrono::milliseconds>(row.ttl.ttl).count())
                              : 0u);

@@ -61,6 +61,9 @@ struct GatewayConfig {
     std::uint64_t log_max_bytes = 0;  ///< the log's cap (RobotLog); 0: none
     std::vector<std::string> allow;   ///< topic globs; empty: all
     std::vector<std::string> deny;
+    /// --robot-name: the robot's topics appear on the WAN under this name (base::namespaced_topic); empty: under
+    /// their own names. Allow, deny and --qos profiles go by the robot's own names.
+    std::string robot_name;
     base::Duration default_ttl = std::chrono::seconds(5);
     core::SchedulerConfig scheduler;
     /// Compact WAN mode (--wan-mode compact): what the scheduler releases together leaves as one bundle, and the

@@ -77,7 +77,7 @@ void GatewaySink::note_forwarded(const core::Sample& sample, const TopicBridge* 
             return written_wall + std::chrono::duration_cast<base::WallClock::duration>(t - written);
         };
         log::ForwardRecord record;
-        record.topic = bridge->name();
+        record.topic = bridge->wan_name();  // as the base camp records it: merge and report match on it
         record.type_name = bridge->type_name();
         record.sample = &sample;
         record.arrival = wall(sample.arrival);
@@ -93,7 +93,7 @@ void GatewaySink::drop(core::Sample&& sample, core::DropReason reason) {
     }
     log::LogRecord record;
     if (const std::shared_ptr<TopicBridge> bridge = topics_.find(sample.topic)) {
-        record.topic = bridge->name();
+        record.topic = bridge->wan_name();  // as the base camp records it: merge and report match on it
         record.type_name = bridge->type_name();
     }
     record.sample = &sample;

@@ -19,9 +19,15 @@ struct TopicBridge::Lane {
     std::shared_ptr<WanWriter> writer;  ///< a write in progress holds it too
 };
 
-TopicBridge::TopicBridge(core::TopicId id, std::string name, std::string type_name, bool keyed, ResolvedTtl ttl,
-                         Ends ends)
-    : id_(id), name_(std::move(name)), type_name_(std::move(type_name)), keyed_(keyed), ttl_(ttl), ends_(ends) {}
+TopicBridge::TopicBridge(core::TopicId id, std::string name, std::string wan_name, std::string type_name, bool keyed,
+                         ResolvedTtl ttl, Ends ends)
+    : id_(id),
+      name_(std::move(name)),
+      wan_name_(std::move(wan_name)),
+      type_name_(std::move(type_name)),
+      keyed_(keyed),
+      ttl_(ttl),
+      ends_(ends) {}
 
 TopicBridge::~TopicBridge() = default;
 
@@ -64,9 +70,9 @@ bool TopicBridge::admit(const DiscoveredPublisher& pub, bool declared) {
     lane.declared = declared;
     if (ends_.compact != nullptr) {
         // The lane's samples travel in bundles; the catalog tells the base camp what to republish them as.
-        ends_.compact->announce(CatalogLane{id_, name_, type_name_, keyed_, ttl_.ttl, index, pub.qos, lifespan});
+        ends_.compact->announce(CatalogLane{id_, wan_name_, type_name_, keyed_, ttl_.ttl, index, pub.qos, lifespan});
     } else {
-        lane.writer = ends_.wan.create_writer(name_, type_name_, keyed_, lifespan, pub.qos, pub.type_object);
+        lane.writer = ends_.wan.create_writer(name_, wan_name_, type_name_, keyed_, lifespan, pub.qos, pub.type_object);
         if (lane.writer == nullptr) {
             return false;
         }

@@ -62,7 +62,9 @@ class TopicBridge {
         CompactWan* compact = nullptr;
     };
 
-    TopicBridge(core::TopicId id, std::string name, std::string type_name, bool keyed, ResolvedTtl ttl, Ends ends);
+    /// `name` on the robot domain, `wan_name` on the WAN (GatewayConfig::robot_name).
+    TopicBridge(core::TopicId id, std::string name, std::string wan_name, std::string type_name, bool keyed,
+                ResolvedTtl ttl, Ends ends);
     /// Lets go of the WAN writers; close_readers() must have run.
     ~TopicBridge();
 
@@ -71,6 +73,8 @@ class TopicBridge {
 
     core::TopicId id() const { return id_; }
     const std::string& name() const { return name_; }
+    /// What the base camp calls it: `name`, under the robot's name when it has one.
+    const std::string& wan_name() const { return wan_name_; }
     const std::string& type_name() const { return type_name_; }
     const ResolvedTtl& ttl() const { return ttl_; }
 
@@ -110,6 +114,7 @@ class TopicBridge {
 
     const core::TopicId id_;
     const std::string name_;
+    const std::string wan_name_;
     const std::string type_name_;
     const bool keyed_;
     const ResolvedTtl ttl_;

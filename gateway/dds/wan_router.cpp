@@ -295,16 +295,17 @@ std::optional<fdds::DataWriterQos> WanRouter::writer_profile(const std::string& 
 }
 
 std::shared_ptr<WanWriter> WanRouter::create_writer(
-    const std::string& topic, const std::string& type_name, bool keyed, std::optional<base::Duration> lifespan,
-    const OfferedQos& offer, const std::shared_ptr<const eprosima::fastrtps::types::TypeObject>& announced) {
+    const std::string& topic, const std::string& wan_topic, const std::string& type_name, bool keyed,
+    std::optional<base::Duration> lifespan, const OfferedQos& offer,
+    const std::shared_ptr<const eprosima::fastrtps::types::TypeObject>& announced) {
     auto matches = std::make_unique<WriterMatchCounter>();
 
     std::lock_guard<std::mutex> lock(mutex_);
-    fdds::Topic* wan_topic = passthrough_topic(participant_, topic, type_name, keyed, announced);
+    fdds::Topic* dds_topic = passthrough_topic(participant_, wan_topic, type_name, keyed, announced);
     fdds::Publisher* publisher = publishers_.get(participant_, offer);
-    if (wan_topic == nullptr || publisher == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create WAN topic " << topic << " (type " << type_name << ")\n";
-        drop_unused_topic_nts(wan_topic);
+    if (dds_topic == nullptr || publisher == nullptr) {
+        std::cerr << "telemetry-gateway: cannot create WAN topic " << wan_topic << " (type " << type_name << ")\n";
+        drop_unused_topic_nts(dds_topic);
         return nullptr;
     }
 
@@ -319,15 +320,15 @@ std::shared_ptr<WanWriter> WanRouter::create_writer(
         qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
     }
 
-    fdds::DataWriter* writer = publisher->create_datawriter(wan_topic, qos, matches.get(), fdds::StatusMask::all());
+    fdds::DataWriter* writer = publisher->create_datawriter(dds_topic, qos, matches.get(), fdds::StatusMask::all());
     if (writer == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create the WAN writer for " << topic << " (" << offer.describe()
+        std::cerr << "telemetry-gateway: cannot create the WAN writer for " << wan_topic << " (" << offer.describe()
                   << ")\n";
-        drop_unused_topic_nts(wan_topic);
+        drop_unused_topic_nts(dds_topic);
         return nullptr;
     }
-    ++writers_of_topic_[topic];
-    return std::make_shared<WanWriter>(writer, std::move(matches), topic, keyed,
+    ++writers_of_topic_[wan_topic];
+    return std::make_shared<WanWriter>(writer, std::move(matches), wan_topic, keyed,
                                        [this](fdds::DataWriter* w) { delete_writer(w); });
 }
 

@@ -97,12 +97,14 @@ class WanRouter {
     /// The data_writer profile named after `topic` in the loaded XML files, if there is one.
     std::optional<eprosima::fastdds::dds::DataWriterQos> writer_profile(const std::string& topic) const;
 
-    /// A writer of `topic` offering `offer`, with Lifespan `lifespan` (nullopt: infinite), announcing the type
-    /// with the robot publisher's TypeObject `announced` (see passthrough_topic()). nullptr (after logging it)
-    /// when Fast DDS refuses. Every writer must be released before the router goes.
+    /// A writer of `wan_topic` offering `offer`, with Lifespan `lifespan` (nullopt: infinite), announcing the type
+    /// with the robot publisher's TypeObject `announced` (see passthrough_topic()); `topic` names its data_writer
+    /// profile (the robot's name of the topic, which --robot-name may change on the WAN). nullptr (after logging
+    /// it) when Fast DDS refuses. Every writer must be released before the router goes.
     std::shared_ptr<WanWriter> create_writer(
-        const std::string& topic, const std::string& type_name, bool keyed, std::optional<base::Duration> lifespan,
-        const OfferedQos& offer, const std::shared_ptr<const eprosima::fastrtps::types::TypeObject>& announced);
+        const std::string& topic, const std::string& wan_topic, const std::string& type_name, bool keyed,
+        std::optional<base::Duration> lifespan, const OfferedQos& offer,
+        const std::shared_ptr<const eprosima::fastrtps::types::TypeObject>& announced);
 
     /// Creates a reader of dds::RECEIVER_REPORT_TOPIC for `listener`, which must outlive the router. False
     /// (after logging it) when Fast DDS refuses.

@@ -140,10 +140,11 @@ class GatewayIntegrationTest : public ::testing::Test {
     }
 
     /// Makes a writer of `topic` on `robot` (the robot participant by default) and a base camp reader feeding
-    /// `wan`, then waits until the gateway bridges the two. The writer, or nullptr with the failure recorded.
+    /// `wan` (of `wan_topic`, when the gateway names it otherwise on the WAN), then waits until the gateway bridges
+    /// the two. The writer, or nullptr with the failure recorded.
     template <typename PubSubType, typename Sample>
     fdds::DataWriter* bridge(const std::string& topic, const fdds::DataWriterQos& qos, CollectingReader<Sample>& wan,
-                             TestParticipant* robot = nullptr) {
+                             TestParticipant* robot = nullptr, const std::string& wan_topic = {}) {
         TestParticipant& publisher = robot ? *robot : *robot_;
         auto& writer_matches = listener<MatchCounter>();
         auto* writer = publisher.make_writer(topic, fdds::TypeSupport(new PubSubType()), qos, &writer_matches);
@@ -151,9 +152,10 @@ class GatewayIntegrationTest : public ::testing::Test {
             ADD_FAILURE() << "cannot create a robot writer of " << topic;
             return nullptr;
         }
-        if (basecamp_->make_reader(topic, fdds::TypeSupport(new PubSubType()), wan_reader_qos(*basecamp_), &wan) ==
+        const std::string& read = wan_topic.empty() ? topic : wan_topic;
+        if (basecamp_->make_reader(read, fdds::TypeSupport(new PubSubType()), wan_reader_qos(*basecamp_), &wan) ==
             nullptr) {
-            ADD_FAILURE() << "cannot create a base camp reader of " << topic;
+            ADD_FAILURE() << "cannot create a base camp reader of " << read;
             return nullptr;
         }
         wait_for_bridge(topic, writer_matches, wan.matched);

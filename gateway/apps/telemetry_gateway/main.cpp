@@ -14,6 +14,7 @@
 
 #include "base/cli_checks.hpp"
 #include "base/config_error.hpp"
+#include "base/robot_namespace.hpp"
 #include "gateway/core/policy_kind.hpp"
 #include "gateway/dds/gateway.hpp"
 #include "gateway/dds/rate_poller.hpp"
@@ -262,6 +263,9 @@ int main(int argc, char** argv) {
                    "MiB the on-robot log may take; past it the oldest rows make room, those of samples sent first")
         ->check(tgw::base::positive())
         ->capture_default_str();
+    app.add_option("--robot-name", config.robot_name,
+                   "the robot's name in a fleet: its topics appear on the WAN as rt/NAME/... (ROS 2 topics, and rq/, "
+                   "rr/ services) or NAME/... (any other); letters, digits and '_'");
     app.add_option("--allow", config.allow, "bridge only topics matching this glob; repeatable");
     app.add_option("--deny", config.deny, "never bridge topics matching this glob; repeatable, wins over --allow");
     app.add_option("--duration", duration_s, "seconds to run (default: until SIGINT/SIGTERM)")
@@ -386,6 +390,12 @@ int main(int argc, char** argv) {
                   << " (" << wan_mode << "), policy " << policy_name << ", sensor " << sensor->describe()
                   << ", on-robot log " << (config.log_file.empty() ? std::string("none (--no-log)") : config.log_file)
                   << '\n';
+        if (!config.robot_name.empty()) {
+            std::cerr << "telemetry-gateway: robot " << config.robot_name << ": its topics are "
+                      << tgw::base::namespaced_topic(config.robot_name, "rt/TOPIC") << " and "
+                      << tgw::base::namespaced_topic(config.robot_name, "TOPIC")
+                      << " on the WAN and in the on-robot log; below, by their robot names\n";
+        }
 
         wait_for_end(signals, duration_s);
 

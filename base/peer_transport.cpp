@@ -11,6 +11,7 @@
 #include <fastrtps/utils/IPLocator.h>
 
 #include "base/config_error.hpp"
+#include "base/discovery_server.hpp"
 
 namespace tgw::base {
 
@@ -54,8 +55,12 @@ std::string resolve_ipv4(const std::string& name_or_addr, const std::string& fla
 void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport) {
     using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
     using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
-    if (transport.peers.empty() && transport.interface.empty())
+    const bool remote = !transport.peers.empty() || !transport.discovery_server.empty();
+    if (!remote && transport.interface.empty())
         return;
+    if (!transport.peers.empty() && !transport.discovery_server.empty())
+        throw ConfigError(transport.discovery_server_flag + " excludes " + transport.peers_flag +
+                          ": the server tells each participant of the others");
 
     auto udp = std::make_shared<UDPv4TransportDescriptor>();
     std::string bound;
@@ -67,7 +72,7 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
     qos.transport().user_transports.push_back(udp);
 
     auto& builtin = qos.wire_protocol().builtin;
-    if (transport.peers.empty()) {
+    if (!remote) {
         // Local use (the robot domain): multicast discovery on the bound interface, shared memory kept.
         qos.transport().user_transports.push_back(std::make_shared<SharedMemTransportDescriptor>());
         return;
@@ -81,6 +86,9 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
             throw ConfigError(transport.peers_flag + ": '" + peer + "' is not an IPv4 address");
         builtin.initialPeersList.push_back(udp_locator(peer));
     }
+    if (!transport.discovery_server.empty())
+        apply_discovery_client(qos, parse_discovery_server(transport.discovery_server, transport.discovery_server_flag),
+                               transport.discovery_role);
     // Naming a unicast metatraffic locator keeps Fast DDS from adding its default multicast ones; port 0
     // lets it pick the participant's standard port.
     const std::string local = bound.empty() ? std::string("0.0.0.0") : bound;

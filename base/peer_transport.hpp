@@ -5,14 +5,22 @@
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
+#include "base/discovery_server.hpp"
+
 namespace tgw::base {
 
 /// How a participant reaches the other end of the slow link. Empty fields keep Fast DDS defaults.
 struct PeerTransport {
     std::vector<std::string> peers;  ///< IPv4 addresses of the other end; non-empty means unicast only
     std::string interface;           ///< interface name or IPv4 address the participant is bound to
+    /// ADDR:PORT of a Fast DDS Discovery Server (base/discovery_server.hpp): discovery through it alone, UDP
+    /// unicast only; excludes `peers`.
+    std::string discovery_server;
+    /// A base-camp tool subscribes to whatever it discovers, so it hears of every endpoint.
+    DiscoveryRole discovery_role = DiscoveryRole::super_client;
     std::string peers_flag = "--peer";
     std::string interface_flag = "--interface";
+    std::string discovery_server_flag = "--discovery-server";
 };
 
 /// The IPv4 address of `name_or_addr`: an address as given, or the first IPv4 address of the interface so
@@ -20,8 +28,9 @@ struct PeerTransport {
 std::string resolve_ipv4(const std::string& name_or_addr, const std::string& flag);
 
 /// Configures `qos` for the link. With peers: UDPv4 only (no shared memory, no multicast), SPDP to the
-/// peers' first participant port only, longer announcement period. With an interface: every UDP socket
-/// bound to its address. Throws ConfigError on a bad address.
+/// peers' first participant port only, longer announcement period. With a discovery server: the same, but
+/// discovery through the server. With an interface: every UDP socket bound to its address. Throws ConfigError
+/// on a bad address.
 void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport);
 
 }  // namespace tgw::base

@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
     record->add_option("--peer", transport.peers,
                        "IPv4 address of the robot (repeatable): UDP unicast only, no multicast, no shared memory");
     record->add_option("--interface", transport.interface, "interface name or IPv4 address to bind every socket to");
+    tgw::basecamp::add_discovery_server_option(*record, transport);
     record->add_option("--out", out, "the SQLite file to write (WAL mode)");
     tgw::basecamp::McapOptions record_mcap;
     tgw::basecamp::add_mcap_options(*record, record_mcap, false);
@@ -104,6 +105,7 @@ int main(int argc, char** argv) {
                       "IPv4 address of the robot (repeatable): UDP unicast only on the WAN, no multicast");
     relay->add_option("--interface", relay_transport.interface,
                       "interface name or IPv4 address to bind the WAN participant's sockets to");
+    tgw::basecamp::add_discovery_server_option(*relay, relay_transport);
     relay
         ->add_option("--local-domain", local_domain,
                      "the camp's own domain: every topic appears there, for programs with their vendors' defaults")

@@ -25,7 +25,14 @@ void add_domain_options(CLI::App& command, DomainOptions& options) {
         ->allow_extra_args(false);
     command.add_option("--interface", options.transport.interface,
                        "interface name or IPv4 address to bind every socket to");
+    add_discovery_server_option(command, options.transport);
     add_security_option(command, options.security_dir);
+}
+
+void add_discovery_server_option(CLI::App& command, base::PeerTransport& transport) {
+    command.add_option("--discovery-server", transport.discovery_server,
+                       "ADDR:PORT of a Fast DDS Discovery Server (fastdds discovery -i 0 -l ADDR -p PORT): discovery "
+                       "through it, UDP unicast only; instead of --peer");
 }
 
 void add_security_option(CLI::App& command, std::string& dir) {

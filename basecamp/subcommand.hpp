@@ -29,8 +29,12 @@ struct DomainOptions {
     std::string security_dir;  ///< empty: a plain participant
 };
 
-/// Adds --domain, --peer, --interface and --security to `command` for `options`, which must outlive the app.
+/// Adds --domain, --peer, --interface, --discovery-server and --security to `command` for `options`, which must
+/// outlive the app.
 void add_domain_options(CLI::App& command, DomainOptions& options);
+
+/// Adds --discovery-server ADDR:PORT to `command`: the WAN participant a client of a Fast DDS Discovery Server.
+void add_discovery_server_option(CLI::App& command, base::PeerTransport& transport);
 
 /// Adds --security DIR to `command`: the WAN participant's DDS Security identity (scripts/make-certs).
 void add_security_option(CLI::App& command, std::string& dir);

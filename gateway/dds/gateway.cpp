@@ -8,6 +8,7 @@
 
 #include "GatewayStatusPubSubTypes.h"
 #include "base/config_error.hpp"
+#include "base/discovery_server.hpp"
 #include "base/robot_namespace.hpp"
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/dds_time.hpp"
@@ -103,12 +104,19 @@ void GatewayConfig::validate() const {
             }
         }
     }
-    if (wan_peers.empty()) {
+    if (!wan_discovery_server.empty()) {
+        base::parse_discovery_server(wan_discovery_server, "--wan-discovery-server");
+        if (!wan_peers.empty()) {
+            throw base::ConfigError(
+                "--wan-discovery-server excludes --wan-peer: the server tells the gateway of the "
+                "base camp's participants");
+        }
+    } else if (wan_peers.empty()) {
         // The WAN participant announces itself only to its peers (multicast costs the radio and rarely crosses
         // it), so without one no base camp would ever hear of this gateway, and it would run sending nothing.
         throw base::ConfigError(
-            "--wan-peer: missing: give the base camp's host, IPv4[:PORT] (repeatable); the "
-            "gateway announces itself to no one else");
+            "--wan-peer: missing: give the base camp's host, IPv4[:PORT] (repeatable), or --wan-discovery-server "
+            "ADDR:PORT; the gateway announces itself to no one else");
     }
 }
 
@@ -150,6 +158,9 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         wan.interface_address = resolve_interface_address(config_.wan_interface);
     }
     wan.listen_port = config_.wan_port;
+    if (!config_.wan_discovery_server.empty()) {
+        wan.discovery_server = base::parse_discovery_server(config_.wan_discovery_server, "--wan-discovery-server");
+    }
     wan.lease_duration = config_.wan_lease;
     wan.announcement_period = config_.wan_announcement_period;
     wan.max_datagram_bytes = config_.scheduler.wire.max_datagram_bytes;

@@ -50,6 +50,9 @@ struct GatewayConfig {
     int robot_domain = 0;
     int wan_domain = 1;
     std::vector<std::string> wan_peers;  ///< ADDR or ADDR:PORT, see parse_wan_peer
+    /// ADDR:PORT of a Fast DDS Discovery Server (--wan-discovery-server): discovery through it instead of
+    /// announcements to wan_peers, which it excludes.
+    std::string wan_discovery_server;
     /// A peer given without a port gets the announcements at the ports of this many participants (peer_ports).
     int wan_peer_participants = 4;
     static constexpr int MAX_WAN_PEER_PARTICIPANTS = 32;

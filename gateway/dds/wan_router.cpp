@@ -247,6 +247,10 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     for (const WanPeer& peer : config.peers) {
         builtin.initialPeersList.push_back(udp_locator(peer.address, peer.port));
     }
+    if (config.discovery_server) {
+        // The gateway reads one topic of the base camp's (the receiver reports): the rest it need not hear of.
+        base::apply_discovery_client(qos, *config.discovery_server, base::DiscoveryRole::client);
+    }
     if (!base) {
         // A participant profile from the --qos file sets its own discovery timing.
         builtin.discovery_config.leaseDuration = to_dds_duration(config.lease_duration);

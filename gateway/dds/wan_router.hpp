@@ -20,6 +20,7 @@
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 
 #include "base/clock.hpp"
+#include "base/discovery_server.hpp"
 #include "base/security_files.hpp"
 #include "gateway/core/sample.hpp"
 #include "gateway/core/wire_model.hpp"
@@ -44,6 +45,8 @@ constexpr std::size_t SECURE_MIN_DATAGRAM_BYTES = 8192;
 struct WanConfig {
     int domain = 1;
     std::vector<WanPeer> peers;
+    /// A Fast DDS Discovery Server to be a client of, instead of announcing to `peers`.
+    std::optional<base::DiscoveryServerAddress> discovery_server;
     /// IPv4 address to bind to (see resolve_interface_address); empty: every interface.
     std::string interface_address;
     /// Own metatraffic unicast port; 0: the well-known port of the participant id Fast DDS assigns.

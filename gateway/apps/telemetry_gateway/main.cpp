@@ -160,8 +160,12 @@ int main(int argc, char** argv) {
     app.add_option("--robot-domain", config.robot_domain, "DDS domain of the robot's processes")->capture_default_str();
     app.add_option("--wan-domain", config.wan_domain, "DDS domain towards the base camp")->capture_default_str();
     app.add_option("--wan-peer", config.wan_peers,
-                   "base-camp host, IPv4[:PORT], required: the gateway announces itself to its peers only; without "
-                   "a port, to the ports of its first --wan-peer-participants participants; repeatable");
+                   "base-camp host, IPv4[:PORT], required without --wan-discovery-server: the gateway announces "
+                   "itself to its peers only; without a port, to the ports of its first --wan-peer-participants "
+                   "participants; repeatable");
+    app.add_option("--wan-discovery-server", config.wan_discovery_server,
+                   "ADDR:PORT of a Fast DDS Discovery Server on the WAN (fastdds discovery -i 0 -l ADDR -p PORT): "
+                   "discovery through it instead of announcements to --wan-peer");
     app.add_option("--wan-peer-participants", config.wan_peer_participants,
                    "base-camp programs (DDS participants) per --wan-peer host that find the gateway without "
                    "announcing themselves to the robot; each costs an announcement on the link")

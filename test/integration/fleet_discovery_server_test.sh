@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# Two robots, one base camp, discovery through a Fast DDS Discovery Server (issue 21, parts 1 and 2), as programs
+# on loopback: Debian's fast-discovery-server (fastdds-tools), two telemetry-gateways as its clients (rover1 in
+# standard WAN mode, rover2 in compact mode), each bridging tm-robot-sim's paper workload from its own robot
+# domain, and the base camp's relay, a super client, recording what it takes off the WAN. Nobody names a peer.
+# Checks: every topic of each robot arrives under the robot's name, and the relay recorded exactly what each
+# gateway says it forwarded.
+set -euo pipefail
+BIN=$1
+QOS=$2
+source "$(dirname "$0")/loopback_test_lib.sh"
+ROBOT1=$((140 + $$ % 15 * 4))  # 140..199 in fours: apart from the in-process tests' domains and parallel runs
+ROBOT2=$((ROBOT1 + 1))
+WAN=$((ROBOT1 + 2))
+CAMP=$((ROBOT1 + 3))
+PORT=$((21000 + $$ % 4000))  # the server's UDP port
+SERVER=127.0.0.1:$PORT
+
+server_program=$(command -v fast-discovery-server || true)
+if [ -z "$server_program" ]; then
+    echo "FAIL: fast-discovery-server not found: scripts/install-deps installs Debian's fastdds-tools"
+    exit 1
+fi
+"$server_program" -i 0 -l 127.0.0.1 -p "$PORT" >"$work/server.out" 2>&1 &
+pids+=("$!")
+"$BIN/tm-basecamp" relay --domain "$WAN" --discovery-server "$SERVER" --local-domain "$CAMP" \
+    --out "$work/camp.db" --duration 40 >"$work/relay.out" 2>&1 &
+relay=$!
+pids+=("$relay")
+"$BIN/telemetry-gateway" --robot-domain "$ROBOT1" --wan-domain "$WAN" --wan-discovery-server "$SERVER" \
+    --robot-name rover1 --sensor fixed:1000000 --qos "$QOS" --no-log --duration 30 >"$work/rover1.out" 2>&1 &
+gateway1=$!
+pids+=("$gateway1")
+"$BIN/telemetry-gateway" --robot-domain "$ROBOT2" --wan-domain "$WAN" --wan-discovery-server "$SERVER" \
+    --robot-name rover2 --wan-mode compact --sensor fixed:1000000 --qos "$QOS" --no-log --duration 30 \
+    >"$work/rover2.out" 2>&1 &
+gateway2=$!
+pids+=("$gateway2")
+"$BIN/tm-robot-sim" --domain "$ROBOT1" --workload paper --duration 10 --wait-match 10 >"$work/sim1.out" 2>&1 &
+sim1=$!
+pids+=("$sim1")
+"$BIN/tm-robot-sim" --domain "$ROBOT2" --workload paper --duration 10 --wait-match 10 >"$work/sim2.out" 2>&1 &
+sim2=$!
+pids+=("$sim2")
+wait "$sim1" "$sim2" "$gateway1" "$gateway2"
+kill -INT "$relay" 2>/dev/null || true
+wait "$relay" || true
+
+fail=0
+for robot in rover1 rover2; do
+    for type in A B C D; do
+        # The gateway's exit summary: topic received forwarded ...; the relay's: "  NAME: N samples".
+        forwarded=$(awk -v t="telemetry/$type" '$1 == t { print $3 }' "$work/$robot.out")
+        recorded=$(awk -v t="$robot/telemetry/$type:" '$1 == t { print $2 }' "$work/relay.out")
+        if [ -n "$forwarded" ] && [ "$forwarded" -gt 0 ] && [ "${recorded:-0}" = "$forwarded" ]; then
+            echo "ok: $robot/telemetry/$type: $recorded recorded of $forwarded forwarded"
+        else
+            echo "FAIL: $robot/telemetry/$type: ${recorded:-none} recorded of ${forwarded:-none} forwarded"
+            fail=1
+        fi
+    done
+done
+if [ "$fail" -ne 0 ]; then
+    for f in server rover1 rover2 relay sim1 sim2; do
+        echo "--- $f.out"
+        cat "$work/$f.out"
+    done
+fi
+exit "$fail"

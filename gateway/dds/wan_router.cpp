@@ -229,6 +229,9 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     udp->maxMessageSize = static_cast<std::uint32_t>(config.max_datagram_bytes);
     if (!config.interface_address.empty()) {
         udp->interfaceWhiteList.push_back(config.interface_address);
+        if (config.discovery_server && config.interface_address != base::SAME_HOST_ADDRESS) {
+            udp->interfaceWhiteList.push_back(base::SAME_HOST_ADDRESS);
+        }
     }
     auto coalescing =
         std::make_shared<CoalescingTransportDescriptor>(udp, coalescer_, config.on_unscheduled, repeat_throttle_);
@@ -243,6 +246,12 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     builtin.metatrafficUnicastLocatorList.clear();
     builtin.metatrafficUnicastLocatorList.push_back(udp_locator(config.interface_address, config.listen_port));
     qos.wire_protocol().default_multicast_locator_list.clear();
+    if (config.discovery_server && !config.interface_address.empty()) {
+        // Its readers (the receiver reports) announce the interface's address alone, not the loopback it also
+        // listens on for a server on its own host.
+        qos.wire_protocol().default_unicast_locator_list.clear();
+        qos.wire_protocol().default_unicast_locator_list.push_back(udp_locator(config.interface_address, 0));
+    }
     builtin.initialPeersList.clear();
     for (const WanPeer& peer : config.peers) {
         builtin.initialPeersList.push_back(udp_locator(peer.address, peer.port));

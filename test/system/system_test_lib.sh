@@ -53,7 +53,8 @@ run_demo() {
     TGW_BIN="$BIN" scripts/demo --no-build "$@" | tee "$out"
 }
 
-# start_testbed RATE NAME: a testbed of its own shaped at RATE bit/s and a work directory, both removed at exit
+# start_testbed RATE NAME [UP_ARGS...]: a testbed of its own shaped at RATE bit/s (UP_ARGS go to `scripts/testbed
+# up`: --routed, --robots N) and a work directory, both removed at exit
 # with every process whose PID is added to PIDS. Sets WORK, TESTBED_ID, robot_addr, basecamp_addr, veth, tb (the
 # prefix that runs a command in a namespace: "${tb[@]}" robot CMD) and robot_cyclone (a CYCLONEDDS_URI for a
 # Cyclone program on the robot's loopback, where the gateway's robot participant listens).
@@ -62,7 +63,7 @@ start_testbed() {
     WORK="$(mktemp -d "${TMPDIR:-/tmp}/tgw-$2.XXXXXX")"
     TESTBED_ID="$(od -An -N3 -tx1 /dev/urandom | tr -d ' \n')"
     trap stop_testbed EXIT
-    TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed up "$1" >/dev/null
+    TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed up "$1" "${@:3}" >/dev/null
     robot_addr="$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info robot-addr)"
     basecamp_addr="$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info basecamp-addr)"
     veth="$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info robot-veth)"

@@ -1,8 +1,20 @@
 # Sourced by the cross-vendor tests: domain ids of this run, Cyclone on loopback, and the programs started,
 # stopped at exit whatever the outcome.
 
-# Domain ids of this run: port 7400 + 250 * id must stay below 65536, so ids up to 232.
-ROBOT_DOMAIN=$((120 + (RANDOM + $$) % 50))
+# Domain ids of this run: port 7400 + 250 * id must stay below 65536, so ids up to 232. Each run holds a slot of
+# its own (a lock on a file, kept by this shell and the programs it starts): two runs that drew the same domains at
+# random met, and one's gateway bridged the other's robot topic onto the WAN in plain (a secured run's plain
+# subscriber then took a sample; CI, 2026-11-26).
+XV_SLOTS=50
+mkdir -p /tmp/tgw-xv-domains
+xv_first_slot=$(((RANDOM + $$) % XV_SLOTS))
+for ((xv_n = 0; xv_n < XV_SLOTS; xv_n++)); do
+    XV_SLOT=$(((xv_first_slot + xv_n) % XV_SLOTS))
+    exec {XV_LOCK_FD}>"/tmp/tgw-xv-domains/$XV_SLOT.lock"
+    flock -n "$XV_LOCK_FD" && break
+    exec {XV_LOCK_FD}>&-
+done
+ROBOT_DOMAIN=$((120 + XV_SLOT))
 WAN_DOMAIN=$((ROBOT_DOMAIN + 55))
 RUN="$$_$RANDOM"
 WORK="$(mktemp -d "${TMPDIR:-/tmp}/tgw-xv.XXXXXX")"

@@ -64,4 +64,11 @@ void apply_discovery_client(eprosima::fastdds::dds::DomainParticipantQos& qos, c
     qos.wire_protocol().builtin.initialPeersList.clear();
 }
 
+void listen_for_a_same_host_server(eprosima::fastdds::rtps::UDPv4TransportDescriptor& udp, const std::string& bound) {
+    constexpr const char* SAME_HOST_ADDRESS = "127.0.0.1";
+    if (bound != SAME_HOST_ADDRESS) {
+        udp.interfaceWhiteList.push_back(SAME_HOST_ADDRESS);
+    }
+}
+
 }  // namespace tgw::base

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
 namespace tgw::base {
@@ -17,10 +18,11 @@ struct DiscoveryServerAddress {
     std::uint16_t port = 0;
 };
 
-/// A client bound to an interface listens here too: Fast DDS sends to a participant on its own host at this
-/// address whatever address it announced, so a server beside a bound base-camp program (or gateway) would
-/// otherwise never reach it (seen on the testbed: 913 datagrams from the server to 127.0.0.1, none taken).
-inline constexpr const char* SAME_HOST_ADDRESS = "127.0.0.1";
+/// Adds to `udp`, a client's transport bound to the interface address `bound`, the address where a server on its
+/// own host reaches it: Fast DDS sends to a participant on its own host at 127.0.0.1 whatever address it announced,
+/// so a server beside a bound base-camp program (or gateway) would otherwise never reach it (seen on the testbed:
+/// 913 datagrams from the server to 127.0.0.1, none taken).
+void listen_for_a_same_host_server(eprosima::fastdds::rtps::UDPv4TransportDescriptor& udp, const std::string& bound);
 
 /// Parses "ADDR:PORT" (IPv4, port 1 to 65535). Throws ConfigError naming `flag` and the value.
 DiscoveryServerAddress parse_discovery_server(const std::string& text, const std::string& flag);

@@ -67,8 +67,8 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
     if (!transport.interface.empty()) {
         bound = resolve_ipv4(transport.interface, transport.interface_flag);
         udp->interfaceWhiteList.push_back(bound);
-        if (!transport.discovery_server.empty() && bound != SAME_HOST_ADDRESS)
-            udp->interfaceWhiteList.push_back(SAME_HOST_ADDRESS);
+        if (!transport.discovery_server.empty())
+            listen_for_a_same_host_server(*udp, bound);
     }
     qos.transport().use_builtin_transports = false;
     qos.transport().user_transports.push_back(udp);

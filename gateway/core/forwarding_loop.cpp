@@ -155,25 +155,25 @@ void ForwardingLoop::write_decisions() {
                 break;
             }
             case WriteOutbox::Decision::Kind::bundle:
-                write_bundle(d);
+                write_bundle(*d.bundle);
                 break;
         }
     }
 }
 
-void ForwardingLoop::write_bundle(WriteOutbox::Decision& d) {
+void ForwardingLoop::write_bundle(WriteOutbox::BundleWrite& d) {
     // What settling a failure needs, read before the sink takes the samples.
     std::uint64_t payload_bytes = 0;
     std::optional<std::uint32_t> completed_id;  // of the sample whose last chunk this is
-    for (const Sample& s : d.bundle) {
+    for (const Sample& s : d.entries) {
         payload_bytes += s.payload.size();
         if (s.chunk && s.completes_sample()) {
             completed_id = s.chunk->id;
         }
     }
     const std::size_t settled_before = failed_.size();
-    BundleShares shares(d.encoded.wire_bytes, payload_bytes, d.bundle.size());
-    for (const Sample& s : d.bundle) {
+    BundleShares shares(d.encoded.wire_bytes, payload_bytes, d.entries.size());
+    for (const Sample& s : d.entries) {
         const std::uint64_t share = shares.next(s.payload.size());
         if (s.chunk) {
             failed_.push_back(FailedWrite{FailedWrite::Kind::chunk, s.topic, 0, 0, s.chunk->id});
@@ -181,7 +181,7 @@ void ForwardingLoop::write_bundle(WriteOutbox::Decision& d) {
             failed_.push_back(FailedWrite{FailedWrite::Kind::bundle_entry, s.topic, s.payload.size(), share, 0});
         }
     }
-    if (sink_.write_bundle(std::move(d.bundle), std::move(d.encoded))) {
+    if (sink_.write_bundle(std::move(d.entries), std::move(d.encoded))) {
         failed_.resize(settled_before);
     } else {
         for (std::size_t i = settled_before; i < failed_.size(); ++i) {

@@ -64,7 +64,7 @@ class ForwardingLoop {
     void write_outbox(std::unique_lock<std::mutex>& lock);
     /// The writing thread's, without the lock: writes writing_now_ and notes what failed.
     void write_decisions();
-    void write_bundle(WriteOutbox::Decision& decision);
+    void write_bundle(WriteOutbox::BundleWrite& bundle);
     /// The writing thread's, under the lock: tells the scheduler what failed.
     void settle_failures();
     void run();

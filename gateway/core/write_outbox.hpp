@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -17,15 +18,20 @@ namespace tgw::core {
 /// charges its real size, and written later (write_bundle).
 class WriteOutbox final : public SampleSink {
   public:
+    /// A bundle encoded under the lock, to be written after it.
+    struct BundleWrite {
+        std::vector<Sample> entries;  ///< encoded as `encoded`
+        EncodedBundle encoded;
+        /// The chunked sample whose last chunk it carries (SampleSink::chunked_sample_left).
+        std::optional<Sample> completed;
+    };
     struct Decision {
         enum class Kind : std::uint8_t { forward, drop, bundle };
         Kind kind = Kind::drop;
         Sample sample;  ///< forward, drop
         DropReason reason = DropReason::shutdown;
-        std::vector<Sample> bundle;  ///< bundle: its entries, encoded as `encoded`
-        EncodedBundle encoded;
-        /// bundle: the chunked sample whose last chunk it carries (SampleSink::chunked_sample_left)
-        std::optional<Sample> completed;
+        /// bundle. Apart, so that the decision standard mode makes per sample stays the size of a sample.
+        std::unique_ptr<BundleWrite> bundle;
     };
 
     /// `encoder` encodes the bundles (the sink the decisions will be written to).
@@ -50,14 +56,15 @@ class WriteOutbox final : public SampleSink {
             return 0;
         }
         Decision& d = push(Decision::Kind::bundle);
-        d.bundle = std::move(samples);
-        d.encoded = std::move(encoded);
+        d.bundle = std::make_unique<BundleWrite>();
+        d.bundle->entries = std::move(samples);
+        d.bundle->encoded = std::move(encoded);
         return real_bytes;
     }
     void chunked_sample_left(Sample&& whole) override {
         // Called right after the bundle that carried its last chunk was recorded.
         if (!decisions_.empty() && decisions_.back().kind == Decision::Kind::bundle) {
-            decisions_.back().completed = std::move(whole);
+            decisions_.back().bundle->completed = std::move(whole);
         }
     }
     void drop(Sample&& sample, DropReason reason) override {

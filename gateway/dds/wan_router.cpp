@@ -229,8 +229,8 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     udp->maxMessageSize = static_cast<std::uint32_t>(config.max_datagram_bytes);
     if (!config.interface_address.empty()) {
         udp->interfaceWhiteList.push_back(config.interface_address);
-        if (config.discovery_server && config.interface_address != base::SAME_HOST_ADDRESS) {
-            udp->interfaceWhiteList.push_back(base::SAME_HOST_ADDRESS);
+        if (config.discovery_server) {
+            base::listen_for_a_same_host_server(*udp, config.interface_address);
         }
     }
     auto coalescing =

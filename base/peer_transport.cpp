@@ -25,14 +25,31 @@ bool is_ipv4(const std::string& text) {
     return inet_pton(AF_INET, text.c_str(), &addr) == 1;
 }
 
-Locator_t udp_locator(const std::string& address) {
+// RTPS 2.x port mapping defaults (PB, DG, PG, d1).
+constexpr int PORT_BASE = 7400;
+constexpr int DOMAIN_GAIN = 250;
+constexpr int PARTICIPANT_GAIN = 2;
+constexpr int OFFSET_METATRAFFIC_UNICAST = 10;
+
+Locator_t udp_locator(const std::string& address, std::uint16_t port = 0) {
     Locator_t locator;
     locator.kind = LOCATOR_KIND_UDPv4;
     IPLocator::setIPv4(locator, address);
+    locator.port = port;
     return locator;
 }
 
+bool is_loopback(const std::string& ipv4) {
+    in_addr addr{};
+    return inet_pton(AF_INET, ipv4.c_str(), &addr) == 1 && (ntohl(addr.s_addr) >> 24) == 127;
+}
+
 }  // namespace
+
+std::uint16_t metatraffic_unicast_port(int domain, int participant_id) {
+    return static_cast<std::uint16_t>(PORT_BASE + DOMAIN_GAIN * domain + OFFSET_METATRAFFIC_UNICAST +
+                                      PARTICIPANT_GAIN * participant_id);
+}
 
 std::string resolve_ipv4(const std::string& name_or_addr, const std::string& flag) {
     if (is_ipv4(name_or_addr))
@@ -52,7 +69,8 @@ std::string resolve_ipv4(const std::string& name_or_addr, const std::string& fla
     throw ConfigError(flag + ": '" + name_or_addr + "' is neither an IPv4 address nor an interface with one");
 }
 
-void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport) {
+void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport,
+                          int domain) {
     using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
     using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
     const bool remote = !transport.peers.empty() || !transport.discovery_server.empty();
@@ -81,12 +99,19 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
     }
 
     // Over the slow link: the peer runs one participant per domain, so its first port is enough; every
-    // SPDP datagram to a port nobody listens on costs link time for nothing.
+    // SPDP datagram to a port nobody listens on costs link time for nothing. On this host, the gateway need not
+    // be the domain's first participant (a recorder started before it takes that port), and then it would hear
+    // of us only at its next periodic announcement, 20 s later.
     udp->maxInitialPeersRange = 1;
     for (const std::string& peer : transport.peers) {
         if (!is_ipv4(peer))
             throw ConfigError(transport.peers_flag + ": '" + peer + "' is not an IPv4 address");
-        builtin.initialPeersList.push_back(udp_locator(peer));
+        if (!is_loopback(peer)) {
+            builtin.initialPeersList.push_back(udp_locator(peer));
+            continue;
+        }
+        for (int id = 0; id < SAME_HOST_PEER_PARTICIPANTS; ++id)
+            builtin.initialPeersList.push_back(udp_locator(peer, metatraffic_unicast_port(domain, id)));
     }
     if (!transport.discovery_server.empty())
         apply_discovery_client(qos, parse_discovery_server(transport.discovery_server, transport.discovery_server_flag),

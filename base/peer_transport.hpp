@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -27,10 +28,20 @@ struct PeerTransport {
 /// named. Throws ConfigError naming `flag` when it is neither.
 std::string resolve_ipv4(const std::string& name_or_addr, const std::string& flag);
 
-/// Configures `qos` for the link. With peers: UDPv4 only (no shared memory, no multicast), SPDP to the
-/// peers' first participant port only, longer announcement period. With a discovery server: the same, but
-/// discovery through the server. With an interface: every UDP socket bound to its address. Throws ConfigError
-/// on a bad address.
-void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport);
+/// The RTPS well-known metatraffic unicast port of participant `participant_id` in `domain` (RTPS 9.6.1.1).
+std::uint16_t metatraffic_unicast_port(int domain, int participant_id);
+
+/// A peer on this host (a loopback address) gets the announcements at the ports of this many participants of
+/// the domain: the gateway, a relay and the tools run beside them share the host, and take participant ids in
+/// the order they start. A datagram to loopback costs the radio nothing.
+constexpr int SAME_HOST_PEER_PARTICIPANTS = 8;
+
+/// Configures `qos` for the link to the other end of `domain`. With peers: UDPv4 only (no shared memory, no
+/// multicast), SPDP to a remote peer's first participant port only (to a loopback peer's first
+/// SAME_HOST_PEER_PARTICIPANTS), longer announcement period. With a discovery server: the same, but discovery
+/// through the server. With an interface: every UDP socket bound to its address. Throws ConfigError on a bad
+/// address.
+void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport,
+                          int domain);
 
 }  // namespace tgw::base

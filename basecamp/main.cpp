@@ -189,12 +189,12 @@ int main(int argc, char** argv) {
                                              "), or every sample would come back to the relay");
             auto* factory = eprosima::fastdds::dds::DomainParticipantFactory::get_instance();
             auto wan_qos = factory->get_default_participant_qos();
-            tgw::base::apply_peer_transport(wan_qos, relay_transport);
+            tgw::base::apply_peer_transport(wan_qos, relay_transport, domain);
             // The WAN participant only: the camp's own domain stays plain, for programs with their defaults.
             if (security)
                 tgw::base::apply_dds_security(wan_qos, *security);
             auto local_qos = factory->get_default_participant_qos();
-            tgw::base::apply_peer_transport(local_qos, local_transport);
+            tgw::base::apply_peer_transport(local_qos, local_transport, local_domain);
             std::vector<tgw::basecamp::SampleConsumer*> consumers;
             std::unique_ptr<tgw::basecamp::SampleStore> store;
             if (!relay_out.empty()) {

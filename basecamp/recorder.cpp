@@ -66,7 +66,7 @@ Recorder::Recorder(int domain, const base::PeerTransport& transport, SampleConsu
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
     qos.name("tm-basecamp");
-    base::apply_peer_transport(qos, transport);
+    base::apply_peer_transport(qos, transport, domain);
     if (security)
         base::apply_dds_security(qos, *security);
     participant_ = factory->create_participant(domain, qos, discovery_.get(), fdds::StatusMask::none());

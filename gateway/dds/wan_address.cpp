@@ -12,12 +12,6 @@ namespace tgw::dds {
 
 namespace {
 
-// RTPS 2.x port mapping defaults (PB, DG, PG, d1).
-constexpr int PORT_BASE = 7400;
-constexpr int DOMAIN_GAIN = 250;
-constexpr int PARTICIPANT_GAIN = 2;
-constexpr int OFFSET_METATRAFFIC_UNICAST = 10;
-
 bool is_ipv4(const std::string& text) {
     in_addr addr{};
     return inet_pton(AF_INET, text.c_str(), &addr) == 1;
@@ -44,11 +38,6 @@ bool has_ipv4(const ifaddrs* it) {
 }
 
 }  // namespace
-
-std::uint16_t metatraffic_unicast_port(int domain, int participant_id) {
-    return static_cast<std::uint16_t>(PORT_BASE + DOMAIN_GAIN * domain + OFFSET_METATRAFFIC_UNICAST +
-                                      PARTICIPANT_GAIN * participant_id);
-}
 
 WanPeer parse_wan_peer(const std::string& text, int domain) {
     WanPeer peer;

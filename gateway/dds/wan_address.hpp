@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "base/peer_transport.hpp"
+
 namespace tgw::dds {
 
 /// A base-camp participant the WAN participant announces itself to: its metatraffic unicast locator.
@@ -15,8 +17,7 @@ struct WanPeer {
     bool exact_port = false;
 };
 
-/// The RTPS well-known metatraffic unicast port of participant `participant_id` in `domain` (RTPS 9.6.1.1).
-std::uint16_t metatraffic_unicast_port(int domain, int participant_id);
+using base::metatraffic_unicast_port;
 
 /// Parses --wan-peer "ADDR" or "ADDR:PORT" (IPv4). Without a port, `port` is participant 0's in `domain`.
 /// Throws base::ConfigError naming the flag and value.

@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
     fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
     tgw::base::PeerTransport loopback;
     loopback.interface = "127.0.0.1";
-    tgw::base::apply_peer_transport(qos, loopback);
+    tgw::base::apply_peer_transport(qos, loopback, domain);
     fdds::DomainParticipant* participant = factory->create_participant(domain, qos);
     fdds::TypeSupport support(type == "Convoy" ? static_cast<fdds::TopicDataType*>(new tgw_test::ConvoyPubSubType())
                                                : new tgw_test::FlatReadingPubSubType());

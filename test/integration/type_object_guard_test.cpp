@@ -35,7 +35,7 @@ TEST(TypeObjectGuardTest, ATypeObjectFastDdsWouldCrashOnReachesTheListenerAndNoF
     fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
     base::PeerTransport loopback;
     loopback.interface = "127.0.0.1";
-    base::apply_peer_transport(qos, loopback);
+    base::apply_peer_transport(qos, loopback, domain);
     fdds::DomainParticipant* participant =
         factory->create_participant(domain, qos, &listener, fdds::StatusMask::none());
     ASSERT_NE(participant, nullptr);

@@ -40,7 +40,7 @@ PaperPublisher::PaperPublisher(int domain, const std::vector<core::MessageStream
     auto* factory = dds::DomainParticipantFactory::get_instance();
     dds::DomainParticipantQos pqos = factory->get_default_participant_qos();
     pqos.name("tm-robot-sim");
-    base::apply_peer_transport(pqos, transport);
+    base::apply_peer_transport(pqos, transport, domain);
     participant_ = factory->create_participant(domain, pqos);
     if (participant_ == nullptr)
         throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));

@@ -21,7 +21,7 @@ PosePublisher::PosePublisher(int domain, const std::string& topic, double rate_h
     auto* factory = dds::DomainParticipantFactory::get_instance();
     dds::DomainParticipantQos qos = factory->get_default_participant_qos();
     qos.name("tm-robot-sim/pose");
-    base::apply_peer_transport(qos, transport);
+    base::apply_peer_transport(qos, transport, domain);
     participant_ = factory->create_participant(domain, qos);
     if (participant_ == nullptr)
         throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain));

@@ -31,6 +31,7 @@
 #include "basecamp/status_command.hpp"
 #include "basecamp/subcommand.hpp"
 #include "gateway/dds/qos_file.hpp"
+#include "gateway/dds/uplink_topics.hpp"
 
 namespace {
 
@@ -117,6 +118,11 @@ int main(int argc, char** argv) {
     local_transport.interface_flag = "--local-interface";
     relay->add_option("--local-interface", local_transport.interface,
                       "interface name or IPv4 address the camp's domain uses (default: every interface)");
+    std::vector<std::string> relay_uplink;
+    relay->add_option("--uplink", relay_uplink,
+                      "a topic the camp's programs may publish to the robots (commands: rt/NAME/cmd_vel, for a gateway "
+                      "with --robot-name NAME --uplink rt/cmd_vel), carried from the camp's domain onto the WAN; "
+                      "repeatable, nothing else goes that way");
     std::string relay_out;
     relay->add_option("--out", relay_out, "also record every sample taken off the WAN, as 'record' does (SQLite)");
     double relay_report_period_s = 1.0;
@@ -184,6 +190,7 @@ int main(int argc, char** argv) {
         if (relay->parsed()) {
             // Checked first: nothing is created when an identity's file is missing or tampered with.
             const auto security = tgw::basecamp::security_files(relay_security);
+            tgw::dds::UplinkTopics(relay_uplink, "");  // exact names: throws naming --uplink
             if (local_domain == domain)
                 throw tgw::base::ConfigError("--local-domain: must differ from --domain (" + std::to_string(domain) +
                                              "), or every sample would come back to the relay");
@@ -210,7 +217,7 @@ int main(int argc, char** argv) {
             tgw::basecamp::ConsumerFanOut taken_off_the_wan(consumers);
             tgw::basecamp::Relay relaying(domain, wan_qos, local_domain, local_qos,
                                           consumers.empty() ? nullptr : &taken_off_the_wan,
-                                          tgw::base::from_seconds(relay_report_period_s));
+                                          tgw::base::from_seconds(relay_report_period_s), relay_uplink);
             tgw::basecamp::stop_on_signals();
             std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain;
             if (foxglove_server)
@@ -236,6 +243,10 @@ int main(int argc, char** argv) {
                           << " samples relayed, " << c.unknown_entries << " never described by a catalog entry, "
                           << c.incomplete_samples << " chunked samples incomplete\n";
             }
+            for (const tgw::dds::UplinkCount& up : relaying.uplink_counts())
+                std::cout << "  uplink " << up.from_topic << ": " << up.received << " commands taken from the camp, "
+                          << up.delivered << " onto the WAN, " << up.expired << " past their Lifespan (dropped), "
+                          << up.failed << " failed\n";
             if (foxglove_server)
                 std::cout << "  Foxglove: " << foxglove_server->messages_sent() << " messages sent to clients\n";
         } else if (record->parsed()) {

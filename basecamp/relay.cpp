@@ -19,6 +19,7 @@
 #include "basecamp/receiver_reporter.hpp"
 #include "basecamp/wan_capture.hpp"
 #include "gateway/dds/compact_topics.hpp"
+#include "gateway/dds/pass_on.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
@@ -42,16 +43,7 @@ class Relay::Lane final : public fdds::DataReaderListener {
           tally_(tally),
           store_(store) {}
 
-    ~Lane() override {
-        // The reader first: no callback may find the writer gone.
-        if (reader != nullptr) {
-            reader->set_listener(nullptr);
-            const_cast<fdds::Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
-        }
-        if (writer != nullptr) {
-            const_cast<fdds::Publisher*>(writer->get_publisher())->delete_datawriter(writer);
-        }
-    }
+    ~Lane() override { dds::delete_reader_then_writer(reader, writer); }
 
     void on_data_available(fdds::DataReader* from) override {
         dds::PassthroughData data;
@@ -60,28 +52,18 @@ class Relay::Lane final : public fdds::DataReaderListener {
             if (!writers_.carries(info.publication_handle, index_)) {
                 continue;  // the writer's own lane passes it on
             }
-            fdds::InstanceHandle_t handle = fdds::HANDLE_NIL;
-            if (keyed_) {
-                data.key = info.instance_handle;
-                handle =
-                    info.instance_handle.isDefined() ? info.instance_handle : dds::PassthroughType::UNKNOWN_INSTANCE;
+            if (!info.valid_data && !keyed_) {
+                continue;  // an unkeyed topic's one instance: nothing to pass on
             }
-            // SampleInfo carries the RTPS time type; the writers take the DDS one.
-            const eprosima::fastrtps::Time_t stamp(info.source_timestamp.seconds(), info.source_timestamp.nanosec());
-            ReturnCode_t rc = ReturnCode_t::RETCODE_OK;
             if (info.valid_data) {
                 tally_sample(tally_, topic_, info, data.payload.size());
                 if (store_ != nullptr) {
                     store_->add(sample_record(topic_, data.payload, info));
                 }
-                rc = writer->write_w_timestamp(&data, handle, stamp);
-            } else if (!keyed_) {
-                continue;  // an unkeyed topic's one instance: nothing to pass on
-            } else if (info.instance_state == fdds::NOT_ALIVE_DISPOSED_INSTANCE_STATE) {
-                rc = writer->dispose_w_timestamp(&data, handle, stamp);
-            } else {
-                rc = writer->unregister_instance_w_timestamp(&data, handle, stamp);
             }
+            // SampleInfo carries the RTPS time type; the writers take the DDS one.
+            const eprosima::fastrtps::Time_t stamp(info.source_timestamp.seconds(), info.source_timestamp.nanosec());
+            const ReturnCode_t rc = dds::pass_on(*writer, data, info, keyed_, stamp);
             if (rc == ReturnCode_t::RETCODE_OK) {
                 relayed.fetch_add(1, std::memory_order_relaxed);
             } else if (failures.fetch_add(1, std::memory_order_relaxed) == 0) {
@@ -108,14 +90,15 @@ class Relay::Lane final : public fdds::DataReaderListener {
 };
 
 Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain, fdds::DomainParticipantQos local_qos,
-             SampleConsumer* store, base::Duration report_period)
-    : store_(store), report_period_(report_period) {
+             SampleConsumer* store, base::Duration report_period, std::vector<std::string> uplink)
+    : store_(store), report_period_(report_period), uplink_topics_(std::move(uplink)) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     wan_qos.name("tm-basecamp relay/wan");
     local_qos.name("tm-basecamp relay/local");
     // The local participant first: nothing discovered on the WAN may find it missing.
-    local_ = factory->create_participant(local_domain, local_qos, &local_guard_, fdds::StatusMask::none());
+    local_discovery_ = std::make_unique<dds::Discovery>(local_discovered_.callback());
+    local_ = factory->create_participant(local_domain, local_qos, local_discovery_.get(), fdds::StatusMask::none());
     if (local_ == nullptr) {
         throw base::ConfigError("--local-domain: cannot create a DDS participant on domain " +
                                 std::to_string(local_domain));
@@ -126,8 +109,13 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
         throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(wan_domain));
     }
     discovery_->ignore_participant(wan_->guid().guidPrefix);
+    local_discovery_->ignore_participant(local_->guid().guidPrefix);
     if (report_period_ > base::Duration::zero()) {
         reporter_ = std::make_unique<ReceiverReporter>(wan_);
+    }
+    if (!uplink_topics_.empty()) {
+        // Nothing is charged: the camp has no link budget; the gateway counts what crossed.
+        uplink_ = std::make_unique<dds::Uplink>(local_, wan_, clock_, core::WireModel{}, dds::Uplink::Charge{});
     }
 }
 
@@ -137,6 +125,7 @@ Relay::~Relay() {
             participant->set_listener(nullptr);
     }
     compact_.reset();  // its readers, then its writers
+    uplink_.reset();
     {
         std::lock_guard<std::mutex> lock(topics_mutex_);
         topics_.clear();  // each lane's reader, then its writer
@@ -222,6 +211,23 @@ void Relay::relay(const dds::DiscoveredPublisher& publisher) {
     topic->lanes.push_back(std::move(lane));
 }
 
+void Relay::uplink(const dds::DiscoveredPublisher& publisher) {
+    if (!uplink_ || std::find(uplink_topics_.begin(), uplink_topics_.end(), publisher.topic) == uplink_topics_.end()) {
+        return;  // nothing else goes from the camp onto the WAN
+    }
+    // The camp publisher's Lifespan goes on with its commands; without one they never expire here, and the gateway
+    // gives them its own TTL.
+    std::optional<dds::ResolvedTtl> ttl;
+    if (publisher.lifespan) {
+        ttl = dds::ResolvedTtl{*publisher.lifespan, dds::TtlSource::publisher};
+    }
+    uplink_->route(publisher, publisher.topic, ttl);
+}
+
+std::vector<dds::UplinkCount> Relay::uplink_counts() const {
+    return uplink_ ? uplink_->counts() : std::vector<dds::UplinkCount>{};
+}
+
 void Relay::run(base::Duration duration, const std::atomic<bool>& stop) {
     const auto end = base::SteadyClock::now() + duration;
     while (!stop.load() && base::SteadyClock::now() < end) {
@@ -230,6 +236,9 @@ void Relay::run(base::Duration duration, const std::atomic<bool>& stop) {
         }
         if (compact_) {
             compact_->poll();
+        }
+        for (const dds::DiscoveredPublisher& publisher : local_discovered_.take(std::chrono::milliseconds(0))) {
+            uplink(publisher);
         }
         if (reporter_ && base::SteadyClock::now() >= next_report_) {
             next_report_ += report_period_;

@@ -12,6 +12,7 @@
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
+#include "base/clock.hpp"
 #include "base/time.hpp"
 #include "basecamp/delivery_tally.hpp"
 #include "basecamp/discovery_queue.hpp"
@@ -20,6 +21,7 @@
 #include "gateway/dds/lane_assignment.hpp"
 #include "gateway/dds/partition_groups.hpp"
 #include "gateway/dds/type_object_guard.hpp"
+#include "gateway/dds/uplink.hpp"
 
 namespace eprosima::fastdds::dds {
 class DomainParticipant;
@@ -41,6 +43,10 @@ class ReceiverReporter;
 ///
 /// Like the gateway, it makes one lane per QoS offer of a topic (a reader on the WAN, a writer on the local
 /// domain), and a writer's samples are passed on by its own lane only.
+///
+/// The other way, only the `uplink` topics (commands: rt/NAME/cmd_vel) go from the camp's domain onto the WAN, to
+/// the gateways' --uplink: published on the WAN under the same name and type, with the camp publisher's QoS,
+/// source timestamps and Lifespan; a command already past its Lifespan is dropped here and never costs the link.
 class Relay {
   public:
     /// Creates both participants: on `wan_domain` with `wan_qos` (made for the link: base::apply_peer_transport), on
@@ -48,10 +54,11 @@ class Relay {
     /// bound to one interface). With `store`, every sample taken off the WAN goes there too: a recording, as `record`
     /// makes, a Foxglove server, or both. Every `report_period` (zero: never) it tells each gateway what arrived and
     /// what was lost on the way, as `record` does: the camp's one WAN participant is the one to report. Throws
-    /// base::ConfigError naming the flag when DDS refuses a participant.
+    /// base::ConfigError naming the flag when DDS refuses a participant. `uplink`: the topics the camp's programs
+    /// may publish onto the WAN (exact names); none by default.
     Relay(int wan_domain, eprosima::fastdds::dds::DomainParticipantQos wan_qos, int local_domain,
           eprosima::fastdds::dds::DomainParticipantQos local_qos, SampleConsumer* store = nullptr,
-          base::Duration report_period = std::chrono::seconds(1));
+          base::Duration report_period = std::chrono::seconds(1), std::vector<std::string> uplink = {});
     ~Relay();
     Relay(const Relay&) = delete;
     Relay& operator=(const Relay&) = delete;
@@ -65,6 +72,9 @@ class Relay {
     /// Samples (and disposes, unregisters) written on the local domain so far, per topic.
     std::map<std::string, std::uint64_t> relayed() const;
 
+    /// The uplink topics a camp publisher was discovered of, with what became of their samples.
+    std::vector<dds::UplinkCount> uplink_counts() const;
+
     /// What the compact WAN mode's unpacker has done; nullptr until a compact-mode gateway appeared.
     const CompactUnpacker* compact() const { return compact_.get(); }
 
@@ -76,6 +86,8 @@ class Relay {
     };
 
     void relay(const dds::DiscoveredPublisher& publisher);
+    /// Routes a camp publisher of an uplink topic onto the WAN; others are ignored.
+    void uplink(const dds::DiscoveredPublisher& publisher);
     std::unique_ptr<Lane> make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic, std::uint16_t index);
 
     SampleConsumer* store_;
@@ -87,13 +99,19 @@ class Relay {
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* wan_ = nullptr;
-    dds::TypeObjectGuard local_guard_;  ///< the local participant's listener: base-camp tools announce types too
+    const std::vector<std::string> uplink_topics_;
+    DiscoveryQueue local_discovered_;  ///< before local_discovery_, whose callback feeds it
+    /// The local participant's listener: the camp's publishers of uplink topics (and it keeps the TypeObjects that
+    /// base-camp tools announce from Fast DDS, as every listener of the project does).
+    std::unique_ptr<dds::Discovery> local_discovery_;
     eprosima::fastdds::dds::DomainParticipant* local_ = nullptr;
     dds::PartitionGroups<eprosima::fastdds::dds::Subscriber> wan_subscribers_;
     dds::PartitionGroups<eprosima::fastdds::dds::Publisher> local_publishers_;
     /// Made when a compact-mode gateway's bundles or catalog appear; before the participants go.
     std::unique_ptr<CompactUnpacker> compact_;
-    mutable std::mutex topics_mutex_;  ///< run() adds to topics_, relayed() reads it
+    base::SystemClock clock_;
+    std::unique_ptr<dds::Uplink> uplink_;  ///< with uplink topics; before the participants go
+    mutable std::mutex topics_mutex_;      ///< run() adds to topics_, relayed() reads it
     std::map<std::string, std::unique_ptr<Topic>> topics_;
 };
 

@@ -19,6 +19,25 @@ constexpr std::uint8_t ENTITY_KIND_WRITER_WITH_KEY = 0x02;
 
 }  // namespace
 
+DiscoveredPublisher discovered_publisher(const eprosima::fastrtps::rtps::WriterProxyData& data,
+                                         std::shared_ptr<const eprosima::fastrtps::types::TypeObject> type_object) {
+    DiscoveredPublisher pub;
+    pub.topic = data.topicName().to_string();
+    pub.type_name = data.typeName().to_string();
+    // Vendors announce keyed-ness in the writer's entity kind; Fast DDS also derives topicKind from it.
+    pub.keyed = data.topicKind() == eprosima::fastrtps::rtps::WITH_KEY ||
+                data.guid().entityId.value[3] == ENTITY_KIND_WRITER_WITH_KEY;
+    pub.lifespan = to_duration(data.m_qos.m_lifespan.duration);
+    // Fast DDS puts its vendor id in the first two bytes of its GUID prefixes.
+    const auto& prefix = data.guid().guidPrefix.value;
+    const bool fast_dds = prefix[0] == eprosima::fastrtps::rtps::c_VendorId_eProsima[0] &&
+                          prefix[1] == eprosima::fastrtps::rtps::c_VendorId_eProsima[1];
+    pub.qos = OfferedQos::from_writer(data.m_qos, fast_dds && pub.keyed);
+    pub.writer = data.guid();
+    pub.type_object = std::move(type_object);
+    return pub;
+}
+
 Discovery::Discovery(Callback on_publisher, GoneCallback on_gone)
     : on_publisher_(std::move(on_publisher)), on_gone_(std::move(on_gone)) {}
 
@@ -49,21 +68,7 @@ void Discovery::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant
     if (info.status != WriterDiscoveryInfo::DISCOVERED_WRITER) {
         return;
     }
-    DiscoveredPublisher pub;
-    pub.topic = data.topicName().to_string();
-    pub.type_name = data.typeName().to_string();
-    // Vendors announce keyed-ness in the writer's entity kind; Fast DDS also derives topicKind from it.
-    pub.keyed = data.topicKind() == eprosima::fastrtps::rtps::WITH_KEY ||
-                data.guid().entityId.value[3] == ENTITY_KIND_WRITER_WITH_KEY;
-    pub.lifespan = to_duration(data.m_qos.m_lifespan.duration);
-    // Fast DDS puts its vendor id in the first two bytes of its GUID prefixes.
-    const auto& prefix = data.guid().guidPrefix.value;
-    const bool fast_dds = prefix[0] == eprosima::fastrtps::rtps::c_VendorId_eProsima[0] &&
-                          prefix[1] == eprosima::fastrtps::rtps::c_VendorId_eProsima[1];
-    pub.qos = OfferedQos::from_writer(data.m_qos, fast_dds && pub.keyed);
-    pub.writer = data.guid();
-    pub.type_object = std::move(type_object);
-    on_publisher_(std::move(pub));
+    on_publisher_(discovered_publisher(data, std::move(type_object)));
 }
 
 }  // namespace tgw::dds

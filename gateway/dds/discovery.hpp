@@ -34,6 +34,10 @@ struct DiscoveredPublisher {
     std::shared_ptr<const eprosima::fastrtps::types::TypeObject> type_object;
 };
 
+/// `data`, a writer's discovery data, as a DiscoveredPublisher with `type_object` (take_type_object()).
+DiscoveredPublisher discovered_publisher(const eprosima::fastrtps::rtps::WriterProxyData& data,
+                                         std::shared_ptr<const eprosima::fastrtps::types::TypeObject> type_object);
+
 /// The robot participant's listener: turns every publisher discovered on the robot domain, whenever it
 /// appears, into a DiscoveredPublisher for `on_publisher`, and tells `on_gone` the topic and GUID of each that
 /// leaves (deleted, or its participant gone). Publishers of the gateway's own participants are ignored. As a

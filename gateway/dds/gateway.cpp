@@ -97,6 +97,7 @@ void GatewayConfig::validate() const {
     for (const std::string& peer : wan_peers) {
         parse_wan_peer(peer, wan_domain);
     }
+    UplinkTopics(uplink, robot_name);  // throws naming --uplink
     for (const auto* globs : {&allow, &deny}) {
         for (const std::string& glob : *globs) {
             if (glob.empty()) {
@@ -120,7 +121,7 @@ void GatewayConfig::validate() const {
     }
 }
 
-struct Gateway::UnscheduledLink {
+struct Gateway::WanCallbackLink {
     std::mutex mutex;
     Gateway* gateway = nullptr;  ///< null once the Gateway is being destroyed
 };
@@ -129,14 +130,15 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     : config_(std::move(config)),
       clock_(clock),
       filter_(config_.allow, config_.deny),
-      unscheduled_link_(std::make_shared<UnscheduledLink>()) {
+      wan_callbacks_(std::make_shared<WanCallbackLink>()),
+      uplink_topics_(config_.uplink, config_.robot_name) {
     config_.validate();
     // The identity first: a missing or tampered file stops the start before anything is created.
     std::optional<base::SecurityFiles> security;
     if (!config_.wan_security.empty()) {
         security = base::SecurityFiles::load(config_.wan_security, "--wan-security");
     }
-    unscheduled_link_->gateway = this;
+    wan_callbacks_->gateway = this;
     if (!config_.log_file.empty()) {
         log_ = std::make_unique<log::RobotLog>(config_.log_file, config_.log_max_bytes);
     }
@@ -178,12 +180,21 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     }
     // Discovery, heartbeats, repairs, copies to further readers: charged as they leave, so that the budget
     // counts every byte the WAN participant puts on the link (DESIGN section 3).
-    wan.on_unscheduled = [link = unscheduled_link_](std::uint64_t frame_bytes) {
+    wan.on_unscheduled = [link = wan_callbacks_](std::uint64_t frame_bytes) {
         std::lock_guard<std::mutex> lock(link->mutex);
         if (link->gateway != nullptr) {
             link->gateway->charge_unscheduled(frame_bytes);
         }
     };
+    if (!uplink_topics_.empty()) {
+        wan.on_remote_publisher = [link = wan_callbacks_](DiscoveredPublisher&& pub) {
+            std::lock_guard<std::mutex> lock(link->mutex);
+            if (link->gateway != nullptr) {
+                link->gateway->remote_publisher_discovered(std::move(pub));
+            }
+        };
+        wan.discovery_role = base::DiscoveryRole::super_client;
+    }
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
 
     if (config_.compact_wan) {
@@ -250,6 +261,14 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         robot_ = std::make_unique<RobotParticipant>(config_.robot_domain, discovery_.get(), transport,
                                                     participant_profile(ROBOT_PARTICIPANT_PROFILE));
         discovery_->ignore_participant(robot_->guid_prefix());
+        if (!uplink_topics_.empty()) {
+            Uplink::Charge charge;
+            if (config_.uplink_shares_link) {
+                charge = [this](std::uint64_t frame_bytes) { charge_link(frame_bytes); };
+            }
+            uplink_ = std::make_unique<Uplink>(wan_->participant(), robot_->participant(), clock_,
+                                               config_.scheduler.wire, std::move(charge));
+        }
         worker_ = std::thread([this] { run_worker(); });
         if (!config_.qos_file.empty()) {
             for (const DeclaredTopic& declared : declared_topics(config_.qos_file)) {
@@ -271,8 +290,8 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
 Gateway::~Gateway() {
     stop();
     // The WAN participant outlives the members its transport's callback would use.
-    std::lock_guard<std::mutex> lock(unscheduled_link_->mutex);
-    unscheduled_link_->gateway = nullptr;
+    std::lock_guard<std::mutex> lock(wan_callbacks_->mutex);
+    wan_callbacks_->gateway = nullptr;
 }
 
 void Gateway::stop() {
@@ -291,6 +310,9 @@ void Gateway::stop() {
         for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
             bridge->close_readers();
         }
+    }
+    if (uplink_) {
+        uplink_->close();  // its writers are the robot participant's
     }
     robot_.reset();
     loop_->stop();
@@ -538,6 +560,31 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     }
 }
 
+void Gateway::remote_publisher_discovered(DiscoveredPublisher&& pub) {
+    std::optional<std::string> robot_topic = uplink_topics_.robot_topic(pub.topic);
+    if (!robot_topic) {
+        return;  // nothing else flows from the WAN into the robot domain
+    }
+    post([this, pub = std::move(pub), robot_topic = std::move(*robot_topic)] { route_uplink_nts(pub, robot_topic); });
+}
+
+void Gateway::route_uplink_nts(const DiscoveredPublisher& pub, const std::string& robot_topic) {
+    if (!uplink_) {
+        return;  // stopping
+    }
+    // The same rule as the robot's topics: a --qos profile named after the robot's topic, the publisher's
+    // Lifespan, --default-ttl.
+    std::optional<base::Duration> profile_lifespan;
+    if (auto profile = wan_->writer_profile(robot_topic)) {
+        profile_lifespan = to_duration(profile->lifespan().duration);
+    }
+    uplink_->route(pub, robot_topic, resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl));
+}
+
+std::vector<UplinkCount> Gateway::uplink_counts() const {
+    return uplink_ ? uplink_->counts() : std::vector<UplinkCount>{};
+}
+
 std::vector<BridgedTopic> Gateway::topics() const {
     std::vector<BridgedTopic> out;
     for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
@@ -658,6 +705,10 @@ std::optional<ReceiverReportTotals> Gateway::receiver_report() const {
 
 void Gateway::charge_unscheduled(std::uint64_t frame_bytes) {
     unscheduled_wire_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
+    charge_link(frame_bytes);
+}
+
+void Gateway::charge_link(std::uint64_t frame_bytes) {
     pending_unscheduled_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
     // One task charges whatever has come by the time it runs: a burst of copies costs one hand-off, not one each.
     if (!unscheduled_charge_posted_.exchange(true)) {

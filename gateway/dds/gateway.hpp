@@ -28,6 +28,8 @@
 #include "gateway/dds/topic_bridge.hpp"
 #include "gateway/dds/topic_filter.hpp"
 #include "gateway/dds/ttl_resolver.hpp"
+#include "gateway/dds/uplink.hpp"
+#include "gateway/dds/uplink_topics.hpp"
 #include "sensor/rate_sensor.hpp"
 
 namespace tgw::log {
@@ -64,6 +66,12 @@ struct GatewayConfig {
     std::uint64_t log_max_bytes = 0;  ///< the log's cap (RobotLog); 0: none
     std::vector<std::string> allow;   ///< topic globs; empty: all
     std::vector<std::string> deny;
+    /// --uplink: robot topics (by the robot's own names) the base camp may publish into the robot domain, each
+    /// under its WAN name (base::namespaced_topic); empty: nothing flows from the WAN into the robot domain.
+    std::vector<std::string> uplink;
+    /// --duplex half: the radio carries both directions on one channel, so the uplink's bytes are charged to the
+    /// budget; false (full): they are only counted.
+    bool uplink_shares_link = true;
     /// --robot-name: the robot's topics appear on the WAN under this name (base::namespaced_topic); empty: under
     /// their own names. Allow, deny and --qos profiles go by the robot's own names.
     std::string robot_name;
@@ -197,6 +205,9 @@ class Gateway {
     std::uint64_t introductions() const;
     /// Samples handed to the on-robot log.
     std::uint64_t logged() const;
+    /// The uplink's topics that a base-camp publisher was discovered of, with what became of their samples.
+    std::vector<UplinkCount> uplink_counts() const;
+
     /// The gateway's own processing time of every sample forwarded so far: from its arrival in the scheduler
     /// to the return of the WAN DataWriter's write (time queued for the link budget included).
     core::LatencyHistogram::Snapshot processing_latency() const;
@@ -216,7 +227,7 @@ class Gateway {
     /// Writes the rate to the on-robot log's link_rates, when there is a log, at most once a second unless it
     /// changed.
     void log_rate(double rate_bps);
-    struct UnscheduledLink;
+    struct WanCallbackLink;
 
     /// Runs `task` in the worker thread, after those posted before it.
     void post(std::function<void()> task);
@@ -249,14 +260,21 @@ class Gateway {
     base::Duration status_spacing(double rate_bps, double wire_bits) const;
     /// Tells the loop which topics a base-camp reader takes now, and looks again after REACHABILITY_POLL.
     void poll_reachability_nts();  // the worker thread only
-    /// Counts traffic the WAN transport sent outside the schedule and has the worker charge it to the loop.
+    /// Counts traffic the WAN transport sent outside the schedule and charges it to the loop (charge_link).
     void charge_unscheduled(std::uint64_t frame_bytes);
+    /// Has the worker charge `frame_bytes` that crossed the link outside the schedule to the loop's budget.
+    void charge_link(std::uint64_t frame_bytes);
+    /// A base-camp writer discovered on the WAN: routed to the robot domain if its topic is on the uplink list.
+    void remote_publisher_discovered(DiscoveredPublisher&& pub);  // Fast DDS's discovery thread
+    /// Routes a listed topic's base-camp publisher into the robot domain. The worker thread only.
+    void route_uplink_nts(const DiscoveredPublisher& pub, const std::string& robot_topic);
 
     GatewayConfig config_;
     const base::Clock& clock_;
     TopicFilter filter_;
-    /// How the WAN transport's reports of unscheduled traffic reach this object while it lives.
-    std::shared_ptr<UnscheduledLink> unscheduled_link_;
+    /// How the WAN participant's callbacks (unscheduled traffic, base-camp writers) reach this object while it lives.
+    std::shared_ptr<WanCallbackLink> wan_callbacks_;
+    UplinkTopics uplink_topics_;
 
     std::unique_ptr<log::RobotLog> log_;
     std::unique_ptr<ReceiverReportReader> reports_;  ///< before wan_: its reader's listener outlives it
@@ -275,6 +293,7 @@ class Gateway {
     std::thread worker_;
 
     std::unique_ptr<RobotParticipant> robot_;
+    std::unique_ptr<Uplink> uplink_;  ///< with --uplink; closed by stop(), before robot_ goes
     std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};
     std::shared_ptr<WanWriter> status_writer_;   ///< standard WAN mode
     std::optional<core::TopicId> status_topic_;  ///< with a status period

@@ -21,7 +21,7 @@ namespace tgw::dds {
 
 /// The gateway's participant on the robot domain. It stays on this host: shared memory and UDP bound to the
 /// loopback interface (or the addresses given). It discovers every publisher (its listener) and holds the
-/// type-agnostic readers; it writes nothing.
+/// type-agnostic readers; it writes only the uplink's commands (Uplink).
 class RobotParticipant {
   public:
     /// Throws base::ConfigError if the participant cannot be created. `listener` must outlive this object
@@ -46,6 +46,8 @@ class RobotParticipant {
     void delete_reader(eprosima::fastdds::dds::DataReader* reader);
 
     eprosima::fastrtps::rtps::GuidPrefix_t guid_prefix() const;
+    /// The participant, for the uplink's writers (Uplink), which it must outlive.
+    eprosima::fastdds::dds::DomainParticipant* participant() const { return participant_; }
 
   private:
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;

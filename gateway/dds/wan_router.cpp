@@ -128,7 +128,9 @@ class WanRouter::Introducer {
 /// from its first announcement, before the handshake, and one that fails it (another CA's) never gets an SEDP.
 class WanRouter::ParticipantCounter final : public TypeObjectGuard {
   public:
-    ParticipantCounter(bool secured, Introducer& introducer) : secured_(secured), introducer_(introducer) {}
+    ParticipantCounter(bool secured, Introducer& introducer,
+                       std::function<void(DiscoveredPublisher&&)> on_remote_publisher)
+        : secured_(secured), introducer_(introducer), on_remote_publisher_(std::move(on_remote_publisher)) {}
 
     void on_participant_discovery(fdds::DomainParticipant* /*participant*/,
                                   eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
@@ -148,10 +150,17 @@ class WanRouter::ParticipantCounter final : public TypeObjectGuard {
     // A participant announces its endpoints to those it has discovered only: one announced to us knows us.
     void on_publisher_discovery(fdds::DomainParticipant* participant,
                                 eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
-        if (info.status == eprosima::fastrtps::rtps::WriterDiscoveryInfo::DISCOVERED_WRITER) {
-            introducer_.answered(to_array(info.info.guid().guidPrefix));
+        std::shared_ptr<const eprosima::fastrtps::types::TypeObject> type_object =
+            take_type_object(participant, info.info);
+        if (info.status != eprosima::fastrtps::rtps::WriterDiscoveryInfo::DISCOVERED_WRITER) {
+            return;
         }
-        TypeObjectGuard::on_publisher_discovery(participant, std::move(info));
+        const auto& prefix = info.info.guid().guidPrefix;
+        introducer_.answered(to_array(prefix));
+        // Its own writers are reported too.
+        if (on_remote_publisher_ && participant != nullptr && prefix != participant->guid().guidPrefix) {
+            on_remote_publisher_(discovered_publisher(info.info, std::move(type_object)));
+        }
     }
     void on_subscriber_discovery(fdds::DomainParticipant* participant,
                                  eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) override {
@@ -193,6 +202,7 @@ class WanRouter::ParticipantCounter final : public TypeObjectGuard {
 
     const bool secured_;
     Introducer& introducer_;
+    const std::function<void(DiscoveredPublisher&&)> on_remote_publisher_;
     mutable std::mutex mutex_;
     std::set<eprosima::fastrtps::rtps::GuidPrefix_t> discovered_;     // under mutex_
     std::set<eprosima::fastrtps::rtps::GuidPrefix_t> authenticated_;  // under mutex_
@@ -215,7 +225,8 @@ Locator_t udp_locator(const std::string& address, std::uint16_t port) {
 WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainParticipantQos>& base)
     : coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_)),
       introducer_(std::make_unique<Introducer>()),
-      participants_(std::make_unique<ParticipantCounter>(config.security.has_value(), *introducer_)) {
+      participants_(
+          std::make_unique<ParticipantCounter>(config.security.has_value(), *introducer_, config.on_remote_publisher)) {
     fdds::DomainParticipantQos qos =
         base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
     qos.name("telemetry-gateway/wan");
@@ -257,8 +268,8 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
         builtin.initialPeersList.push_back(udp_locator(peer.address, peer.port));
     }
     if (config.discovery_server) {
-        // The gateway reads one topic of the base camp's (the receiver reports): the rest it need not hear of.
-        base::apply_discovery_client(qos, *config.discovery_server, base::DiscoveryRole::client);
+        // The gateway reads the receiver reports and, with --uplink, the commands (WanConfig::discovery_role).
+        base::apply_discovery_client(qos, *config.discovery_server, config.discovery_role);
     }
     if (!base) {
         // A participant profile from the --qos file sets its own discovery timing.

@@ -26,6 +26,7 @@
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
+#include "gateway/dds/discovery.hpp"
 #include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/partition_groups.hpp"
 #include "gateway/dds/wan_address.hpp"
@@ -77,6 +78,12 @@ struct WanConfig {
     /// What the participant sends beyond the scheduled writes (see CoalescingTransport), so the caller can
     /// charge it to the link budget.
     UnscheduledTrafficCallback on_unscheduled;
+    /// Every base-camp writer the participant discovers (the uplink's commands), from Fast DDS's discovery thread:
+    /// it must return quickly and create no entities. None: they are not reported.
+    std::function<void(DiscoveredPublisher&&)> on_remote_publisher;
+    /// With a discovery server: a plain client hears only of endpoints of its own topics. A super client hears of
+    /// every one, which the uplink needs to learn a command's type from its publisher.
+    base::DiscoveryRole discovery_role = base::DiscoveryRole::client;
 };
 
 /// The gateway's participant on the WAN domain: UDPv4 unicast only (no multicast, no shared memory), bound to
@@ -115,6 +122,8 @@ class WanRouter {
 
     /// Base-camp participants discovered now.
     std::size_t remote_participants() const;
+    /// The participant, for the uplink's readers (Uplink), which it must outlive.
+    eprosima::fastdds::dds::DomainParticipant* participant() const { return participant_; }
     /// How the samples' datagrams were packed.
     const DatagramCoalescer& coalescer() const { return *coalescer_; }
     /// Announcements sent again to participants that had not answered (IntroductionSchedule).

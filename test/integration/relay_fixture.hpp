@@ -34,10 +34,11 @@ class RelayTest : public GatewayIntegrationTest {
         GatewayIntegrationTest::TearDown();
     }
 
-    void start_relay(basecamp::SampleStore* store = nullptr, base::Duration report_period = 1s) {
+    void start_relay(basecamp::SampleStore* store = nullptr, base::Duration report_period = 1s,
+                     std::vector<std::string> uplink = {}) {
         relay_ = std::make_unique<basecamp::Relay>(
             domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port), local_domain_,
-            fdds::PARTICIPANT_QOS_DEFAULT, store, report_period);
+            fdds::PARTICIPANT_QOS_DEFAULT, store, report_period, std::move(uplink));
         relay_thread_ = std::thread([this] { relay_->run(std::chrono::minutes(5), stop_relay_); });
     }
 

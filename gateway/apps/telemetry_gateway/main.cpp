@@ -33,7 +33,7 @@ using tgw::base::ConfigError;
 
 constexpr std::chrono::milliseconds SENSOR_POLL_INTERVAL{100};
 
-void print_summary(const tgw::dds::Gateway& gateway) {
+void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
     std::printf("%-32s %10s %10s %8s", "topic", "received", "forwarded", "queued");
     for (auto name : tgw::core::DROP_REASON_NAMES) {
         std::printf(" %9.*s", static_cast<int>(name.size()), name.data());
@@ -115,6 +115,19 @@ void print_summary(const tgw::dds::Gateway& gateway) {
             static_cast<unsigned long long>(report->reports), static_cast<unsigned long long>(report->received_samples),
             static_cast<unsigned long long>(report->lost_samples),
             static_cast<unsigned long long>(report->in_flight_samples));
+    }
+    for (const tgw::dds::UplinkCount& up : gateway.uplink_counts()) {
+        // The gateway always resolves a TTL (--default-ttl at last).
+        const tgw::dds::ResolvedTtl ttl = up.ttl.value_or(tgw::dds::ResolvedTtl{});
+        const auto source = tgw::dds::to_string(ttl.source);
+        std::printf(
+            "uplink %s -> %s: %llu received, %llu delivered, %llu expired before they came (never delivered), "
+            "%llu failed; TTL %.3g s (%.*s); %llu bytes on the link%s\n",
+            up.from_topic.c_str(), up.to_topic.c_str(), static_cast<unsigned long long>(up.received),
+            static_cast<unsigned long long>(up.delivered), static_cast<unsigned long long>(up.expired),
+            static_cast<unsigned long long>(up.failed), tgw::base::to_seconds(ttl.ttl), static_cast<int>(source.size()),
+            source.data(), static_cast<unsigned long long>(up.wire_bytes),
+            uplink_charged ? ", charged to the budget (--duplex half)" : " (--duplex full: not charged)");
     }
 }
 
@@ -271,6 +284,17 @@ int main(int argc, char** argv) {
                    "the robot's name in a fleet: its topics appear on the WAN as rt/NAME/... (ROS 2 topics, and rq/, "
                    "rr/ services) or NAME/... (any other); letters, digits and '_'");
     app.add_option("--allow", config.allow, "bridge only topics matching this glob; repeatable");
+    app.add_option("--uplink", config.uplink,
+                   "a topic the base camp may publish into the robot domain (commands: rt/cmd_vel, published at the "
+                   "base camp as rt/NAME/cmd_vel with --robot-name NAME), delivered only within its TTL; repeatable, "
+                   "nothing else flows from the WAN to the robot");
+    std::string duplex = "half";
+    app.add_option("--duplex", duplex,
+                   "half: the radio carries both directions on one channel (Wi-Fi, most telemetry radios), so the "
+                   "--uplink commands' bytes are charged to the budget; full: each direction has its own (a shaped "
+                   "testbed link), and they are only counted")
+        ->check(CLI::IsMember({"half", "full"}))
+        ->capture_default_str();
     app.add_option("--deny", config.deny, "never bridge topics matching this glob; repeatable, wins over --allow");
     app.add_option("--duration", duration_s, "seconds to run (default: until SIGINT/SIGTERM)")
         ->check(tgw::base::positive());
@@ -309,6 +333,7 @@ int main(int argc, char** argv) {
         config.wan_coalesce_window = std::chrono::microseconds(coalesce_us);
         config.status_period = tgw::base::from_seconds(status_period_s);
         config.compact_wan = wan_mode == "compact";
+        config.uplink_shares_link = duplex == "half";
         if (!no_log) {
             if (config.log_file.empty()) {
                 config.log_file = tgw::log::default_log_path(std::getenv("XDG_STATE_HOME"), std::getenv("HOME"));
@@ -405,7 +430,7 @@ int main(int argc, char** argv) {
 
         poller.stop();
         gateway.stop();
-        print_summary(gateway);
+        print_summary(gateway, config.uplink_shares_link);
     } catch (const ConfigError& e) {
         std::cerr << "telemetry-gateway: " << e.what() << '\n';
         return 2;

@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# Commands back to the robot (issue 21, part 4) on the testbed, its robot -> base camp direction shaped at
+# 25,000 bit/s and saturated by the paper's workload (55,560 bit/s of payload offered). The testbed's base camp ->
+# robot direction is not shaped, a channel of its own: the gateway runs with --duplex full. The camp as it should
+# run: tm-basecamp relay is its one participant on the WAN, with --uplink rt/rover1/cmd_vel, and a camp program on
+# the camp's own domain (tm-robot-sim, a writer's defaults: reliable) publishes commands at 10 Hz with a Lifespan
+# of 200 ms on rt/rover1/cmd_vel, and stray ones on rt/rover1/not_listed; the gateway has --uplink rt/cmd_vel. On
+# the robot a recorder with Fast DDS's defaults reads the robot domain. Checks: at least 99 % of the commands reach
+# the robot within their TTL, nothing of the topic not listed reaches the robot domain, every command is accounted
+# for by the relay and the gateway, and A still reaches the base camp 99 % on time.
+# Needs root; skipped (77) otherwise.
+#   uplink_test.sh BIN_DIR
+set -euo pipefail
+BIN="${1:?usage: uplink_test.sh BIN_DIR}"
+cd "$(dirname "$0")/../.."
+# shellcheck source=test/system/system_test_lib.sh
+source test/system/system_test_lib.sh
+require_netns
+start_testbed 25000 uplink
+DURATION=30
+WARMUP=8
+
+printf 'cmd rt/rover1/cmd_vel 48 0.2 10\nstray rt/rover1/not_listed 48 0.2 10\n' >"$WORK/commands"
+"${tb[@]}" robot "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-interface "$robot_addr" \
+    --wan-peer "$basecamp_addr" --robot-name rover1 --uplink rt/cmd_vel --duplex full --sensor fixed:25000 \
+    --qos qos/paper_workload.xml --log "$WORK/robot.db" >"$WORK/gateway.out" 2>&1 &
+gateway=$!
+PIDS+=("$gateway")
+"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --peer "$robot_addr" --interface "$basecamp_addr" \
+    --local-domain 2 --local-interface 127.0.0.1 --uplink rt/rover1/cmd_vel --out "$WORK/camp.db" \
+    >"$WORK/camp.out" 2>&1 &
+camp=$!
+PIDS+=("$camp")
+# What the robot's programs see of the commands (and of the stray topic, which must be nothing).
+"${tb[@]}" robot "$BIN/tm-basecamp" record --domain 0 --interface 127.0.0.1 --report-period 0 \
+    --out "$WORK/commands.db" >"$WORK/robot-record.out" 2>&1 &
+robot_record=$!
+PIDS+=("$robot_record")
+sleep "$WARMUP"
+
+"${tb[@]}" robot "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload paper --rate-hz 5 \
+    --duration "$DURATION" --linger 0 --wait-match 10 >"$WORK/telemetry.out" 2>&1 &
+telemetry=$!
+PIDS+=("$telemetry")
+"${tb[@]}" basecamp "$BIN/tm-robot-sim" --domain 2 --interface 127.0.0.1 --workload "$WORK/commands" \
+    --duration "$DURATION" --linger 0 --wait-match 10 >"$WORK/commands.out" 2>&1 &
+commands=$!
+PIDS+=("$commands")
+wait "$telemetry" || true
+wait "$commands" || true
+sleep 2
+for pid in "$gateway" "$robot_record" "$camp"; do kill -TERM "$pid" 2>/dev/null || true; done
+for pid in "$gateway" "$robot_record" "$camp"; do wait "$pid" 2>/dev/null || true; done
+
+written=$(awk '$2 == "rt/rover1/cmd_vel" { print $5 }' "$WORK/commands.out")
+"$BIN/tm-basecamp" report "$WORK/commands.db" --offered "rt/cmd_vel=${written:-0}" >"$WORK/commands-report.txt" 2>&1 ||
+    true
+# report's row: topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms
+read -r _ ttl offered received on_time _ <<<"$(awk '$1 == "rt/cmd_vel" && NF == 9 { print; exit }' \
+    "$WORK/commands-report.txt")"
+check "the base camp wrote commands for the whole run (${written:-none})" "a >= 0.9 * 10 * b" "${written:-0}" \
+    "$DURATION"
+check "rt/cmd_vel on the robot: TTL ${ttl:-?} s, from the command's Lifespan" "a == 0.2" "${ttl:-0}"
+check "rt/cmd_vel on the robot: ${on_time:-0} of ${offered:-0} within their TTL" "b > 0 && a >= 0.99 * b" \
+    "${on_time:-0}" "${offered:-0}"
+check "rt/cmd_vel on the robot: nothing after its TTL (${received:-0} received)" "a == b" "${received:-0}" \
+    "${on_time:-0}"
+stray=$(awk '$1 ~ /not_listed/ { n++ } END { print n + 0 }' "$WORK/commands-report.txt" "$WORK/robot-record.out")
+check "nothing of rt/rover1/not_listed on the robot domain" "a == 0" "$stray"
+# Each hop's count. The relay's summary: "  uplink TOPIC: T commands taken from the camp, W onto the WAN, E past
+# their Lifespan (dropped), F failed"; the gateway's: "uplink WAN -> ROBOT: R received, D delivered, E expired
+# before they came (never delivered), F failed; ...".
+relay_line=$(grep '^  uplink rt/rover1/cmd_vel: ' "$WORK/camp.out" || true)
+relay_taken=$(sed -nE 's/.*: ([0-9]+) commands taken.*/\1/p' <<<"$relay_line")
+relay_sent=$(sed -nE 's/.*, ([0-9]+) onto the WAN.*/\1/p' <<<"$relay_line")
+gateway_line=$(grep '^uplink rt/rover1/cmd_vel -> rt/cmd_vel: ' "$WORK/gateway.out" || true)
+read -r up_received up_delivered up_expired up_failed <<<"$(sed -nE \
+    's/.*: ([0-9]+) received, ([0-9]+) delivered, ([0-9]+) expired.*, ([0-9]+) failed.*/\1 \2 \3 \4/p' \
+    <<<"$gateway_line")"
+check "the relay took every command from the camp's domain (${relay_taken:-none} of $written)" "a == b" \
+    "${relay_taken:-0}" "${written:-0}"
+check "the relay sent them onto the WAN (${relay_sent:-none})" "a == b && a > 0" "${relay_sent:-0}" "${relay_taken:-0}"
+check "the gateway received what the relay sent (${up_received:-none})" "b > 0 && a >= 0.99 * b" "${up_received:-0}" \
+    "${relay_sent:-0}"
+check "the gateway's commands add up: ${up_received:-?} = ${up_delivered:-?} delivered + ${up_expired:-?} expired" \
+    "a > 0 && a == b" "${up_received:-0}" "$((${up_delivered:-0} + ${up_expired:-0} + ${up_failed:-0}))"
+
+published=$(awk '$2 == "telemetry/A" { print $5 }' "$WORK/telemetry.out")
+"$BIN/tm-basecamp" report "$WORK/camp.db" --robot-log "$WORK/robot.db" --offered "rover1/telemetry/A=${published:-0}" \
+    >"$WORK/camp-report.txt" 2>&1 || true
+read -r _ _ a_offered _ a_on_time _ <<<"$(awk '$1 == "rover1/telemetry/A" && NF == 9 { print; exit }' \
+    "$WORK/camp-report.txt")"
+check "rover1/telemetry/A at the base camp: ${a_on_time:-0} of ${a_offered:-0} on time" "b > 0 && a >= 0.99 * b" \
+    "${a_on_time:-0}" "${a_offered:-0}"
+logged=$(awk '$1 == "rover1/telemetry/D" && NF == 15 { print $6 + $7; exit }' "$WORK/camp-report.txt")
+echo "the link was saturated: D samples the gateway dropped for the link: ${logged:-?}"
+
+cat "$WORK/commands-report.txt"
+if [ "$fail" -ne 0 ]; then
+    for f in gateway.out commands.out telemetry.out robot-record.out camp.out camp-report.txt; do
+        echo "--- $f"
+        cat "$WORK/$f"
+    done
+fi
+exit "$fail"

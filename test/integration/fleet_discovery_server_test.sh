@@ -3,8 +3,9 @@
 # on loopback: Debian's fast-discovery-server (fastdds-tools), two telemetry-gateways as its clients (rover1 in
 # standard WAN mode, rover2 in compact mode), each bridging tm-robot-sim's paper workload from its own robot
 # domain, and the base camp's relay, a super client, recording what it takes off the WAN. Nobody names a peer.
-# Checks: every topic of each robot arrives under the robot's name, and the relay recorded exactly what each
-# gateway says it forwarded.
+# Commands go back to rover1 (--uplink rt/cmd_vel; relay --uplink rt/rover1/cmd_vel), published on the camp's domain.
+# Checks: every topic of each robot arrives under the robot's name, the relay recorded exactly what each gateway
+# says it forwarded, and every command published at the camp reached rover1's robot domain.
 set -euo pipefail
 BIN=$1
 QOS=$2
@@ -24,11 +25,12 @@ fi
 "$server_program" -i 0 -l 127.0.0.1 -p "$PORT" >"$work/server.out" 2>&1 &
 pids+=("$!")
 "$BIN/tm-basecamp" relay --domain "$WAN" --discovery-server "$SERVER" --local-domain "$CAMP" \
-    --out "$work/camp.db" --duration 40 >"$work/relay.out" 2>&1 &
+    --uplink rt/rover1/cmd_vel --out "$work/camp.db" --duration 40 >"$work/relay.out" 2>&1 &
 relay=$!
 pids+=("$relay")
 "$BIN/telemetry-gateway" --robot-domain "$ROBOT1" --wan-domain "$WAN" --wan-discovery-server "$SERVER" \
-    --robot-name rover1 --sensor fixed:1000000 --qos "$QOS" --no-log --duration 30 >"$work/rover1.out" 2>&1 &
+    --robot-name rover1 --uplink rt/cmd_vel --sensor fixed:1000000 --qos "$QOS" --no-log --duration 30 \
+    >"$work/rover1.out" 2>&1 &
 gateway1=$!
 pids+=("$gateway1")
 "$BIN/telemetry-gateway" --robot-domain "$ROBOT2" --wan-domain "$WAN" --wan-discovery-server "$SERVER" \
@@ -42,7 +44,16 @@ pids+=("$sim1")
 "$BIN/tm-robot-sim" --domain "$ROBOT2" --workload paper --duration 10 --wait-match 10 >"$work/sim2.out" 2>&1 &
 sim2=$!
 pids+=("$sim2")
-wait "$sim1" "$sim2" "$gateway1" "$gateway2"
+# Commands once both uplinks are there: --wait-match sees the relay's reader on the camp's domain, not the
+# gateway's on the WAN, which appears only after the gateway has heard of the relay's writer through the server
+# (what is written before, a volatile writer gives to no one).
+printf 'cmd rt/rover1/cmd_vel 48 1 10\n' >"$work/commands"
+sleep 4
+"$BIN/tm-robot-sim" --domain "$CAMP" --workload "$work/commands" --duration 6 --wait-match 10 \
+    >"$work/commands.out" 2>&1 &
+commands=$!
+pids+=("$commands")
+wait "$sim1" "$sim2" "$commands" "$gateway1" "$gateway2"
 kill -INT "$relay" 2>/dev/null || true
 wait "$relay" || true
 
@@ -60,8 +71,19 @@ for robot in rover1 rover2; do
         fi
     done
 done
+# tm-robot-sim's row: type topic data_bytes ttl_s written ...; rover1's summary: "uplink rt/rover1/cmd_vel ->
+# rt/cmd_vel: R received, D delivered, ...".
+written=$(awk '$2 == "rt/rover1/cmd_vel" { print $5 }' "$work/commands.out")
+delivered=$(sed -nE 's/^uplink rt\/rover1\/cmd_vel -> rt\/cmd_vel: [0-9]+ received, ([0-9]+) delivered.*/\1/p' \
+    "$work/rover1.out")
+if [ -n "$written" ] && [ "$written" -gt 0 ] && [ "${delivered:-0}" = "$written" ]; then
+    echo "ok: rt/rover1/cmd_vel: $delivered of $written commands delivered on rover1's robot domain"
+else
+    echo "FAIL: rt/rover1/cmd_vel: ${delivered:-none} of ${written:-none} commands delivered on rover1's robot domain"
+    fail=1
+fi
 if [ "$fail" -ne 0 ]; then
-    for f in server rover1 rover2 relay sim1 sim2; do
+    for f in server rover1 rover2 relay sim1 sim2 commands; do
         echo "--- $f.out"
         cat "$work/$f.out"
     done

@@ -1,0 +1,102 @@
+#include "gateway/core/channel_shares.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace tgw::core {
+
+namespace {
+
+/// One robot's demand at one urgency, still to be granted.
+struct Open {
+    base::Duration ttl{};
+    const std::string* robot = nullptr;
+    double bps = 0;
+};
+
+/// Takes `bps` off `robot`'s most urgent demands in `open` (its floor pays for them).
+void cover_most_urgent(std::vector<Open>& open, const std::string& robot, double bps) {
+    for (Open& o : open) {  // sorted by TTL
+        if (bps <= 0)
+            return;
+        if (*o.robot != robot)
+            continue;
+        const double covered = std::min(o.bps, bps);
+        o.bps -= covered;
+        bps -= covered;
+    }
+}
+
+}  // namespace
+
+ChannelGrants split_channel(double capacity_bps, const ChannelDemands& demands, double floor_bps) {
+    ChannelGrants grants;
+    if (demands.empty())
+        return grants;
+    double left = std::max(0.0, capacity_bps);
+    const auto robots = static_cast<double>(demands.size());
+    const double floor = std::clamp(floor_bps, 0.0, left / robots);
+
+    std::vector<Open> open;
+    for (const auto& [robot, classes] : demands) {
+        grants[robot] = floor;
+        for (const UrgencyDemand& d : classes) {
+            if (d.bps > 0)
+                open.push_back(Open{d.ttl, &robot, d.bps});
+        }
+    }
+    left -= floor * robots;
+    std::stable_sort(open.begin(), open.end(), [](const Open& a, const Open& b) { return a.ttl < b.ttl; });
+    for (const auto& [robot, classes] : demands)
+        cover_most_urgent(open, robot, floor);
+
+    // One urgency at a time, across robots.
+    for (auto first = open.begin(); first != open.end() && left > 0;) {
+        const auto last = std::find_if(first, open.end(), [&](const Open& o) { return o.ttl != first->ttl; });
+        double asked = 0;
+        for (auto it = first; it != last; ++it)
+            asked += it->bps;
+        const double part = asked <= left ? 1.0 : left / asked;
+        for (auto it = first; it != last; ++it)
+            grants[*it->robot] += it->bps * part;
+        left -= std::min(asked, left);
+        first = last;
+    }
+    if (left > 0) {
+        for (auto& [robot, bps] : grants)
+            bps += left / robots;
+    }
+    return grants;
+}
+
+ChannelGrants equal_shares(double capacity_bps, const ChannelDemands& demands) {
+    ChannelGrants grants;
+    for (const auto& [robot, classes] : demands)
+        grants[robot] = std::max(0.0, capacity_bps) / static_cast<double>(demands.size());
+    return grants;
+}
+
+ChannelShares::ChannelShares(Config config, const base::Clock& clock) : config_(config), clock_(clock) {}
+
+void ChannelShares::set_capacity(double bps) {
+    capacity_bps_ = bps;
+}
+
+void ChannelShares::report(const std::string& robot, std::vector<UrgencyDemand> demand) {
+    robots_[robot] = Heard{std::move(demand), clock_.now()};
+}
+
+ChannelGrants ChannelShares::grants() {
+    const base::SteadyTime now = clock_.now();
+    for (auto it = robots_.begin(); it != robots_.end();) {
+        it = now - it->second.at > config_.stale_after ? robots_.erase(it) : std::next(it);
+    }
+    if (capacity_bps_ < 0)
+        return {};
+    ChannelDemands demands;
+    for (const auto& [robot, heard] : robots_)
+        demands[robot] = heard.demand;
+    return split_channel(capacity_bps_, demands, config_.floor_bps);
+}
+
+}  // namespace tgw::core

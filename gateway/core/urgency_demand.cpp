@@ -1,0 +1,56 @@
+#include "gateway/core/urgency_demand.hpp"
+
+#include <map>
+
+namespace tgw::core {
+
+namespace {
+
+const TopicLoad* find(const std::vector<TopicLoad>& topics, const std::string& name) {
+    for (const TopicLoad& t : topics) {
+        if (t.name == name)
+            return &t;
+    }
+    return nullptr;
+}
+
+/// The wire size of one of `t`'s samples waiting now, by their mean payload; headers alone when none waits.
+double waiting_wire_bytes_per_sample(const TopicLoad& t, const WireModel& wire) {
+    const std::uint64_t payload = t.queued_samples > 0 ? t.queued_bytes / t.queued_samples : 0;
+    return static_cast<double>(wire.wire_bytes(static_cast<std::size_t>(payload)));
+}
+
+/// The mean wire size of one of `t`'s samples: of those forwarded, else of those waiting.
+double wire_bytes_per_sample(const TopicLoad& t, const WireModel& wire) {
+    if (t.forwarded > 0)
+        return static_cast<double>(t.forwarded_wire_bytes) / static_cast<double>(t.forwarded);
+    return waiting_wire_bytes_per_sample(t, wire);
+}
+
+}  // namespace
+
+std::vector<UrgencyDemand> urgency_demand(const std::vector<TopicLoad>& before, const std::vector<TopicLoad>& now,
+                                          base::Duration elapsed, const WireModel& wire) {
+    if (elapsed <= base::Duration::zero())
+        return {};
+    const double seconds = base::to_seconds(elapsed);
+    std::map<base::Duration, double> by_ttl;
+    for (const TopicLoad& t : now) {
+        const TopicLoad* earlier = find(before, t.name);
+        const std::uint64_t since = earlier != nullptr ? earlier->received : 0;
+        const double arrived = t.received >= since ? static_cast<double>(t.received - since) : 0.0;
+        const double per_sample = wire_bytes_per_sample(t, wire);
+        double bytes_per_second = arrived / seconds * per_sample;
+        if (t.queued_samples > 0 && t.ttl > base::Duration::zero()) {
+            const double queued_wire = static_cast<double>(t.queued_samples) * waiting_wire_bytes_per_sample(t, wire);
+            bytes_per_second += queued_wire / base::to_seconds(t.ttl);
+        }
+        by_ttl[t.ttl] += 8 * bytes_per_second;
+    }
+    std::vector<UrgencyDemand> out;
+    for (const auto& [ttl, bps] : by_ttl)
+        out.push_back(UrgencyDemand{ttl, bps});
+    return out;
+}
+
+}  // namespace tgw::core

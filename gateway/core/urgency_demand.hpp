@@ -1,0 +1,33 @@
+// What a robot needs of a shared channel, by urgency, from two of its gateway's statuses (tgw/status): the input of
+// split_channel() at the base camp.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "base/time.hpp"
+#include "gateway/core/channel_shares.hpp"
+#include "gateway/core/wire_model.hpp"
+
+namespace tgw::core {
+
+/// One topic's counts in a gateway's status (cumulative since the gateway started) and its queue now.
+struct TopicLoad {
+    std::string name;
+    base::Duration ttl{};
+    std::uint64_t received = 0;
+    std::uint64_t forwarded = 0;
+    std::uint64_t forwarded_wire_bytes = 0;
+    std::uint64_t queued_samples = 0;
+    std::uint64_t queued_bytes = 0;  ///< their serialized payloads
+};
+
+/// The bit/s each TTL needs, shortest TTL first, from the topics' counts `elapsed` apart: per topic, what arrived
+/// per second at its mean size on the wire (what was forwarded, else what waits, as `wire` counts it), plus what
+/// waits now spread over its TTL. A topic not in `before` counts from zero; one whose counts went down (a gateway
+/// restarted under the same name) counts its queue only. Empty when `elapsed` is not positive.
+std::vector<UrgencyDemand> urgency_demand(const std::vector<TopicLoad>& before, const std::vector<TopicLoad>& now,
+                                          base::Duration elapsed, const WireModel& wire);
+
+}  // namespace tgw::core

@@ -1,0 +1,74 @@
+#include "gateway/core/urgency_demand.hpp"
+
+#include <gtest/gtest.h>
+
+namespace tgw::core {
+namespace {
+
+using namespace std::chrono_literals;
+
+const WireModel WIRE;
+
+TopicLoad topic(const std::string& name, base::Duration ttl, std::uint64_t received, std::uint64_t forwarded,
+                std::uint64_t forwarded_wire_bytes, std::uint64_t queued_samples = 0, std::uint64_t queued_bytes = 0) {
+    return TopicLoad{name, ttl, received, forwarded, forwarded_wire_bytes, queued_samples, queued_bytes};
+}
+
+TEST(UrgencyDemandTest, AStreamThatKeepsUpNeedsItsArrivalRateOnTheWire) {
+    // A: 5 samples a second of 238 bytes on the wire, all forwarded.
+    const auto demand =
+        urgency_demand({topic("A", 1s, 100, 100, 23'800)}, {topic("A", 1s, 110, 110, 26'180)}, 2s, WIRE);
+    ASSERT_EQ(demand.size(), 1u);
+    EXPECT_EQ(demand[0].ttl, 1s);
+    EXPECT_DOUBLE_EQ(demand[0].bps, 5 * 238 * 8);
+}
+
+TEST(UrgencyDemandTest, ABacklogMustLeaveWithinItsTtl) {
+    // D: 5 a second arrive, 1,210 bytes each on the wire; 100 wait (1,016 bytes of payload each): they need their
+    // wire bytes within 20 s on top of the stream.
+    const auto demand =
+        urgency_demand({topic("D", 20s, 100, 10, 12'100)}, {topic("D", 20s, 105, 10, 12'100, 100, 101'600)}, 1s, WIRE);
+    ASSERT_EQ(demand.size(), 1u);
+    const double queued_wire = 100.0 * static_cast<double>(WIRE.wire_bytes(1016));
+    EXPECT_DOUBLE_EQ(demand[0].bps, 8 * (5 * 1210 + queued_wire / 20));
+}
+
+TEST(UrgencyDemandTest, TopicsOfOneTtlAddUpAndUrgenciesComeShortestFirst) {
+    const auto demand = urgency_demand(
+        {topic("D", 20s, 0, 0, 0), topic("A1", 1s, 0, 0, 0), topic("A2", 1s, 0, 0, 0)},
+        {topic("D", 20s, 10, 10, 12'100), topic("A1", 1s, 10, 10, 2'380), topic("A2", 1s, 20, 20, 4'760)}, 1s, WIRE);
+    ASSERT_EQ(demand.size(), 2u);
+    EXPECT_EQ(demand[0].ttl, 1s);
+    EXPECT_DOUBLE_EQ(demand[0].bps, 8 * (2'380 + 4'760));
+    EXPECT_EQ(demand[1].ttl, 20s);
+    EXPECT_DOUBLE_EQ(demand[1].bps, 8 * 12'100);
+}
+
+// A robot whose samples never leave (its share too small) must still show its need, or it would never get more.
+TEST(UrgencyDemandTest, SamplesNeverForwardedAreSizedFromTheQueue) {
+    const auto demand = urgency_demand({topic("A", 1s, 0, 0, 0)}, {topic("A", 1s, 5, 0, 0, 5, 5 * 41)}, 1s, WIRE);
+    ASSERT_EQ(demand.size(), 1u);
+    const double per_sample = static_cast<double>(WIRE.wire_bytes(41));
+    EXPECT_DOUBLE_EQ(demand[0].bps, 8 * (5 * per_sample + 5 * per_sample / 1));
+}
+
+TEST(UrgencyDemandTest, ATopicNewSinceTheLastStatusCountsFromZero) {
+    const auto demand = urgency_demand({}, {topic("A", 1s, 5, 5, 1'190)}, 1s, WIRE);
+    ASSERT_EQ(demand.size(), 1u);
+    EXPECT_DOUBLE_EQ(demand[0].bps, 8 * 1'190);
+}
+
+TEST(UrgencyDemandTest, AGatewayThatRestartedCountsOnlyItsQueue) {
+    // Counts went down: a new gateway under the same name; its arrivals since are unknown.
+    const auto demand =
+        urgency_demand({topic("A", 1s, 1000, 1000, 238'000)}, {topic("A", 1s, 3, 3, 714, 2, 82)}, 1s, WIRE);
+    ASSERT_EQ(demand.size(), 1u);
+    EXPECT_DOUBLE_EQ(demand[0].bps, 8 * (2 * static_cast<double>(WIRE.wire_bytes(41)) / 1));
+}
+
+TEST(UrgencyDemandTest, NoTimeNoRate) {
+    EXPECT_TRUE(urgency_demand({topic("A", 1s, 0, 0, 0)}, {topic("A", 1s, 5, 5, 1'190)}, 0s, WIRE).empty());
+}
+
+}  // namespace
+}  // namespace tgw::core

@@ -123,6 +123,12 @@ int main(int argc, char** argv) {
                       "a topic the camp's programs may publish to the robots (commands: rt/NAME/cmd_vel, for a gateway "
                       "with --robot-name NAME --uplink rt/cmd_vel), carried from the camp's domain onto the WAN; "
                       "repeatable, nothing else goes that way");
+    double channel_bps = 0;
+    relay
+        ->add_option("--channel-rate", channel_bps,
+                     "experimental (see the README): bit/s of the radio channel the gateways share; each gateway with "
+                     "--channel-grants gets its share on tgw/grant every second, the fleet's shortest TTLs first")
+        ->check(CLI::PositiveNumber);
     std::string relay_out;
     relay->add_option("--out", relay_out, "also record every sample taken off the WAN, as 'record' does (SQLite)");
     double relay_report_period_s = 1.0;
@@ -217,7 +223,7 @@ int main(int argc, char** argv) {
             tgw::basecamp::ConsumerFanOut taken_off_the_wan(consumers);
             tgw::basecamp::Relay relaying(domain, wan_qos, local_domain, local_qos,
                                           consumers.empty() ? nullptr : &taken_off_the_wan,
-                                          tgw::base::from_seconds(relay_report_period_s), relay_uplink);
+                                          tgw::base::from_seconds(relay_report_period_s), relay_uplink, channel_bps);
             tgw::basecamp::stop_on_signals();
             std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain;
             if (foxglove_server)
@@ -243,6 +249,8 @@ int main(int argc, char** argv) {
                           << " samples relayed, " << c.unknown_entries << " never described by a catalog entry, "
                           << c.incomplete_samples << " chunked samples incomplete\n";
             }
+            for (const auto& [gateway, bps] : relaying.channel_grants())
+                std::cout << "  last grant to gateway " << gateway << ": " << static_cast<long long>(bps) << " bit/s\n";
             for (const tgw::dds::UplinkCount& up : relaying.uplink_counts())
                 std::cout << "  uplink " << up.from_topic << ": " << up.received << " commands taken from the camp, "
                           << up.delivered << " onto the WAN, " << up.expired << " past their Lifespan (dropped), "

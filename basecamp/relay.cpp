@@ -23,6 +23,7 @@
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
+#include "gateway/dds/status_topic.hpp"
 #include "gateway/dds/writer_match_counter.hpp"
 
 namespace tgw::basecamp {
@@ -60,6 +61,9 @@ class Relay::Lane final : public fdds::DataReaderListener {
                 if (store_ != nullptr) {
                     store_->add(sample_record(topic_, data.payload, info));
                 }
+                if (statuses != nullptr) {
+                    statuses->take_status(data.payload);
+                }
             }
             // SampleInfo carries the RTPS time type; the writers take the DDS one.
             const eprosima::fastrtps::Time_t stamp(info.source_timestamp.seconds(), info.source_timestamp.nanosec());
@@ -75,6 +79,7 @@ class Relay::Lane final : public fdds::DataReaderListener {
 
     fdds::DataReader* reader = nullptr;
     fdds::DataWriter* writer = nullptr;
+    ChannelGrantor* statuses = nullptr;      ///< the lanes of tgw/status, with a channel rate
     dds::WriterMatchCounter writer_matches;  ///< the local readers it has matched
     dds::OfferedQos offer;
     std::atomic<std::uint64_t> relayed{0};
@@ -90,7 +95,7 @@ class Relay::Lane final : public fdds::DataReaderListener {
 };
 
 Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain, fdds::DomainParticipantQos local_qos,
-             SampleConsumer* store, base::Duration report_period, std::vector<std::string> uplink)
+             SampleConsumer* store, base::Duration report_period, std::vector<std::string> uplink, double channel_bps)
     : store_(store), report_period_(report_period), uplink_topics_(std::move(uplink)) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
@@ -117,6 +122,9 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
         // Nothing is charged: the camp has no link budget; the gateway counts what crossed.
         uplink_ = std::make_unique<dds::Uplink>(local_, wan_, clock_, core::WireModel{}, dds::Uplink::Charge{});
     }
+    if (channel_bps > 0) {
+        grantor_ = std::make_unique<ChannelGrantor>(wan_, channel_bps, clock_);
+    }
 }
 
 Relay::~Relay() {
@@ -126,6 +134,7 @@ Relay::~Relay() {
     }
     compact_.reset();  // its readers, then its writers
     uplink_.reset();
+    grantor_.reset();
     {
         std::lock_guard<std::mutex> lock(topics_mutex_);
         topics_.clear();  // each lane's reader, then its writer
@@ -153,6 +162,9 @@ std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& pu
     }
     auto lane = std::make_unique<Lane>(topic.writers, index, topic_record(publisher), tally_, store_);
     lane->offer = publisher.qos;
+    if (publisher.topic == dds::STATUS_TOPIC) {
+        lane->statuses = grantor_.get();
+    }
     // The writer first, so that nothing the reader takes finds no writer. Its Lifespan is the gateway's (TTL, or
     // none on a latched topic): with the source timestamp kept, a sample expires here when it would have there.
     lane->writer = publisher_entity->create_datawriter(
@@ -224,6 +236,10 @@ void Relay::uplink(const dds::DiscoveredPublisher& publisher) {
     uplink_->route(publisher, publisher.topic, ttl);
 }
 
+core::ChannelGrants Relay::channel_grants() const {
+    return grantor_ ? grantor_->last_grants() : core::ChannelGrants{};
+}
+
 std::vector<dds::UplinkCount> Relay::uplink_counts() const {
     return uplink_ ? uplink_->counts() : std::vector<dds::UplinkCount>{};
 }
@@ -236,6 +252,9 @@ void Relay::run(base::Duration duration, const std::atomic<bool>& stop) {
         }
         if (compact_) {
             compact_->poll();
+        }
+        if (grantor_) {
+            grantor_->poll();
         }
         for (const dds::DiscoveredPublisher& publisher : local_discovered_.take(std::chrono::milliseconds(0))) {
             uplink(publisher);

@@ -14,6 +14,7 @@
 
 #include "base/clock.hpp"
 #include "base/time.hpp"
+#include "basecamp/channel_grantor.hpp"
 #include "basecamp/delivery_tally.hpp"
 #include "basecamp/discovery_queue.hpp"
 #include "basecamp/sample_consumer.hpp"
@@ -55,10 +56,12 @@ class Relay {
     /// makes, a Foxglove server, or both. Every `report_period` (zero: never) it tells each gateway what arrived and
     /// what was lost on the way, as `record` does: the camp's one WAN participant is the one to report. Throws
     /// base::ConfigError naming the flag when DDS refuses a participant. `uplink`: the topics the camp's programs
-    /// may publish onto the WAN (exact names); none by default.
+    /// may publish onto the WAN (exact names); none by default. `channel_bps`: the rate of the channel a fleet
+    /// shares, which the relay grants the gateways in shares (ChannelGrantor); 0: no grants.
     Relay(int wan_domain, eprosima::fastdds::dds::DomainParticipantQos wan_qos, int local_domain,
           eprosima::fastdds::dds::DomainParticipantQos local_qos, SampleConsumer* store = nullptr,
-          base::Duration report_period = std::chrono::seconds(1), std::vector<std::string> uplink = {});
+          base::Duration report_period = std::chrono::seconds(1), std::vector<std::string> uplink = {},
+          double channel_bps = 0);
     ~Relay();
     Relay(const Relay&) = delete;
     Relay& operator=(const Relay&) = delete;
@@ -71,6 +74,9 @@ class Relay {
 
     /// Samples (and disposes, unregisters) written on the local domain so far, per topic.
     std::map<std::string, std::uint64_t> relayed() const;
+
+    /// The shares of the channel last granted, by gateway prefix (hex); empty without a channel rate.
+    core::ChannelGrants channel_grants() const;
 
     /// The uplink topics a camp publisher was discovered of, with what became of their samples.
     std::vector<dds::UplinkCount> uplink_counts() const;
@@ -110,8 +116,9 @@ class Relay {
     /// Made when a compact-mode gateway's bundles or catalog appear; before the participants go.
     std::unique_ptr<CompactUnpacker> compact_;
     base::SystemClock clock_;
-    std::unique_ptr<dds::Uplink> uplink_;  ///< with uplink topics; before the participants go
-    mutable std::mutex topics_mutex_;      ///< run() adds to topics_, relayed() reads it
+    std::unique_ptr<dds::Uplink> uplink_;      ///< with uplink topics; before the participants go
+    std::unique_ptr<ChannelGrantor> grantor_;  ///< with a channel rate; its writer is the WAN participant's
+    mutable std::mutex topics_mutex_;          ///< run() adds to topics_, relayed() reads it
     std::map<std::string, std::unique_ptr<Topic>> topics_;
 };
 

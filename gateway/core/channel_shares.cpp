@@ -82,14 +82,15 @@ void ChannelShares::set_capacity(double bps) {
     capacity_bps_ = bps;
 }
 
-void ChannelShares::report(const std::string& robot, std::vector<UrgencyDemand> demand) {
-    robots_[robot] = Heard{std::move(demand), clock_.now()};
+void ChannelShares::report(const std::string& robot, std::vector<UrgencyDemand> demand,
+                           std::optional<base::Duration> stale_after) {
+    robots_[robot] = Heard{std::move(demand), clock_.now() + stale_after.value_or(config_.stale_after)};
 }
 
 ChannelGrants ChannelShares::grants() {
     const base::SteadyTime now = clock_.now();
     for (auto it = robots_.begin(); it != robots_.end();) {
-        it = now - it->second.at > config_.stale_after ? robots_.erase(it) : std::next(it);
+        it = now > it->second.until ? robots_.erase(it) : std::next(it);
     }
     if (capacity_bps_ < 0)
         return {};

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,8 +37,8 @@ ChannelGrants split_channel(double capacity_bps, const ChannelDemands& demands, 
 ChannelGrants equal_shares(double capacity_bps, const ChannelDemands& demands);
 
 /// The base camp's view of the fleet over time: the latest demand of each robot and the channel's capacity, and
-/// the grants they give. A robot not heard from for Config::stale_after (stopped, restarted, out of range) has no
-/// share until it reports again.
+/// the grants they give. A robot not heard from for Config::stale_after, or what its report said (stopped,
+/// restarted, out of range), has no share until it reports again.
 class ChannelShares {
   public:
     struct Config {
@@ -49,15 +50,16 @@ class ChannelShares {
 
     /// What the channel delivers now, in bit/s (the base camp's measure of it: receiver reports).
     void set_capacity(double bps);
-    /// `robot`'s demand now.
-    void report(const std::string& robot, std::vector<UrgencyDemand> demand);
+    /// `robot`'s demand now; it holds for `stale_after` (Config::stale_after when nullopt).
+    void report(const std::string& robot, std::vector<UrgencyDemand> demand,
+                std::optional<base::Duration> stale_after = std::nullopt);
     /// The grants of the robots heard from within stale_after; none before set_capacity().
     ChannelGrants grants();
 
   private:
     struct Heard {
         std::vector<UrgencyDemand> demand;
-        base::SteadyTime at;
+        base::SteadyTime until;  ///< when it goes stale
     };
 
     const Config config_;

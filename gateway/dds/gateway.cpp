@@ -237,6 +237,14 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
             throw base::ConfigError("--receiver-reports: cannot subscribe to the base camp's reports");
         }
     }
+    if (config_.channel_grants) {
+        // A grant applies as it comes; the sensor's next reading applies it again, or without it once it ran out.
+        sensed_rate_bps_.store(config_.scheduler.initial_rate_bps);
+        grants_ = std::make_unique<GrantReader>(wan_->guid_prefix(), clock_, [this] { apply_rate(); });
+        if (!wan_->subscribe_grants(grants_.get())) {
+            throw base::ConfigError("--channel-grants: cannot subscribe to the base camp's grants");
+        }
+    }
 
     discovery_ = std::make_unique<Discovery>(
         [this](DiscoveredPublisher&& pub) { post([this, pub = std::move(pub)] { bridge_nts(pub); }); },
@@ -305,6 +313,9 @@ void Gateway::stop() {
         // against.
         reports_->close();
     }
+    if (grants_) {
+        grants_->close();  // likewise: a grant sets the loop's rate
+    }
     stop_worker();
     if (robot_) {
         for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
@@ -369,7 +380,22 @@ double Gateway::rate_bps() const {
 }
 
 void Gateway::set_rate(double rate_bps) {
-    loop_->set_rate(rate_bps);
+    sensed_rate_bps_.store(rate_bps);
+    apply_rate();
+}
+
+void Gateway::apply_rate() {
+    double rate = sensed_rate_bps_.load();
+    if (const std::optional<double> grant = granted_bps()) {
+        rate = rate > 0 ? std::min(rate, *grant) : *grant;
+    }
+    if (rate > 0) {
+        loop_->set_rate(rate);
+    }
+}
+
+std::optional<double> Gateway::granted_bps() const {
+    return grants_ ? grants_->current() : std::nullopt;
 }
 
 void Gateway::post(std::function<void()> task) {

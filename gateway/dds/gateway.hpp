@@ -22,6 +22,7 @@
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/discovery.hpp"
+#include "gateway/dds/grant_reader.hpp"
 #include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/receiver_report_reader.hpp"
 #include "gateway/dds/robot_transport.hpp"
@@ -89,6 +90,9 @@ struct GatewayConfig {
     std::chrono::seconds wan_announcement_period{20};
     /// Read the base camp's receiver reports (tgw/receiver_report), see receiver_report().
     bool receiver_reports = false;
+    /// --channel-grants: budget for the lower of the sensor's rate and the base camp's grant for this gateway
+    /// (tgw/grant) while it is valid: a fleet's shared channel.
+    bool channel_grants = false;
     /// WanConfig::coalesce_window: how long a WAN sample may wait to share a datagram; 0: never.
     std::chrono::microseconds wan_coalesce_window = DatagramCoalescer::DEFAULT_WINDOW;
     /// See WanConfig::heartbeat_spacing_bytes.
@@ -150,6 +154,8 @@ class Gateway {
     core::TopicCounters status_counters() const;
     /// The rate the scheduler budgets with (before its budget fraction).
     double rate_bps() const;
+    /// The base camp's valid grant for this gateway (--channel-grants); nullopt without one.
+    std::optional<double> granted_bps() const;
 
     /// The topics bridged now (a retired topic is not among them; see topic_counts()).
     std::vector<BridgedTopic> topics() const;
@@ -264,6 +270,8 @@ class Gateway {
     void charge_unscheduled(std::uint64_t frame_bytes);
     /// Has the worker charge `frame_bytes` that crossed the link outside the schedule to the loop's budget.
     void charge_link(std::uint64_t frame_bytes);
+    /// Gives the loop the sensor's rate, or the grant where that is lower (--channel-grants).
+    void apply_rate();
     /// A base-camp writer discovered on the WAN: routed to the robot domain if its topic is on the uplink list.
     void remote_publisher_discovered(DiscoveredPublisher&& pub);  // Fast DDS's discovery thread
     /// Routes a listed topic's base-camp publisher into the robot domain. The worker thread only.
@@ -278,6 +286,7 @@ class Gateway {
 
     std::unique_ptr<log::RobotLog> log_;
     std::unique_ptr<ReceiverReportReader> reports_;  ///< before wan_: its reader's listener outlives it
+    std::unique_ptr<GrantReader> grants_;            ///< before wan_, likewise; with --channel-grants
     std::unique_ptr<WanRouter> wan_;
     std::unique_ptr<CompactWan> compact_;  ///< after wan_: it holds WAN writers; compact WAN mode only
     std::unique_ptr<TopicTable> topics_;   ///< after wan_: its bridges hold WAN writers
@@ -295,6 +304,7 @@ class Gateway {
     std::unique_ptr<RobotParticipant> robot_;
     std::unique_ptr<Uplink> uplink_;  ///< with --uplink; closed by stop(), before robot_ goes
     std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};
+    std::atomic<double> sensed_rate_bps_{0};     ///< the sensor's last rate; 0 before the first
     std::shared_ptr<WanWriter> status_writer_;   ///< standard WAN mode
     std::optional<core::TopicId> status_topic_;  ///< with a status period
     std::vector<signed char> reachable_;         ///< per topic, as last told to the loop; -1: not yet

@@ -15,10 +15,12 @@
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
+#include "ChannelGrantPubSubTypes.h"
 #include "ReceiverReportPubSubTypes.h"
 #include "base/config_error.hpp"
 #include "base/dds_security.hpp"
 #include "gateway/core/wire_model.hpp"
+#include "gateway/dds/channel_grant_topic.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/guarded_type.hpp"
@@ -387,20 +389,28 @@ std::uint64_t WanRouter::introductions() const {
 }
 
 bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {
-    fdds::TypeSupport type(new GuardedType<idl::ReceiverReportPubSubType>());
+    return subscribe_latest(RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new GuardedType<idl::ReceiverReportPubSubType>()),
+                            listener);
+}
+
+bool WanRouter::subscribe_grants(fdds::DataReaderListener* listener) {
+    return subscribe_latest(CHANNEL_GRANT_TOPIC, fdds::TypeSupport(new GuardedType<idl::ChannelGrantPubSubType>()),
+                            listener);
+}
+
+bool WanRouter::subscribe_latest(const char* topic_name, fdds::TypeSupport type, fdds::DataReaderListener* listener) {
     if (participant_->register_type(type) != ReturnCode_t::RETCODE_OK) {
-        std::cerr << "telemetry-gateway: cannot register the receiver report type\n";
+        std::cerr << "telemetry-gateway: cannot register the type of " << topic_name << '\n';
         return false;
     }
-    fdds::Topic* topic =
-        participant_->create_topic(RECEIVER_REPORT_TOPIC, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+    fdds::Topic* topic = participant_->create_topic(topic_name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
     fdds::Subscriber* subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (topic == nullptr || subscriber == nullptr) {
-        std::cerr << "telemetry-gateway: cannot subscribe to " << RECEIVER_REPORT_TOPIC << '\n';
+        std::cerr << "telemetry-gateway: cannot subscribe to " << topic_name << '\n';
         return false;
     }
     fdds::DataReaderQos qos = subscriber->get_default_datareader_qos();
-    // Best effort and the latest per receiver: every report carries all the counts.
+    // Best effort and the latest per sender: every sample carries all it has to say.
     qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
     qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
     qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
@@ -408,7 +418,7 @@ bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {
     qos.data_sharing().off();
     qos.expects_inline_qos(false);
     if (subscriber->create_datareader(topic, qos, listener) == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create the reader of " << RECEIVER_REPORT_TOPIC << '\n';
+        std::cerr << "telemetry-gateway: cannot create the reader of " << topic_name << '\n';
         return false;
     }
     return true;

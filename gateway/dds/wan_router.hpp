@@ -18,6 +18,7 @@
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "base/clock.hpp"
 #include "base/discovery_server.hpp"
@@ -119,6 +120,9 @@ class WanRouter {
     /// Creates a reader of dds::RECEIVER_REPORT_TOPIC for `listener`, which must outlive the router. False
     /// (after logging it) when Fast DDS refuses.
     bool subscribe_receiver_reports(eprosima::fastdds::dds::DataReaderListener* listener);
+    /// Creates a reader of dds::CHANNEL_GRANT_TOPIC for `listener`, which must outlive the router. False (after
+    /// logging it) when Fast DDS refuses.
+    bool subscribe_grants(eprosima::fastdds::dds::DataReaderListener* listener);
 
     /// Base-camp participants discovered now.
     std::size_t remote_participants() const;
@@ -141,6 +145,9 @@ class WanRouter {
     class Introducer;
     class ParticipantCounter;
 
+    /// A best-effort reader of the latest sample per instance of `topic_name` for `listener`.
+    bool subscribe_latest(const char* topic_name, eprosima::fastdds::dds::TypeSupport type,
+                          eprosima::fastdds::dds::DataReaderListener* listener);
     /// Deletes `writer`, and its topic when it was the topic's last writer.
     void delete_writer(eprosima::fastdds::dds::DataWriter* writer);
     /// Deletes `topic` if no writer of ours uses it (a writer that could not be made left it behind). Under mutex_.

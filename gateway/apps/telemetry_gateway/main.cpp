@@ -288,6 +288,11 @@ int main(int argc, char** argv) {
                    "a topic the base camp may publish into the robot domain (commands: rt/cmd_vel, published at the "
                    "base camp as rt/NAME/cmd_vel with --robot-name NAME), delivered only within its TTL; repeatable, "
                    "nothing else flows from the WAN to the robot");
+    app.add_flag("--channel-grants", config.channel_grants,
+                 "experimental (on the testbed not yet better than equal fixed shares, see the README): a fleet's "
+                 "shared channel; budget for the lower of the sensor's rate and this gateway's share, which the base "
+                 "camp grants on tgw/grant (tm-basecamp relay --channel-rate); the sensor's alone while no grant is "
+                 "valid");
     std::string duplex = "half";
     app.add_option("--duplex", duplex,
                    "half: the radio carries both directions on one channel (Wi-Fi, most telemetry radios), so the "

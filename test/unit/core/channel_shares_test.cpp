@@ -129,6 +129,19 @@ TEST_F(ChannelSharesTest, ARobotNotHeardFromLeavesItsShareToTheOthers) {
     EXPECT_DOUBLE_EQ(shares_.grants().at("rover1"), 15'000);
 }
 
+// A robot on a slow share reports seldom (its gateway's status takes a small part of its rate).
+TEST_F(ChannelSharesTest, AReportMayHoldLongerThanTheDefault) {
+    shares_.set_capacity(30'000);
+    shares_.report("slow", {{A_TTL, 10'000}}, 60s);
+    shares_.report("fast", {{A_TTL, 10'000}});
+    clock_.advance(30s);
+    const ChannelGrants grants = shares_.grants();
+    EXPECT_EQ(grants.count("fast"), 0u);
+    EXPECT_DOUBLE_EQ(grants.at("slow"), 30'000);
+    clock_.advance(31s);
+    EXPECT_TRUE(shares_.grants().empty());
+}
+
 TEST_F(ChannelSharesTest, NothingIsGrantedBeforeTheChannelIsMeasured) {
     shares_.report("rover1", {{A_TTL, 10'000}});
     EXPECT_TRUE(shares_.grants().empty());

@@ -1,0 +1,70 @@
+// The base camp's side of a fleet's shared channel (tm-basecamp relay --channel-rate): each gateway's share.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <vector>
+
+#include "base/clock.hpp"
+#include "gateway/core/channel_shares.hpp"
+#include "gateway/core/urgency_demand.hpp"
+
+namespace eprosima::fastdds::dds {
+class DataWriter;
+class DomainParticipant;
+}  // namespace eprosima::fastdds::dds
+
+namespace tgw::basecamp {
+
+/// Reads each gateway's status as the relay takes it off the WAN, works out from two in a row what the robot needs
+/// by urgency (core::urgency_demand), and once a GRANT_PERIOD grants each gateway its share of the channel
+/// (core::split_channel: a floor, then the fleet's shortest TTLs first) on dds::CHANNEL_GRANT_TOPIC, keyed by the
+/// gateway's prefix. A gateway silent for long (STALE_AFTER) has no share until its next status, and meanwhile
+/// budgets for its own sensor's rate.
+class ChannelGrantor {
+  public:
+    static constexpr base::Duration GRANT_PERIOD = std::chrono::seconds(1);
+    /// A gateway silent this long, or three of its status periods if longer, has no share until its next status.
+    static constexpr base::Duration STALE_AFTER = std::chrono::seconds(5);
+    /// Every gateway's floor: a status and discovery, and its first sample.
+    static constexpr double FLOOR_BPS = 2000;
+
+    /// Writes on `wan` (which must outlive it) a channel of `channel_bps`. Throws base::ConfigError naming
+    /// --channel-rate when DDS refuses the writer.
+    ChannelGrantor(eprosima::fastdds::dds::DomainParticipant* wan, double channel_bps, const base::Clock& clock);
+    ~ChannelGrantor();
+    ChannelGrantor(const ChannelGrantor&) = delete;
+    ChannelGrantor& operator=(const ChannelGrantor&) = delete;
+
+    /// One sample of tgw/status as it came off the WAN (its serialized payload); any thread. A payload that does
+    /// not decode is ignored.
+    void take_status(const std::vector<std::uint8_t>& payload);
+
+    /// Writes the grants when GRANT_PERIOD has passed since the last; the relay's thread.
+    void poll();
+
+    /// The grants last written, by gateway prefix (hex).
+    core::ChannelGrants last_grants() const;
+
+  private:
+    using Prefix = std::array<std::uint8_t, 12>;
+    struct Heard {
+        Prefix prefix{};
+        std::uint64_t sent_ns = 0;
+        std::vector<core::TopicLoad> topics;
+    };
+
+    eprosima::fastdds::dds::DomainParticipant* wan_;
+    eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
+    const base::Clock& clock_;
+    const core::WireModel wire_;
+    mutable std::mutex mutex_;
+    core::ChannelShares shares_;             // under mutex_
+    std::map<std::string, Heard> statuses_;  // the latest per gateway; under mutex_
+    core::ChannelGrants last_grants_;        // under mutex_
+    base::SteadyTime next_grant_{};
+};
+
+}  // namespace tgw::basecamp

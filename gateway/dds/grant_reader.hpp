@@ -1,0 +1,41 @@
+// The gateway's side of a fleet's shared channel (--channel-grants): the base camp's grant for this gateway.
+#pragma once
+
+#include <functional>
+#include <mutex>
+#include <optional>
+
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/rtps/common/GuidPrefix_t.hpp>
+
+#include "base/clock.hpp"
+
+namespace tgw::dds {
+
+/// The listener of the gateway's reader of CHANNEL_GRANT_TOPIC: keeps the latest grant for its own WAN participant
+/// (`own`), and calls `changed` with it as it comes, in Fast DDS's thread.
+class GrantReader final : public eprosima::fastdds::dds::DataReaderListener {
+  public:
+    GrantReader(const eprosima::fastrtps::rtps::GuidPrefix_t& own, const base::Clock& clock,
+                std::function<void()> changed);
+
+    void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
+
+    /// The grant in bit/s while it is valid; nullopt before the first, and once the last has run out.
+    std::optional<double> current() const;
+
+    /// Calls `changed` no more: once it returns, what `changed` uses may go while the reader still exists.
+    void close();
+
+  private:
+    const eprosima::fastrtps::rtps::GuidPrefix_t own_;
+    const base::Clock& clock_;
+    const std::function<void()> changed_;
+    mutable std::mutex mutex_;
+    std::optional<double> rate_bps_;  // under mutex_
+    base::SteadyTime valid_until_{};  // under mutex_
+    std::mutex changed_mutex_;        ///< held while `changed_` runs
+    bool closed_ = false;             // under changed_mutex_
+};
+
+}  // namespace tgw::dds

@@ -87,6 +87,8 @@ int main(int argc, char** argv) {
     tgw::basecamp::add_mcap_options(*record, record_mcap, false);
     record->add_option("--duration", duration_s, "seconds to record; until SIGINT/SIGTERM without it")
         ->check(CLI::PositiveNumber);
+    std::vector<std::string> record_topics;
+    record->add_option("--topic", record_topics, "record only this topic (repeatable); every topic without it");
     std::string record_security;
     tgw::basecamp::add_security_option(*record, record_security);
     double report_period_s = 1.0;
@@ -278,6 +280,7 @@ int main(int argc, char** argv) {
             tgw::basecamp::ConsumerFanOut recording(files);
             tgw::basecamp::Recorder recorder(domain, transport, recording, tgw::base::from_seconds(report_period_s),
                                              security);
+            recorder.only(record_topics);
             tgw::basecamp::stop_on_signals();
             const auto duration = duration_s > 0 ? tgw::base::from_seconds(duration_s) : tgw::base::Duration::max() / 2;
             tgw::basecamp::run_with_progress(

@@ -31,7 +31,6 @@
 #include "basecamp/status_command.hpp"
 #include "basecamp/subcommand.hpp"
 #include "gateway/dds/qos_file.hpp"
-#include "gateway/dds/uplink_topics.hpp"
 
 namespace {
 
@@ -198,7 +197,6 @@ int main(int argc, char** argv) {
         if (relay->parsed()) {
             // Checked first: nothing is created when an identity's file is missing or tampered with.
             const auto security = tgw::basecamp::security_files(relay_security);
-            tgw::dds::UplinkTopics(relay_uplink, "");  // exact names: throws naming --uplink
             if (local_domain == domain)
                 throw tgw::base::ConfigError("--local-domain: must differ from --domain (" + std::to_string(domain) +
                                              "), or every sample would come back to the relay");

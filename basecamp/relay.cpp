@@ -95,8 +95,9 @@ class Relay::Lane final : public fdds::DataReaderListener {
 };
 
 Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain, fdds::DomainParticipantQos local_qos,
-             SampleConsumer* store, base::Duration report_period, std::vector<std::string> uplink, double channel_bps)
-    : store_(store), report_period_(report_period), uplink_topics_(std::move(uplink)) {
+             SampleConsumer* store, base::Duration report_period, const std::vector<std::string>& uplink,
+             double channel_bps)
+    : store_(store), report_period_(report_period), uplink_topics_(uplink, "") {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     wan_qos.name("tm-basecamp relay/wan");
@@ -224,7 +225,7 @@ void Relay::relay(const dds::DiscoveredPublisher& publisher) {
 }
 
 void Relay::uplink(const dds::DiscoveredPublisher& publisher) {
-    if (!uplink_ || std::find(uplink_topics_.begin(), uplink_topics_.end(), publisher.topic) == uplink_topics_.end()) {
+    if (!uplink_ || !uplink_topics_.robot_topic(publisher.topic)) {
         return;  // nothing else goes from the camp onto the WAN
     }
     // The camp publisher's Lifespan goes on with its commands; without one they never expire here, and the gateway

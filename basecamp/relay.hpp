@@ -23,6 +23,7 @@
 #include "gateway/dds/partition_groups.hpp"
 #include "gateway/dds/type_object_guard.hpp"
 #include "gateway/dds/uplink.hpp"
+#include "gateway/dds/uplink_topics.hpp"
 
 namespace eprosima::fastdds::dds {
 class DomainParticipant;
@@ -60,7 +61,7 @@ class Relay {
     /// shares, which the relay grants the gateways in shares (ChannelGrantor); 0: no grants.
     Relay(int wan_domain, eprosima::fastdds::dds::DomainParticipantQos wan_qos, int local_domain,
           eprosima::fastdds::dds::DomainParticipantQos local_qos, SampleConsumer* store = nullptr,
-          base::Duration report_period = std::chrono::seconds(1), std::vector<std::string> uplink = {},
+          base::Duration report_period = std::chrono::seconds(1), const std::vector<std::string>& uplink = {},
           double channel_bps = 0);
     ~Relay();
     Relay(const Relay&) = delete;
@@ -105,8 +106,8 @@ class Relay {
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
     std::unique_ptr<dds::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* wan_ = nullptr;
-    const std::vector<std::string> uplink_topics_;
-    DiscoveryQueue local_discovered_;  ///< before local_discovery_, whose callback feeds it
+    const dds::UplinkTopics uplink_topics_;  ///< exact names, the same on both sides
+    DiscoveryQueue local_discovered_;        ///< before local_discovery_, whose callback feeds it
     /// The local participant's listener: the camp's publishers of uplink topics (and it keeps the TypeObjects that
     /// base-camp tools announce from Fast DDS, as every listener of the project does).
     std::unique_ptr<dds::Discovery> local_discovery_;

@@ -385,13 +385,9 @@ void Gateway::set_rate(double rate_bps) {
 }
 
 void Gateway::apply_rate() {
-    double rate = sensed_rate_bps_.load();
-    if (const std::optional<double> grant = granted_bps()) {
-        rate = rate > 0 ? std::min(rate, *grant) : *grant;
-    }
-    if (rate > 0) {
-        loop_->set_rate(rate);
-    }
+    const double sensed = sensed_rate_bps_.load();
+    const std::optional<double> grant = granted_bps();
+    loop_->set_rate(grant ? std::min(sensed, *grant) : sensed);
 }
 
 std::optional<double> Gateway::granted_bps() const {

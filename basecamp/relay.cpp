@@ -102,17 +102,20 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     wan_qos.name("tm-basecamp relay/wan");
     local_qos.name("tm-basecamp relay/local");
-    // The local participant first: nothing discovered on the WAN may find it missing.
+    // The WAN participant first: Fast DDS 2.9 numbers a process's participants in the order they are made, and a
+    // robot announces itself to the camp's participant 0 (telemetry-gateway --wan-peer-participants 1). What
+    // either discovers waits in its queue until run() takes it, so neither may find the other missing.
+    wan_ = factory->create_participant(wan_domain, wan_qos, discovery_.get(), fdds::StatusMask::none());
+    if (wan_ == nullptr) {
+        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(wan_domain));
+    }
     local_discovery_ = std::make_unique<dds::Discovery>(local_discovered_.callback());
     local_ = factory->create_participant(local_domain, local_qos, local_discovery_.get(), fdds::StatusMask::none());
     if (local_ == nullptr) {
+        wan_->set_listener(nullptr);
+        factory->delete_participant(wan_);
         throw base::ConfigError("--local-domain: cannot create a DDS participant on domain " +
                                 std::to_string(local_domain));
-    }
-    wan_ = factory->create_participant(wan_domain, wan_qos, discovery_.get(), fdds::StatusMask::none());
-    if (wan_ == nullptr) {
-        factory->delete_participant(local_);
-        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(wan_domain));
     }
     discovery_->ignore_participant(wan_->guid().guidPrefix);
     local_discovery_->ignore_participant(local_->guid().guidPrefix);

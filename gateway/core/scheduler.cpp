@@ -550,6 +550,12 @@ double Scheduler::rate_left_bps(std::int64_t rank, base::SteadyTime at) const {
 }
 
 base::SteadyTime Scheduler::chunks_arrive_by(std::size_t payload_bytes, base::SteadyTime start, double rate_bps) const {
+    // What the more urgent topics leave varies from bundle to bundle (a status, a burst of C), and a sample
+    // abandoned halfway wastes every chunk it sent: plan on a part of the rate they left lately. On the testbed at
+    // 25,000 bit/s (the paper's workload, 60 s) 4 of 28 chunked samples were abandoned when planned on 0.8 of it,
+    // 1 of 27 on 0.6; a starved topic loses nothing by it, a younger sample of it takes the room.
+    constexpr double RATE_LEFT_MARGIN = 0.6;
+    rate_bps *= RATE_LEFT_MARGIN;
     if (rate_bps <= 0.0) {
         return base::SteadyTime::max();
     }

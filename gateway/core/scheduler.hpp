@@ -207,8 +207,8 @@ class Scheduler {
     bool arrives_in_two_bundles(const DeadlineQueue::Peek& sample, base::SteadyTime start) const;
     /// Compact mode: the budget's rate less what the topics more urgent than `rank` spent of the link lately.
     double rate_left_bps(std::int64_t rank, base::SteadyTime at) const;
-    /// When the last chunk of a sample of `payload_bytes` started at `start` arrives, given `rate_bps` of the link;
-    /// SteadyTime::max() for none.
+    /// When the last chunk of a sample of `payload_bytes` started at `start` arrives, given `rate_bps` of the link
+    /// left to it lately (planned on with a margin); SteadyTime::max() for none.
     base::SteadyTime chunks_arrive_by(std::size_t payload_bytes, base::SteadyTime start, double rate_bps) const;
     /// The least a sample of `payload_bytes` puts on the link in chunks: the whole link its own, a chunk a bundle.
     std::uint64_t chunk_bits(std::size_t payload_bytes) const;

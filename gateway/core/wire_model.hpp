@@ -37,6 +37,15 @@ struct WireModel {
         return model;
     }
 
+    /// The INFO_DST that names the one participant a message goes to.
+    static constexpr std::size_t DESTINATION_SUBMESSAGE_BYTES = 16;
+    /// The same model for a transport that leaves that INFO_DST out (WanConfig::strip_destination).
+    WireModel without_destination() const {
+        WireModel model = *this;
+        model.per_datagram_bytes -= DESTINATION_SUBMESSAGE_BYTES;
+        return model;
+    }
+
     /// DDS Security as scripts/make-certs' governance sets it (RTPS messages signed, submessages and payloads
     /// encrypted with AES-GCM), from a loopback capture of the paper's four types at an 8,192-byte datagram limit
     /// (frames of 466, 490, 690 and 1,438 bytes against 238, 262, 462 and 1,210 plain): each message gains

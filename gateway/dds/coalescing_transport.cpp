@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <fastdds/rtps/network/SenderResource.h>
+#include <fastrtps/utils/IPLocator.h>
 #include <fastdds/rtps/common/LocatorsIterator.hpp>
 
 namespace tgw::dds {
@@ -69,6 +70,20 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     destination.locators.clear();
     for (rtps::LocatorsIterator& it = *destination_locators_begin; it != *destination_locators_end; ++it) {
         destination.locators.push_back(*it);
+    }
+    if (descriptor_.strip_destination &&
+        std::none_of(destination.locators.begin(), destination.locators.end(),
+                     [](const rtps::Locator_t& locator) { return rtps::IPLocator::isMulticast(locator); })) {
+        // Only that participant listens at its unicast locators: without the INFO_DST the message reads the same.
+        const std::size_t cut = RtpsDatagram::leading_destination_bytes(send_buffer, send_buffer_size);
+        if (cut > 0) {
+            thread_local std::vector<rtps::octet> without_destination;
+            without_destination.assign(send_buffer, send_buffer + RtpsDatagram::HEADER_BYTES);
+            without_destination.insert(without_destination.end(), send_buffer + RtpsDatagram::HEADER_BYTES + cut,
+                                       send_buffer + send_buffer_size);
+            send_buffer = without_destination.data();
+            send_buffer_size -= static_cast<std::uint32_t>(cut);
+        }
     }
     if (descriptor_.strip_statistics) {
         // The trailer is the message's last submessage: the message without it is its first bytes.

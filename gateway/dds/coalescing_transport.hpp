@@ -40,6 +40,9 @@ struct CoalescingTransportDescriptor : public eprosima::fastdds::rtps::ChainingT
     std::uint32_t heartbeat_spacing_bytes = 0;
     /// Leave out the statistics submessage at the end of each message (RtpsDatagram::statistics_trailer_bytes).
     bool strip_statistics = false;
+    /// Leave out the INFO_DST a message to one participant's unicast locators starts with
+    /// (RtpsDatagram::leading_destination_bytes).
+    bool strip_destination = false;
     std::shared_ptr<DatagramCoalescer> coalescer;
     UnscheduledTrafficCallback on_unscheduled;
     /// Holds back repeated HEARTBEATs and ACKNACKs; none: every message goes.

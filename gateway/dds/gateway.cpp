@@ -173,6 +173,11 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         // 60 bytes less in every datagram, bundles and discovery alike.
         wan.strip_statistics = true;
         config_.scheduler.wire = config_.scheduler.wire.without_statistics();
+        if (!wan.security) {
+            // ... and, in a message to the relay alone, the 16 bytes that name it (security signs them).
+            wan.strip_destination = true;
+            config_.scheduler.wire = config_.scheduler.wire.without_destination();
+        }
     }
     if (wan.security) {
         // Every message signed, every sample's submessages and payload encrypted (WireModel::with_security).

@@ -17,6 +17,8 @@ constexpr std::size_t SWEEP_ABOVE = 1024;
 /// ENTITYID_P2P_BUILTIN_PARTICIPANT_STATELESS_WRITER (DDS Security 1.1, 7.4.3): its DATA carry the
 /// authentication handshake.
 constexpr std::uint8_t STATELESS_WRITER_ID[4] = {0x00, 0x02, 0x01, 0xc3};
+/// ENTITYID_SPDP_BUILTIN_RTPSParticipant_WRITER (DDSI-RTPS 9.3.1.5): its DATA announce the participant.
+constexpr std::uint8_t SPDP_WRITER_ID[4] = {0x00, 0x01, 0x00, 0xc2};
 /// A DATA's extraFlags, octetsToInlineQos, readerId, writerId and writerSN (DDSI-RTPS 9.4.5.3).
 constexpr std::size_t DATA_HEADER_BYTES = 2 + 2 + 4 + 4 + 8;
 
@@ -95,10 +97,11 @@ bool RepeatThrottle::lone_repeatable(const std::uint8_t* message, std::size_t si
                 std::memcpy(key.body, body, key.length);
                 break;
             case DATA: {
-                // A handshake message: the same payload again under a new sequence number.
+                // A handshake message (the same payload again under a new sequence number), or an announcement.
                 const std::size_t data_length = length == 0 ? size - pos - SUBMESSAGE_HEADER_BYTES : length;
                 if (key.kind != 0 || data_length < DATA_HEADER_BYTES ||
-                    std::memcmp(body + 8, STATELESS_WRITER_ID, sizeof(STATELESS_WRITER_ID)) != 0) {
+                    (std::memcmp(body + 8, STATELESS_WRITER_ID, sizeof(STATELESS_WRITER_ID)) != 0 &&
+                     std::memcmp(body + 8, SPDP_WRITER_ID, sizeof(SPDP_WRITER_ID)) != 0)) {
                     return false;
                 }
                 key.kind = DATA;
@@ -111,7 +114,7 @@ bool RepeatThrottle::lone_repeatable(const std::uint8_t* message, std::size_t si
                 break;
             }
             case INFO_TS:
-                // Only around a handshake message, which the stateless writer time-stamps.
+                // Only around a handshake message or an announcement, which their writers time-stamp.
                 break;
             case EPROSIMA_STATISTICS:
                 break;
@@ -133,7 +136,11 @@ bool RepeatThrottle::admit(const DatagramDestination& destination, const std::ui
         return true;
     }
     key.destination = destination_hash(destination);  // only for the few messages that are lone HEARTBEATs or ACKNACKs
-    const base::Duration interval = key.kind == DATA ? handshake_interval_ : interval_;
+    base::Duration interval = interval_;
+    if (key.kind == DATA) {
+        const bool announcement = std::memcmp(key.body + 4, SPDP_WRITER_ID, sizeof(SPDP_WRITER_ID)) == 0;
+        interval = announcement ? announcement_interval_ : handshake_interval_;
+    }
     std::lock_guard<std::mutex> lock(mutex_);
     auto [it, inserted] = last_sent_.try_emplace(key, now);
     if (!inserted) {

@@ -69,6 +69,7 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
             if (length < GUID_PREFIX_BYTES) {
                 return Shape{};
             }
+            ++shape.destinations;
             // An INFO_DST to GUIDPREFIX_UNKNOWN leaves a Fast DDS receiver's destination as it was.
             if (!is_zero(message + body, GUID_PREFIX_BYTES)) {
                 shape.destination_in_force = true;
@@ -86,6 +87,7 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
             shape.heartbeat_bytes += SUBMESSAGE_HEADER_BYTES + length;
         } else if (id == SEC_PREFIX) {
             group_start = pos;
+            shape.protected_submessages = true;
         }
         leading_info = leading_info && is_info(id);
         // Receivers step to the next 4-byte boundary.
@@ -119,6 +121,16 @@ std::size_t RtpsDatagram::heartbeat_bytes(const std::uint8_t* message, std::size
 std::size_t RtpsDatagram::statistics_trailer_bytes(const std::uint8_t* message, std::size_t size) {
     const Shape shape = shape_of(message, size);
     return shape.well_formed && shape.trailer_last ? shape.trailer_bytes : 0;
+}
+
+std::size_t RtpsDatagram::leading_destination_bytes(const std::uint8_t* message, std::size_t size) {
+    const Shape shape = shape_of(message, size);
+    if (!shape.well_formed || shape.rtps_protected || shape.protected_submessages || !shape.sets_destination ||
+        shape.destinations != 1) {
+        return 0;
+    }
+    const std::size_t length = octets_to_next_header(message + HEADER_BYTES);
+    return length == GUID_PREFIX_BYTES ? SUBMESSAGE_HEADER_BYTES + GUID_PREFIX_BYTES : 0;
 }
 
 std::size_t RtpsDatagram::padding_against_statistics_fill(const std::uint8_t* datagram, std::size_t size) {

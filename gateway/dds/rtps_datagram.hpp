@@ -46,6 +46,10 @@ class RtpsDatagram {
     /// The bytes of the statistics submessage (header included) that ends a well-formed eProsima RTPS message,
     /// or 0 when it does not end with one. Receivers read it only for eProsima's statistics module.
     static std::size_t statistics_trailer_bytes(const std::uint8_t* message, std::size_t size);
+    /// The bytes of the INFO_DST (header included) that a well-formed, unprotected message starts with when it is
+    /// the message's only one and names a participant; else 0. Sent only to that participant's unicast
+    /// locators, the message reads the same without it: a receiver takes a message that names nobody as its own.
+    static std::size_t leading_destination_bytes(const std::uint8_t* message, std::size_t size);
     /// The bytes of PAD submessages to append to a datagram that does not end with a statistics submessage (its
     /// own was left out) so that Fast DDS's UDP transport does not take it for one: the transport fills in the
     /// last STATISTICS_BYTES of every datagram whose byte there is the submessage's id, over whatever they hold
@@ -58,15 +62,17 @@ class RtpsDatagram {
     /// What a receiver's state is after a run of submessages, and whether more may follow.
     struct Shape {
         bool well_formed = false;
-        bool mergeable = false;             ///< nothing untracked, no run-to-end submessage, 4-byte aligned
-        bool rtps_protected = false;        ///< DDS Security protects it as a whole (SRTPS_PREFIX)
-        bool sets_destination = false;      ///< the first submessage is an INFO_DST to a participant
-        bool sets_timestamp_first = false;  ///< an INFO_TS comes before the first submessage that is not INFO_*
-        bool destination_in_force = false;  ///< at the end
-        bool timestamp_in_force = false;    ///< at the end
-        std::size_t trailer_bytes = 0;      ///< the statistics submessage it ends with, header included
-        bool trailer_last = false;          ///< the statistics submessage is the last submessage
-        std::size_t heartbeat_bytes = 0;    ///< HEARTBEAT submessages, headers included
+        bool mergeable = false;              ///< nothing untracked, no run-to-end submessage, 4-byte aligned
+        bool rtps_protected = false;         ///< DDS Security protects it as a whole (SRTPS_PREFIX)
+        bool sets_destination = false;       ///< the first submessage is an INFO_DST to a participant
+        std::size_t destinations = 0;        ///< INFO_DST submessages
+        bool protected_submessages = false;  ///< DDS Security protects some of its submessages (SEC_PREFIX)
+        bool sets_timestamp_first = false;   ///< an INFO_TS comes before the first submessage that is not INFO_*
+        bool destination_in_force = false;   ///< at the end
+        bool timestamp_in_force = false;     ///< at the end
+        std::size_t trailer_bytes = 0;       ///< the statistics submessage it ends with, header included
+        bool trailer_last = false;           ///< the statistics submessage is the last submessage
+        std::size_t heartbeat_bytes = 0;     ///< HEARTBEAT submessages, headers included
     };
     static Shape shape_of(const std::uint8_t* message, std::size_t size);
 

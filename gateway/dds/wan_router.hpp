@@ -73,6 +73,10 @@ struct WanConfig {
     /// Sends every RTPS message without the statistics submessage this Fast DDS build ends it with (60 bytes; only
     /// eProsima's statistics module reads it): WireModel::without_statistics() must then be the model.
     bool strip_statistics = false;
+    /// Sends a message to one participant without the INFO_DST that names it (16 bytes; its unicast locators
+    /// reach that participant alone): WireModel::without_destination() must then be the model. Not with
+    /// security, which signs the message as Fast DDS made it.
+    bool strip_destination = false;
     /// DDS Security (--wan-security): the identity whose checked files the participant authenticates with, and
     /// the governance and permissions it follows; none: a plain participant.
     std::optional<base::SecurityFiles> security;

@@ -3,7 +3,8 @@
 # nothing else: a Fast DDS participant with every default and a Cyclone DDS participant with no configuration at
 # all (both discover by multicast on the camp's network) each receive everything a reliable Cyclone publisher on
 # the robot writes, through the gateway and the testbed's shaped link. The relay is the camp's one participant
-# on the WAN domain. Needs root; skipped (77) otherwise.
+# on the WAN domain and names no peer: the gateway (--wan-peer-participants 1) announces itself to the camp's
+# participant 0, which the relay's WAN participant must be. Needs root; skipped (77) otherwise.
 #   relay_default_readers_test.sh BIN_DIR XV_PUB XV_SUB FASTDDS_DEFAULT_READER
 set -euo pipefail
 BIN="${1:?usage: relay_default_readers_test.sh BIN_DIR XV_PUB XV_SUB FASTDDS_DEFAULT_READER}"
@@ -20,7 +21,7 @@ TOPIC="xv/blob/behind_the_relay"
 LOCAL_DOMAIN=2
 start_testbed "$RATE" relay-readers
 
-"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --peer "$robot_addr" --interface "$basecamp_addr" \
+"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --interface "$basecamp_addr" \
     --local-domain "$LOCAL_DOMAIN" --duration $((TIMEOUT_S + 5)) >"$WORK/relay.out" 2>&1 &
 relay_pid=$!
 PIDS+=("$relay_pid")

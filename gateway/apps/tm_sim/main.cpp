@@ -126,9 +126,9 @@ int main(int argc, char** argv) {
                 config.scheduler.paper_overhead = paper_overhead;
                 config.scheduler.budget_fraction = budget_fraction;
                 if (compact) {
-                    // As telemetry-gateway --wan-mode compact: bundles, and no statistics submessage.
+                    // As telemetry-gateway --wan-mode compact: bundles, no statistics submessage, no INFO_DST.
                     config.scheduler.bundles = tgw::core::BundleLimits{};
-                    config.scheduler.wire = config.scheduler.wire.without_statistics();
+                    config.scheduler.wire = config.scheduler.wire.without_statistics().without_destination();
                 }
                 config.link = links[i];
                 config.duration = tgw::base::from_seconds(duration_s);

@@ -120,6 +120,28 @@ TEST_F(RepeatThrottleTest, LetsANewHandshakeMessageAndOtherDataGo) {
     EXPECT_EQ(sut.suppressed(), 0u);
 }
 
+/// A participant's announcement as Fast DDS 2.9 sends it: a DATA(p) of the SPDP writer (entity id 00.01.00.c2) to
+/// ENTITYID_UNKNOWN, its sequence number and parameter list (`fill` stands for its contents).
+Bytes announcement(std::uint8_t fill = 0x50) {
+    Bytes body = {0, 0, 16, 0, 0x00, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00, 0xc2, 0, 0, 0, 0, 1, 0, 0, 0};
+    body.insert(body.end(), 360, fill);
+    return test::rtps::submessage(0x15, 0x05, body);
+}
+
+// Fast DDS 2.9 sends a periodic announcement to an initial peer and again to the participant discovered there.
+TEST_F(RepeatThrottleTest, HoldsBackTheSameAnnouncementToTheSamePortAMomentLater) {
+    const Bytes m = message({info_ts(1), announcement(), statistics(0)});
+    EXPECT_TRUE(admit(m, 0ms));
+    EXPECT_FALSE(admit(message({info_ts(2), announcement(), statistics(0)}), 1ms)) << "the copy";
+    EXPECT_TRUE(admit(m, 1ms, to_port(7663))) << "another port";
+    EXPECT_TRUE(admit(message({info_ts(3), announcement(0x51), statistics(0)}), 2ms)) << "news";
+    // Its start-up repeats, 100 ms apart, and the next period's all go.
+    EXPECT_TRUE(admit(m, 100ms));
+    EXPECT_TRUE(admit(m, 200ms));
+    EXPECT_TRUE(admit(m, 20s));
+    EXPECT_EQ(sut.suppressed(), 1u);
+}
+
 TEST_F(RepeatThrottleTest, NeverHoldsBackAnythingButALoneHeartbeatOrAcknack) {
     const Bytes piggy_backed = message({info_dst(0x33), info_ts(1), data(40), heartbeat(0x11, 5, 1), statistics(0)});
     const Bytes two = message({info_dst(0x33), heartbeat(0x11, 5, 1), heartbeat(0x22, 5, 1)});

@@ -178,6 +178,28 @@ TEST(RtpsStatisticsTrailer, IsNothingWhenTheStatisticsSubmessageIsNotLastOrTheMe
     EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(cyclone.data(), cyclone.size()), 0u);
 }
 
+TEST(RtpsLeadingDestination, IsTheInfoDstAMessageToOneParticipantStartsWith) {
+    const Bytes to_one = message({info_dst(0x33), info_ts(1), data(40), statistics(0)});
+    ASSERT_EQ(RtpsDatagram::leading_destination_bytes(to_one.data(), to_one.size()), 16u);
+    // What is left reads as a message of its own: the header, then the submessages after the INFO_DST.
+    Bytes without(to_one.begin(), to_one.begin() + RtpsDatagram::HEADER_BYTES);
+    without.insert(without.end(), to_one.begin() + RtpsDatagram::HEADER_BYTES + 16, to_one.end());
+    EXPECT_EQ(without, message({info_ts(1), data(40), statistics(0)}));
+    EXPECT_EQ(RtpsDatagram::statistics_trailer_bytes(without.data(), without.size()), 60u);
+}
+
+TEST(RtpsLeadingDestination, IsNothingUnlessOneParticipantIsNamedFirstInAPlainWellFormedMessage) {
+    const auto cut = [](const Bytes& m) { return RtpsDatagram::leading_destination_bytes(m.data(), m.size()); };
+    EXPECT_EQ(cut(message({info_ts(1), data(40)})), 0u);                                // names nobody
+    EXPECT_EQ(cut(message({info_dst(0), info_ts(1), data(40)})), 0u);                   // GUIDPREFIX_UNKNOWN
+    EXPECT_EQ(cut(message({info_ts(1), info_dst(0x33), data(40)})), 0u);                // not first
+    EXPECT_EQ(cut(message({info_dst(0x33), data(40), info_dst(0x44), data(40)})), 0u);  // two participants
+    EXPECT_EQ(cut(message(signed_rtps({info_dst(0x33), info_ts(1), data(40)}))), 0u);   // signed as it is
+    Bytes truncated = message({info_dst(0x33), info_ts(1), data(40)});
+    truncated.resize(truncated.size() - 8);
+    EXPECT_EQ(cut(truncated), 0u);
+}
+
 TEST_F(RtpsDatagramTest, SendsAMessageProtectedAsAWholeAlone) {
     // A receiver decodes the protected message and reads nothing after its SRTPS_POSTFIX.
     const Bytes secured = message(signed_rtps({info_ts(1), data(40)}));

@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# Three robots on one shaped channel (issue 21's targets): the fleet testbed (scripts/testbed up 60000 --robots 3)
+# puts three robot namespaces behind one router whose way out to the base camp is shaped at 60,000 bit/s. Each
+# robot runs tm-robot-sim's paper workload (A to D, 5 Hz each) and a telemetry-gateway in compact WAN mode with an
+# equal fixed share of the channel, 90 % of a third (--sensor fixed:18000): the three gateways send independently,
+# and with shares of a full third (20,000) their bundles met in the router's queue often enough to make A late
+# (rover1 195 and rover2 196 of 200 on time, mean 562 and 585 ms, in the first run). The base camp's
+# tm-basecamp relay unpacks and records.
+# Mid-run, rover2 starts publishing camera frames (6 kB at 1 Hz, TTL 5 s), and rover3's gateway is stopped and
+# started again. Checks: rover1's A and B, and rover2's, at least 99 % on time at the base camp; rover3's telemetry
+# arrives again after its restart; every robot's topics under its own name.
+set -euo pipefail
+BIN=$1
+cd "$(dirname "$0")/../.."
+source test/system/system_test_lib.sh
+require_netns
+start_testbed 60000 fleet3 --robots 3
+ROBOTS=3
+SHARE=18000
+WARMUP=10
+DURATION=40
+CAMERA_AT=10   # s into the run: rover2's camera starts
+RESTART_AT=20  # s into the run: rover3's gateway stops, and starts again 2 s later
+
+robot_address() { TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info "robot$1-addr"; }
+peers=()
+for k in $(seq 1 "$ROBOTS"); do peers+=(--peer "$(robot_address "$k")"); done
+"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --interface "$basecamp_addr" "${peers[@]}" \
+    --local-domain 2 --local-interface 127.0.0.1 --out "$WORK/camp.db" >"$WORK/relay.out" 2>&1 &
+relay=$!
+PIDS+=("$relay")
+
+start_gateway() {  # K OUTPUT_NAME: rover K's gateway; sets gateway_pid
+    "${tb[@]}" "robot$1" "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-interface "$(robot_address "$1")" \
+        --wan-peer "$basecamp_addr" --wan-peer-participants 1 --robot-name "rover$1" --wan-mode compact \
+        --sensor "fixed:$SHARE" --qos qos/paper_workload.xml --log "$WORK/$2.db" >"$WORK/$2.out" 2>&1 &
+    gateway_pid=$!
+    PIDS+=("$gateway_pid")
+}
+gateways=()
+for k in $(seq 1 "$ROBOTS"); do
+    start_gateway "$k" "gateway$k"
+    gateways+=("$gateway_pid")
+done
+# The topics are declared (qos/paper_workload.xml): the WAN writers exist from the start, and their discovery
+# crosses the shaped channel before the robots publish.
+sleep "$WARMUP"
+sims=()
+for k in $(seq 1 "$ROBOTS"); do
+    "${tb[@]}" "robot$k" "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload paper --rate-hz 5 \
+        --duration "$DURATION" --linger 0 --wait-match 10 >"$WORK/sim$k.out" 2>&1 &
+    sims+=("$!")
+    PIDS+=("$!")
+done
+sleep "$CAMERA_AT"
+printf 'P camera/image 6000 5 1\n' >"$WORK/camera.workload"
+"${tb[@]}" robot2 "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload "$WORK/camera.workload" \
+    --duration $((DURATION - CAMERA_AT)) --linger 0 >"$WORK/camera.out" 2>&1 &
+camera=$!
+PIDS+=("$camera")
+sleep $((RESTART_AT - CAMERA_AT))
+kill -TERM "${gateways[2]}"
+wait "${gateways[2]}" || true
+sleep 2
+start_gateway 3 gateway3-restarted
+gateways[2]=$gateway_pid
+
+for pid in "${sims[@]}" "$camera"; do wait "$pid" || true; done
+sleep 3
+for pid in "${gateways[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
+for pid in "${gateways[@]}"; do wait "$pid" || true; done
+sleep 2
+kill -TERM "$relay" 2>/dev/null || true
+wait "$relay" 2>/dev/null || true
+TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed stats >"$WORK/tc.txt" 2>&1 || true
+
+published() {  # K TOPIC: what rover K's tm-robot-sim published of TOPIC
+    awk -v t="$2" '$2 == t { print $5; exit }' "$WORK/sim$1.out"
+}
+offered=()
+for k in $(seq 1 "$ROBOTS"); do
+    for type in A B; do offered+=(--offered "rover$k/telemetry/$type=$(published "$k" "telemetry/$type")"); done
+done
+"$BIN/tm-basecamp" report "$WORK/camp.db" "${offered[@]}" >"$WORK/report.txt" 2>&1 || true
+cat "$WORK/report.txt"
+row() {  # TOPIC: report's row, topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms
+    awk -v t="$1" '$1 == t && NF == 9 { print; exit }' "$WORK/report.txt"
+}
+for k in 1 2; do
+    for type in A B; do
+        read -r _ _ offered_n _ on_time _ <<<"$(row "rover$k/telemetry/$type")" || true
+        check "rover$k/telemetry/$type: ${on_time:-0} of ${offered_n:-0} on time at the base camp" \
+            "b >= 150 && a >= 0.99 * b" "${on_time:-0}" "${offered_n:-0}"
+    done
+done
+camera_received=$(awk '$1 == "rover2/camera/image" && NF == 9 { print $4; exit }' "$WORK/report.txt")
+echo "rover2's camera frames received: ${camera_received:-0} of $(awk '$2 == "camera/image" { print $5 }' "$WORK/camera.out")"
+# The restarted gateway's exit summary: topic received forwarded ...
+forwarded_after=$(awk '$1 == "telemetry/A" { print $3; exit }' "$WORK/gateway3-restarted.out")
+check "rover3's gateway, started again, forwarded telemetry/A ($forwarded_after)" "a >= 50" "${forwarded_after:-0}"
+read -r _ _ _ received3 _ <<<"$(row "rover3/telemetry/A")" || true
+check "rover3/telemetry/A reached the base camp (${received3:-0})" "a >= 100" "${received3:-0}"
+
+if [ "$fail" -ne 0 ]; then
+    for f in relay.out gateway1.out gateway2.out gateway3.out gateway3-restarted.out sim1.out sim2.out sim3.out \
+        camera.out tc.txt; do
+        echo "--- $f"
+        cat "$WORK/$f"
+    done
+fi
+exit "$fail"

@@ -46,13 +46,7 @@ for k in 1 2; do
     PIDS+=("$!")
 done
 for pid in "${sims[@]}"; do wait "$pid" || true; done
-sleep 2
-for pid in "${gateways[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
-for pid in "${gateways[@]}"; do wait "$pid" || true; done
-sleep 2
-kill -TERM "$relay" 2>/dev/null || true
-wait "$relay" 2>/dev/null || true
-TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed stats >"$WORK/tc.txt" 2>&1 || true
+finish_fleet "$relay" "${gateways[@]}"
 
 for k in 1 2; do
     published=$(awk '$2 == "telemetry/A" { print $5 }' "$WORK/sim$k.out")

@@ -66,13 +66,7 @@ start_gateway 3 gateway3-restarted
 gateways[2]=$gateway_pid
 
 for pid in "${sims[@]}" "$camera"; do wait "$pid" || true; done
-sleep 3
-for pid in "${gateways[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
-for pid in "${gateways[@]}"; do wait "$pid" || true; done
-sleep 2
-kill -TERM "$relay" 2>/dev/null || true
-wait "$relay" 2>/dev/null || true
-TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed stats >"$WORK/tc.txt" 2>&1 || true
+finish_fleet "$relay" "${gateways[@]}"
 
 published() {  # K TOPIC: what rover K's tm-robot-sim published of TOPIC
     awk -v t="$2" '$2 == t { print $5; exit }' "$WORK/sim$1.out"

@@ -105,6 +105,20 @@ finish_run() {
     TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed stats >"$WORK/tc.txt" 2>&1 || true
 }
 
+# finish_fleet RELAY_PID GATEWAY_PID...: once the publishers are done, lets the gateways drain for 2 s and stops
+# them, gives the base camp's relay 2 s for what is in flight and stops it; the shaper's counters go to $WORK/tc.txt.
+finish_fleet() {
+    local relay=$1 pid
+    shift
+    sleep 2
+    for pid in "$@"; do kill -TERM "$pid" 2>/dev/null || true; done
+    for pid in "$@"; do wait "$pid" || true; done
+    sleep 2
+    kill -TERM "$relay" 2>/dev/null || true
+    wait "$relay" 2>/dev/null || true
+    TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed stats >"$WORK/tc.txt" 2>&1 || true
+}
+
 # show_outputs RECORD_OUT: what the programs printed (tm-robot-sim; the gateway, with $gateway_status; the last
 # lines of the recorder's RECORD_OUT) and the shaper's counters ($WORK/tc.txt).
 show_outputs() {

@@ -158,6 +158,13 @@ void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_
     base::SteadyTime origin = now;
     if (config_.trust_source_clock) {
         origin = std::min(now, now + std::chrono::duration_cast<base::Duration>(sample.source_time - wall_now));
+        // `now` and `wall_now` are two clock reads, as far apart as a preemption between them: a burst's samples,
+        // microseconds apart at their source, must not be born out of their order, or they leave out of it.
+        if (topic.seen && sample.source_time >= topic.last_source_time) {
+            origin = std::max(origin, topic.last_origin);
+        }
+        topic.last_source_time = sample.source_time;
+        topic.last_origin = origin;
     }
     sample.deadline = origin + topic.config.ttl;
     const std::uint64_t wire_bits = alone_wire_bits(sample);

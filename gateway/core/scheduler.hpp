@@ -161,6 +161,9 @@ class Scheduler {
         DecayingRate link_use;
         bool reachable = true;  ///< see set_reachable
         bool retired = false;   ///< see retire_topic
+        /// The last sample's source time and the steady time it was taken to be born at (push).
+        base::WallTime last_source_time{};
+        base::SteadyTime last_origin{};
     };
 
     /// The two shortest-limit active topics (limit: TTL minus the topic's last wire time), so that a candidate

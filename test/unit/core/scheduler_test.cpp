@@ -31,6 +31,26 @@ TEST_F(SchedulerTest, CountsARefusedWriteAsWriteFailedNotForwarded) {
     EXPECT_EQ(counters.received, counters.forwarded + counters.queued + counters.dropped_total());
 }
 
+TEST_F(SchedulerTest, KeepsABurstInItsSourceOrderWhenTheWallClockIsReadLate) {
+    make_sut(PolicyKind::ttl, 1'000);  // slow: the burst queues, about 2 s a sample
+    for (std::uint8_t i = 0; i < 3; ++i) {
+        Sample s;
+        s.topic = d;
+        s.payload.assign(64, i);
+        s.source_time = clock.wall_now() + std::chrono::microseconds(i);  // a burst, a microsecond apart
+        // The wall clock read 2 ms after the steady one for the second sample (a preemption between the reads).
+        const base::WallTime wall =
+            clock.wall_now() + (i == 1 ? std::chrono::milliseconds(2) : base::WallClock::duration{});
+        sut->push(std::move(s), clock.now(), wall, sink);
+    }
+    run_for(seconds(8));
+    std::vector<std::uint8_t> order;
+    for (const Sample& s : sink.forwarded()) {
+        order.push_back(s.payload.front());
+    }
+    EXPECT_EQ(order, (std::vector<std::uint8_t>{0, 1, 2}));
+}
+
 TEST_F(SchedulerTest, SendsAtOnceWhenTheLinkIsFree) {
     make_sut(PolicyKind::ttl, 100'000);
     push(d);

@@ -71,24 +71,24 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     for (rtps::LocatorsIterator& it = *destination_locators_begin; it != *destination_locators_end; ++it) {
         destination.locators.push_back(*it);
     }
-    if (descriptor_.strip_destination &&
-        std::none_of(destination.locators.begin(), destination.locators.end(),
-                     [](const rtps::Locator_t& locator) { return rtps::IPLocator::isMulticast(locator); })) {
-        // Only that participant listens at its unicast locators: without the INFO_DST the message reads the same.
-        const std::size_t cut = RtpsDatagram::leading_destination_bytes(send_buffer, send_buffer_size);
-        if (cut > 0) {
+    if (descriptor_.strip_destination || descriptor_.strip_statistics) {
+        const RtpsDatagram::Strippable strip = RtpsDatagram::strippable(send_buffer, send_buffer_size);
+        if (descriptor_.strip_statistics) {
+            // The trailer is the message's last submessage: the message without it is its first bytes.
+            send_buffer_size -= static_cast<std::uint32_t>(strip.trailer_bytes);
+        }
+        if (descriptor_.strip_destination && strip.destination_bytes > 0 &&
+            std::none_of(destination.locators.begin(), destination.locators.end(),
+                         [](const rtps::Locator_t& locator) { return rtps::IPLocator::isMulticast(locator); })) {
+            // Only that participant listens at its unicast locators: without the INFO_DST the message reads the
+            // same.
+            const rtps::octet* rest = send_buffer + RtpsDatagram::HEADER_BYTES + strip.destination_bytes;
             thread_local std::vector<rtps::octet> without_destination;
             without_destination.assign(send_buffer, send_buffer + RtpsDatagram::HEADER_BYTES);
-            without_destination.insert(without_destination.end(), send_buffer + RtpsDatagram::HEADER_BYTES + cut,
-                                       send_buffer + send_buffer_size);
+            without_destination.insert(without_destination.end(), rest, send_buffer + send_buffer_size);
             send_buffer = without_destination.data();
-            send_buffer_size -= static_cast<std::uint32_t>(cut);
+            send_buffer_size -= static_cast<std::uint32_t>(strip.destination_bytes);
         }
-    }
-    if (descriptor_.strip_statistics) {
-        // The trailer is the message's last submessage: the message without it is its first bytes.
-        send_buffer_size -=
-            static_cast<std::uint32_t>(RtpsDatagram::statistics_trailer_bytes(send_buffer, send_buffer_size));
     }
     const bool scheduled_write = DatagramCoalescer::DeferScope::current() != 0;
     if (!scheduled_write && descriptor_.repeat_throttle &&

@@ -119,18 +119,27 @@ std::size_t RtpsDatagram::heartbeat_bytes(const std::uint8_t* message, std::size
 }
 
 std::size_t RtpsDatagram::statistics_trailer_bytes(const std::uint8_t* message, std::size_t size) {
-    const Shape shape = shape_of(message, size);
-    return shape.well_formed && shape.trailer_last ? shape.trailer_bytes : 0;
+    return strippable(message, size).trailer_bytes;
 }
 
 std::size_t RtpsDatagram::leading_destination_bytes(const std::uint8_t* message, std::size_t size) {
+    return strippable(message, size).destination_bytes;
+}
+
+RtpsDatagram::Strippable RtpsDatagram::strippable(const std::uint8_t* message, std::size_t size) {
     const Shape shape = shape_of(message, size);
-    if (!shape.well_formed || shape.rtps_protected || shape.protected_submessages || !shape.sets_destination ||
-        shape.destinations != 1) {
-        return 0;
+    Strippable out;
+    if (!shape.well_formed) {
+        return out;
     }
-    const std::size_t length = octets_to_next_header(message + HEADER_BYTES);
-    return length == GUID_PREFIX_BYTES ? SUBMESSAGE_HEADER_BYTES + GUID_PREFIX_BYTES : 0;
+    if (shape.trailer_last) {
+        out.trailer_bytes = shape.trailer_bytes;
+    }
+    if (!shape.rtps_protected && !shape.protected_submessages && shape.sets_destination && shape.destinations == 1 &&
+        octets_to_next_header(message + HEADER_BYTES) == GUID_PREFIX_BYTES) {
+        out.destination_bytes = SUBMESSAGE_HEADER_BYTES + GUID_PREFIX_BYTES;
+    }
+    return out;
 }
 
 std::size_t RtpsDatagram::padding_against_statistics_fill(const std::uint8_t* datagram, std::size_t size) {

@@ -50,6 +50,13 @@ class RtpsDatagram {
     /// the message's only one and names a participant; else 0. Sent only to that participant's unicast
     /// locators, the message reads the same without it: a receiver takes a message that names nobody as its own.
     static std::size_t leading_destination_bytes(const std::uint8_t* message, std::size_t size);
+    /// What a transport may leave out of one message, from one reading of it: its leading INFO_DST
+    /// (leading_destination_bytes) and its statistics trailer (statistics_trailer_bytes).
+    struct Strippable {
+        std::size_t destination_bytes = 0;
+        std::size_t trailer_bytes = 0;
+    };
+    static Strippable strippable(const std::uint8_t* message, std::size_t size);
     /// The bytes of PAD submessages to append to a datagram that does not end with a statistics submessage (its
     /// own was left out) so that Fast DDS's UDP transport does not take it for one: the transport fills in the
     /// last STATISTICS_BYTES of every datagram whose byte there is the submessage's id, over whatever they hold

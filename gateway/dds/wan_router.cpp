@@ -250,7 +250,7 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
         std::make_shared<CoalescingTransportDescriptor>(udp, coalescer_, config.on_unscheduled, repeat_throttle_);
     coalescing->heartbeat_spacing_bytes = config.heartbeat_spacing_bytes;
     coalescing->strip_statistics = config.strip_statistics;
-    coalescing->strip_destination = config.strip_destination && !config.security;
+    coalescing->strip_destination = config.strip_destination;
     qos.transport().user_transports.push_back(coalescing);
 
     // An explicit metatraffic unicast locator and no multicast one: Fast DDS then opens no multicast

@@ -74,8 +74,8 @@ struct WanConfig {
     /// eProsima's statistics module reads it): WireModel::without_statistics() must then be the model.
     bool strip_statistics = false;
     /// Sends a message to one participant without the INFO_DST that names it (16 bytes; its unicast locators
-    /// reach that participant alone): WireModel::without_destination() must then be the model. Not with
-    /// security, which signs the message as Fast DDS made it.
+    /// reach that participant alone): WireModel::without_destination() must then be the model. Leave it off
+    /// with security, which signs the message as Fast DDS made it.
     bool strip_destination = false;
     /// DDS Security (--wan-security): the identity whose checked files the participant authenticates with, and
     /// the governance and permissions it follows; none: a plain participant.

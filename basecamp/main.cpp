@@ -30,6 +30,7 @@
 #include "basecamp/stats_command.hpp"
 #include "basecamp/status_command.hpp"
 #include "basecamp/subcommand.hpp"
+#include "basecamp/topic_robots.hpp"
 #include "gateway/dds/qos_file.hpp"
 
 namespace {
@@ -275,6 +276,8 @@ int main(int argc, char** argv) {
                     record_mcap.chunk_bytes);
                 files.push_back(mcap.get());
             }
+            tgw::basecamp::TopicRobots robots;  // for the summary: the robot of each topic, from the gateways' status
+            files.push_back(&robots);
             tgw::basecamp::ConsumerFanOut recording(files);
             tgw::basecamp::Recorder recorder(domain, transport, recording, tgw::base::from_seconds(report_period_s),
                                              security);
@@ -291,8 +294,11 @@ int main(int argc, char** argv) {
             std::cout << "tm-basecamp record: domain " << domain << " -> "
                       << (out.empty() ? "" : out + (record_mcap.path.empty() ? "" : " and ")) << record_mcap.path
                       << "\n";
-            for (const auto& [topic, count] : recorder.received())
-                std::cout << "  " << topic << ": " << count << " samples\n";
+            for (const auto& [topic, count] : recorder.received()) {
+                const std::string robot = robots.robot_of(topic);
+                std::cout << "  " << topic << ": " << count << " samples" << (robot.empty() ? "" : ", robot " + robot)
+                          << "\n";
+            }
             for (const auto& [gateway, totals] : recorder.delivery())
                 std::cout << "  from participant " << tgw::basecamp::prefix_text(gateway) << ": "
                           << totals.received_samples << " received, " << totals.lost_samples

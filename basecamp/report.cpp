@@ -8,6 +8,9 @@
 #include <memory>
 
 #include "base/config_error.hpp"
+#include "basecamp/gateway_status.hpp"
+#include "basecamp/topic_robots.hpp"
+#include "gateway/dds/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -91,6 +94,7 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
                         "WHERE source_ns >= ?1 ORDER BY id");
     sqlite3_bind_int64(rows.get(), 1, options.since_ns);
     std::map<std::string, std::vector<double>> transits;
+    TopicRobots robots;  // from the gateways' status samples among the rows
     while (sqlite3_step(rows.get()) == SQLITE_ROW) {
         const std::string topic = reinterpret_cast<const char*>(sqlite3_column_text(rows.get(), 0));
         Accumulator& acc = topics[topic];
@@ -100,15 +104,19 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
         const std::int64_t receive_ns = sqlite3_column_int64(rows.get(), 3);
         if (sqlite3_column_type(rows.get(), 4) != SQLITE_NULL)
             acc.lifespan_ns = sqlite3_column_int64(rows.get(), 4);
+        const auto* payload = static_cast<const std::uint8_t*>(sqlite3_column_blob(rows.get(), 5));
+        const auto payload_size = static_cast<std::size_t>(sqlite3_column_bytes(rows.get(), 5));
+        if (topic == dds::STATUS_TOPIC) {
+            if (const auto status = decode_gateway_status(std::vector<std::uint8_t>(payload, payload + payload_size)))
+                robots.take(*status);
+        }
         ++acc.report.received;
         const double transit_ms = static_cast<double>(receive_ns - source_ns) / 1e6;
         acc.transit_ms.add(transit_ms);
         transits[topic].push_back(transit_ms);
         ReceivedSample received{std::nullopt, source_ns, transit_ms};
         if (type_name == PAPER_MESSAGE_TYPE) {
-            const auto* payload = static_cast<const std::uint8_t*>(sqlite3_column_blob(rows.get(), 5));
-            const auto seq =
-                paper_message_sequence(payload, static_cast<std::size_t>(sqlite3_column_bytes(rows.get(), 5)));
+            const auto seq = paper_message_sequence(payload, payload_size);
             if (seq && (!acc.max_sequence || *seq > *acc.max_sequence))
                 acc.max_sequence = seq;
             received.sequence = seq;
@@ -134,6 +142,7 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
     for (auto& [topic, acc] : topics) {
         TopicReport r = acc.report;
         r.topic = topic;
+        r.robot = robots.robot_of(topic);
         const std::optional<double> profile_ttl_s =
             options.profile_ttl_s ? options.profile_ttl_s(topic) : std::optional<double>{};
         if (const auto it = options.ttl_s.find(topic); it != options.ttl_s.end()) {
@@ -255,10 +264,13 @@ void print_accounting(std::ostream& out, const std::vector<TopicReport>& reports
 }  // namespace
 
 void print_report(std::ostream& out, const std::vector<TopicReport>& reports) {
+    // The robot column only for a fleet, so that a single robot's table keeps its shape for scripts.
+    const bool fleet =
+        std::any_of(reports.begin(), reports.end(), [](const TopicReport& r) { return !r.robot.empty(); });
     char line[320];
-    std::snprintf(line, sizeof(line), "%-20s %6s %8s %8s %8s %9s %10s %10s %10s\n", "topic", "ttl_s", "offered",
+    std::snprintf(line, sizeof(line), "%-20s %6s %8s %8s %8s %9s %10s %10s %10s", "topic", "ttl_s", "offered",
                   "received", "on_time", "%on_time", "mean_ms", "sd_ms", "max_ms");
-    out << line;
+    out << line << (fleet ? "  robot\n" : "\n");
     bool offered_from_sequence = false;
     for (const TopicReport& r : reports) {
         char ttl[16] = "-";
@@ -277,10 +289,10 @@ void print_report(std::ostream& out, const std::vector<TopicReport>& reports) {
         const std::uint64_t base = r.offered ? *r.offered : r.received;
         if (r.ttl_s && base > 0)
             std::snprintf(percent, sizeof(percent), "%.1f", 100.0 * static_cast<double>(r.on_time) / base);
-        std::snprintf(line, sizeof(line), "%-20s %6s %8s %8llu %8s %9s %10.1f %10.1f %10.1f\n", r.topic.c_str(), ttl,
+        std::snprintf(line, sizeof(line), "%-20s %6s %8s %8llu %8s %9s %10.1f %10.1f %10.1f", r.topic.c_str(), ttl,
                       offered, static_cast<unsigned long long>(r.received), on_time, percent, r.mean_ms, r.stddev_ms,
                       r.max_ms);
-        out << line;
+        out << line << (fleet ? "  " + robot_cell(r.robot) : std::string()) << '\n';
     }
     out << "on time: transmission time (receive - source timestamp) <= TTL; %on_time is of offered, or of received "
            "when offered is unknown.\n";

@@ -16,6 +16,7 @@ namespace tgw::basecamp {
 /// What `tm-basecamp report` computes for one topic: the paper's two metrics.
 struct TopicReport {
     std::string topic;
+    std::string robot;  ///< whose gateway bridges it, per the gateways' status recorded; empty when unnamed or unknown
     std::string type_name;
     std::optional<double> ttl_s;  ///< from --ttl, else the writer's declared Lifespan; empty if neither
     std::string ttl_from;         ///< "flag", "profile", "lifespan" or "" when unknown

@@ -78,14 +78,25 @@ void StatusView::render(std::ostream& out, std::int64_t now_ns, std::size_t colu
         out << "no gateway status yet (tgw/status)\n";
         return;
     }
-    char line[512];
+    // A fleet's gateways by robot name, each robot's block where a reader looks for it.
+    std::vector<std::pair<const std::vector<std::uint8_t>*, const Gateway*>> ordered;
     for (const auto& [prefix, gateway] : gateways_) {
+        ordered.emplace_back(&prefix, &gateway);
+    }
+    std::stable_sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) {
+        return a.second->latest.robot_name() < b.second->latest.robot_name();
+    });
+    char line[512];
+    for (const auto& [prefix_ptr, gateway_ptr] : ordered) {
+        const std::vector<std::uint8_t>& prefix = *prefix_ptr;
+        const Gateway& gateway = *gateway_ptr;
         const idl::GatewayStatus& s = gateway.latest;
-        std::snprintf(line, sizeof line, "gateway %s: status %.0f s old, next in %.1f s; sensor %s%s%s%s\n",
-                      prefix_hex(prefix).c_str(), static_cast<double>(now_ns - gateway.received_ns) / 1e9,
-                      s.status_period_s(), s.sensor().empty() ? "-" : s.sensor().c_str(),
-                      s.sensor_detail().empty() ? "" : " (", s.sensor_detail().c_str(),
-                      s.sensor_detail().empty() ? "" : ")");
+        const std::string robot = s.robot_name().empty() ? std::string() : "robot " + s.robot_name() + ", ";
+        std::snprintf(line, sizeof line, "%sgateway %s: status %.0f s old, next in %.1f s; sensor %s%s%s%s\n",
+                      robot.c_str(), prefix_hex(prefix).c_str(),
+                      static_cast<double>(now_ns - gateway.received_ns) / 1e9, s.status_period_s(),
+                      s.sensor().empty() ? "-" : s.sensor().c_str(), s.sensor_detail().empty() ? "" : " (",
+                      s.sensor_detail().c_str(), s.sensor_detail().empty() ? "" : ")");
         out << line;
         char cap[64] = "";
         if (s.delivered_cap_bps() > 0) {

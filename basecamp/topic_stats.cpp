@@ -39,6 +39,7 @@ void TopicStats::take_status_nts(const SampleRecord& sample) {
     if (!status) {
         return;
     }
+    robots_.take(*status);
     const auto& prefix = status->gateway_prefix();
     std::map<std::string, RobotSide>& topics = by_gateway_[std::vector<std::uint8_t>(prefix.begin(), prefix.end())];
     for (const idl::TopicStatus& topic : status->topics()) {
@@ -52,6 +53,7 @@ std::vector<TopicStatsRow> TopicStats::rows(std::int64_t now_ns) const {
     for (const auto& [name, topic] : topics_) {
         TopicStatsRow row;
         row.topic = name;
+        row.robot = robots_.robot_of(name);
         row.total_samples = topic.total;
 
         std::optional<std::uint32_t> status_ttl_ms;
@@ -129,18 +131,20 @@ std::string figure(const std::optional<double>& value, const char* format) {
 }  // namespace
 
 void print_stats_table(std::ostream& out, const std::vector<TopicStatsRow>& rows) {
+    // The robot column only for a fleet, so that a single robot's table keeps its shape for scripts.
+    const bool fleet = std::any_of(rows.begin(), rows.end(), [](const TopicStatsRow& r) { return !r.robot.empty(); });
     char line[256];
-    std::snprintf(line, sizeof line, "%-28s %8s %10s %9s %9s %6s %8s %8s %8s\n", "topic", "Hz", "bit/s", "mean_ms",
+    std::snprintf(line, sizeof line, "%-28s %8s %10s %9s %9s %6s %8s %8s %8s", "topic", "Hz", "bit/s", "mean_ms",
                   "p99_ms", "ttl_s", "%in_ttl", "logged", "total");
-    out << line;
+    out << line << (fleet ? "  robot\n" : "\n");
     for (const TopicStatsRow& r : rows) {
         const std::optional<double> logged =
             r.logged_on_robot ? std::optional<double>(static_cast<double>(*r.logged_on_robot)) : std::nullopt;
-        std::snprintf(line, sizeof line, "%-28s %8.2f %10.0f %9s %9s %6s %8s %8s %8llu\n", r.topic.c_str(), r.hz,
+        std::snprintf(line, sizeof line, "%-28s %8.2f %10.0f %9s %9s %6s %8s %8s %8llu", r.topic.c_str(), r.hz,
                       r.bit_per_s, figure(r.mean_ms, "%.1f").c_str(), figure(r.p99_ms, "%.1f").c_str(),
                       figure(r.ttl_s, "%.3g").c_str(), figure(r.on_time_pct, "%.1f").c_str(),
                       figure(logged, "%.0f").c_str(), static_cast<unsigned long long>(r.total_samples));
-        out << line;
+        out << line << (fleet ? "  " + robot_cell(r.robot) : std::string()) << '\n';
     }
 }
 

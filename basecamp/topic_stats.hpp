@@ -11,12 +11,14 @@
 
 #include "base/time.hpp"
 #include "basecamp/sample_consumer.hpp"
+#include "basecamp/topic_robots.hpp"
 
 namespace tgw::basecamp {
 
 /// One topic's line of `tm-basecamp stats`: its samples in the window, and what the gateways' status says of it.
 struct TopicStatsRow {
     std::string topic;
+    std::string robot;  ///< whose gateway bridges it, per the gateways' status; empty when unnamed or unknown
     std::uint64_t window_samples = 0;
     double hz = 0.0;                ///< from the intervals between the window's samples, as `ros2 topic hz`
     double bit_per_s = 0.0;         ///< serialized payload (encapsulation included) over the window, as `ros2 topic bw`
@@ -65,10 +67,11 @@ class TopicStats final : public SampleConsumer {
     mutable std::mutex mutex_;
     std::map<std::string, Topic> topics_;
     std::map<std::vector<std::uint8_t>, std::map<std::string, RobotSide>> by_gateway_;  // by GUID prefix
+    TopicRobots robots_;
 };
 
-/// The table: topic, Hz, bit/s, mean and p99 transmission time, TTL, % within it, logged on the robot, total.
-/// "-" where a figure is unknown.
+/// The table: topic, Hz, bit/s, mean and p99 transmission time, TTL, % within it, logged on the robot, total,
+/// and the robot where a gateway named one (a fleet). "-" where a figure is unknown.
 void print_stats_table(std::ostream& out, const std::vector<TopicStatsRow>& rows);
 
 }  // namespace tgw::basecamp

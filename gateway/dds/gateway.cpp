@@ -770,6 +770,7 @@ void Gateway::publish_status_nts() {
     idl::GatewayStatus status;
     const auto prefix = wan_->guid_prefix();
     std::copy(std::begin(prefix.value), std::end(prefix.value), status.gateway_prefix().begin());
+    status.robot_name(config_.robot_name);
     status.sent_ns(static_cast<std::uint64_t>(base::to_ns(clock_.wall_now())));
     status.sensed_rate_bps(rate);
     status.budget_bps(rate * config_.scheduler.budget_fraction);

@@ -91,10 +91,10 @@ run() {  # WAY
     # shellcheck disable=SC2086
     "$BIN/tm-basecamp" report "$dir/camp.db" $offered --offered "rover2/bulk/scan=${published:-0}" \
         >"$dir/report.txt" 2>&1 || true
-    # report's row: topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms
+    # report's row: topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms, and robot for a fleet
     awk -v way="$way" '
-        NF == 9 && $1 ~ /^rover1\/hazard\// { off += $3; on += $5 }
-        NF == 9 && $1 == "rover2/bulk/scan" { bulk_off = $3; bulk_rx = $4 }
+        (NF == 9 || NF == 10) && $1 ~ /^rover1\/hazard\// { off += $3; on += $5 }
+        (NF == 9 || NF == 10) && $1 == "rover2/bulk/scan" { bulk_off = $3; bulk_rx = $4 }
         END { printf "%-7s rover1 hazards on time: %d of %d (%.1f %%); rover2 bulk received: %d of %d\n",
                      way, on, off, off ? 100 * on / off : 0, bulk_rx, bulk_off }' "$dir/report.txt"
     grep -h "last grant" "$dir/relay.out" | sed "s/^/$way  /" || true

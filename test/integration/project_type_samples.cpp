@@ -77,6 +77,7 @@ int main(int argc, char** argv) {
 
     tgw::idl::GatewayStatus status;
     status.gateway_prefix({1, 15, 2, 3, 4, 5, 6, 7, 8, 9, 10, 255});
+    status.robot_name("rover1");
     status.sent_ns(1'795'560'000'000'000'000ULL);
     status.sensed_rate_bps(20'000.5);
     status.sensor("qdisc:veth0");
@@ -114,8 +115,8 @@ int main(int argc, char** argv) {
   "types/report": {"gateway_prefix": [1, 15, 2, 3, 4, 5, 6, 7, 8, 9, 10, 255], "received_samples": "1234",
                    "received_bytes": "98765", "lost_samples": "3", "sent_ns": "1795560000123456789"},
   "robot/pose": {"x": 120.5, "y": -3.25, "heading_rad": 1.5},
-  "tgw/status": {"gateway_prefix": [1, 15, 2, 3, 4, 5, 6, 7, 8, 9, 10, 255], "sent_ns": "1795560000000000000",
-                 "sensed_rate_bps": 20000.5, "sensor": "qdisc:veth0", "sensor_detail": "tbf rate 20kbit",
+  "tgw/status": {"gateway_prefix": [1, 15, 2, 3, 4, 5, 6, 7, 8, 9, 10, 255], "robot_name": "rover1",
+                 "sent_ns": "1795560000000000000", "sensed_rate_bps": 20000.5, "sensor": "qdisc:veth0", "sensor_detail": "tbf rate 20kbit",
                  "status_period_s": 1, "budget_bps": 19000.25, "delivered_cap_bps": 18000,
                  "unscheduled_wire_bytes": "4096", "log_samples": "17", "matched_readers": 2,
                  "topics": [{"name": "telemetry/A", "ttl_ms": 1000, "queued_samples": 0, "queued_bytes": "0",

@@ -157,5 +157,35 @@ TEST_F(StatusTest, IsNotSentWhenTheLinkCannotCarryItWithinItsTtl) {
     EXPECT_EQ(statuses.count(), 0u);
 }
 
+// A fleet's base camp tells the robots apart by it: the status names the robot and its topics as the camp has them.
+TEST_F(StatusTest, NamesItsRobotAndEachTopicUnderTheRobotsName) {
+    GatewayConfig c = config();
+    c.status_period = 100ms;
+    c.robot_name = "rover1";
+    auto& statuses = status_reader();
+    start_gateway(c);
+    const std::string topic = topic_prefix_ + "named";
+    const std::string wan_topic = "rover1/" + topic;
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_), wan, nullptr, wan_topic);
+    ASSERT_NE(writer, nullptr);
+    idl::PaperMessage m;
+    m.data(std::vector<std::uint8_t>(41, 7));
+    ASSERT_TRUE(writer->write(&m));
+    ASSERT_TRUE(wait_until([&] {
+        for (const auto& r : statuses.received()) {
+            if (find(r.data, wan_topic) != nullptr) {
+                return true;
+            }
+        }
+        return false;
+    })) << "no status named "
+        << wan_topic << " (" << statuses.count() << " statuses)";
+    for (const auto& r : statuses.received()) {
+        EXPECT_EQ(r.data.robot_name(), "rover1");
+        EXPECT_EQ(find(r.data, topic), nullptr) << "never under the robot's own name";
+    }
+}
+
 }  // namespace
 }  // namespace tgw::test

@@ -62,7 +62,7 @@ for k in 1 2; do
     # D (TTL 20 s) mostly waits for the link past the run's end in standard mode: not checked.
     for type in B C; do
         check "rover$k/telemetry/$type reached the base camp under the robot's name" "a > 0" \
-            "$(awk -v t="rover$k/telemetry/$type" '$1 == t && NF == 9 { print $4; exit }' "$WORK/report$k.txt")"
+            "$(awk -v t="rover$k/telemetry/$type" '$1 == t && (NF == 9 || NF == 10) { print $4; exit }' "$WORK/report$k.txt")"
     done
 done
 if [ "$fail" -ne 0 ]; then

@@ -77,8 +77,8 @@ for k in $(seq 1 "$ROBOTS"); do
 done
 "$BIN/tm-basecamp" report "$WORK/camp.db" "${offered[@]}" >"$WORK/report.txt" 2>&1 || true
 cat "$WORK/report.txt"
-row() {  # TOPIC: report's row, topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms
-    awk -v t="$1" '$1 == t && NF == 9 { print; exit }' "$WORK/report.txt"
+row() {  # TOPIC: report's row, topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms robot
+    awk -v t="$1" '$1 == t && (NF == 9 || NF == 10) { print; exit }' "$WORK/report.txt"
 }
 for k in 1 2; do
     for type in A B; do
@@ -87,13 +87,18 @@ for k in 1 2; do
             "b >= 150 && a >= 0.99 * b" "${on_time:-0}" "${offered_n:-0}"
     done
 done
-camera_received=$(awk '$1 == "rover2/camera/image" && NF == 9 { print $4; exit }' "$WORK/report.txt")
+camera_received=$(awk '$1 == "rover2/camera/image" && (NF == 9 || NF == 10) { print $4; exit }' "$WORK/report.txt")
 echo "rover2's camera frames received: ${camera_received:-0} of $(awk '$2 == "camera/image" { print $5 }' "$WORK/camera.out")"
 # The restarted gateway's exit summary: topic received forwarded ...
 forwarded_after=$(awk '$1 == "telemetry/A" { print $3; exit }' "$WORK/gateway3-restarted.out")
 check "rover3's gateway, started again, forwarded telemetry/A ($forwarded_after)" "a >= 50" "${forwarded_after:-0}"
 read -r _ _ _ received3 _ <<<"$(row "rover3/telemetry/A")" || true
 check "rover3/telemetry/A reached the base camp (${received3:-0})" "a >= 100" "${received3:-0}"
+# The robot column, from the gateways' status recorded at the camp.
+for k in $(seq 1 "$ROBOTS"); do
+    robot=$(row "rover$k/telemetry/A" | awk '{ print $10 }')
+    check "rover$k/telemetry/A is robot rover$k's in the report (${robot:-none})" 'a == b' "${robot:-none}" "rover$k"
+done
 
 if [ "$fail" -ne 0 ]; then
     for f in relay.out gateway1.out gateway2.out gateway3.out gateway3-restarted.out sim1.out sim2.out sim3.out \

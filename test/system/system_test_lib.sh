@@ -31,8 +31,8 @@ check() {
 # report's row of TOPIC) and long_pct and dropped (the "shaper while publishing" line). Exits 1 without them.
 read_demo_result() {
     local row queue
-    # tm-basecamp report's row: topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms
-    row="$(awk -v t="$2" '$1 == t && NF == 9 { print; exit }' "$1")"
+    # tm-basecamp report's row: topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms, and robot for a fleet
+    row="$(awk -v t="$2" '$1 == t && (NF == 9 || NF == 10) { print; exit }' "$1")"
     # "shaper while publishing: queue mean M B (T ms at R bit/s), max X B, over 250 ms in P % of N samples; D packets dropped"
     queue="$(grep '^shaper while publishing:' "$1" || true)"
     [ -n "$row" ] && [ -n "$queue" ] || { echo "FAIL: no report or queue line in the demo's output"; exit 1; }

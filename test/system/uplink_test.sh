@@ -57,8 +57,8 @@ for pid in "$gateway" "$robot_record" "$camp"; do wait "$pid" 2>/dev/null || tru
 written=$(awk '$2 == "rt/rover1/cmd_vel" { print $5 }' "$WORK/commands.out")
 "$BIN/tm-basecamp" report "$WORK/commands.db" --offered "rt/cmd_vel=${written:-0}" >"$WORK/commands-report.txt" 2>&1 ||
     true
-# report's row: topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms
-read -r _ ttl offered received on_time _ <<<"$(awk '$1 == "rt/cmd_vel" && NF == 9 { print; exit }' \
+# report's row: topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms, and robot for a fleet
+read -r _ ttl offered received on_time _ <<<"$(awk '$1 == "rt/cmd_vel" && (NF == 9 || NF == 10) { print; exit }' \
     "$WORK/commands-report.txt")"
 check "the base camp wrote commands for the whole run (${written:-none})" "a >= 0.9 * 10 * b" "${written:-0}" \
     "$DURATION"
@@ -93,7 +93,7 @@ check "the gateway's commands add up: ${up_received:-?} = ${up_delivered:-?} del
 published=$(awk '$2 == "telemetry/A" { print $5 }' "$WORK/telemetry.out")
 "$BIN/tm-basecamp" report "$WORK/camp.db" --robot-log "$WORK/robot.db" --offered "rover1/telemetry/A=${published:-0}" \
     >"$WORK/camp-report.txt" 2>&1 || true
-read -r _ _ a_offered _ a_on_time _ <<<"$(awk '$1 == "rover1/telemetry/A" && NF == 9 { print; exit }' \
+read -r _ _ a_offered _ a_on_time _ <<<"$(awk '$1 == "rover1/telemetry/A" && (NF == 9 || NF == 10) { print; exit }' \
     "$WORK/camp-report.txt")"
 check "rover1/telemetry/A at the base camp: ${a_on_time:-0} of ${a_offered:-0} on time" "b > 0 && a >= 0.99 * b" \
     "${a_on_time:-0}" "${a_offered:-0}"

@@ -50,6 +50,7 @@ class CdrDecoderTest : public ::testing::Test {
 idl::GatewayStatus example_status() {
     idl::GatewayStatus status;
     status.gateway_prefix({1, 15, 2, 3, 4, 5, 6, 7, 8, 9, 10, 255});
+    status.robot_name("rover_1");
     status.sent_ns(1'764'000'000'123'456'789ULL);
     status.sensed_rate_bps(20'000.5);
     status.sensor("qdisc:veth0");
@@ -93,6 +94,7 @@ TEST_P(CdrDecoderByteOrderTest, DecodesEveryFieldOfAGatewayStatusAsItsGeneratedT
     ASSERT_EQ(prefix.items.size(), 12u);
     EXPECT_EQ(prefix.items[1].unsigned_integer, 15u);
     EXPECT_EQ(prefix.items[11].unsigned_integer, 255u);
+    EXPECT_EQ(member(sut, "robot_name").text, "rover_1");
     EXPECT_EQ(member(sut, "sent_ns").unsigned_integer, 1'764'000'000'123'456'789ULL);
     EXPECT_EQ(member(sut, "sensed_rate_bps").real, 20'000.5);
     EXPECT_EQ(member(sut, "sensor").text, "qdisc:veth0");

@@ -97,7 +97,9 @@ TEST_F(SamplePrinterTest, IndentsNestedStructsAndListsOfStructsAsRos2TopicEchoDo
     ReceivedSample sample;
     sample.payload = fastcdr_payload(status, Cdr::BIG_ENDIANNESS);
     const std::string sut = print("tgw::idl::GatewayStatus", SamplePrinter::Format::text, sample);
-    EXPECT_EQ(sut.rfind("gateway_prefix: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]\nsent_ns: 0\n", 0), 0u) << sut;
+    EXPECT_EQ(sut.rfind("gateway_prefix: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]\nrobot_name: \"\"\nsent_ns: 0\n", 0),
+              0u)
+        << sut;
     EXPECT_NE(sut.find("\nsensor: \"fixed:20000\"\n"), std::string::npos) << sut;
     EXPECT_NE(sut.find("\ntopics:\n- name: \"telemetry/A\"\n  ttl_ms: 1000\n  queued_samples: 0\n"), std::string::npos)
         << sut;

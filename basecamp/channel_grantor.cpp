@@ -15,6 +15,7 @@
 #include "GatewayStatusPubSubTypes.h"
 #include "base/config_error.hpp"
 #include "gateway/dds/channel_grant_topic.hpp"
+#include "gateway/dds/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -105,8 +106,11 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
     const std::vector<core::TopicLoad>& before = it != statuses_.end() ? it->second.topics : none;
     const base::Duration elapsed =
         it != statuses_.end() ? std::chrono::nanoseconds(now.sent_ns - it->second.sent_ns) : period;
+    // Its floor: room for its next status (this one's size) and its most urgent sample, each within its TTL.
+    const double floor_bps =
+        core::least_share_bps(now.topics, wire_.wire_bytes(payload.size()), dds::STATUS_TTL, wire_);
     shares_.report(key, core::urgency_demand(before, now.topics, elapsed, wire_),
-                   std::max<base::Duration>(STALE_AFTER, 3 * period));
+                   std::max<base::Duration>(STALE_AFTER, 3 * period), floor_bps);
     statuses_[key] = std::move(now);
 }
 

@@ -20,8 +20,9 @@ namespace tgw::basecamp {
 
 /// Reads each gateway's status as the relay takes it off the WAN, works out from two in a row what the robot needs
 /// by urgency (core::urgency_demand), and once a GRANT_PERIOD grants each gateway its share of the channel
-/// (core::split_channel: a floor, then the fleet's shortest TTLs first) on dds::CHANNEL_GRANT_TOPIC, keyed by the
-/// gateway's prefix. A gateway silent for long (STALE_AFTER) has no share until its next status, and meanwhile
+/// (core::split_channel: a floor, each robot's own where it needs more (core::least_share_bps: room for its
+/// status and its most urgent sample), then the fleet's shortest TTLs first) on dds::CHANNEL_GRANT_TOPIC, keyed
+/// by the gateway's prefix. A gateway silent for long (STALE_AFTER) has no share until its next status, and meanwhile
 /// budgets for its own sensor's rate.
 class ChannelGrantor {
   public:

@@ -29,26 +29,36 @@ void cover_most_urgent(std::vector<Open>& open, const std::string& robot, double
 
 }  // namespace
 
-ChannelGrants split_channel(double capacity_bps, const ChannelDemands& demands, double floor_bps) {
+ChannelGrants split_channel(double capacity_bps, const ChannelDemands& demands, double floor_bps,
+                            const RobotFloors& floors) {
     ChannelGrants grants;
     if (demands.empty())
         return grants;
     double left = std::max(0.0, capacity_bps);
     const auto robots = static_cast<double>(demands.size());
-    const double floor = std::clamp(floor_bps, 0.0, left / robots);
+    double all_floors = 0;
+    for (const auto& [robot, classes] : demands) {
+        const auto own = floors.find(robot);
+        grants[robot] = std::max({0.0, floor_bps, own != floors.end() ? own->second : 0.0});
+        all_floors += grants[robot];
+    }
+    if (all_floors > left) {
+        for (auto& [robot, bps] : grants)
+            bps *= left / all_floors;
+        all_floors = left;
+    }
 
     std::vector<Open> open;
     for (const auto& [robot, classes] : demands) {
-        grants[robot] = floor;
         for (const UrgencyDemand& d : classes) {
             if (d.bps > 0)
                 open.push_back(Open{d.ttl, &robot, d.bps});
         }
     }
-    left -= floor * robots;
+    left -= all_floors;
     std::stable_sort(open.begin(), open.end(), [](const Open& a, const Open& b) { return a.ttl < b.ttl; });
-    for (const auto& [robot, classes] : demands)
-        cover_most_urgent(open, robot, floor);
+    for (const auto& [robot, bps] : grants)
+        cover_most_urgent(open, robot, bps);
 
     // One urgency at a time, across robots.
     for (auto first = open.begin(); first != open.end() && left > 0;) {
@@ -83,8 +93,8 @@ void ChannelShares::set_capacity(double bps) {
 }
 
 void ChannelShares::report(const std::string& robot, std::vector<UrgencyDemand> demand,
-                           std::optional<base::Duration> stale_after) {
-    robots_[robot] = Heard{std::move(demand), clock_.now() + stale_after.value_or(config_.stale_after)};
+                           std::optional<base::Duration> stale_after, double floor_bps) {
+    robots_[robot] = Heard{std::move(demand), floor_bps, clock_.now() + stale_after.value_or(config_.stale_after)};
 }
 
 ChannelGrants ChannelShares::grants() {
@@ -95,9 +105,12 @@ ChannelGrants ChannelShares::grants() {
     if (capacity_bps_ < 0)
         return {};
     ChannelDemands demands;
-    for (const auto& [robot, heard] : robots_)
+    RobotFloors floors;
+    for (const auto& [robot, heard] : robots_) {
         demands[robot] = heard.demand;
-    return split_channel(capacity_bps_, demands, config_.floor_bps);
+        floors[robot] = heard.floor_bps;
+    }
+    return split_channel(capacity_bps_, demands, config_.floor_bps, floors);
 }
 
 }  // namespace tgw::core

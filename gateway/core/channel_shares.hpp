@@ -19,19 +19,22 @@ struct UrgencyDemand {
     double bps = 0;
 };
 
-/// Each robot's demands, by robot; and each robot's grant in bit/s.
+/// Each robot's demands, by robot; each robot's grant in bit/s; and the least each robot needs (RobotFloors).
 using ChannelDemands = std::map<std::string, std::vector<UrgencyDemand>>;
 using ChannelGrants = std::map<std::string, double>;
+using RobotFloors = std::map<std::string, double>;
 
 /// Splits `capacity_bps` among the robots of `demands`, following urgency across robots, as the gateway's scheduler
 /// does within one robot:
-/// 1. every robot gets `floor_bps` (at most an equal share of the channel), which counts against its most urgent
-///    demands: its status and discovery, and its first sample, always have room;
+/// 1. every robot gets `floor_bps`, or its own floor in `floors` where that is higher, which counts against its
+///    most urgent demands: its status and discovery, and its most urgent sample, always have room (floors that
+///    add up to more than the channel are cut in proportion);
 /// 2. then the demands in order of TTL, shortest first, each urgency across all robots at once: met in full while
 ///    the channel lasts, and the first that does not fit shared in proportion to what each robot asked;
 /// 3. what is left after every demand, in equal parts (a gateway's own sensor still caps what it sends).
 /// The grants never add up to more than the channel.
-ChannelGrants split_channel(double capacity_bps, const ChannelDemands& demands, double floor_bps);
+ChannelGrants split_channel(double capacity_bps, const ChannelDemands& demands, double floor_bps,
+                            const RobotFloors& floors = {});
 
 /// The baseline that split_channel() improves on: the channel in equal parts, whatever each robot needs.
 ChannelGrants equal_shares(double capacity_bps, const ChannelDemands& demands);
@@ -50,15 +53,17 @@ class ChannelShares {
 
     /// What the channel delivers now, in bit/s (the base camp's measure of it: receiver reports).
     void set_capacity(double bps);
-    /// `robot`'s demand now; it holds for `stale_after` (Config::stale_after when nullopt).
+    /// `robot`'s demand now, and the least it needs (`floor_bps`, above Config::floor_bps: see split_channel());
+    /// it holds for `stale_after` (Config::stale_after when nullopt).
     void report(const std::string& robot, std::vector<UrgencyDemand> demand,
-                std::optional<base::Duration> stale_after = std::nullopt);
+                std::optional<base::Duration> stale_after = std::nullopt, double floor_bps = 0);
     /// The grants of the robots heard from within stale_after; none before set_capacity().
     ChannelGrants grants();
 
   private:
     struct Heard {
         std::vector<UrgencyDemand> demand;
+        double floor_bps = 0;
         base::SteadyTime until;  ///< when it goes stale
     };
 

@@ -83,7 +83,7 @@ std::optional<TopicCounters> Scheduler::retire_topic(TopicId topic, bool reusabl
     const TopicCounters final_counts = t.counters;
     retired_counters_ += final_counts;
     queue_.park(topic, false);
-    t = TopicState{TopicConfig{{}, t.config.ttl}, {}, {}, 0, false, 0, DecayingRate{}, true, true};
+    t = TopicState{TopicConfig{{}, t.config.ttl, false}, {}, {}, 0, false, 0, DecayingRate{}, true, true};
     ++retired_slots_;
     if (reusable) {
         free_topics_.push_back(topic);
@@ -138,6 +138,9 @@ const Scheduler::ProtectedTopics& Scheduler::protected_topics(base::SteadyTime n
 }
 
 std::int64_t Scheduler::rank_of(TopicId topic) const {
+    if (topics_[topic].config.first) {
+        return -1;  // below every TTL's rank, and below edf's and fifo's 0
+    }
     switch (config_.policy) {
         case PolicyKind::ttl:
         case PolicyKind::paper:

@@ -54,6 +54,10 @@ struct SchedulerConfig {
 struct TopicConfig {
     std::string name;
     base::Duration ttl = std::chrono::seconds(5);
+    /// Ordered before every other topic, whatever the policy and the TTLs (its TTL still sets its deadline): the
+    /// gateway's status under --channel-grants, whose grants follow what the status tells; behind a backlog of
+    /// samples of its own TTL it would expire, and the base camp would never hear the demand.
+    bool first = false;
 };
 
 /// The scheduling core: a pure step machine with no clock and no threads of its own. Samples come in with

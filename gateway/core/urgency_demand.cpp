@@ -1,5 +1,6 @@
 #include "gateway/core/urgency_demand.hpp"
 
+#include <algorithm>
 #include <map>
 
 namespace tgw::core {
@@ -51,6 +52,26 @@ std::vector<UrgencyDemand> urgency_demand(const std::vector<TopicLoad>& before, 
     for (const auto& [ttl, bps] : by_ttl)
         out.push_back(UrgencyDemand{ttl, bps});
     return out;
+}
+
+double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_wire_bytes, base::Duration status_ttl,
+                       const WireModel& wire, double headroom) {
+    double bps = status_ttl > base::Duration::zero()
+                     ? 8.0 * static_cast<double>(status_wire_bytes) / base::to_seconds(status_ttl)
+                     : 0.0;
+    const TopicLoad* urgent = nullptr;
+    for (const TopicLoad& t : topics) {
+        if (t.ttl > base::Duration::zero() && (t.forwarded > 0 || t.queued_samples > 0) &&
+            (urgent == nullptr || t.ttl < urgent->ttl))
+            urgent = &t;
+    }
+    if (urgent != nullptr) {
+        for (const TopicLoad& t : topics) {  // every topic of that TTL: the largest sample among them
+            if (t.ttl == urgent->ttl && (t.forwarded > 0 || t.queued_samples > 0))
+                bps = std::max(bps, 8.0 * wire_bytes_per_sample(t, wire) / base::to_seconds(t.ttl));
+        }
+    }
+    return headroom * bps;
 }
 
 }  // namespace tgw::core

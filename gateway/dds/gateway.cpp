@@ -220,18 +220,24 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         // when the budget has room for them.
         OfferedQos offer;
         offer.reliable = true;  // matched by any reader's defaults
-        status_topic_ = loop_->add_topic(core::TopicConfig{STATUS_TOPIC, STATUS_TTL});
+        status_topic_ = loop_->add_topic(core::TopicConfig{STATUS_TOPIC, STATUS_TTL, config_.channel_grants});
         if (compact_) {
             compact_->announce(CatalogLane{*status_topic_, STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true,
-                                           STATUS_TTL, 0, offer, STATUS_TTL});
+                                           STATUS_TTL, 0, offer, STATUS_LIFESPAN});
         } else {
             status_writer_ = wan_->create_writer(STATUS_TOPIC, STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(),
-                                                 true, STATUS_TTL, offer, nullptr);
+                                                 true, STATUS_LIFESPAN, offer, nullptr);
             if (status_writer_ == nullptr) {
                 throw base::ConfigError("--status-period: cannot create the writer of " + std::string(STATUS_TOPIC));
             }
         }
         sink_->set_status_route(*status_topic_, status_writer_);
+        if (config_.channel_grants) {
+            // The grantor's own wire model (the default one): the watch works the demand out as the grantor does.
+            core::DemandWatch::Config watch;
+            watch.first_period = std::max<base::Duration>(config_.status_period, std::chrono::seconds(1));
+            demand_watch_.emplace(watch, core::WireModel{});
+        }
     }
     loop_->start();
     if (config_.receiver_reports) {
@@ -392,7 +398,7 @@ void Gateway::set_rate(double rate_bps) {
 void Gateway::apply_rate() {
     const double sensed = sensed_rate_bps_.load();
     const std::optional<double> grant = granted_bps();
-    loop_->set_rate(grant ? std::min(sensed, *grant) : sensed);
+    loop_->set_rate(grant ? std::min(sensed, std::max(*grant, least_share_bps_.load())) : sensed);
 }
 
 std::optional<double> Gateway::granted_bps() const {
@@ -569,7 +575,7 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
         profile_lifespan = to_duration(profile->lifespan().duration);
     }
     const ResolvedTtl ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
-    const core::TopicId id = add_topic_nts(core::TopicConfig{pub.topic, ttl.ttl});
+    const core::TopicId id = add_topic_nts(core::TopicConfig{pub.topic, ttl.ttl, false});
     auto bridge = std::make_shared<TopicBridge>(id, pub.topic, base::namespaced_topic(config_.robot_name, pub.topic),
                                                 pub.type_name, pub.keyed, ttl,
                                                 TopicBridge::Ends{*robot_, *wan_, *loop_, clock_, compact_.get()});
@@ -754,17 +760,81 @@ base::Duration Gateway::status_spacing(double rate_bps, double wire_bits) const 
     return std::max(config_.status_period, base::from_seconds(wire_bits / (STATUS_RATE_SHARE * rate_bps)));
 }
 
+std::vector<TopicCount> Gateway::status_rows() const {
+    // The topics bridged now, each with its earlier bridges' counts, and the retired ones in one row: the status
+    // stays small whatever came and went, and its sums never go down.
+    core::TopicCounters retired;
+    std::vector<TopicCount> rows;
+    for (TopicCount& row : topic_counts()) {
+        if (row.bridged) {
+            rows.push_back(std::move(row));
+        } else {
+            retired += row.counters;
+        }
+    }
+    if (retired.received > 0) {
+        rows.push_back(TopicCount{RETIRED_TOPICS_ROW, ResolvedTtl{}, retired, false, 0});
+    }
+    return rows;
+}
+
+namespace {
+
+/// A row's TTL as the status carries it: whole milliseconds, zero for the retired topics' row.
+std::uint32_t status_ttl_ms(const TopicCount& row) {
+    return row.bridged
+               ? static_cast<std::uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(row.ttl.ttl).count())
+               : 0u;
+}
+
+/// The rows as the base camp's grantor reads them from the status.
+std::vector<core::TopicLoad> loads_of(const std::vector<TopicCount>& rows) {
+    std::vector<core::TopicLoad> loads;
+    for (const TopicCount& row : rows) {
+        const core::TopicCounters& c = row.counters;
+        loads.push_back(core::TopicLoad{row.name, std::chrono::milliseconds(status_ttl_ms(row)), c.received,
+                                        c.forwarded, c.forwarded_wire_bytes, c.queued, c.queued_payload_bytes});
+    }
+    return loads;
+}
+
+}  // namespace
+
 void Gateway::publish_status_nts() {
     // Looked at every status period, made once the spacing the rate allows now has passed since the last: a
     // spacing fixed when a status was made during an outage (minutes at 1,000 bit/s) would silence it for as long
-    // after the link came back.
+    // after the link came back. With --channel-grants also when the robot's demand has moved away from what the
+    // base camp was last told (DemandWatch): its share follows within a status period, not a spacing.
     const auto now = std::chrono::steady_clock::now();
     post_at(now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(config_.status_period),
             [this] { publish_status_nts(); });
     const double rate = loop_->rate_bps();
-    if (last_status_at_ && now - *last_status_at_ < std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                        status_spacing(rate, last_status_bits_))) {
+    std::vector<TopicCount> rows = status_rows();
+    bool due =
+        !last_status_at_ || now - *last_status_at_ >= std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                          status_spacing(rate, last_status_bits_));
+    std::vector<core::TopicLoad> loads;
+    if (demand_watch_) {
+        if (demand_watch_->pending()) {
+            // The last status left, or was dropped (past its TTL in the queue), since it was made.
+            const core::TopicCounters c = status_counters();
+            if (c.forwarded > status_forwarded_seen_) {
+                demand_watch_->delivered(true);
+            } else if (c.received - c.forwarded - c.queued > status_dropped_seen_) {
+                demand_watch_->delivered(false);
+            }
+        }
+        loads = loads_of(rows);
+        due = demand_watch_->changed(now, loads) || due;  // changed() sees every period's counts
+    }
+    if (!due) {
         return;
+    }
+    if (demand_watch_) {
+        const core::TopicCounters c = status_counters();
+        status_forwarded_seen_ = c.forwarded;
+        status_dropped_seen_ = c.received - c.forwarded - c.queued;
+        demand_watch_->sent(now, loads);
     }
 
     idl::GatewayStatus status;
@@ -783,28 +853,12 @@ void Gateway::publish_status_nts() {
     status.unscheduled_wire_bytes(unscheduled_wire_bytes_.load());
     status.log_samples(logged());
     std::int32_t all_readers = 0;
-    // The topics bridged now, each with its earlier bridges' counts, and the retired ones in one row: the status
-    // stays small whatever came and went, and its sums never go down.
-    core::TopicCounters retired;
-    std::vector<TopicCount> rows;
-    for (TopicCount& row : topic_counts()) {
-        if (row.bridged) {
-            rows.push_back(std::move(row));
-        } else {
-            retired += row.counters;
-        }
-    }
-    if (retired.received > 0) {
-        rows.push_back(TopicCount{RETIRED_TOPICS_ROW, ResolvedTtl{}, retired, false, 0});
-    }
     for (const TopicCount& row : rows) {
         const core::TopicCounters& c = row.counters;
         idl::TopicStatus t;
         // The base camp's name of the topic: what it records it as.
         t.name(row.bridged ? base::namespaced_topic(config_.robot_name, row.name) : row.name);
-        t.ttl_ms(row.bridged ? static_cast<std::uint32_t>(
-                                   std::chrono::duration_cast<std::chrono::milliseconds>(row.ttl.ttl).count())
-                             : 0u);
+        t.ttl_ms(status_ttl_ms(row));
         t.queued_samples(static_cast<std::uint32_t>(c.queued));
         t.queued_bytes(c.queued_payload_bytes);
         t.received(c.received);
@@ -829,6 +883,13 @@ void Gateway::publish_status_nts() {
     status.status_period_s(base::to_seconds(status_spacing(rate, wire_bits)));
     last_status_at_ = now;
     last_status_bits_ = wire_bits;
+    if (demand_watch_) {
+        // Before the status goes to the loop: a grant too small for it would keep the base camp from ever
+        // hearing of the demand that should raise the grant.
+        least_share_bps_.store(
+            core::least_share_bps(loads, config_.scheduler.wire.wire_bytes(bytes), STATUS_TTL, config_.scheduler.wire));
+        apply_rate();
+    }
 
     core::Sample sample;
     sample.topic = *status_topic_;

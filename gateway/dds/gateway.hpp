@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "base/clock.hpp"
+#include "gateway/core/demand_watch.hpp"
 #include "gateway/core/forwarding_loop.hpp"
 #include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/scheduler.hpp"
@@ -259,8 +260,11 @@ class Gateway {
     /// Samples of the robot's topics written to the WAN so far: what base-camp receiver reports count (the
     /// status is not among them); in compact mode the bundles, which the relay counts.
     std::uint64_t forwarded_robot_samples() const;
-    /// Writes the status when its spacing has passed, and looks again after a status period.
+    /// Writes the status when its spacing has passed (or the demand moved, DemandWatch), and looks again after a
+    /// status period.
     void publish_status_nts();  // the worker thread only
+    /// The status's rows: the topics bridged now, and the retired ones in one row.
+    std::vector<TopicCount> status_rows() const;
     /// The time between statuses at `rate_bps` for a status of `wire_bits` on the wire: the status period, longer
     /// where a status would take more than STATUS_RATE_SHARE of the rate.
     base::Duration status_spacing(double rate_bps, double wire_bits) const;
@@ -270,7 +274,8 @@ class Gateway {
     void charge_unscheduled(std::uint64_t frame_bytes);
     /// Has the worker charge `frame_bytes` that crossed the link outside the schedule to the loop's budget.
     void charge_link(std::uint64_t frame_bytes);
-    /// Gives the loop the sensor's rate, or the grant where that is lower (--channel-grants).
+    /// Gives the loop the sensor's rate, or the grant where that is lower, but never below least_share_bps_
+    /// (--channel-grants).
     void apply_rate();
     /// A base-camp writer discovered on the WAN: routed to the robot domain if its topic is on the uplink list.
     void remote_publisher_discovered(DiscoveredPublisher&& pub);  // Fast DDS's discovery thread
@@ -315,7 +320,13 @@ class Gateway {
     std::string sensor_detail_;
     std::optional<std::chrono::steady_clock::time_point> last_status_at_;  ///< the worker thread only
     double last_status_bits_ = 0.0;  ///< the last status's size on the wire; the worker thread only
-    double logged_rate_bps_ = -1.0;  ///< the last rate written to the log's link_rates
+    /// The least share the gateway budgets for under a grant (core::least_share_bps of its last status): room
+    /// for its next status and its most urgent sample. With --channel-grants and a status.
+    std::atomic<double> least_share_bps_{0.0};
+    std::optional<core::DemandWatch> demand_watch_;
+    std::uint64_t status_forwarded_seen_ = 0;  ///< the status topic's counts when the last status was made
+    std::uint64_t status_dropped_seen_ = 0;    ///< with --channel-grants and a status; the worker thread only
+    double logged_rate_bps_ = -1.0;            ///< the last rate written to the log's link_rates
     base::SteadyTime logged_rate_at_{};
     double delivered_cap_bps_ = 0.0;                           ///< 0: the delivered-rate check does not cap
     std::atomic<std::uint64_t> pending_unscheduled_bytes_{0};  ///< reported, not yet charged to the loop

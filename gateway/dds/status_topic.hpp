@@ -8,8 +8,13 @@ namespace tgw::dds {
 /// participant's GUID prefix.
 inline constexpr const char* STATUS_TOPIC = "tgw/status";
 
-/// How long a status lives: its TTL in the schedule and its WAN writer's Lifespan.
+/// A status's TTL in the schedule: it goes before anything less urgent.
 inline constexpr std::chrono::seconds STATUS_TTL{1};
+/// How long a status lives once sent (its WAN writer's Lifespan): longer than its TTL, because a status that a
+/// congested link delayed still tells the base camp what it needs to know (its counts are cumulative, its time
+/// the gateway's own); with the Lifespan of its TTL, a fleet's grants starved a robot whose statuses all came a
+/// little late.
+inline constexpr std::chrono::seconds STATUS_LIFESPAN{5};
 
 /// The largest share of the sensed rate the status may take: it comes less often on a slow link.
 inline constexpr double STATUS_RATE_SHARE = 0.02;

@@ -289,10 +289,9 @@ int main(int argc, char** argv) {
                    "base camp as rt/NAME/cmd_vel with --robot-name NAME), delivered only within its TTL; repeatable, "
                    "nothing else flows from the WAN to the robot");
     app.add_flag("--channel-grants", config.channel_grants,
-                 "experimental (on the testbed not yet better than equal fixed shares, see the README): a fleet's "
-                 "shared channel; budget for the lower of the sensor's rate and this gateway's share, which the base "
-                 "camp grants on tgw/grant (tm-basecamp relay --channel-rate); the sensor's alone while no grant is "
-                 "valid");
+                 "a fleet's shared channel: budget for the lower of the sensor's rate and this gateway's share, "
+                 "which the base camp grants on tgw/grant (tm-basecamp relay --channel-rate) from the statuses; the "
+                 "status goes first and also when the demand moves; the sensor's rate alone while no grant is valid");
     std::string duplex = "half";
     app.add_option("--duplex", duplex,
                    "half: the radio carries both directions on one channel (Wi-Fi, most telemetry radios), so the "

@@ -67,6 +67,20 @@ TEST(SplitChannelTest, AFloorLargerThanTheChannelAllowsIsCutToAnEqualShare) {
         EXPECT_DOUBLE_EQ(bps, 1'000) << robot;
 }
 
+TEST(SplitChannelTest, ARobotsOwnFloorAboveTheCommonOneCountsAgainstItsMostUrgentDemand) {
+    // rover1 needs 6,400 bit/s to get its status and one hazard through; rover2 only the common floor.
+    const ChannelGrants grants = split_channel(30'000, {{"rover1", {{A_TTL, 5'000}}}, {"rover2", {{D_TTL, 40'000}}}},
+                                               2'000, {{"rover1", 6'400}, {"rover2", 500}});
+    EXPECT_DOUBLE_EQ(grants.at("rover1"), 6'400) << "its floor covers its 5,000 of A";
+    EXPECT_DOUBLE_EQ(grants.at("rover2"), 30'000 - 6'400);
+}
+
+TEST(SplitChannelTest, FloorsThatAddUpToMoreThanTheChannelAreCutInProportion) {
+    const ChannelGrants grants = split_channel(6'000, {{"a", {}}, {"b", {}}}, 1'000, {{"a", 6'000}});
+    EXPECT_DOUBLE_EQ(grants.at("a"), 6'000.0 * 6 / 7);
+    EXPECT_DOUBLE_EQ(grants.at("b"), 6'000.0 * 1 / 7);
+}
+
 TEST(SplitChannelTest, NoChannelNoGrants) {
     const ChannelGrants grants = split_channel(0, {{"rover1", {{A_TTL, 1'000}}}}, 500);
     EXPECT_DOUBLE_EQ(grants.at("rover1"), 0);

@@ -12,6 +12,21 @@ using std::chrono::seconds;
 
 class SchedulerTest : public SchedulerFixture {
   protected:
+    /// With the link busy, two A samples (TTL 1 s) queue, then one of a `first` topic of the same TTL: which
+    /// topic leaves next ("status" or "A").
+    std::string second_sent_with_a_first_topic(PolicyKind policy) {
+        make_sut(policy, 10'000);
+        const TopicId status = sut->add_topic({"status", seconds(1), true});
+        push(c);
+        release();  // occupies the link
+        push(a, 64, milliseconds(300));
+        push(a, 64, milliseconds(200));
+        push(status);  // its deadline the latest of the three
+        run_for(seconds(1));
+        const std::vector<TopicId> sent = sink.forwarded_topics();
+        return sent.size() < 2 ? "nothing" : sent[1] == status ? "status" : sent[1] == a ? "A" : "other";
+    }
+
     /// Wire time of a 64-byte sample at `rate_bps` under the default wire model.
     base::Duration wire_time_64(double rate_bps) const {
         return base::from_seconds(static_cast<double>(config.wire.wire_bits(64)) / rate_bps);
@@ -88,6 +103,14 @@ TEST_F(SchedulerTest, EdfPolicySendsNearestDeadlineFirstAcrossTopics) {
     push(a);                            // due in 1 s
     run_for(milliseconds(200));
     EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, d}));
+}
+
+TEST_F(SchedulerTest, AFirstTopicLeavesBeforeABacklogOfItsTtlUnderTtl) {
+    EXPECT_EQ(second_sent_with_a_first_topic(PolicyKind::ttl), "status");
+}
+
+TEST_F(SchedulerTest, AFirstTopicLeavesBeforeNearerDeadlinesUnderEdf) {
+    EXPECT_EQ(second_sent_with_a_first_topic(PolicyKind::edf), "status");
 }
 
 TEST_F(SchedulerTest, EqualTtlSamplesGoNearestDeadlineFirst) {

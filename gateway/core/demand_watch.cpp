@@ -1,0 +1,53 @@
+#include "gateway/core/demand_watch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace tgw::core {
+
+bool demand_changed(const std::vector<UrgencyDemand>& told, const std::vector<UrgencyDemand>& now, double fraction,
+                    double floor_bps) {
+    std::map<base::Duration, std::pair<double, double>> by_ttl;  // told, now
+    for (const UrgencyDemand& d : told)
+        by_ttl[d.ttl].first += d.bps;
+    for (const UrgencyDemand& d : now)
+        by_ttl[d.ttl].second += d.bps;
+    return std::any_of(by_ttl.begin(), by_ttl.end(), [&](const auto& entry) {
+        const auto& [was, is] = entry.second;
+        return std::abs(is - was) > std::max(fraction * was, floor_bps);
+    });
+}
+
+DemandWatch::DemandWatch(Config config, WireModel wire) : config_(config), wire_(wire) {}
+
+bool DemandWatch::changed(base::SteadyTime now, const std::vector<TopicLoad>& loads) {
+    recent_.emplace_back(now, loads);
+    // Keep one snapshot at or before the window's start, so that the demand spans the whole window.
+    while (recent_.size() > 2 && recent_[1].first <= now - config_.window)
+        recent_.pop_front();
+    if (!last_sent_ || pending_ || recent_.size() < 2)
+        return false;
+    const std::vector<UrgencyDemand> demand =
+        urgency_demand(recent_.front().second, loads, now - recent_.front().first, wire_);
+    return demand_changed(told_, demand, config_.fraction, config_.floor_bps);
+}
+
+void DemandWatch::sent(base::SteadyTime at, std::vector<TopicLoad> loads) {
+    pending_ = Snapshot{at, std::move(loads)};
+}
+
+void DemandWatch::delivered(bool left) {
+    if (!pending_)
+        return;
+    if (left) {
+        // As the base camp works it out: from the status before, or for the first one from zero over its period.
+        const auto& [at, loads] = *pending_;
+        told_ = last_sent_ ? urgency_demand(last_sent_->second, loads, at - last_sent_->first, wire_)
+                           : urgency_demand({}, loads, config_.first_period, wire_);
+        last_sent_ = std::move(pending_);
+    }
+    pending_.reset();
+}
+
+}  // namespace tgw::core

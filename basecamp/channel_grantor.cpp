@@ -89,11 +89,23 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
     }
     Heard now;
     std::copy(status.gateway_prefix().begin(), status.gateway_prefix().end(), now.prefix.begin());
+    now.robot = status.robot_name();
     now.sent_ns = status.sent_ns();
     now.topics = loads(status);
     const std::string key = hex(now.prefix);
 
     std::lock_guard<std::mutex> lock(mutex_);
+    if (!now.robot.empty() && statuses_.count(key) == 0) {
+        // The robot's gateway restarted (a new participant): its old one's share would stand idle until stale.
+        for (auto old = statuses_.begin(); old != statuses_.end();) {
+            if (old->second.robot == now.robot) {
+                shares_.forget(old->first);
+                old = statuses_.erase(old);
+            } else {
+                ++old;
+            }
+        }
+    }
     const auto it = statuses_.find(key);
     if (it != statuses_.end() && now.sent_ns <= it->second.sent_ns)
         return;  // a repeat, or older than what we have
@@ -109,8 +121,14 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
     // Its floor: room for its next status (this one's size) and its most urgent sample, each within its TTL.
     const double floor_bps =
         core::least_share_bps(now.topics, wire_.wire_bytes(payload.size()), dds::STATUS_TTL, wire_);
+    // Its next status may come later than it said: its spacing follows its rate, and the grant is its rate now.
+    base::Duration spacing = period;
+    if (const auto granted = last_grants_.find(key); granted != last_grants_.end() && granted->second > 0) {
+        const double status_bits = 8.0 * static_cast<double>(wire_.wire_bytes(payload.size()));
+        spacing = std::max(spacing, base::from_seconds(status_bits / (dds::STATUS_RATE_SHARE * granted->second)));
+    }
     shares_.report(key, core::urgency_demand(before, now.topics, elapsed, wire_),
-                   std::max<base::Duration>(STALE_AFTER, 3 * period), floor_bps);
+                   std::max<base::Duration>(STALE_AFTER, 3 * spacing), floor_bps);
     statuses_[key] = std::move(now);
 }
 

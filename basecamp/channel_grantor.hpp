@@ -23,12 +23,16 @@ namespace tgw::basecamp {
 /// (core::split_channel: a floor, each robot's own where it needs more (core::least_share_bps: room for its
 /// status and its most urgent sample), then the fleet's shortest TTLs first) on dds::CHANNEL_GRANT_TOPIC, keyed
 /// by the gateway's prefix. A gateway silent for long (STALE_AFTER) has no share until its next status, and meanwhile
-/// budgets for its own sensor's rate.
+/// budgets for its own sensor's rate. A status of a named robot from a new gateway (restarted) ends the old
+/// gateway's share at once.
 class ChannelGrantor {
   public:
     static constexpr base::Duration GRANT_PERIOD = std::chrono::seconds(1);
     /// A gateway silent this long, or three of its status periods if longer, has no share until its next status.
-    static constexpr base::Duration STALE_AFTER = std::chrono::seconds(5);
+    /// Long, because a silent gateway's share would go to the others while it, hearing no grant, falls back to its
+    /// sensor: both would send as if the channel were theirs. A robot's statuses can be lost for a while (each
+    /// expires behind a long sample on a small share); a gateway that restarted ends its old share at once.
+    static constexpr base::Duration STALE_AFTER = std::chrono::seconds(30);
     /// Every gateway's floor: a status and discovery, and its first sample.
     static constexpr double FLOOR_BPS = 2000;
 
@@ -53,6 +57,7 @@ class ChannelGrantor {
     using Prefix = std::array<std::uint8_t, 12>;
     struct Heard {
         Prefix prefix{};
+        std::string robot;  ///< its --robot-name, or empty
         std::uint64_t sent_ns = 0;
         std::vector<core::TopicLoad> topics;
     };

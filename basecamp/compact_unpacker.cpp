@@ -16,6 +16,7 @@
 
 #include "CompactWanPubSubTypes.h"
 #include "base/config_error.hpp"
+#include "basecamp/channel_grantor.hpp"
 #include "basecamp/wan_capture.hpp"
 #include "gateway/dds/compact_topics.hpp"
 #include "gateway/dds/dds_time.hpp"
@@ -23,6 +24,7 @@
 #include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
+#include "gateway/dds/status_topic.hpp"
 #include "gateway/dds/writer_match_counter.hpp"
 
 namespace tgw::basecamp {
@@ -118,12 +120,13 @@ class TakingListener final : public fdds::DataReaderListener {
 
 CompactUnpacker::CompactUnpacker(fdds::DomainParticipant* wan, fdds::DomainParticipant* local,
                                  dds::PartitionGroups<fdds::Publisher>& publishers, DeliveryTally& tally,
-                                 SampleConsumer* store)
+                                 SampleConsumer* store, ChannelGrantor* statuses)
     : wan_(wan),
       local_(local),
       publishers_(publishers),
       tally_(tally),
       store_(store),
+      statuses_(statuses),
       catalog_listener_(std::make_unique<TakingListener<wan::CatalogEntry>>(
           [this](wan::CatalogEntry& entry, const fdds::SampleInfo& info) {
               on_catalog(writer_prefix(info), std::move(entry));
@@ -297,6 +300,9 @@ bool CompactUnpacker::deliver_nts(const ParticipantPrefix& gateway, compact::Bun
                 if (stream.entry.keyed())
                     record.instance.assign(entry.key.begin(), entry.key.end());
                 store_->add(std::move(record));
+            }
+            if (statuses_ != nullptr && stream.record.topic == dds::STATUS_TOPIC) {
+                statuses_->take_status(entry.payload);
             }
             data.payload = std::move(entry.payload);
             rc = lane.writer->write_w_timestamp(&data, handle, stamp);

@@ -30,6 +30,8 @@ class Subscriber;
 
 namespace tgw::basecamp {
 
+class ChannelGrantor;
+
 /// Reads the catalog and the bundles of every compact-mode gateway on the WAN domain and writes each entry on the
 /// local domain as the sample it was: its topic and type name, its instance and source timestamp, through a writer
 /// that offers what its robot publisher offered, with the gateway's Lifespan (the TTL), so it expires here when it
@@ -61,11 +63,12 @@ class CompactUnpacker {
 
     /// Reads on `wan`, writes on `local` through `publishers`' groups; all must outlive it. Every bundle taken is
     /// counted in `tally` against its writer, as a sample is in standard mode: the receiver reports then tell the
-    /// gateway what became of its bundles. `store`: where the relay records, or nullptr. Throws
-    /// base::ConfigError when DDS refuses a reader.
+    /// gateway what became of its bundles. `store`: where the relay records, or nullptr; `statuses`: the grantor
+    /// that reads the gateways' statuses (relay --channel-rate), or nullptr. Throws base::ConfigError when DDS
+    /// refuses a reader.
     CompactUnpacker(eprosima::fastdds::dds::DomainParticipant* wan, eprosima::fastdds::dds::DomainParticipant* local,
                     dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers, DeliveryTally& tally,
-                    SampleConsumer* store);
+                    SampleConsumer* store, ChannelGrantor* statuses = nullptr);
     ~CompactUnpacker();
     CompactUnpacker(const CompactUnpacker&) = delete;
     CompactUnpacker& operator=(const CompactUnpacker&) = delete;
@@ -108,6 +111,7 @@ class CompactUnpacker {
     dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers_;
     DeliveryTally& tally_;
     SampleConsumer* store_;
+    ChannelGrantor* statuses_;  ///< takes the gateways' statuses (tm-basecamp relay --channel-rate), or nullptr
     std::unique_ptr<eprosima::fastdds::dds::DataReaderListener> catalog_listener_;
     std::unique_ptr<eprosima::fastdds::dds::DataReaderListener> bundle_listener_;
     eprosima::fastdds::dds::DataReader* catalog_reader_ = nullptr;

@@ -198,7 +198,8 @@ void Relay::relay(const dds::DiscoveredPublisher& publisher) {
     // A compact-mode gateway: its bundles are unpacked, each sample republished on its own topic.
     if (publisher.topic == dds::COMPACT_BUNDLE_TOPIC || publisher.topic == dds::COMPACT_CATALOG_TOPIC) {
         if (!compact_) {
-            compact_ = std::make_unique<CompactUnpacker>(wan_, local_, local_publishers_, tally_, store_);
+            compact_ =
+                std::make_unique<CompactUnpacker>(wan_, local_, local_publishers_, tally_, store_, grantor_.get());
         }
         return;
     }

@@ -97,6 +97,10 @@ void ChannelShares::report(const std::string& robot, std::vector<UrgencyDemand> 
     robots_[robot] = Heard{std::move(demand), floor_bps, clock_.now() + stale_after.value_or(config_.stale_after)};
 }
 
+void ChannelShares::forget(const std::string& robot) {
+    robots_.erase(robot);
+}
+
 ChannelGrants ChannelShares::grants() {
     const base::SteadyTime now = clock_.now();
     for (auto it = robots_.begin(); it != robots_.end();) {

@@ -57,6 +57,8 @@ class ChannelShares {
     /// it holds for `stale_after` (Config::stale_after when nullopt).
     void report(const std::string& robot, std::vector<UrgencyDemand> demand,
                 std::optional<base::Duration> stale_after = std::nullopt, double floor_bps = 0);
+    /// Forgets `robot` at once (its gateway restarted under another name): no share until it reports again.
+    void forget(const std::string& robot);
     /// The grants of the robots heard from within stale_after; none before set_capacity().
     ChannelGrants grants();
 

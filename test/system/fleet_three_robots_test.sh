@@ -9,6 +9,9 @@
 # Mid-run, rover2 starts publishing camera frames (6 kB at 1 Hz, TTL 5 s), and rover3's gateway is stopped and
 # started again. Checks: rover1's A and B, and rover2's, at least 99 % on time at the base camp; rover3's telemetry
 # arrives again after its restart; every robot's topics under its own name.
+# WAY=grants (not in ctest; for the README's comparison) runs the same with the base camp's grants instead: each
+# gateway senses the whole channel (--sensor fixed:60000, --channel-grants), the relay grants the shares
+# (--channel-rate 60000).
 set -euo pipefail
 BIN=$1
 cd "$(dirname "$0")/../.."
@@ -25,15 +28,25 @@ RESTART_AT=20  # s into the run: rover3's gateway stops, and starts again 2 s la
 robot_address() { TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info "robot$1-addr"; }
 peers=()
 for k in $(seq 1 "$ROBOTS"); do peers+=(--peer "$(robot_address "$k")"); done
+WAY=${WAY:-equal}
+relay_flags=()
+grant_flags=()
+if [ "$WAY" = grants ]; then
+    SHARE=60000
+    relay_flags=(--channel-rate "${CHANNEL_RATE:-60000}")
+    grant_flags=(--channel-grants)
+fi
+echo "fleet_three_robots: $WAY shares"
 "${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --interface "$basecamp_addr" "${peers[@]}" \
-    --local-domain 2 --local-interface 127.0.0.1 --out "$WORK/camp.db" >"$WORK/relay.out" 2>&1 &
+    --local-domain 2 --local-interface 127.0.0.1 "${relay_flags[@]}" --out "$WORK/camp.db" >"$WORK/relay.out" 2>&1 &
 relay=$!
 PIDS+=("$relay")
 
 start_gateway() {  # K OUTPUT_NAME: rover K's gateway; sets gateway_pid
     "${tb[@]}" "robot$1" "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-interface "$(robot_address "$1")" \
         --wan-peer "$basecamp_addr" --wan-peer-participants 1 --robot-name "rover$1" --wan-mode compact \
-        --sensor "fixed:$SHARE" --qos qos/paper_workload.xml --log "$WORK/$2.db" >"$WORK/$2.out" 2>&1 &
+        --sensor "fixed:$SHARE" "${grant_flags[@]}" --qos qos/paper_workload.xml --log "$WORK/$2.db" \
+        >"$WORK/$2.out" 2>&1 &
     gateway_pid=$!
     PIDS+=("$gateway_pid")
 }

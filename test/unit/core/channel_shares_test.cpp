@@ -156,6 +156,17 @@ TEST_F(ChannelSharesTest, AReportMayHoldLongerThanTheDefault) {
     EXPECT_TRUE(shares_.grants().empty());
 }
 
+// A robot's gateway restarted: the old gateway's share goes at once, not when it would go stale.
+TEST_F(ChannelSharesTest, AForgottenRobotLeavesItsShareAtOnce) {
+    shares_.set_capacity(30'000);
+    shares_.report("old gateway", {{A_TTL, 10'000}}, 60s);
+    shares_.report("other", {{A_TTL, 10'000}});
+    shares_.forget("old gateway");
+    const ChannelGrants grants = shares_.grants();
+    EXPECT_EQ(grants.count("old gateway"), 0u);
+    EXPECT_DOUBLE_EQ(grants.at("other"), 30'000);
+}
+
 TEST_F(ChannelSharesTest, NothingIsGrantedBeforeTheChannelIsMeasured) {
     shares_.report("rover1", {{A_TTL, 10'000}});
     EXPECT_TRUE(shares_.grants().empty());

@@ -897,6 +897,8 @@ void Gateway::publish_status_nts() {
     if (keyed_sample(type, status, sample)) {
         loop_->submit(std::move(sample));
         statuses_published_.fetch_add(1, std::memory_order_relaxed);
+    } else if (demand_watch_) {
+        demand_watch_->delivered(false);  // never queued: no count would ever say what became of it
     }
 }
 

@@ -139,6 +139,7 @@ def decode(b):
     if xcdr2 and body[:0] == b"":
         pass
     pos = 12                      # gateway_prefix
+    string()                      # robot_name
     sent = u64(); u64()           # sent_ns, sensed_rate_bps
     string(); string()            # sensor, sensor_detail
     u64(); u64(); u64(); u64(); u64()  # period, budget, cap, unscheduled, log_samples

@@ -119,13 +119,13 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
     const base::Duration elapsed =
         it != statuses_.end() ? std::chrono::nanoseconds(now.sent_ns - it->second.sent_ns) : period;
     // Its floor: room for its next status (this one's size) and its most urgent sample, each within its TTL.
-    const double floor_bps =
-        core::least_share_bps(now.topics, wire_.wire_bytes(payload.size()), dds::STATUS_TTL, wire_);
+    const std::size_t status_wire_bytes = wire_.wire_bytes(payload.size());
+    const double floor_bps = core::least_share_bps(now.topics, status_wire_bytes, dds::STATUS_TTL, wire_);
     // Its next status may come later than it said: its spacing follows its rate, and the grant is its rate now.
     base::Duration spacing = period;
     if (const auto granted = last_grants_.find(key); granted != last_grants_.end() && granted->second > 0) {
-        const double status_bits = 8.0 * static_cast<double>(wire_.wire_bytes(payload.size()));
-        spacing = std::max(spacing, base::from_seconds(status_bits / (dds::STATUS_RATE_SHARE * granted->second)));
+        spacing = std::max(spacing, std::chrono::duration_cast<base::Duration>(dds::status_rate_spacing(
+                                        8.0 * static_cast<double>(status_wire_bytes), granted->second)));
     }
     shares_.report(key, core::urgency_demand(before, now.topics, elapsed, wire_),
                    std::max<base::Duration>(STALE_AFTER, 3 * spacing), floor_bps);

@@ -264,9 +264,7 @@ void print_accounting(std::ostream& out, const std::vector<TopicReport>& reports
 }  // namespace
 
 void print_report(std::ostream& out, const std::vector<TopicReport>& reports) {
-    // The robot column only for a fleet, so that a single robot's table keeps its shape for scripts.
-    const bool fleet =
-        std::any_of(reports.begin(), reports.end(), [](const TopicReport& r) { return !r.robot.empty(); });
+    const bool fleet = has_robot_column(reports);
     char line[320];
     std::snprintf(line, sizeof(line), "%-20s %6s %8s %8s %8s %9s %10s %10s %10s", "topic", "ttl_s", "offered",
                   "received", "on_time", "%on_time", "mean_ms", "sd_ms", "max_ms");

@@ -4,9 +4,11 @@
 // `rover1/telemetry/A` look alike to a parser).
 #pragma once
 
+#include <algorithm>
 #include <map>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "GatewayStatus.h"
 #include "basecamp/sample_consumer.hpp"
@@ -31,6 +33,13 @@ class TopicRobots final : public SampleConsumer {
     mutable std::mutex mutex_;
     std::map<std::string, std::string> robot_by_topic_;
 };
+
+/// Whether a table of `rows` (each with a `robot`) gets a robot column: only for a fleet, so that a single unnamed
+/// robot's table keeps its shape for scripts.
+template <typename Row>
+bool has_robot_column(const std::vector<Row>& rows) {
+    return std::any_of(rows.begin(), rows.end(), [](const Row& r) { return !r.robot.empty(); });
+}
 
 /// A robot column's cell: the robot, or "-" when there is none.
 inline std::string robot_cell(const std::string& robot) {

@@ -131,8 +131,7 @@ std::string figure(const std::optional<double>& value, const char* format) {
 }  // namespace
 
 void print_stats_table(std::ostream& out, const std::vector<TopicStatsRow>& rows) {
-    // The robot column only for a fleet, so that a single robot's table keeps its shape for scripts.
-    const bool fleet = std::any_of(rows.begin(), rows.end(), [](const TopicStatsRow& r) { return !r.robot.empty(); });
+    const bool fleet = has_robot_column(rows);
     char line[256];
     std::snprintf(line, sizeof line, "%-28s %8s %10s %9s %9s %6s %8s %8s %8s", "topic", "Hz", "bit/s", "mean_ms",
                   "p99_ms", "ttl_s", "%in_ttl", "logged", "total");

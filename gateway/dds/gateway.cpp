@@ -757,7 +757,8 @@ base::Duration Gateway::status_spacing(double rate_bps, double wire_bits) const 
     if (rate_bps <= 0) {
         return config_.status_period;
     }
-    return std::max(config_.status_period, base::from_seconds(wire_bits / (STATUS_RATE_SHARE * rate_bps)));
+    return std::max(config_.status_period,
+                    std::chrono::duration_cast<base::Duration>(status_rate_spacing(wire_bits, rate_bps)));
 }
 
 std::vector<TopicCount> Gateway::status_rows() const {
@@ -809,7 +810,7 @@ void Gateway::publish_status_nts() {
     post_at(now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(config_.status_period),
             [this] { publish_status_nts(); });
     const double rate = loop_->rate_bps();
-    std::vector<TopicCount> rows = status_rows();
+    std::optional<std::vector<TopicCount>> rows;
     bool due =
         !last_status_at_ || now - *last_status_at_ >= std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                           status_spacing(rate, last_status_bits_));
@@ -824,7 +825,8 @@ void Gateway::publish_status_nts() {
                 demand_watch_->delivered(false);
             }
         }
-        loads = loads_of(rows);
+        rows = status_rows();
+        loads = loads_of(*rows);
         due = demand_watch_->changed(now, loads) || due;  // changed() sees every period's counts
     }
     if (!due) {
@@ -853,7 +855,10 @@ void Gateway::publish_status_nts() {
     status.unscheduled_wire_bytes(unscheduled_wire_bytes_.load());
     status.log_samples(logged());
     std::int32_t all_readers = 0;
-    for (const TopicCount& row : rows) {
+    if (!rows) {
+        rows = status_rows();
+    }
+    for (const TopicCount& row : *rows) {
         const core::TopicCounters& c = row.counters;
         idl::TopicStatus t;
         // The base camp's name of the topic: what it records it as.

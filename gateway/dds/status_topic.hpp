@@ -19,4 +19,10 @@ inline constexpr std::chrono::seconds STATUS_LIFESPAN{5};
 /// The largest share of the sensed rate the status may take: it comes less often on a slow link.
 inline constexpr double STATUS_RATE_SHARE = 0.02;
 
+/// The least time between statuses of `wire_bits` on the wire at `rate_bps` so that they take at most
+/// STATUS_RATE_SHARE of it: what the gateway waits beyond its status period, and what the base camp allows for.
+inline std::chrono::duration<double> status_rate_spacing(double wire_bits, double rate_bps) {
+    return std::chrono::duration<double>(wire_bits / (STATUS_RATE_SHARE * rate_bps));
+}
+
 }  // namespace tgw::dds

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <mutex>
 #include <vector>
@@ -22,9 +24,10 @@ namespace tgw::basecamp {
 /// by urgency (core::urgency_demand), and once a GRANT_PERIOD grants each gateway its share of the channel
 /// (core::split_channel: a floor, each robot's own where it needs more (core::least_share_bps: room for its
 /// status and its most urgent sample), then the fleet's shortest TTLs first) on dds::CHANNEL_GRANT_TOPIC, keyed
-/// by the gateway's prefix. A gateway silent for long (STALE_AFTER) has no share until its next status, and meanwhile
-/// budgets for its own sensor's rate. A status of a named robot from a new gateway (restarted) ends the old
-/// gateway's share at once.
+/// by the gateway's prefix. core::JOIN_SHARE of the channel is kept out of them and granted to any gateway without
+/// a grant of its own (the newcomers' share, dds::NEWCOMER_PREFIX). A gateway silent for long (STALE_AFTER) has no
+/// share until its next status, and meanwhile budgets for the newcomers' share. A status of a named robot from a
+/// new gateway (restarted) ends the old gateway's share at once.
 class ChannelGrantor {
   public:
     static constexpr base::Duration GRANT_PERIOD = std::chrono::seconds(1);
@@ -33,6 +36,8 @@ class ChannelGrantor {
     /// sensor: both would send as if the channel were theirs. A robot's statuses can be lost for a while (each
     /// expires behind a long sample on a small share); a gateway that restarted ends its old share at once.
     static constexpr base::Duration STALE_AFTER = std::chrono::seconds(30);
+    /// A robot's demand is worked out over at least this long (as its gateway's core::DemandWatch does).
+    static constexpr base::Duration DEMAND_WINDOW = std::chrono::seconds(2);
     /// Every gateway's floor: a status and discovery, and its first sample.
     static constexpr double FLOOR_BPS = 2000;
 
@@ -47,11 +52,14 @@ class ChannelGrantor {
     /// not decode is ignored.
     void take_status(const std::vector<std::uint8_t>& payload);
 
-    /// Writes the grants when GRANT_PERIOD has passed since the last; the relay's thread.
+    /// Writes the grants when GRANT_PERIOD has passed since the last, or a status came since: a robot whose demand
+    /// rose hears its grant at once (its gateway sends a status when its demand moves); the relay's thread.
     void poll();
 
     /// The grants last written, by gateway prefix (hex).
     core::ChannelGrants last_grants() const;
+    /// The newcomers' share last written (dds::NEWCOMER_PREFIX).
+    double last_newcomer_share() const;
 
   private:
     using Prefix = std::array<std::uint8_t, 12>;
@@ -59,18 +67,25 @@ class ChannelGrantor {
         Prefix prefix{};
         std::string robot;  ///< its --robot-name, or empty
         std::uint64_t sent_ns = 0;
+        std::uint64_t unscheduled_wire_bytes = 0;  ///< cumulative: its traffic outside the schedule
         std::vector<core::TopicLoad> topics;
     };
+
+    void write_grant(const Prefix& prefix, double bps, std::uint64_t sent_ns);
 
     eprosima::fastdds::dds::DomainParticipant* wan_;
     eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
     const base::Clock& clock_;
+    const double channel_bps_;
     const core::WireModel wire_;
     mutable std::mutex mutex_;
-    core::ChannelShares shares_;             // under mutex_
-    std::map<std::string, Heard> statuses_;  // the latest per gateway; under mutex_
-    core::ChannelGrants last_grants_;        // under mutex_
+    core::ChannelShares shares_;  // under mutex_
+    /// Per gateway, its latest statuses: the newest at least DEMAND_WINDOW old, and those after it; under mutex_.
+    std::map<std::string, std::deque<Heard>> statuses_;
+    core::ChannelGrants last_grants_;  // under mutex_
+    double last_newcomer_bps_ = 0;     // under mutex_
     base::SteadyTime next_grant_{};
+    std::atomic<bool> status_heard_{false};  ///< a status came since the grants were last written
 };
 
 }  // namespace tgw::basecamp

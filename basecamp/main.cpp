@@ -252,6 +252,8 @@ int main(int argc, char** argv) {
             }
             for (const auto& [gateway, bps] : relaying.channel_grants())
                 std::cout << "  last grant to gateway " << gateway << ": " << static_cast<long long>(bps) << " bit/s\n";
+            if (const std::optional<double> newcomers = relaying.newcomer_share())
+                std::cout << "  last newcomers' share: " << static_cast<long long>(*newcomers) << " bit/s\n";
             for (const tgw::dds::UplinkCount& up : relaying.uplink_counts())
                 std::cout << "  uplink " << up.from_topic << ": " << up.received << " commands taken from the camp, "
                           << up.delivered << " onto the WAN, " << up.expired << " past their Lifespan (dropped), "

@@ -245,6 +245,10 @@ core::ChannelGrants Relay::channel_grants() const {
     return grantor_ ? grantor_->last_grants() : core::ChannelGrants{};
 }
 
+std::optional<double> Relay::newcomer_share() const {
+    return grantor_ ? std::optional<double>(grantor_->last_newcomer_share()) : std::nullopt;
+}
+
 std::vector<dds::UplinkCount> Relay::uplink_counts() const {
     return uplink_ ? uplink_->counts() : std::vector<dds::UplinkCount>{};
 }

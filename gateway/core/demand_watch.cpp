@@ -26,7 +26,11 @@ bool DemandWatch::changed(base::SteadyTime now, const std::vector<TopicLoad>& lo
     // Keep one snapshot at or before the window's start, so that the demand spans the whole window.
     while (recent_.size() > 2 && recent_[1].first <= now - config_.window)
         recent_.pop_front();
-    if (!last_sent_ || pending_ || recent_.size() < 2)
+    if (pending_)
+        return false;
+    if (!last_sent_)
+        return true;
+    if (recent_.size() < 2)
         return false;
     const std::vector<UrgencyDemand> demand =
         urgency_demand(recent_.front().second, loads, now - recent_.front().first, wire_);
@@ -41,10 +45,11 @@ void DemandWatch::delivered(bool left) {
     if (!pending_)
         return;
     if (left) {
-        // As the base camp works it out: from the status before, or for the first one from zero over its period.
+        // As the base camp works it out: from the status before, or for the first one what waits (ChannelGrantor:
+        // its counts gathered over an unknown time); the span only has to be positive then.
         const auto& [at, loads] = *pending_;
         told_ = last_sent_ ? urgency_demand(last_sent_->second, loads, at - last_sent_->first, wire_)
-                           : urgency_demand({}, loads, config_.first_period, wire_);
+                           : urgency_demand(loads, loads, std::chrono::seconds(1), wire_);
         last_sent_ = std::move(pending_);
     }
     pending_.reset();

@@ -27,15 +27,15 @@ class DemandWatch {
         base::Duration window = std::chrono::seconds(2);  ///< the demand now is over this much of the recent past
         double fraction = 0.25;                           ///< see demand_changed()
         double floor_bps = 1000;
-        /// What the base camp assumes the first status's counts took to gather (ChannelGrantor: the status period,
-        /// at least a second).
-        base::Duration first_period = std::chrono::seconds(1);
     };
 
     DemandWatch(Config config, WireModel wire);
 
     /// The topics' counts at `now`, as a status would carry them, once a status period. True when a status should
-    /// go now for the demand's sake; never before the first status, nor while the last one's fate is unknown.
+    /// go now for the demand's sake, and every time until one status has left: a base camp that has heard none
+    /// grants the robot nothing of its own (a gateway that restarted made one status, which expired behind its
+    /// discovery's traffic, and its next waited for the spacing: 50 s at 6,000 bit/s). Never while the last
+    /// status's fate is unknown.
     bool changed(base::SteadyTime now, const std::vector<TopicLoad>& loads);
     /// A status with `loads` was made at `at`; it tells the base camp once delivered() says it left.
     void sent(base::SteadyTime at, std::vector<TopicLoad> loads);

@@ -54,6 +54,17 @@ std::vector<UrgencyDemand> urgency_demand(const std::vector<TopicLoad>& before, 
     return out;
 }
 
+std::vector<UrgencyDemand> grantable_demand(std::vector<UrgencyDemand> demand, double unscheduled_bps,
+                                            double budget_fraction) {
+    if (demand.empty())
+        return demand;
+    const double fraction = budget_fraction > 0 && budget_fraction <= 1 ? budget_fraction : 1.0;
+    demand.front().bps += std::max(0.0, unscheduled_bps);  // shortest TTL first
+    for (UrgencyDemand& d : demand)
+        d.bps /= fraction;
+    return demand;
+}
+
 double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_wire_bytes, base::Duration status_ttl,
                        const WireModel& wire, double headroom) {
     double bps = status_ttl > base::Duration::zero()

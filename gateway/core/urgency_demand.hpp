@@ -30,6 +30,14 @@ struct TopicLoad {
 std::vector<UrgencyDemand> urgency_demand(const std::vector<TopicLoad>& before, const std::vector<TopicLoad>& now,
                                           base::Duration elapsed, const WireModel& wire);
 
+/// What a gateway must be granted for `demand` to leave in time: its traffic outside the schedule (`unscheduled_bps`:
+/// discovery, heartbeats, repairs, which its budget pays before any sample) counted with its most urgent demand, and
+/// every demand divided by `budget_fraction`, the part of its rate the gateway budgets (its status: budget over
+/// rate). A grant of the demand alone left a robot whose hazards had the whole of it 0.95 of what they needed, less
+/// the heartbeats: their queue grew to their TTL. An empty demand stays empty; a fraction not in (0, 1] counts as 1.
+std::vector<UrgencyDemand> grantable_demand(std::vector<UrgencyDemand> demand, double unscheduled_bps,
+                                            double budget_fraction);
+
 /// The least share a robot needs to keep in touch (split_channel()'s floor for it): its status, of
 /// `status_wire_bytes` on the wire, within `status_ttl`, and one sample of its most urgent topic (shortest TTL;
 /// the mean wire size of what it forwarded, else of what waits) within that TTL; the larger, `headroom` times over

@@ -10,6 +10,7 @@
 #include "base/config_error.hpp"
 #include "base/discovery_server.hpp"
 #include "base/robot_namespace.hpp"
+#include "gateway/core/granted_rate.hpp"
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway_sink.hpp"
@@ -216,8 +217,8 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     sink_->set_compact(compact_.get());
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
     if (config_.status_period > base::Duration::zero()) {
-        // The status is scheduled like a sample of a topic with a TTL of STATUS_TTL, so its bytes leave only
-        // when the budget has room for them.
+        // The status is scheduled like a sample of a topic with a TTL of STATUS_TTL (and first, under grants), so
+        // its bytes leave only when the budget has room for them.
         OfferedQos offer;
         offer.reliable = true;  // matched by any reader's defaults
         status_topic_ = loop_->add_topic(core::TopicConfig{STATUS_TOPIC, STATUS_TTL, config_.channel_grants});
@@ -234,9 +235,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         sink_->set_status_route(*status_topic_, status_writer_);
         if (config_.channel_grants) {
             // The grantor's own wire model (the default one): the watch works the demand out as the grantor does.
-            core::DemandWatch::Config watch;
-            watch.first_period = std::max<base::Duration>(config_.status_period, std::chrono::seconds(1));
-            demand_watch_.emplace(watch, core::WireModel{});
+            demand_watch_.emplace(core::DemandWatch::Config{}, core::WireModel{});
         }
     }
     loop_->start();
@@ -397,8 +396,7 @@ void Gateway::set_rate(double rate_bps) {
 
 void Gateway::apply_rate() {
     const double sensed = sensed_rate_bps_.load();
-    const std::optional<double> grant = granted_bps();
-    loop_->set_rate(grant ? std::min(sensed, std::max(*grant, least_share_bps_.load())) : sensed);
+    loop_->set_rate(grants_ ? core::granted_rate_bps(sensed, grants_->view(), least_share_bps_.load()) : sensed);
 }
 
 std::optional<double> Gateway::granted_bps() const {
@@ -886,13 +884,24 @@ void Gateway::publish_status_nts() {
     const std::size_t bytes = type.getSerializedSizeProvider(&status)();
     const double wire_bits = static_cast<double>(config_.scheduler.wire.wire_bits(bytes));
     status.status_period_s(base::to_seconds(status_spacing(rate, wire_bits)));
+    const std::optional<std::chrono::steady_clock::time_point> previous_status_at = last_status_at_;
     last_status_at_ = now;
     last_status_bits_ = wire_bits;
     if (demand_watch_) {
         // Before the status goes to the loop: a grant too small for it would keep the base camp from ever
-        // hearing of the demand that should raise the grant.
-        least_share_bps_.store(
-            core::least_share_bps(loads, config_.scheduler.wire.wire_bytes(bytes), STATUS_TTL, config_.scheduler.wire));
+        // hearing of the demand that should raise the grant. Once over, as the base camp grants it (the rule
+        // doubles it before the first grant: core::granted_rate_bps), with room for the traffic outside the
+        // schedule since the last status, which the budget pays first.
+        const std::uint64_t unscheduled = unscheduled_wire_bytes_.load();
+        double unscheduled_bps = 0;
+        if (previous_status_at && now > *previous_status_at) {
+            unscheduled_bps = 8.0 * static_cast<double>(unscheduled - status_unscheduled_seen_) /
+                              std::chrono::duration<double>(now - *previous_status_at).count();
+        }
+        status_unscheduled_seen_ = unscheduled;
+        least_share_bps_.store(core::least_share_bps(loads, config_.scheduler.wire.wire_bytes(bytes), STATUS_TTL,
+                                                     config_.scheduler.wire, 1.0) +
+                               unscheduled_bps);
         apply_rate();
     }
 

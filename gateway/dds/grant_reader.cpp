@@ -6,25 +6,33 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include "ChannelGrantPubSubTypes.h"
+#include "gateway/dds/channel_grant_topic.hpp"
 
 namespace tgw::dds {
 
 GrantReader::GrantReader(const eprosima::fastrtps::rtps::GuidPrefix_t& own, const base::Clock& clock,
                          std::function<void()> changed)
-    : own_(own), clock_(clock), changed_(std::move(changed)) {}
+    : own_(own), clock_(clock), changed_(std::move(changed)), join_until_(clock.now() + core::JOIN_WAIT) {}
 
 void GrantReader::on_data_available(eprosima::fastdds::dds::DataReader* reader) {
     idl::ChannelGrant grant;
     eprosima::fastdds::dds::SampleInfo info;
     bool ours = false;
     while (reader->take_next_sample(&grant, &info) == ReturnCode_t::RETCODE_OK) {
-        if (!info.valid_data ||
-            !std::equal(grant.gateway_prefix().begin(), grant.gateway_prefix().end(), std::begin(own_.value))) {
+        if (!info.valid_data)
+            continue;
+        const auto& prefix = grant.gateway_prefix();
+        Heard* heard = nullptr;
+        if (std::equal(prefix.begin(), prefix.end(), std::begin(own_.value))) {
+            heard = &own_grant_;
+        } else if (prefix == NEWCOMER_PREFIX) {
+            heard = &newcomer_;
+        } else {
             continue;  // another gateway's
         }
         std::lock_guard<std::mutex> lock(mutex_);
-        rate_bps_ = std::max(0.0, grant.rate_bps());
-        valid_until_ = clock_.now() + std::chrono::milliseconds(grant.valid_ms());
+        heard->rate_bps = std::max(0.0, grant.rate_bps());
+        heard->valid_until = clock_.now() + std::chrono::milliseconds(grant.valid_ms());
         ours = true;
     }
     std::lock_guard<std::mutex> lock(changed_mutex_);
@@ -39,11 +47,21 @@ void GrantReader::close() {
 }
 
 std::optional<double> GrantReader::current() const {
+    return view().grant_bps;
+}
+
+core::GrantView GrantReader::view() const {
+    const base::SteadyTime now = clock_.now();
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!rate_bps_ || clock_.now() >= valid_until_) {
-        return std::nullopt;
-    }
-    return rate_bps_;
+    core::GrantView out;
+    out.grant_bps = own_grant_.in_force(now);
+    out.newcomer_bps = newcomer_.in_force(now);
+    out.joining = !own_grant_.rate_bps && !newcomer_.rate_bps && now < join_until_;
+    return out;
+}
+
+std::optional<double> GrantReader::Heard::in_force(base::SteadyTime now) const {
+    return now < valid_until ? rate_bps : std::nullopt;
 }
 
 }  // namespace tgw::dds

@@ -9,11 +9,13 @@
 #include <fastdds/rtps/common/GuidPrefix_t.hpp>
 
 #include "base/clock.hpp"
+#include "gateway/core/granted_rate.hpp"
 
 namespace tgw::dds {
 
 /// The listener of the gateway's reader of CHANNEL_GRANT_TOPIC: keeps the latest grant for its own WAN participant
-/// (`own`), and calls `changed` with it as it comes, in Fast DDS's thread.
+/// (`own`) and the newcomers' share (NEWCOMER_PREFIX), and calls `changed` as either comes, in Fast DDS's thread.
+/// The gateway joins the channel when the reader is made (core::JOIN_WAIT).
 class GrantReader final : public eprosima::fastdds::dds::DataReaderListener {
   public:
     GrantReader(const eprosima::fastrtps::rtps::GuidPrefix_t& own, const base::Clock& clock,
@@ -21,8 +23,11 @@ class GrantReader final : public eprosima::fastdds::dds::DataReaderListener {
 
     void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
 
-    /// The grant in bit/s while it is valid; nullopt before the first, and once the last has run out.
+    /// Its own grant in bit/s while it is valid; nullopt before the first, and once the last has run out.
     std::optional<double> current() const;
+    /// Its own grant and the newcomers' share, each while valid, and whether the gateway is still joining: no grant
+    /// of either kind heard yet, within core::JOIN_WAIT.
+    core::GrantView view() const;
 
     /// Calls `changed` no more: once it returns, what `changed` uses may go while the reader still exists.
     void close();
@@ -32,10 +37,16 @@ class GrantReader final : public eprosima::fastdds::dds::DataReaderListener {
     const base::Clock& clock_;
     const std::function<void()> changed_;
     mutable std::mutex mutex_;
-    std::optional<double> rate_bps_;  // under mutex_
-    base::SteadyTime valid_until_{};  // under mutex_
-    std::mutex changed_mutex_;        ///< held while `changed_` runs
-    bool closed_ = false;             // under changed_mutex_
+    struct Heard {
+        std::optional<double> rate_bps;
+        base::SteadyTime valid_until{};
+        std::optional<double> in_force(base::SteadyTime now) const;
+    };
+    Heard own_grant_;  // under mutex_
+    Heard newcomer_;   // under mutex_
+    const base::SteadyTime join_until_;
+    std::mutex changed_mutex_;  ///< held while `changed_` runs
+    bool closed_ = false;       // under changed_mutex_
 };
 
 }  // namespace tgw::dds

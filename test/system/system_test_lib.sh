@@ -54,8 +54,8 @@ run_demo() {
 }
 
 # start_testbed RATE NAME [UP_ARGS...]: a testbed of its own shaped at RATE bit/s (UP_ARGS go to `scripts/testbed
-# up`: --routed, --robots N) and a work directory, both removed at exit
-# with every process whose PID is added to PIDS. Sets WORK, TESTBED_ID, robot_addr, basecamp_addr, veth, tb (the
+# up`: --routed, --robots N) and a work directory, both removed at exit (KEEP_WORK=1 keeps the directory, to look
+# into a run) with every process whose PID is added to PIDS. Sets WORK, TESTBED_ID, robot_addr, basecamp_addr, veth, tb (the
 # prefix that runs a command in a namespace: "${tb[@]}" robot CMD) and robot_cyclone (a CYCLONEDDS_URI for a
 # Cyclone program on the robot's loopback, where the gateway's robot participant listens).
 PIDS=()
@@ -76,7 +76,11 @@ stop_testbed() {
     for pid in "${PIDS[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
     for pid in "${PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
     TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed down 2>/dev/null || true
-    rm -rf "$WORK"
+    if [ -n "${KEEP_WORK:-}" ]; then
+        echo "outputs kept in $WORK (KEEP_WORK)" >&2
+    else
+        rm -rf "$WORK"
+    fi
 }
 
 # start_paper_publisher SECONDS: tm-robot-sim publishing the paper's workload at 5 Hz on the robot's loopback (domain

@@ -99,7 +99,7 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
     if (gateway.statuses_published() > 0) {
         const tgw::core::TopicCounters status = gateway.status_counters();
         std::printf(
-            "status on tgw/status: %llu made, %llu forwarded, %llu past their 1 s TTL, %llu held back as "
+            "status on tgw/status: %llu made, %llu forwarded, %llu past their TTL, %llu held back as "
             "too long for the link, %llu with no reader\n",
             static_cast<unsigned long long>(gateway.statuses_published()),
             static_cast<unsigned long long>(status.forwarded),

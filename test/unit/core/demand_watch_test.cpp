@@ -31,16 +31,23 @@ TEST(DemandChangedTest, OnlyAMoveBeyondBothTheFractionAndTheFloorCounts) {
     EXPECT_TRUE(demand_changed(told, {{20s, 40'000}}, 0.25, 1000)) << "an urgency gone";
 }
 
-TEST(DemandWatchTest, SaysNothingBeforeTheFirstStatus) {
+TEST(DemandWatchTest, AsksForAStatusUntilOneHasLeft) {
     DemandWatch watch({}, WIRE);
-    EXPECT_FALSE(watch.changed(T0, hazards(0)));
-    EXPECT_FALSE(watch.changed(T0 + 1s, hazards(1000)));
+    EXPECT_TRUE(watch.changed(T0, hazards(0))) << "the base camp has heard nothing yet";
+    watch.sent(T0, hazards(0));
+    EXPECT_FALSE(watch.changed(T0 + 1s, hazards(0))) << "its fate unknown";
+    watch.delivered(false);  // expired in the gateway's queue
+    EXPECT_TRUE(watch.changed(T0 + 2s, hazards(0))) << "again";
+    tell(watch, T0 + 2s, hazards(0));
+    EXPECT_FALSE(watch.changed(T0 + 3s, hazards(0))) << "told, and nothing new";
 }
 
 TEST(DemandWatchTest, HazardsThatStartAfterAStatusAskForTheNextOneWithinTheWindow) {
     DemandWatch watch({}, WIRE);
-    // Quiet: one sample a second, told in the first status.
+    // Quiet: one sample a second, told in the second status (the first tells only what waits: nothing).
     watch.changed(T0, hazards(0));
+    tell(watch, T0, hazards(0));
+    EXPECT_DOUBLE_EQ(watch.told()[0].bps, 0) << "the first status: nothing waits";
     watch.changed(T0 + 1s, hazards(1));
     tell(watch, T0 + 1s, hazards(1));
     EXPECT_DOUBLE_EQ(watch.told()[0].bps, 238 * 8) << "one sample over the first second";
@@ -71,6 +78,7 @@ TEST(DemandWatchTest, AStatusThatToldTheNewDemandOnlyInPartAsksForAnother) {
 TEST(DemandWatchTest, ADemandThatDwindlesIsToldToo) {
     DemandWatch watch({}, WIRE);
     watch.changed(T0, hazards(0));
+    tell(watch, T0, hazards(0));
     watch.changed(T0 + 1s, hazards(10));
     tell(watch, T0 + 1s, hazards(10));  // 10 a second over the first period
     watch.changed(T0 + 2s, hazards(20));
@@ -82,6 +90,7 @@ TEST(DemandWatchTest, ADemandThatDwindlesIsToldToo) {
 TEST(DemandWatchTest, AStatusDroppedBeforeItLeftToldNothing) {
     DemandWatch watch({}, WIRE);
     watch.changed(T0, hazards(0));
+    tell(watch, T0, hazards(0));
     watch.changed(T0 + 1s, hazards(1));
     tell(watch, T0 + 1s, hazards(1));
     watch.changed(T0 + 2s, hazards(2));

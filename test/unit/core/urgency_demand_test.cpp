@@ -70,6 +70,20 @@ TEST(UrgencyDemandTest, NoTimeNoRate) {
     EXPECT_TRUE(urgency_demand({topic("A", 1s, 0, 0, 0)}, {topic("A", 1s, 5, 5, 1'190)}, 0s, WIRE).empty());
 }
 
+TEST(GrantableDemandTest, TheGatewaysOwnTrafficGoesWithTheMostUrgentAndAllIsScaledToItsBudget) {
+    const auto granted = grantable_demand({{1s, 19'000}, {20s, 40'000}}, 1'000, 0.95);
+    ASSERT_EQ(granted.size(), 2u);
+    EXPECT_EQ(granted[0].ttl, 1s);
+    EXPECT_DOUBLE_EQ(granted[0].bps, 20'000 / 0.95) << "with the heartbeats and discovery";
+    EXPECT_DOUBLE_EQ(granted[1].bps, 40'000 / 0.95);
+}
+
+TEST(GrantableDemandTest, NoDemandNoGrantAndAnOddFractionCountsAsWhole) {
+    EXPECT_TRUE(grantable_demand({}, 1'000, 0.95).empty());
+    EXPECT_DOUBLE_EQ(grantable_demand({{1s, 1'000}}, 0, 0)[0].bps, 1'000);
+    EXPECT_DOUBLE_EQ(grantable_demand({{1s, 1'000}}, -5, 1.5)[0].bps, 1'000);
+}
+
 TEST(LeastShareTest, RoomForTheStatusAndTheMostUrgentSampleEachWithinItsTtlTwiceOver) {
     // A status of 400 bytes on the wire within 1 s: 3,200 bit/s; a hazard of 238 bytes within 1 s: 1,904; the
     // 20-second topic's 1,210-byte samples do not count.

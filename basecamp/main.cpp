@@ -127,9 +127,11 @@ int main(int argc, char** argv) {
                       "repeatable, nothing else goes that way");
     double channel_bps = 0;
     relay
-        ->add_option("--channel-rate", channel_bps,
-                     "experimental (see the README): bit/s of the radio channel the gateways share; each gateway with "
-                     "--channel-grants gets its share on tgw/grant every second, the fleet's shortest TTLs first")
+        ->add_option(
+            "--channel-rate", channel_bps,
+            "experimental (see the README): bit/s of the radio channel the gateways share; each gateway with "
+            "--channel-grants gets its share of 90 % of it on tgw/grant every second, the fleet's shortest TTLs "
+            "first; the other 10 % is the share of gateways that join")
         ->check(CLI::PositiveNumber);
     std::string relay_out;
     relay->add_option("--out", relay_out, "also record every sample taken off the WAN, as 'record' does (SQLite)");

@@ -291,7 +291,8 @@ int main(int argc, char** argv) {
     app.add_flag("--channel-grants", config.channel_grants,
                  "a fleet's shared channel: budget for the lower of the sensor's rate and this gateway's share, "
                  "which the base camp grants on tgw/grant (tm-basecamp relay --channel-rate) from the statuses; the "
-                 "status goes first and also when the demand moves; the sensor's rate alone while no grant is valid");
+                 "status goes first and also when the demand moves; without a grant of its own, the newcomers' share "
+                 "(or a tenth of the sensor's rate for the first 30 s), and the sensor's rate once no grant is valid");
     std::string duplex = "half";
     app.add_option("--duplex", duplex,
                    "half: the radio carries both directions on one channel (Wi-Fi, most telemetry radios), so the "

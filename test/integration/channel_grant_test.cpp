@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <string>
 #include <thread>
 
 #include "PaperWorkloadPubSubTypes.h"
+#include "gateway/core/granted_rate.hpp"
 #include "test/integration/relay_fixture.hpp"
 
 namespace tgw::test {
@@ -77,6 +79,22 @@ TEST_F(ChannelGrantTest, TheRobotWithUrgentSamplesGetsTheirShareFirst) {
     for (const auto& [gateway, bps] : grants)
         total += bps;
     EXPECT_LE(total, CHANNEL_BPS * 1.001);
+}
+
+// A gateway the base camp has no status of (it sends none here) has no grant of its own: it budgets for the
+// newcomers' share, a tenth of the channel, not for its sensor's 50 Mbit/s.
+TEST_F(ChannelGrantTest, AGatewayWithoutAGrantOfItsOwnBudgetsForTheNewcomersShare) {
+    GatewayConfig c = config();
+    c.robot_name = "rover1";
+    c.channel_grants = true;
+    c.status_period = base::Duration::zero();
+    start_gateway(c);
+    start_relay(nullptr, 1s, {}, CHANNEL_BPS);
+    const double newcomers = core::JOIN_SHARE * CHANNEL_BPS;
+    const bool ok = wait_until([&] { return std::abs(gateway_->rate_bps() - newcomers) < 1; }, 20s);
+    ASSERT_TRUE(ok) << "budgets for " << gateway_->rate_bps() << " bit/s";
+    EXPECT_FALSE(gateway_->granted_bps()) << "no grant of its own";
+    EXPECT_NEAR(relay_->newcomer_share().value_or(-1), newcomers, 1);
 }
 
 }  // namespace

@@ -14,7 +14,6 @@
 #include "ChannelGrantPubSubTypes.h"
 #include "GatewayStatusPubSubTypes.h"
 #include "base/config_error.hpp"
-#include "gateway/core/granted_rate.hpp"
 #include "gateway/dds/channel_grant_topic.hpp"
 #include "gateway/dds/status_topic.hpp"
 
@@ -116,9 +115,9 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
     std::deque<Heard>& heard = statuses_[key];
     if (!heard.empty() && now.sent_ns <= heard.back().sent_ns)
         return;  // a repeat, or older than what we have
-    // The demand over DEMAND_WINDOW at least: from the newest status that much older, else the oldest kept.
+    // The demand over core::DEMAND_WINDOW at least: from the newest status that much older, else the oldest kept.
     // Between two statuses in a row, often under a second apart, a few samples more or less swung the grants.
-    const std::uint64_t window_ns = static_cast<std::uint64_t>(std::chrono::nanoseconds(DEMAND_WINDOW).count());
+    const std::uint64_t window_ns = static_cast<std::uint64_t>(std::chrono::nanoseconds(core::DEMAND_WINDOW).count());
     const Heard* earlier = heard.empty() ? nullptr : &heard.front();
     for (const Heard& h : heard) {
         if (now.sent_ns - h.sent_ns >= window_ns)
@@ -154,7 +153,7 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
     // TTL of a second, not its Lifespan: a floor a fifth as large let the grants swing below what a robot's A and
     // B needed (three robots at 60,000 bit/s: 41 and 109 of 200 A on time in two runs, against 200 and 200).
     const double floor_bps =
-        core::least_share_bps(now.topics, status_wire_bytes, dds::STATUS_TTL, wire_, 1.0) + unscheduled_bps;
+        core::least_share_bps(now.topics, status_wire_bytes, dds::STATUS_TTL, wire_, 1.0, unscheduled_bps);
     const double budget_fraction = status.sensed_rate_bps() > 0 ? status.budget_bps() / status.sensed_rate_bps() : 1.0;
     shares_.report(key,
                    core::grantable_demand(core::urgency_demand(before, now.topics, elapsed, wire_), unscheduled_bps,
@@ -173,16 +172,15 @@ void ChannelGrantor::poll() {
     next_grant_ = clock_.now() + GRANT_PERIOD;
     std::lock_guard<std::mutex> lock(mutex_);
     last_grants_ = shares_.grants();
-    // Not more: several gateways may join at once (a fleet starting). Granting them also what the robots known
-    // left unclaimed (all of the channel at the start) let three newcomers send three channels' worth at once.
-    last_newcomer_bps_ = core::JOIN_SHARE * channel_bps_;
     const auto sent_ns = static_cast<std::uint64_t>(base::to_ns(clock_.wall_now()));
     for (const auto& [key, bps] : last_grants_) {
         const auto heard = statuses_.find(key);
         if (heard != statuses_.end() && !heard->second.empty())
             write_grant(heard->second.back().prefix, bps, sent_ns);
     }
-    write_grant(dds::NEWCOMER_PREFIX, last_newcomer_bps_, sent_ns);
+    // Not more: several gateways may join at once (a fleet starting). Granting them also what the robots known
+    // left unclaimed (all of the channel at the start) let three newcomers send three channels' worth at once.
+    write_grant(dds::NEWCOMER_PREFIX, newcomer_share(), sent_ns);
 }
 
 void ChannelGrantor::write_grant(const Prefix& prefix, double bps, std::uint64_t sent_ns) {
@@ -197,11 +195,6 @@ void ChannelGrantor::write_grant(const Prefix& prefix, double bps, std::uint64_t
 core::ChannelGrants ChannelGrantor::last_grants() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return last_grants_;
-}
-
-double ChannelGrantor::last_newcomer_share() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return last_newcomer_bps_;
 }
 
 }  // namespace tgw::basecamp

@@ -11,6 +11,8 @@
 
 #include "base/clock.hpp"
 #include "gateway/core/channel_shares.hpp"
+#include "gateway/core/demand_watch.hpp"
+#include "gateway/core/granted_rate.hpp"
 #include "gateway/core/urgency_demand.hpp"
 
 namespace eprosima::fastdds::dds {
@@ -36,8 +38,6 @@ class ChannelGrantor {
     /// sensor: both would send as if the channel were theirs. A robot's statuses can be lost for a while (each
     /// expires behind a long sample on a small share); a gateway that restarted ends its old share at once.
     static constexpr base::Duration STALE_AFTER = std::chrono::seconds(30);
-    /// A robot's demand is worked out over at least this long (as its gateway's core::DemandWatch does).
-    static constexpr base::Duration DEMAND_WINDOW = std::chrono::seconds(2);
     /// Every gateway's floor: a status and discovery, and its first sample.
     static constexpr double FLOOR_BPS = 2000;
 
@@ -58,8 +58,8 @@ class ChannelGrantor {
 
     /// The grants last written, by gateway prefix (hex).
     core::ChannelGrants last_grants() const;
-    /// The newcomers' share last written (dds::NEWCOMER_PREFIX).
-    double last_newcomer_share() const;
+    /// The newcomers' share it writes (dds::NEWCOMER_PREFIX): core::JOIN_SHARE of the channel.
+    double newcomer_share() const { return core::JOIN_SHARE * channel_bps_; }
 
   private:
     using Prefix = std::array<std::uint8_t, 12>;
@@ -80,10 +80,10 @@ class ChannelGrantor {
     const core::WireModel wire_;
     mutable std::mutex mutex_;
     core::ChannelShares shares_;  // under mutex_
-    /// Per gateway, its latest statuses: the newest at least DEMAND_WINDOW old, and those after it; under mutex_.
+    /// Per gateway, its latest statuses: the newest at least core::DEMAND_WINDOW old, and those after it; under
+    /// mutex_.
     std::map<std::string, std::deque<Heard>> statuses_;
     core::ChannelGrants last_grants_;  // under mutex_
-    double last_newcomer_bps_ = 0;     // under mutex_
     base::SteadyTime next_grant_{};
     std::atomic<bool> status_heard_{false};  ///< a status came since the grants were last written
 };

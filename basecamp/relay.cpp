@@ -246,7 +246,7 @@ core::ChannelGrants Relay::channel_grants() const {
 }
 
 std::optional<double> Relay::newcomer_share() const {
-    return grantor_ ? std::optional<double>(grantor_->last_newcomer_share()) : std::nullopt;
+    return grantor_ ? std::optional<double>(grantor_->newcomer_share()) : std::nullopt;
 }
 
 std::vector<dds::UplinkCount> Relay::uplink_counts() const {

@@ -79,7 +79,7 @@ class Relay {
 
     /// The shares of the channel last granted, by gateway prefix (hex); empty without a channel rate.
     core::ChannelGrants channel_grants() const;
-    /// The newcomers' share last granted (ChannelGrantor::last_newcomer_share); nullopt without a channel rate.
+    /// The newcomers' share last granted (ChannelGrantor::newcomer_share); nullopt without a channel rate.
     std::optional<double> newcomer_share() const;
 
     /// The uplink topics a camp publisher was discovered of, with what became of their samples.

@@ -21,11 +21,14 @@ namespace tgw::core {
 bool demand_changed(const std::vector<UrgencyDemand>& told, const std::vector<UrgencyDemand>& now, double fraction,
                     double floor_bps);
 
+/// The span a robot's demand is worked out over, by its gateway (DemandWatch) and by the base camp's grantor.
+inline constexpr base::Duration DEMAND_WINDOW = std::chrono::seconds(2);
+
 class DemandWatch {
   public:
     struct Config {
-        base::Duration window = std::chrono::seconds(2);  ///< the demand now is over this much of the recent past
-        double fraction = 0.25;                           ///< see demand_changed()
+        base::Duration window = DEMAND_WINDOW;  ///< the demand now is over this much of the recent past
+        double fraction = 0.25;                 ///< see demand_changed()
         double floor_bps = 1000;
     };
 

@@ -66,7 +66,7 @@ std::vector<UrgencyDemand> grantable_demand(std::vector<UrgencyDemand> demand, d
 }
 
 double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_wire_bytes, base::Duration status_ttl,
-                       const WireModel& wire, double headroom) {
+                       const WireModel& wire, double headroom, double unscheduled_bps) {
     double bps = status_ttl > base::Duration::zero()
                      ? 8.0 * static_cast<double>(status_wire_bytes) / base::to_seconds(status_ttl)
                      : 0.0;
@@ -82,7 +82,7 @@ double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_
                 bps = std::max(bps, 8.0 * wire_bytes_per_sample(t, wire) / base::to_seconds(t.ttl));
         }
     }
-    return headroom * bps;
+    return headroom * bps + std::max(0.0, unscheduled_bps);
 }
 
 }  // namespace tgw::core

@@ -41,9 +41,10 @@ std::vector<UrgencyDemand> grantable_demand(std::vector<UrgencyDemand> demand, d
 /// The least share a robot needs to keep in touch (split_channel()'s floor for it): its status, of
 /// `status_wire_bytes` on the wire, within `status_ttl`, and one sample of its most urgent topic (shortest TTL;
 /// the mean wire size of what it forwarded, else of what waits) within that TTL; the larger, `headroom` times over
-/// (the gateway's budget keeps a margin, and other traffic shares the link). Below it a status cannot leave, the
-/// base camp never learns the robot's demand, and its most urgent samples are too long for its share.
+/// (the gateway's budget keeps a margin, and other traffic shares the link); plus `unscheduled_bps`, the gateway's
+/// traffic outside the schedule, which its budget pays first. Below it a status cannot leave, the base camp never
+/// learns the robot's demand, and its most urgent samples are too long for its share.
 double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_wire_bytes, base::Duration status_ttl,
-                       const WireModel& wire, double headroom = 2.0);
+                       const WireModel& wire, double headroom = 2.0, double unscheduled_bps = 0);
 
 }  // namespace tgw::core

@@ -900,8 +900,7 @@ void Gateway::publish_status_nts() {
         }
         status_unscheduled_seen_ = unscheduled;
         least_share_bps_.store(core::least_share_bps(loads, config_.scheduler.wire.wire_bytes(bytes), STATUS_TTL,
-                                                     config_.scheduler.wire, 1.0) +
-                               unscheduled_bps);
+                                                     config_.scheduler.wire, 1.0, unscheduled_bps));
         apply_rate();
     }
 

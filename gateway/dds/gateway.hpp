@@ -320,15 +320,13 @@ class Gateway {
     std::string sensor_detail_;
     std::optional<std::chrono::steady_clock::time_point> last_status_at_;  ///< the worker thread only
     double last_status_bits_ = 0.0;  ///< the last status's size on the wire; the worker thread only
-    /// The least share the gateway budgets for under a grant (core::least_share_bps of its last status, plus its
-    /// traffic outside the schedule since the one before): room
+    /// The least share the gateway budgets for under a grant (core::least_share_bps of its last status): room
     /// for its next status and its most urgent sample. With --channel-grants and a status.
     std::atomic<double> least_share_bps_{0.0};
     std::optional<core::DemandWatch> demand_watch_;
-    std::uint64_t status_forwarded_seen_ = 0;    ///< the status topic's counts when the last status was made
-    std::uint64_t status_dropped_seen_ = 0;      ///< with --channel-grants and a status; the worker thread only
-    std::uint64_t status_unscheduled_seen_ = 0;  ///< unscheduled_wire_bytes_ when the last status was made; likewise
-    double logged_rate_bps_ = -1.0;              ///< the last rate written to the log's link_rates
+    std::uint64_t status_forwarded_seen_ = 0;  ///< the status topic's counts when the last status was made
+    std::uint64_t status_dropped_seen_ = 0;    ///< with --channel-grants and a status; the worker thread only
+    double logged_rate_bps_ = -1.0;            ///< the last rate written to the log's link_rates
     base::SteadyTime logged_rate_at_{};
     double delivered_cap_bps_ = 0.0;                           ///< 0: the delivered-rate check does not cap
     std::atomic<std::uint64_t> pending_unscheduled_bytes_{0};  ///< reported, not yet charged to the loop

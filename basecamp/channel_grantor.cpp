@@ -148,13 +148,14 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
     }
     // Its floor: room for its next status (this one's size) and its most urgent sample, each within its TTL, once
     // over (a gateway without a grant of its own budgets twice that, core::NEWCOMER_LEAST_SHARE_FACTOR), and for its
-    // traffic outside the schedule since then, which its budget pays first. Twice over here held back another
-    // robot's hazards (two robots at 30,000 bit/s: 274 of 300 on time, against 295 once over). Within the status's
-    // TTL of a second, not its Lifespan: a floor a fifth as large let the grants swing below what a robot's A and
-    // B needed (three robots at 60,000 bit/s: 41 and 109 of 200 A on time in two runs, against 200 and 200).
-    const double floor_bps =
-        core::least_share_bps(now.topics, status_wire_bytes, dds::STATUS_TTL, wire_, 1.0, unscheduled_bps);
+    // traffic outside the schedule since then, which its budget pays first, over the part of its rate it budgets.
+    // Twice over here held back another robot's hazards (two robots at 30,000 bit/s: 274 of 300 on time, against
+    // 295 once over). Within the status's TTL of a second, not its Lifespan: a floor a fifth as large let the grants
+    // swing below what a robot's A and B needed (three robots at 60,000 bit/s: 41 and 109 of 200 A on time in two
+    // runs, against 200 and 200).
     const double budget_fraction = status.sensed_rate_bps() > 0 ? status.budget_bps() / status.sensed_rate_bps() : 1.0;
+    const double floor_bps =
+        core::least_share_bps(now.topics, status_wire_bytes, dds::STATUS_TTL, wire_, budget_fraction, unscheduled_bps);
     shares_.report(key,
                    core::grantable_demand(core::urgency_demand(before, now.topics, elapsed, wire_), unscheduled_bps,
                                           budget_fraction),

@@ -28,6 +28,11 @@ double wire_bytes_per_sample(const TopicLoad& t, const WireModel& wire) {
     return waiting_wire_bytes_per_sample(t, wire);
 }
 
+/// The part of its rate a gateway budgets, as its status says it; anything not in (0, 1] counts as all of it.
+double usable_fraction(double budget_fraction) {
+    return budget_fraction > 0 && budget_fraction <= 1 ? budget_fraction : 1.0;
+}
+
 }  // namespace
 
 std::vector<UrgencyDemand> urgency_demand(const std::vector<TopicLoad>& before, const std::vector<TopicLoad>& now,
@@ -58,7 +63,7 @@ std::vector<UrgencyDemand> grantable_demand(std::vector<UrgencyDemand> demand, d
                                             double budget_fraction) {
     if (demand.empty())
         return demand;
-    const double fraction = budget_fraction > 0 && budget_fraction <= 1 ? budget_fraction : 1.0;
+    const double fraction = usable_fraction(budget_fraction);
     demand.front().bps += std::max(0.0, unscheduled_bps);  // shortest TTL first
     for (UrgencyDemand& d : demand)
         d.bps /= fraction;
@@ -66,7 +71,7 @@ std::vector<UrgencyDemand> grantable_demand(std::vector<UrgencyDemand> demand, d
 }
 
 double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_wire_bytes, base::Duration status_ttl,
-                       const WireModel& wire, double headroom, double unscheduled_bps) {
+                       const WireModel& wire, double budget_fraction, double unscheduled_bps) {
     double bps = status_ttl > base::Duration::zero()
                      ? 8.0 * static_cast<double>(status_wire_bytes) / base::to_seconds(status_ttl)
                      : 0.0;
@@ -82,7 +87,7 @@ double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_
                 bps = std::max(bps, 8.0 * wire_bytes_per_sample(t, wire) / base::to_seconds(t.ttl));
         }
     }
-    return headroom * bps + std::max(0.0, unscheduled_bps);
+    return (bps + std::max(0.0, unscheduled_bps)) / usable_fraction(budget_fraction);
 }
 
 }  // namespace tgw::core

@@ -217,11 +217,15 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     sink_->set_compact(compact_.get());
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
     if (config_.status_period > base::Duration::zero()) {
-        // The status is scheduled like a sample of a topic with a TTL of STATUS_TTL (and first, under grants), so
-        // its bytes leave only when the budget has room for them.
+        // The status is scheduled like a sample of a topic with a TTL of STATUS_TTL, so its bytes leave only when
+        // the budget has room for them. Under grants it goes first, and its deadline is its Lifespan: a robot
+        // granted its least share sends a status within about a second, but behind a sample already on the wire
+        // it could not within STATUS_TTL, and a status doomed each time never told the base camp of the demand
+        // that would raise the grant.
         OfferedQos offer;
         offer.reliable = true;  // matched by any reader's defaults
-        status_topic_ = loop_->add_topic(core::TopicConfig{STATUS_TOPIC, STATUS_TTL, config_.channel_grants});
+        status_topic_ = loop_->add_topic(core::TopicConfig{
+            STATUS_TOPIC, config_.channel_grants ? STATUS_LIFESPAN : STATUS_TTL, config_.channel_grants});
         if (compact_) {
             compact_->announce(CatalogLane{*status_topic_, STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true,
                                            STATUS_TTL, 0, offer, STATUS_LIFESPAN});
@@ -893,7 +897,7 @@ void Gateway::publish_status_nts() {
         // over the last status period, as the grantor adds it over 2 s: a burst of repairs made this floor, and
         // the gateway's rate, exceed its grant (ChannelGrantTest: two gateways 31,016 bit/s of a 30,000 channel).
         least_share_bps_.store(core::least_share_bps(loads, config_.scheduler.wire.wire_bytes(bytes), STATUS_TTL,
-                                                     config_.scheduler.wire, 1.0));
+                                                     config_.scheduler.wire, config_.scheduler.budget_fraction));
         apply_rate();
     }
 

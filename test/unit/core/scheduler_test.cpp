@@ -215,6 +215,19 @@ TEST_F(SchedulerTest, LogsAHeldBackSampleAsOversizeWhenItCanNoLongerMakeItsDeadl
     EXPECT_EQ(sut->queued_samples(), 0u);
 }
 
+// The status under --channel-grants: a robot granted its least share must still tell the base camp of the
+// hazards that would raise it, though the status holds the link longer than the hazards' TTL allows.
+TEST_F(SchedulerTest, AFirstTopicsLargeSampleIsNotHeldBackForTheMostUrgentTopic) {
+    make_sut(PolicyKind::ttl, 10'000);
+    const TopicId status = sut->add_topic({"status", seconds(5), true});
+    push(a);
+    release();
+    push(status, 1'500);  // about 1.3 s on the wire at 10 kbit/s: longer than A's TTL
+    run_for(seconds(1));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a, status}));
+    EXPECT_EQ(sut->queued_samples(), 0u);
+}
+
 TEST_F(SchedulerTest, LargeSamplesAreNotHeldBackOnceNoShortTtlTopicIsActive) {
     make_sut(PolicyKind::ttl, 10'000);
     push(a);

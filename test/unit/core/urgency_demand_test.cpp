@@ -84,18 +84,27 @@ TEST(GrantableDemandTest, NoDemandNoGrantAndAnOddFractionCountsAsWhole) {
     EXPECT_DOUBLE_EQ(grantable_demand({{1s, 1'000}}, -5, 1.5)[0].bps, 1'000);
 }
 
-TEST(LeastShareTest, RoomForTheStatusAndTheMostUrgentSampleEachWithinItsTtlTwiceOver) {
+TEST(LeastShareTest, RoomForTheStatusAndTheMostUrgentSampleEachWithinItsTtl) {
     // A status of 400 bytes on the wire within 1 s: 3,200 bit/s; a hazard of 238 bytes within 1 s: 1,904; the
     // 20-second topic's 1,210-byte samples do not count.
     const std::vector<TopicLoad> topics = {topic("D", 20s, 10, 10, 12'100), topic("A", 1s, 10, 10, 2'380)};
-    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE), 2 * 3'200);
-    EXPECT_DOUBLE_EQ(least_share_bps(topics, 100, 1s, WIRE), 2 * 1'904) << "a small status: the hazard decides";
-    EXPECT_DOUBLE_EQ(least_share_bps({}, 100, 1s, WIRE, 1.0), 800) << "no topic yet";
+    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE), 3'200);
+    EXPECT_DOUBLE_EQ(least_share_bps(topics, 100, 1s, WIRE), 1'904) << "a small status: the hazard decides";
+    EXPECT_DOUBLE_EQ(least_share_bps({}, 100, 1s, WIRE), 800) << "no topic yet";
+}
+
+TEST(LeastShareTest, PaysForTheBudgetFractionAndTheTrafficOutsideTheSchedule) {
+    // A gateway that budgets 95 % of its rate needs its floor over 0.95 for the status to leave within its TTL.
+    const std::vector<TopicLoad> topics = {topic("A", 1s, 10, 10, 2'380)};
+    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE, 0.95), 3'200 / 0.95);
+    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE, 0.5, 800), (3'200 + 800) / 0.5);
+    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE, 0), 3'200) << "an odd fraction counts as whole";
+    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE, 1.5), 3'200);
 }
 
 TEST(LeastShareTest, AnUrgentTopicNeverForwardedIsSizedFromWhatWaits) {
     const std::vector<TopicLoad> topics = {topic("A", 500ms, 3, 0, 0, 3, 3 * 1000)};
-    EXPECT_DOUBLE_EQ(least_share_bps(topics, 0, 1s, WIRE, 1.0), 8.0 * static_cast<double>(WIRE.wire_bytes(1000)) / 0.5);
+    EXPECT_DOUBLE_EQ(least_share_bps(topics, 0, 1s, WIRE), 8.0 * static_cast<double>(WIRE.wire_bytes(1000)) / 0.5);
 }
 
 }  // namespace

@@ -111,11 +111,6 @@ bool Scheduler::active(TopicId topic, base::SteadyTime now) const {
     return t.seen && t.reachable && now - t.last_arrival <= t.config.ttl;
 }
 
-base::Duration Scheduler::wire_time_limit(TopicId candidate) const {
-    // A first topic goes before every other whatever their TTLs: none of them is more urgent than it.
-    return topics_[candidate].config.first ? base::Duration::max() : protect_.limit_for(candidate);
-}
-
 base::Duration Scheduler::protect_limit(TopicId topic) const {
     const TopicState& t = topics_[topic];
     return t.config.ttl - budget_.transmit_time(t.last_wire_bits);
@@ -294,7 +289,7 @@ void Scheduler::evict_over_cap(SampleSink& sink) {
 bool Scheduler::may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std::uint64_t bits, SampleSink& sink) {
     const DeadlineQueue::Peek sample = queue_.at(slot);
     const base::Duration tx = budget_.transmit_time(bits);
-    const bool blocks_urgent = tx > wire_time_limit(sample.topic);
+    const bool blocks_urgent = tx > protect_.limit_for(sample.topic);
     if (start + tx + config_.link_latency > sample.deadline) {
         drop(take(slot), blocks_urgent ? DropReason::oversize : DropReason::doomed, sink);
         return false;
@@ -438,7 +433,7 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
         }
         const bool alone = bundle.empty();
         if (add_chunk(start, earliest_deadline, limit, bundle, samples)) {
-            limit = std::min(limit, wire_time_limit(chunked_->sample.topic));
+            limit = std::min(limit, protect_.limit_for(chunked_->sample.topic));
             earliest_deadline = std::min(earliest_deadline, chunked_->sample.deadline);
         } else if (alone) {
             // Not even a small chunk is short enough for the most urgent topic: look again once it goes quiet.
@@ -464,7 +459,7 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
         if (bundle.empty()) {
             const std::uint64_t alone_bits = bundle.alone_wire_bits(entry);
             const bool too_large = bundle.encoded_bytes_with(entry) > max_bytes ||
-                                   budget_.transmit_time(alone_bits) > wire_time_limit(peek.topic);
+                                   budget_.transmit_time(alone_bits) > protect_.limit_for(peek.topic);
             if (too_large) {
                 // In chunks, urgent samples travel between them; one sample at a time, the others wait. A bundle
                 // is never fragmented.
@@ -506,12 +501,12 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
             const base::Duration tx = budget_.transmit_time(bundle.wire_bits(bytes));
             // Joining must cost no entry its deadline, nor the most urgent topic its own (DESIGN section 4).
             if (bytes > max_bytes || start + tx + config_.link_latency > std::min(earliest_deadline, peek.deadline) ||
-                tx > std::min(limit, wire_time_limit(peek.topic))) {
+                tx > std::min(limit, protect_.limit_for(peek.topic))) {
                 passed_over = true;
                 return true;
             }
         }
-        limit = std::min(limit, wire_time_limit(peek.topic));
+        limit = std::min(limit, protect_.limit_for(peek.topic));
         earliest_deadline = std::min(earliest_deadline, peek.deadline);
         bundle.add(entry);
         samples.push_back(take(slot));
@@ -604,7 +599,7 @@ bool Scheduler::add_chunk(base::SteadyTime start, base::SteadyTime earliest_dead
         return BundleBuilder::Entry{whole.topic,     whole.route, whole.source_time, n, plain && n >= 4,
                                     whole.key.valid, &info};
     };
-    const base::Duration own_limit = std::min(limit, wire_time_limit(whole.topic));
+    const base::Duration own_limit = std::min(limit, protect_.limit_for(whole.topic));
     const base::SteadyTime by = std::min(earliest_deadline, whole.deadline);
     const auto fits = [&](std::size_t n) {
         const std::size_t bytes = bundle.encoded_bytes_with(entry_of(n));

@@ -56,9 +56,7 @@ struct TopicConfig {
     base::Duration ttl = std::chrono::seconds(5);
     /// Ordered before every other topic, whatever the policy and the TTLs (its TTL still sets its deadline): the
     /// gateway's status under --channel-grants, whose grants follow what the status tells; behind a backlog of
-    /// samples of its own TTL it would expire, and the base camp would never hear the demand. Nor is it held back
-    /// for the most urgent topic's sake when it holds the link longer than that topic's TTL allows: at a robot's
-    /// least share its status does, and held back it never left.
+    /// samples of its own TTL it would expire, and the base camp would never hear the demand.
     bool first = false;
 };
 
@@ -192,8 +190,6 @@ class Scheduler {
 
     bool active(TopicId topic, base::SteadyTime now) const;
     base::Duration protect_limit(TopicId topic) const;
-    /// How long a sample of `candidate` may hold the link: what protect_ allows it, unbounded for a first topic.
-    base::Duration wire_time_limit(TopicId candidate) const;
     const ProtectedTopics& protected_topics(base::SteadyTime now);
     std::int64_t rank_of(TopicId topic) const;
     Sample take(DeadlineQueue::Slot slot);

@@ -84,7 +84,8 @@ double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_
     if (urgent != nullptr) {
         for (const TopicLoad& t : topics) {  // every topic of that TTL: the largest sample among them
             if (t.ttl == urgent->ttl && (t.forwarded > 0 || t.queued_samples > 0))
-                bps = std::max(bps, 8.0 * wire_bytes_per_sample(t, wire) / base::to_seconds(t.ttl));
+                bps = std::max(bps, 8.0 * (static_cast<double>(status_wire_bytes) + wire_bytes_per_sample(t, wire)) /
+                                        base::to_seconds(t.ttl));
         }
     }
     return (bps + std::max(0.0, unscheduled_bps)) / usable_fraction(budget_fraction);

@@ -38,14 +38,15 @@ std::vector<UrgencyDemand> urgency_demand(const std::vector<TopicLoad>& before, 
 std::vector<UrgencyDemand> grantable_demand(std::vector<UrgencyDemand> demand, double unscheduled_bps,
                                             double budget_fraction);
 
-/// The least share a robot needs to keep in touch (split_channel()'s floor for it): its status, of
-/// `status_wire_bytes` on the wire, within `status_ttl`, and one sample of its most urgent topic (shortest TTL;
-/// the mean wire size of what it forwarded, else of what waits) within that TTL; the larger, plus
-/// `unscheduled_bps`, the gateway's traffic outside the schedule, which its budget pays first; all divided by
-/// `budget_fraction`, the part of its rate the gateway budgets (a fraction not in (0, 1] counts as 1). Below it a
-/// status cannot leave, the base camp never learns the robot's demand, and its most urgent samples are too long
-/// for its share. Without the fraction a robot granted exactly its floor doomed every status it made (a 454-byte
-/// status at 95 % of 3,632 bit/s takes 1.05 s) and kept that grant for good (ChannelGrantTest in CI).
+/// The least share a robot needs to keep in touch (split_channel()'s floor for it): room for its status, of
+/// `status_wire_bytes` on the wire, within `status_ttl`, and for the status and one sample of its most urgent
+/// topic (shortest TTL; the mean wire size of what it forwarded, else of what waits) within that topic's TTL, the
+/// larger; plus `unscheduled_bps`, the gateway's traffic outside the schedule, which its budget pays first; all
+/// divided by `budget_fraction`, the part of its rate the gateway budgets (a fraction not in (0, 1] counts as 1).
+/// Below it a status cannot leave, and the base camp never learns the robot's demand: the status alone within its
+/// TTL at 95 % of the rate doomed it (454 bytes at 95 % of 3,632 bit/s: 1.05 s), and a status that left the most
+/// urgent topic too little time for its own sample was held back for that topic's sake (Scheduler's non-preemptive
+/// rule); either way a robot kept that grant for good (ChannelGrantTest, once in CI).
 double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_wire_bytes, base::Duration status_ttl,
                        const WireModel& wire, double budget_fraction = 1.0, double unscheduled_bps = 0);
 

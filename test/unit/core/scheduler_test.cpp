@@ -2,6 +2,7 @@
 
 #include <random>
 
+#include "gateway/core/urgency_demand.hpp"
 #include "test/unit/core/scheduler_fixture.hpp"
 
 namespace tgw::core {
@@ -215,17 +216,19 @@ TEST_F(SchedulerTest, LogsAHeldBackSampleAsOversizeWhenItCanNoLongerMakeItsDeadl
     EXPECT_EQ(sut->queued_samples(), 0u);
 }
 
-// The status under --channel-grants: a robot granted its least share must still tell the base camp of the
-// hazards that would raise it, though the status holds the link longer than the hazards' TTL allows.
-TEST_F(SchedulerTest, AFirstTopicsLargeSampleIsNotHeldBackForTheMostUrgentTopic) {
-    make_sut(PolicyKind::ttl, 10'000);
+// The status under --channel-grants (a first topic) at a robot's least share, as the base camp grants it: it must
+// not be held back for the most urgent topic's sake, or the base camp never hears of the demand that would raise
+// the share (ChannelGrantTest: a robot kept 2,375 bit/s for good while its hazards waited).
+TEST_F(SchedulerTest, AtTheLeastShareTheStatusLeavesBesideTheMostUrgentTopic) {
+    const std::size_t status_bytes = 450;
+    const std::vector<TopicLoad> loads = {TopicLoad{"A", seconds(1), 10, 10, 10 * config.wire.wire_bytes(64), 0, 0}};
+    make_sut(PolicyKind::ttl, least_share_bps(loads, config.wire.wire_bytes(status_bytes), seconds(1), config.wire));
     const TopicId status = sut->add_topic({"status", seconds(5), true});
     push(a);
-    release();
-    push(status, 1'500);  // about 1.3 s on the wire at 10 kbit/s: longer than A's TTL
+    run_for(milliseconds(500));  // A has left and is still active: the topic the non-preemptive rule protects
+    push(status, status_bytes);
     run_for(seconds(1));
     EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a, status}));
-    EXPECT_EQ(sut->queued_samples(), 0u);
 }
 
 TEST_F(SchedulerTest, LargeSamplesAreNotHeldBackOnceNoShortTtlTopicIsActive) {

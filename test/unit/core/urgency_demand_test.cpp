@@ -84,22 +84,23 @@ TEST(GrantableDemandTest, NoDemandNoGrantAndAnOddFractionCountsAsWhole) {
     EXPECT_DOUBLE_EQ(grantable_demand({{1s, 1'000}}, -5, 1.5)[0].bps, 1'000);
 }
 
-TEST(LeastShareTest, RoomForTheStatusAndTheMostUrgentSampleEachWithinItsTtl) {
-    // A status of 400 bytes on the wire within 1 s: 3,200 bit/s; a hazard of 238 bytes within 1 s: 1,904; the
-    // 20-second topic's 1,210-byte samples do not count.
+TEST(LeastShareTest, RoomForTheStatusWithinItsTtlAndBesideTheMostUrgentSampleWithinThatTtl) {
+    // A status of 400 bytes on the wire within 1 s: 3,200 bit/s; with a hazard of 238 bytes within the hazard's
+    // TTL of 1 s: 5,104 (the status on the wire must leave the hazard time for its own); the 20-second topic's
+    // 1,210-byte samples do not count.
     const std::vector<TopicLoad> topics = {topic("D", 20s, 10, 10, 12'100), topic("A", 1s, 10, 10, 2'380)};
-    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE), 3'200);
-    EXPECT_DOUBLE_EQ(least_share_bps(topics, 100, 1s, WIRE), 1'904) << "a small status: the hazard decides";
+    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE), 3'200 + 1'904);
     EXPECT_DOUBLE_EQ(least_share_bps({}, 100, 1s, WIRE), 800) << "no topic yet";
+    const std::vector<TopicLoad> slow = {topic("D", 20s, 10, 10, 12'100)};
+    EXPECT_DOUBLE_EQ(least_share_bps(slow, 400, 1s, WIRE), 3'200) << "a long TTL: the status within its own decides";
 }
 
 TEST(LeastShareTest, PaysForTheBudgetFractionAndTheTrafficOutsideTheSchedule) {
     // A gateway that budgets 95 % of its rate needs its floor over 0.95 for the status to leave within its TTL.
-    const std::vector<TopicLoad> topics = {topic("A", 1s, 10, 10, 2'380)};
-    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE, 0.95), 3'200 / 0.95);
-    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE, 0.5, 800), (3'200 + 800) / 0.5);
-    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE, 0), 3'200) << "an odd fraction counts as whole";
-    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE, 1.5), 3'200);
+    EXPECT_DOUBLE_EQ(least_share_bps({}, 400, 1s, WIRE, 0.95), 3'200 / 0.95);
+    EXPECT_DOUBLE_EQ(least_share_bps({}, 400, 1s, WIRE, 0.5, 800), (3'200 + 800) / 0.5);
+    EXPECT_DOUBLE_EQ(least_share_bps({}, 400, 1s, WIRE, 0), 3'200) << "an odd fraction counts as whole";
+    EXPECT_DOUBLE_EQ(least_share_bps({}, 400, 1s, WIRE, 1.5), 3'200);
 }
 
 TEST(LeastShareTest, AnUrgentTopicNeverForwardedIsSizedFromWhatWaits) {

@@ -62,8 +62,10 @@ ChannelGrantor::ChannelGrantor(fdds::DomainParticipant* wan, double channel_bps,
     }
     if (topic != nullptr && publisher != nullptr) {
         fdds::DataWriterQos qos = publisher->get_default_datawriter_qos();
-        // Best effort, the latest per gateway: each grant says all there is, and the next comes within a second.
-        qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+        // The latest per gateway: each grant says all there is, and the next comes within a second. Reliable, as a
+        // camp tool's reader (ROS 2's default) asks, and keep last, so that a write never waits; the gateways'
+        // best-effort readers match it too.
+        qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
         qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
         qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
         qos.history().depth = 1;

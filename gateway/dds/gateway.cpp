@@ -367,26 +367,27 @@ void Gateway::apply_reading(const sensor::RateReading& reading) {
         return;  // the guarded sensor's failures never get here; a bare one keeps the last rate
     }
     set_rate(reading.rate_bps);
-    log_rate(reading.rate_bps);
     if (reading.queued_bytes) {
         observe_link_backlog(*reading.queued_bytes);
     }
 }
 
-void Gateway::log_rate(double rate_bps) {
+void Gateway::log_rate(double sensed_bps, double rate_bps) {
     if (!log_)
         return;
     // Every change of 2 % or more, and once a second otherwise: the link's history at a row a second or so.
     const auto now = base::SteadyClock::now();
     {
         std::lock_guard<std::mutex> lock(sensor_mutex_);
-        const bool changed = std::abs(rate_bps - logged_rate_bps_) >= RATE_LOG_CHANGE * logged_rate_bps_;
+        const auto moved = [](double is, double was) { return std::abs(is - was) >= RATE_LOG_CHANGE * was; };
+        const bool changed = moved(sensed_bps, logged_sensed_bps_) || moved(rate_bps, logged_rate_bps_);
         if (!changed && now - logged_rate_at_ < RATE_LOG_PERIOD)
             return;
+        logged_sensed_bps_ = sensed_bps;
         logged_rate_bps_ = rate_bps;
         logged_rate_at_ = now;
     }
-    log_->append_rate({base::WallClock::now(), rate_bps, rate_bps * config_.scheduler.budget_fraction});
+    log_->append_rate({base::WallClock::now(), sensed_bps, rate_bps * config_.scheduler.budget_fraction});
 }
 
 double Gateway::rate_bps() const {
@@ -399,8 +400,11 @@ void Gateway::set_rate(double rate_bps) {
 }
 
 void Gateway::apply_rate() {
+    // Logged here, not where a reading comes: under grants the rate the gateway goes by moves with each grant.
     const double sensed = sensed_rate_bps_.load();
-    loop_->set_rate(grants_ ? core::granted_rate_bps(sensed, grants_->view(), least_share_bps_.load()) : sensed);
+    const double rate = grants_ ? core::granted_rate_bps(sensed, grants_->view(), least_share_bps_.load()) : sensed;
+    loop_->set_rate(rate);
+    log_rate(sensed, rate);
 }
 
 std::optional<double> Gateway::granted_bps() const {

@@ -231,9 +231,10 @@ class Gateway {
     static constexpr const char* RETIRED_TOPICS_ROW = "(retired topics)";
 
   private:
-    /// Writes the rate to the on-robot log's link_rates, when there is a log, at most once a second unless it
-    /// changed.
-    void log_rate(double rate_bps);
+    /// Writes the sensor's rate and the budget of the rate the gateway goes by (`rate_bps`: under grants its
+    /// grant, not the sensor's) to the on-robot log's link_rates, when there is a log, at most once a second
+    /// unless either changed.
+    void log_rate(double sensed_bps, double rate_bps);
     struct WanCallbackLink;
 
     /// Runs `task` in the worker thread, after those posted before it.
@@ -326,7 +327,8 @@ class Gateway {
     std::optional<core::DemandWatch> demand_watch_;
     std::uint64_t status_forwarded_seen_ = 0;  ///< the status topic's counts when the last status was made
     std::uint64_t status_dropped_seen_ = 0;    ///< with --channel-grants and a status; the worker thread only
-    double logged_rate_bps_ = -1.0;            ///< the last rate written to the log's link_rates
+    double logged_sensed_bps_ = -1.0;          ///< the last row written to the log's link_rates
+    double logged_rate_bps_ = -1.0;
     base::SteadyTime logged_rate_at_{};
     double delivered_cap_bps_ = 0.0;                           ///< 0: the delivered-rate check does not cap
     std::atomic<std::uint64_t> pending_unscheduled_bytes_{0};  ///< reported, not yet charged to the loop

@@ -3,6 +3,7 @@
 // 30,000 bit/s channel from their statuses. rover1 has hazards to send (TTL 1 s), rover2 a bulk topic (TTL 20 s):
 // rover1 gets what its hazards need, rover2 the rest, where equal shares would give each half.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <atomic>
 #include <cmath>
@@ -11,8 +12,10 @@
 #include <thread>
 #include <vector>
 
+#include "ChannelGrantPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
 #include "gateway/core/granted_rate.hpp"
+#include "gateway/dds/channel_grant_topic.hpp"
 #include "test/integration/relay_fixture.hpp"
 
 namespace tgw::test {
@@ -131,7 +134,7 @@ TEST_F(ChannelGrantTest, ARobotGrantedItsLeastShareStillTellsTheCampOfNewHazards
 }
 
 // A gateway the base camp has no status of (it sends none here) has no grant of its own: it budgets for the
-// newcomers' share, a tenth of the channel, not for its sensor's 50 Mbit/s.
+// newcomers' share, a tenth of the channel, not for its sensor's 50 Mbit/s; and its on-robot log says so.
 using NewcomerShareTest = RelayTest;
 
 TEST_F(NewcomerShareTest, AGatewayWithoutAGrantOfItsOwnBudgetsForTheNewcomersShare) {
@@ -139,6 +142,7 @@ TEST_F(NewcomerShareTest, AGatewayWithoutAGrantOfItsOwnBudgetsForTheNewcomersSha
     c.robot_name = "rover1";
     c.channel_grants = true;
     c.status_period = base::Duration::zero();
+    c.log_file = temp_file(".db");
     start_gateway(c);
     start_relay(nullptr, 1s, {}, CHANNEL_BPS);
     const double newcomers = core::JOIN_SHARE * CHANNEL_BPS;
@@ -146,6 +150,38 @@ TEST_F(NewcomerShareTest, AGatewayWithoutAGrantOfItsOwnBudgetsForTheNewcomersSha
     ASSERT_TRUE(ok) << "budgets for " << gateway_->rate_bps() << " bit/s";
     EXPECT_FALSE(gateway_->granted_bps()) << "no grant of its own";
     EXPECT_NEAR(relay_->newcomer_share().value_or(-1), newcomers, 1);
+
+    // The log's link_rates: the sensor's rate, and the budget of the share the gateway goes by.
+    gateway_->stop();
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open_v2(c.log_file.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+    sqlite3_stmt* stmt = nullptr;
+    ASSERT_EQ(sqlite3_prepare_v2(db, "SELECT sensed_bps, budget_bps FROM link_rates ORDER BY id DESC LIMIT 1", -1,
+                                 &stmt, nullptr),
+              SQLITE_OK);
+    ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW) << "no row in link_rates";
+    EXPECT_DOUBLE_EQ(sqlite3_column_double(stmt, 0), c.scheduler.initial_rate_bps);
+    EXPECT_NEAR(sqlite3_column_double(stmt, 1), newcomers * c.scheduler.budget_fraction, 1);
+    sqlite3_finalize(stmt);
+    sqlite3_close(db);
+}
+
+// A base-camp tool that reads the grants as a ROS 2 tool would, reliable, gets them: the grantor's writer is
+// reliable (keep last, so a write never waits), and the gateways' best-effort readers match it as well.
+TEST_F(NewcomerShareTest, AReliableReaderOfACampToolGetsTheGrants) {
+    start_relay(nullptr, 1s, {}, CHANNEL_BPS);
+    TestParticipant tool(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 63),
+                                                                domains_.wan_reader_port));
+    ASSERT_TRUE(tool.ok());
+    fdds::DataReaderQos qos = tool.default_reader_qos();
+    qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    CollectingReader<idl::ChannelGrant> grants;
+    ASSERT_NE(
+        tool.make_reader(dds::CHANNEL_GRANT_TOPIC, fdds::TypeSupport(new idl::ChannelGrantPubSubType()), qos, &grants),
+        nullptr);
+    ASSERT_TRUE(wait_until([&] { return grants.count() > 0; }, 20s)) << "no grant reached the tool";
+    const idl::ChannelGrant first = grants.received().front().data;
+    EXPECT_NEAR(first.rate_bps(), core::JOIN_SHARE * CHANNEL_BPS, 1) << "the newcomers' share";
 }
 
 }  // namespace

@@ -148,9 +148,10 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
         spacing = std::max(spacing, std::chrono::duration_cast<base::Duration>(dds::status_rate_spacing(
                                         8.0 * static_cast<double>(status_wire_bytes), granted->second)));
     }
-    // Its floor: room for its next status (this one's size) and its most urgent sample, each within its TTL, once
-    // over (a gateway without a grant of its own budgets twice that, core::NEWCOMER_LEAST_SHARE_FACTOR), and for its
-    // traffic outside the schedule since then, which its budget pays first, over the part of its rate it budgets.
+    // Its floor (core::least_share_bps): room for its next status (this one's size) within its TTL, and for that
+    // status beside its most urgent sample within the sample's TTL, once over (a gateway without a grant of its own
+    // budgets twice that, core::NEWCOMER_LEAST_SHARE_FACTOR), and for its traffic outside the schedule since then,
+    // which its budget pays first, over the part of its rate it budgets.
     // Twice over here held back another robot's hazards (two robots at 30,000 bit/s: 274 of 300 on time, against
     // 295 once over). Within the status's TTL of a second, not its Lifespan: a floor a fifth as large let the grants
     // swing below what a robot's A and B needed (three robots at 60,000 bit/s: 41 and 109 of 200 A on time in two

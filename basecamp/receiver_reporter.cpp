@@ -26,7 +26,9 @@ ReceiverReporter::ReceiverReporter(fdds::DomainParticipant* participant) {
     if (topic == nullptr || publisher == nullptr)
         throw base::ConfigError(std::string("cannot create the topic ") + dds::RECEIVER_REPORT_TOPIC);
     fdds::DataWriterQos qos = publisher->get_default_datawriter_qos();
-    qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+    // Reliable, so a camp tool's reliable reader (ROS 2's default) matches; the gateways' best-effort readers
+    // match it too. Keep last 1 per gateway: counts are cumulative, only the newest matters.
+    qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
     qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
     qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
     qos.history().depth = 1;

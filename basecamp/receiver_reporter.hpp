@@ -12,7 +12,8 @@ class DataWriter;
 namespace tgw::basecamp {
 
 /// Publishes a DeliveryTally's totals on dds::RECEIVER_REPORT_TOPIC, one instance per gateway (sending
-/// participant), best effort: each report holds every count, so the next one makes up for a lost one.
+/// participant), reliable keep last 1 so a camp tool's reliable reader matches: each report holds every count, so
+/// only the newest matters.
 class ReceiverReporter {
   public:
     /// Creates the topic and its writer on `participant`, which owns them. Throws base::ConfigError when DDS

@@ -170,15 +170,12 @@ TEST_F(NewcomerShareTest, AGatewayWithoutAGrantOfItsOwnBudgetsForTheNewcomersSha
 // reliable (keep last, so a write never waits), and the gateways' best-effort readers match it as well.
 TEST_F(NewcomerShareTest, AReliableReaderOfACampToolGetsTheGrants) {
     start_relay(nullptr, 1s, {}, CHANNEL_BPS);
-    TestParticipant tool(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 63),
-                                                                domains_.wan_reader_port));
-    ASSERT_TRUE(tool.ok());
-    fdds::DataReaderQos qos = tool.default_reader_qos();
-    qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    const auto tool = camp_tool();
+    ASSERT_TRUE(tool->ok());
     CollectingReader<idl::ChannelGrant> grants;
-    ASSERT_NE(
-        tool.make_reader(dds::CHANNEL_GRANT_TOPIC, fdds::TypeSupport(new idl::ChannelGrantPubSubType()), qos, &grants),
-        nullptr);
+    ASSERT_NE(tool->make_reader(dds::CHANNEL_GRANT_TOPIC, fdds::TypeSupport(new idl::ChannelGrantPubSubType()),
+                                reliable_reader_qos(*tool), &grants),
+              nullptr);
     ASSERT_TRUE(wait_until([&] { return grants.count() > 0; }, 20s)) << "no grant reached the tool";
     const idl::ChannelGrant first = grants.received().front().data;
     EXPECT_NEAR(first.rate_bps(), core::JOIN_SHARE * CHANNEL_BPS, 1) << "the newcomers' share";

@@ -64,6 +64,28 @@ class RelayTest : public GatewayIntegrationTest {
         return writer;
     }
 
+    /// True once the relay's WAN reader matched the gateway's writer of `topic` (within MATCH_TIMEOUT).
+    bool relay_matched_gateway_writer(const std::string& topic) {
+        return wait_until([&] {
+            const auto bridged = gateway_->find_topic(topic);
+            return bridged && gateway_->wan_matched_readers(bridged->id) > 0;
+        });
+    }
+
+    /// A camp tool on the WAN domain, a participant of its own beside the relay.
+    std::unique_ptr<TestParticipant> camp_tool() const {
+        return std::make_unique<TestParticipant>(
+            domains_.wan,
+            TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 63), domains_.wan_reader_port));
+    }
+
+    /// What a ROS 2 tool reads with: reliable.
+    static fdds::DataReaderQos reliable_reader_qos(const TestParticipant& participant) {
+        fdds::DataReaderQos qos = participant.default_reader_qos();
+        qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+        return qos;
+    }
+
     template <typename PubSubType, typename Sample>
     void local_reader(const std::string& topic, const fdds::DataReaderQos& qos, CollectingReader<Sample>& into) {
         ASSERT_NE(local_->make_reader(topic, fdds::TypeSupport(new PubSubType()), qos, &into), nullptr);

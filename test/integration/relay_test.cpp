@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <set>
@@ -15,9 +16,11 @@
 #include "AnnouncedTypesTypeObject.h"
 #include "KeyedReadingPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
+#include "ReceiverReportPubSubTypes.h"
 #include "RosStringPubSubTypes.h"
 
 #include "basecamp/sample_store.hpp"
+#include "gateway/dds/receiver_report_topic.hpp"
 #include "test/integration/relay_fixture.hpp"
 
 namespace tgw::test {
@@ -122,10 +125,7 @@ TEST_F(RelayTest, ALateJoinerOnTheLocalDomainGetsALatchedTopicFromTheRelay) {
     const std::string topic = topic_prefix_ + "latched";
     auto* writer = robot_writer<idl::KeyedReadingPubSubType>(topic, writer_qos(true, 1));
     ASSERT_NE(writer, nullptr);
-    ASSERT_TRUE(wait_until([&] {
-        const auto bridged = gateway_->find_topic(topic);
-        return bridged && gateway_->wan_matched_readers(bridged->id) > 0;
-    })) << "the relay never matched the gateway's writer";
+    ASSERT_TRUE(relay_matched_gateway_writer(topic)) << "the relay never matched the gateway's writer";
     for (std::uint32_t sensor = 1; sensor <= 3; ++sensor) {
         idl::KeyedReading r;
         r.sensor_id(sensor);
@@ -203,10 +203,7 @@ TEST_F(RelayTest, RecordsWhatItRelaysAndReportsItToTheGateway) {
     const std::string topic = topic_prefix_ + "recorded";
     auto* writer = robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(false));
     ASSERT_NE(writer, nullptr);
-    ASSERT_TRUE(wait_until([&] {
-        const auto bridged = gateway_->find_topic(topic);
-        return bridged && gateway_->wan_matched_readers(bridged->id) > 0;
-    })) << "the relay never matched the gateway's writer";
+    ASSERT_TRUE(relay_matched_gateway_writer(topic)) << "the relay never matched the gateway's writer";
 
     constexpr std::uint64_t N = 10;
     for (std::uint64_t i = 0; i < N; ++i) {
@@ -239,6 +236,39 @@ TEST_F(RelayTest, RecordsWhatItRelaysAndReportsItToTheGateway) {
     EXPECT_EQ(sqlite3_column_int64(stmt, 2), 1);
     sqlite3_finalize(stmt);
     sqlite3_close(db);
+    stop_relay_.store(true);
+    relay_thread_.join();
+    relay_.reset();
+}
+
+// A camp tool's reliable reader (ROS 2's default) of the receiver reports, on a participant of its own: the
+// reporter's writer must be reliable for it to match.
+TEST_F(RelayTest, AReliableReaderOfACampToolGetsTheReceiverReports) {
+    start_gateway(config());
+    start_relay(nullptr, 200ms);
+    TestParticipant tool(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 63),
+                                                                domains_.wan_reader_port));
+    ASSERT_TRUE(tool.ok());
+    fdds::DataReaderQos qos = tool.default_reader_qos();
+    qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+    CollectingReader<idl::ReceiverReport> reports;
+    ASSERT_NE(tool.make_reader(dds::RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new idl::ReceiverReportPubSubType()), qos,
+                               &reports),
+              nullptr);
+    const std::string topic = topic_prefix_ + "reported";
+    auto* writer = robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(false));
+    ASSERT_NE(writer, nullptr);
+    ASSERT_TRUE(relay_matched_gateway_writer(topic)) << "the relay never matched the gateway's writer";
+    idl::PaperMessage m;
+    m.data(std::vector<std::uint8_t>(41, 7));
+    ASSERT_TRUE(writer->write(&m));
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const auto got = reports.received();
+            return std::any_of(got.begin(), got.end(), [](const auto& r) { return r.data.received_samples() > 0; });
+        },
+        20s))
+        << "no receiver report reached the tool (" << reports.count() << " without a sample)";
     stop_relay_.store(true);
     relay_thread_.join();
     relay_.reset();

@@ -45,10 +45,13 @@ std::vector<core::TopicLoad> loads(const idl::GatewayStatus& status) {
 
 }  // namespace
 
-ChannelGrantor::ChannelGrantor(fdds::DomainParticipant* wan, double channel_bps, const base::Clock& clock)
+ChannelGrantor::ChannelGrantor(fdds::DomainParticipant* wan, double channel_bps, const base::Clock& clock,
+                               ChannelMeter* meter, const DeliveryTally* tally)
     : wan_(wan),
       clock_(clock),
       channel_bps_(channel_bps),
+      meter_(meter),
+      tally_(tally),
       shares_(core::ChannelShares::Config{STALE_AFTER, FLOOR_BPS}, clock) {
     // The robots' grants leave the newcomers' share free (core::JOIN_SHARE): a robot that joins, or whose gateway
     // restarts, sends within it until its first own grant.
@@ -169,12 +172,38 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
     status_heard_.store(true);
 }
 
+void ChannelGrantor::arrived(const ParticipantPrefix& sender, base::Duration one_way, std::size_t payload_bytes) {
+    if (meter_ != nullptr)
+        meter_->stamped_sample(sender, one_way, wire_.wire_bytes(payload_bytes));
+}
+
+void ChannelGrantor::measure_channel() {
+    if (meter_ == nullptr)
+        return;
+    std::uint64_t lost = 0;
+    if (tally_ != nullptr) {
+        for (const auto& [prefix, totals] : tally_->totals())
+            lost += totals.lost_samples;
+    }
+    double granted = 0;
+    for (const auto& [key, bps] : last_grants_)
+        granted += bps;
+    const core::ChannelVerdict before = meter_->reading().verdict;
+    channel_bps_ = meter_->measure(lost, granted);
+    shares_.set_capacity((1.0 - core::JOIN_SHARE) * channel_bps_);
+    if (const core::ChannelVerdict now = meter_->reading().verdict; now != before) {
+        // Each change of what it finds, not each second: a line to read when the grants look wrong.
+        std::fprintf(stderr, "tm-basecamp relay: channel %s: sharing %.0f bit/s\n", core::to_string(now), channel_bps_);
+    }
+}
+
 void ChannelGrantor::poll() {
     const bool heard = status_heard_.exchange(false);
     if (!heard && clock_.now() < next_grant_)
         return;
     next_grant_ = clock_.now() + GRANT_PERIOD;
     std::lock_guard<std::mutex> lock(mutex_);
+    measure_channel();
     last_grants_ = shares_.grants();
     const auto sent_ns = static_cast<std::uint64_t>(base::to_ns(clock_.wall_now()));
     for (const auto& [key, bps] : last_grants_) {
@@ -184,7 +213,7 @@ void ChannelGrantor::poll() {
     }
     // Not more: several gateways may join at once (a fleet starting). Granting them also what the robots known
     // left unclaimed (all of the channel at the start) let three newcomers send three channels' worth at once.
-    write_grant(dds::NEWCOMER_PREFIX, newcomer_share(), sent_ns);
+    write_grant(dds::NEWCOMER_PREFIX, core::JOIN_SHARE * channel_bps_, sent_ns);
 }
 
 void ChannelGrantor::write_grant(const Prefix& prefix, double bps, std::uint64_t sent_ns) {
@@ -194,6 +223,19 @@ void ChannelGrantor::write_grant(const Prefix& prefix, double bps, std::uint64_t
     grant.valid_ms(static_cast<std::uint32_t>(dds::GRANT_VALIDITY.count()));
     grant.sent_ns(sent_ns);
     writer_->write(&grant);
+}
+
+double ChannelGrantor::newcomer_share() const {
+    return core::JOIN_SHARE * channel_bps();
+}
+
+double ChannelGrantor::channel_bps() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return channel_bps_;
+}
+
+std::optional<ChannelReading> ChannelGrantor::channel_reading() const {
+    return meter_ != nullptr ? std::optional<ChannelReading>(meter_->reading()) : std::nullopt;
 }
 
 core::ChannelGrants ChannelGrantor::last_grants() const {

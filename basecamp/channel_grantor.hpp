@@ -7,9 +7,12 @@
 #include <deque>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include "base/clock.hpp"
+#include "basecamp/channel_meter.hpp"
+#include "basecamp/delivery_tally.hpp"
 #include "gateway/core/channel_shares.hpp"
 #include "gateway/core/demand_watch.hpp"
 #include "gateway/core/granted_rate.hpp"
@@ -29,7 +32,8 @@ namespace tgw::basecamp {
 /// by the gateway's prefix. core::JOIN_SHARE of the channel is kept out of them and granted to any gateway without
 /// a grant of its own (the newcomers' share, dds::NEWCOMER_PREFIX). A gateway silent for long (STALE_AFTER) has no
 /// share until its next status, and meanwhile budgets for the newcomers' share. A status of a named robot from a
-/// new gateway (restarted) ends the old gateway's share at once.
+/// new gateway (restarted) ends the old gateway's share at once. With a ChannelMeter, the channel's rate is measured
+/// (what arrives, what is lost and how long it took) with --channel-rate its upper bound.
 class ChannelGrantor {
   public:
     static constexpr base::Duration GRANT_PERIOD = std::chrono::seconds(1);
@@ -41,9 +45,11 @@ class ChannelGrantor {
     /// Every gateway's floor: a status and discovery, and its first sample.
     static constexpr double FLOOR_BPS = 2000;
 
-    /// Writes on `wan` (which must outlive it) a channel of `channel_bps`. Throws base::ConfigError naming
-    /// --channel-rate when DDS refuses the writer.
-    ChannelGrantor(eprosima::fastdds::dds::DomainParticipant* wan, double channel_bps, const base::Clock& clock);
+    /// Writes on `wan` (which must outlive it) a channel of `channel_bps`; with `meter` and `tally` (which must
+    /// outlive it), a channel of what `meter` measures (`tally` counts the samples lost), `channel_bps` at most.
+    /// Throws base::ConfigError naming --channel-rate when DDS refuses the writer.
+    ChannelGrantor(eprosima::fastdds::dds::DomainParticipant* wan, double channel_bps, const base::Clock& clock,
+                   ChannelMeter* meter = nullptr, const DeliveryTally* tally = nullptr);
     ~ChannelGrantor();
     ChannelGrantor(const ChannelGrantor&) = delete;
     ChannelGrantor& operator=(const ChannelGrantor&) = delete;
@@ -52,6 +58,10 @@ class ChannelGrantor {
     /// not decode is ignored.
     void take_status(const std::vector<std::uint8_t>& payload);
 
+    /// A compact bundle of `payload_bytes` from the gateway `sender` came off the WAN `one_way` after its writer
+    /// stamped it (the relay's clock less the gateway's); any thread. Counts only where the channel is measured.
+    void arrived(const ParticipantPrefix& sender, base::Duration one_way, std::size_t payload_bytes);
+
     /// Writes the grants when GRANT_PERIOD has passed since the last, or a status came since: a robot whose demand
     /// rose hears its grant at once (its gateway sends a status when its demand moves); the relay's thread.
     void poll();
@@ -59,7 +69,11 @@ class ChannelGrantor {
     /// The grants last written, by gateway prefix (hex).
     core::ChannelGrants last_grants() const;
     /// The newcomers' share it writes (dds::NEWCOMER_PREFIX): core::JOIN_SHARE of the channel.
-    double newcomer_share() const { return core::JOIN_SHARE * channel_bps_; }
+    double newcomer_share() const;
+    /// The channel's rate it shares now: --channel-rate, or what it measured.
+    double channel_bps() const;
+    /// What its meter found; nullopt when it does not measure the channel.
+    std::optional<ChannelReading> channel_reading() const;
 
   private:
     using Prefix = std::array<std::uint8_t, 12>;
@@ -72,13 +86,17 @@ class ChannelGrantor {
     };
 
     void write_grant(const Prefix& prefix, double bps, std::uint64_t sent_ns);
+    /// The channel's measure, once an interval; under mutex_.
+    void measure_channel();
 
     eprosima::fastdds::dds::DomainParticipant* wan_;
     eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
     const base::Clock& clock_;
-    const double channel_bps_;
     const core::WireModel wire_;
     mutable std::mutex mutex_;
+    double channel_bps_;  // under mutex_
+    ChannelMeter* meter_;
+    const DeliveryTally* tally_;
     core::ChannelShares shares_;  // under mutex_
     /// Per gateway, its latest statuses: the newest at least core::DEMAND_WINDOW old, and those after it; under
     /// mutex_.

@@ -61,18 +61,6 @@ dds::OfferedQos offered_qos(const wan::LaneOffer& lane) {
     return offer;
 }
 
-ParticipantPrefix writer_prefix(const fdds::SampleInfo& info) {
-    ParticipantPrefix prefix;
-    const auto& value = info.sample_identity.writer_guid().guidPrefix.value;
-    std::copy(std::begin(value), std::end(value), prefix.begin());
-    return prefix;
-}
-
-std::int64_t receive_ns(const fdds::SampleInfo& info) {
-    const auto reception = dds::to_wall_time(info.reception_timestamp);
-    return base::to_ns(reception ? *reception : base::WallClock::now());
-}
-
 }  // namespace
 
 /// One lane of a gateway's topic: the local writer that offers what the lane's robot publishers offered.
@@ -136,6 +124,9 @@ CompactUnpacker::CompactUnpacker(fdds::DomainParticipant* wan, fdds::DomainParti
               // The bundle's DDS sample: its encapsulation and length, then the bytes.
               tally_.add(writer_guid(info), info.sample_identity.sequence_number().to64long(),
                          BUNDLE_ENVELOPE_BYTES + bundle.bytes().size());
+              // A bundle's source timestamp is its write time: how long it took is the channel's doing.
+              if (const auto one_way = one_way_delay(info); one_way && statuses_ != nullptr)
+                  statuses_->arrived(writer_prefix(info), *one_way, BUNDLE_ENVELOPE_BYTES + bundle.bytes().size());
               on_bundle(writer_prefix(info), bundle.bytes(), receive_ns(info));
           })) {
     fdds::TypeSupport catalog_type(new dds::GuardedType<wan::CatalogEntryPubSubType>());

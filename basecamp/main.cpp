@@ -126,13 +126,18 @@ int main(int argc, char** argv) {
                       "with --robot-name NAME --uplink rt/cmd_vel), carried from the camp's domain onto the WAN; "
                       "repeatable, nothing else goes that way");
     double channel_bps = 0;
+    CLI::Option* channel_rate = relay->add_option(
+        "--channel-rate", channel_bps,
+        "experimental (see the README): bit/s of the radio channel the gateways share; each gateway with "
+        "--channel-grants gets its share of 90 % of it on tgw/grant every second, the fleet's shortest TTLs "
+        "first; the other 10 % is the share of gateways that join");
+    channel_rate->check(CLI::PositiveNumber);
+    bool measure_channel = false;
     relay
-        ->add_option(
-            "--channel-rate", channel_bps,
-            "experimental (see the README): bit/s of the radio channel the gateways share; each gateway with "
-            "--channel-grants gets its share of 90 % of it on tgw/grant every second, the fleet's shortest TTLs "
-            "first; the other 10 % is the share of gateways that join")
-        ->check(CLI::PositiveNumber);
+        ->add_flag("--measure-channel", measure_channel,
+                   "experimental: measure what the channel delivers (what arrives, what is lost, how long it took) and "
+                   "grant shares of that, with --channel-rate as its upper bound")
+        ->needs(channel_rate);
     std::string relay_out;
     relay->add_option("--out", relay_out, "also record every sample taken off the WAN, as 'record' does (SQLite)");
     double relay_report_period_s = 1.0;
@@ -224,9 +229,9 @@ int main(int argc, char** argv) {
                 consumers.push_back(foxglove_server.get());
             }
             tgw::basecamp::ConsumerFanOut taken_off_the_wan(consumers);
-            tgw::basecamp::Relay relaying(domain, wan_qos, local_domain, local_qos,
-                                          consumers.empty() ? nullptr : &taken_off_the_wan,
-                                          tgw::base::from_seconds(relay_report_period_s), relay_uplink, channel_bps);
+            tgw::basecamp::Relay relaying(
+                domain, wan_qos, local_domain, local_qos, consumers.empty() ? nullptr : &taken_off_the_wan,
+                tgw::base::from_seconds(relay_report_period_s), relay_uplink, channel_bps, measure_channel);
             tgw::basecamp::stop_on_signals();
             std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain;
             if (foxglove_server)
@@ -256,6 +261,11 @@ int main(int argc, char** argv) {
                 std::cout << "  last grant to gateway " << gateway << ": " << static_cast<long long>(bps) << " bit/s\n";
             if (const std::optional<double> newcomers = relaying.newcomer_share())
                 std::cout << "  last newcomers' share: " << static_cast<long long>(*newcomers) << " bit/s\n";
+            if (const std::optional<tgw::basecamp::ChannelReading> channel = relaying.channel_reading())
+                std::cout << "  channel measured: " << static_cast<long long>(channel->channel_bps) << " bit/s ("
+                          << tgw::core::to_string(channel->verdict) << "), " << channel->datagrams
+                          << " datagrams received (" << channel->stamped_datagrams << " stamped by their sender, "
+                          << channel->lost_datagrams << " lost on the way)\n";
             for (const tgw::dds::UplinkCount& up : relaying.uplink_counts())
                 std::cout << "  uplink " << up.from_topic << ": " << up.received << " commands taken from the camp, "
                           << up.delivered << " onto the WAN, " << up.expired << " past their Lifespan (dropped), "

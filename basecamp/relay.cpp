@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -16,6 +17,7 @@
 
 #include "base/config_error.hpp"
 #include "basecamp/compact_unpacker.hpp"
+#include "basecamp/metered_transport.hpp"
 #include "basecamp/receiver_reporter.hpp"
 #include "basecamp/wan_capture.hpp"
 #include "gateway/dds/compact_topics.hpp"
@@ -94,13 +96,35 @@ class Relay::Lane final : public fdds::DataReaderListener {
     SampleConsumer* store_;
 };
 
+namespace {
+
+/// A meter of the channel, and `qos`'s UDP transports made to show it every datagram they receive.
+std::shared_ptr<ChannelMeter> metered(fdds::DomainParticipantQos& qos, double upper_bps, const base::Clock& clock) {
+    auto meter = std::make_shared<ChannelMeter>(upper_bps, clock);
+    bool any = false;
+    for (auto& transport : qos.transport().user_transports) {
+        if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(transport) == nullptr)
+            continue;
+        transport = std::make_shared<MeteredTransportDescriptor>(
+            transport, [meter](const std::uint8_t* bytes, std::size_t size) { meter->datagram(bytes, size); });
+        any = true;
+    }
+    if (!any)
+        throw base::ConfigError("--measure-channel: the WAN participant has no UDP transport to measure");
+    return meter;
+}
+
+}  // namespace
+
 Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain, fdds::DomainParticipantQos local_qos,
              SampleConsumer* store, base::Duration report_period, const std::vector<std::string>& uplink,
-             double channel_bps)
+             double channel_bps, bool measure_channel)
     : store_(store), report_period_(report_period), uplink_topics_(uplink, "") {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     wan_qos.name("tm-basecamp relay/wan");
+    if (channel_bps > 0 && measure_channel)
+        meter_ = metered(wan_qos, channel_bps, clock_);
     local_qos.name("tm-basecamp relay/local");
     // The WAN participant first: Fast DDS 2.9 numbers a process's participants in the order they are made, and a
     // robot announces itself to the camp's participant 0 (telemetry-gateway --wan-peer-participants 1). What
@@ -127,7 +151,7 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
         uplink_ = std::make_unique<dds::Uplink>(local_, wan_, clock_, core::WireModel{}, dds::Uplink::Charge{});
     }
     if (channel_bps > 0) {
-        grantor_ = std::make_unique<ChannelGrantor>(wan_, channel_bps, clock_);
+        grantor_ = std::make_unique<ChannelGrantor>(wan_, channel_bps, clock_, meter_.get(), &tally_);
     }
 }
 
@@ -247,6 +271,10 @@ core::ChannelGrants Relay::channel_grants() const {
 
 std::optional<double> Relay::newcomer_share() const {
     return grantor_ ? std::optional<double>(grantor_->newcomer_share()) : std::nullopt;
+}
+
+std::optional<ChannelReading> Relay::channel_reading() const {
+    return grantor_ ? grantor_->channel_reading() : std::nullopt;
 }
 
 std::vector<dds::UplinkCount> Relay::uplink_counts() const {

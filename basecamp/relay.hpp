@@ -59,11 +59,12 @@ class Relay {
     /// what was lost on the way, as `record` does: the camp's one WAN participant is the one to report. Throws
     /// base::ConfigError naming the flag when DDS refuses a participant. `uplink`: the topics the camp's programs
     /// may publish onto the WAN (exact names); none by default. `channel_bps`: the rate of the channel a fleet
-    /// shares, which the relay grants the gateways in shares (ChannelGrantor); 0: no grants.
+    /// shares, which the relay grants the gateways in shares (ChannelGrantor); 0: no grants. `measure_channel`: the
+    /// channel's rate is measured from what arrives, `channel_bps` its upper bound (core::ChannelEstimate).
     Relay(int wan_domain, eprosima::fastdds::dds::DomainParticipantQos wan_qos, int local_domain,
           eprosima::fastdds::dds::DomainParticipantQos local_qos, SampleConsumer* store = nullptr,
           base::Duration report_period = std::chrono::seconds(1), const std::vector<std::string>& uplink = {},
-          double channel_bps = 0);
+          double channel_bps = 0, bool measure_channel = false);
     ~Relay();
     Relay(const Relay&) = delete;
     Relay& operator=(const Relay&) = delete;
@@ -81,6 +82,8 @@ class Relay {
     core::ChannelGrants channel_grants() const;
     /// The newcomers' share last granted (ChannelGrantor::newcomer_share); nullopt without a channel rate.
     std::optional<double> newcomer_share() const;
+    /// What the measure of the channel found (ChannelMeter); nullopt without --measure-channel.
+    std::optional<ChannelReading> channel_reading() const;
 
     /// The uplink topics a camp publisher was discovered of, with what became of their samples.
     std::vector<dds::UplinkCount> uplink_counts() const;
@@ -102,6 +105,8 @@ class Relay {
 
     SampleConsumer* store_;
     DeliveryTally tally_;
+    /// With --measure-channel: what the WAN transport receives (shared with it), for the grantor.
+    std::shared_ptr<ChannelMeter> meter_;
     base::Duration report_period_;
     /// Kept across run() calls, so that a caller may run in slices.
     base::SteadyTime next_report_ = base::SteadyClock::now() + report_period_;

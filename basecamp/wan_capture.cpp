@@ -35,8 +35,7 @@ SampleRecord sample_record(const TopicRecord& topic, std::vector<std::uint8_t> p
     record.payload = std::move(payload);
     const auto source = dds::to_wall_time(info.source_timestamp);
     record.source_ns = source ? base::to_ns(*source) : 0;
-    const auto reception = dds::to_wall_time(info.reception_timestamp);
-    record.receive_ns = reception ? base::to_ns(*reception) : base::to_ns(base::WallClock::now());
+    record.receive_ns = receive_ns(info);
     record.lifespan_ns = topic.lifespan_ns;
     if (topic.keyed) {
         for (std::size_t i = 0; i < 16; ++i)
@@ -60,6 +59,25 @@ WriterGuid writer_guid(const eprosima::fastdds::dds::SampleInfo& info) {
     std::copy(std::begin(guid.entityId.value), std::end(guid.entityId.value),
               writer.begin() + sizeof(guid.guidPrefix.value));
     return writer;
+}
+
+ParticipantPrefix writer_prefix(const eprosima::fastdds::dds::SampleInfo& info) {
+    ParticipantPrefix prefix;
+    const auto& value = info.sample_identity.writer_guid().guidPrefix.value;
+    std::copy(std::begin(value), std::end(value), prefix.begin());
+    return prefix;
+}
+
+std::int64_t receive_ns(const eprosima::fastdds::dds::SampleInfo& info) {
+    const auto reception = dds::to_wall_time(info.reception_timestamp);
+    return base::to_ns(reception ? *reception : base::WallClock::now());
+}
+
+std::optional<base::Duration> one_way_delay(const eprosima::fastdds::dds::SampleInfo& info) {
+    const auto source = dds::to_wall_time(info.source_timestamp);
+    if (!source)
+        return std::nullopt;
+    return std::chrono::nanoseconds(receive_ns(info) - base::to_ns(*source));
 }
 
 }  // namespace tgw::basecamp

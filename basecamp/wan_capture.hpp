@@ -9,6 +9,7 @@
 
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
+#include "base/time.hpp"
 #include "basecamp/delivery_tally.hpp"
 #include "basecamp/sample_store.hpp"
 #include "gateway/dds/discovery.hpp"
@@ -25,6 +26,15 @@ SampleRecord sample_record(const TopicRecord& topic, std::vector<std::uint8_t> p
 
 /// The GUID of the writer of the sample `info` describes.
 WriterGuid writer_guid(const eprosima::fastdds::dds::SampleInfo& info);
+/// The GUID prefix of that writer: its participant.
+ParticipantPrefix writer_prefix(const eprosima::fastdds::dds::SampleInfo& info);
+
+/// When the sample `info` describes was received (now when DDS does not say), wall clock nanoseconds.
+std::int64_t receive_ns(const eprosima::fastdds::dds::SampleInfo& info);
+
+/// How long after its source timestamp the sample was received, on two clocks (it may be negative); nullopt
+/// without a source timestamp.
+std::optional<base::Duration> one_way_delay(const eprosima::fastdds::dds::SampleInfo& info);
 
 /// Counts a received sample of `topic` against its writer (sequence number and payload bytes) for the receiver
 /// reports. The gateway's status is not counted: the reports tell the gateway what became of its scheduled

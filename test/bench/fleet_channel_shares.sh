@@ -6,22 +6,29 @@
 # runs tm-basecamp relay, which records what arrives. Each way runs on a fresh testbed for --duration S:
 #   none     each gateway budgets for the whole channel (--sensor fixed:RATE), as if the radio were its own;
 #   equal    each budgets for half of it (--sensor fixed:RATE/2): equal fixed shares;
-#   grants   each senses the whole channel, and the relay grants shares (--channel-rate RATE, --channel-grants).
+#   grants   each senses the whole channel, and the relay grants shares (--channel-rate RATE, --channel-grants);
+#   overstated  the same, but the base camp takes the channel for twice what it is (--channel-rate 2*RATE, or
+#            --claimed BPS): a radio whose rate fell since it was configured;
+#   measured the same, with the base camp measuring the channel (--measure-channel, --channel-rate its bound).
 # Printed per way: rover1's hazards on time at the base camp (of those published), and rover2's bulk received.
-# Needs root; not in ctest (about 3 min).
-#   test/bench/fleet_channel_shares.sh BIN_DIR [--duration S] [--rate BPS]
+# Needs root; not in ctest (about 1 min a way). WAYS="none equal grants" by default; WAYS="grants overstated
+# measured" compares the measure.
+#   test/bench/fleet_channel_shares.sh BIN_DIR [--duration S] [--rate BPS] [--claimed BPS]
 set -euo pipefail
 BIN=$(cd "$1" && pwd)
 shift
 DURATION=30
 RATE=30000
+CLAIMED=""
 while [ $# -gt 0 ]; do
     case "$1" in
         --duration) DURATION=$2; shift 2 ;;
         --rate) RATE=$2; shift 2 ;;
+        --claimed) CLAIMED=$2; shift 2 ;;
         *) echo "fleet_channel_shares.sh: unknown argument '$1'" >&2; exit 2 ;;
     esac
 done
+CLAIMED=${CLAIMED:-$((2 * RATE))}
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$ROOT"
 [ "$(id -u)" -eq 0 ] || { echo "needs root (network namespaces)"; exit 77; }
@@ -46,10 +53,12 @@ run() {  # WAY
     camp=$(scripts/testbed info basecamp-addr)
     sensor="fixed:$RATE"
     [ "$way" = equal ] && sensor="fixed:$((RATE / 2))"
-    if [ "$way" = grants ]; then
-        grant_flags=(--channel-grants)
-        relay_flags=(--channel-rate "$RATE")
-    fi
+    case "$way" in
+        grants) relay_flags=(--channel-rate "$RATE") ;;
+        overstated) relay_flags=(--channel-rate "$CLAIMED") ;;
+        measured) relay_flags=(--channel-rate "$CLAIMED" --measure-channel) ;;
+    esac
+    [ ${#relay_flags[@]} -gt 0 ] && grant_flags=(--channel-grants)
     local peers=()
     for k in 1 2; do peers+=(--peer "$(scripts/testbed info "robot$k-addr")"); done
     scripts/testbed exec basecamp "$BIN/tm-basecamp" relay --domain 1 --interface "$camp" "${peers[@]}" \
@@ -97,10 +106,10 @@ run() {  # WAY
         (NF == 9 || NF == 10) && $1 == "rover2/bulk/scan" { bulk_off = $3; bulk_rx = $4 }
         END { printf "%-7s rover1 hazards on time: %d of %d (%.1f %%); rover2 bulk received: %d of %d\n",
                      way, on, off, off ? 100 * on / off : 0, bulk_rx, bulk_off }' "$dir/report.txt"
-    grep -h "last grant" "$dir/relay.out" | sed "s/^/$way  /" || true
+    grep -h "last grant\|channel measured" "$dir/relay.out" | sed "s/^/$way  /" || true
 }
 
-echo "fleet_channel_shares: 2 robots, channel $RATE bit/s, $DURATION s each"
+echo "fleet_channel_shares: 2 robots, channel $RATE bit/s ($CLAIMED claimed where overstated or measured), $DURATION s each"
 for way in ${WAYS:-none equal grants}; do
     run "$way"
 done

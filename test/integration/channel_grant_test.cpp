@@ -181,5 +181,41 @@ TEST_F(NewcomerShareTest, AReliableReaderOfACampToolGetsTheGrants) {
     EXPECT_NEAR(first.rate_bps(), core::JOIN_SHARE * CHANNEL_BPS, 1) << "the newcomers' share";
 }
 
+// tm-basecamp relay --measure-channel with real participants: its WAN transport reads the send stamps that a
+// standard-mode gateway's Fast DDS writes into every datagram, and on loopback, where nothing queues and nothing
+// is lost, the channel it shares stays at its bound.
+TEST_F(RelayTest, AMeasuringRelayReadsTheSendStampsOfTheGatewaysDatagrams) {
+    GatewayConfig c = config();
+    c.robot_name = "rover1";
+    c.channel_grants = true;
+    start_gateway(c);
+    constexpr double BOUND = 30'000;
+    start_relay(nullptr, 1s, {}, BOUND, true);
+    const std::string topic = topic_prefix_ + "hazards";
+    auto* writer = robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(false));
+    ASSERT_NE(writer, nullptr);
+    ASSERT_TRUE(relay_matched_gateway_writer(topic)) << "the relay never matched the gateway's writer";
+    for (std::uint32_t i = 0; i < 40; ++i) {
+        idl::PaperMessage m;
+        m.sequence_number(i);
+        m.data(std::vector<std::uint8_t>(41, 1));
+        ASSERT_TRUE(writer->write(&m));
+        std::this_thread::sleep_for(50ms);
+    }
+    ASSERT_TRUE(wait_until([&] {
+        const auto reading = relay_->channel_reading();
+        return reading && reading->queueing && reading->stamped_datagrams >= 20;
+    })) << "the relay read no send stamps";
+    const basecamp::ChannelReading reading = *relay_->channel_reading();
+    EXPECT_GT(reading.datagrams, 0u);
+    EXPECT_LE(reading.stamped_datagrams, reading.datagrams);
+    EXPECT_EQ(reading.lost_datagrams, 0u);
+    EXPECT_NE(reading.verdict, core::ChannelVerdict::unknown);
+    EXPECT_LT(*reading.queueing, 250ms) << "nothing queues on loopback";
+    for (const auto& [gateway, bps] : relay_->channel_grants()) {
+        EXPECT_LE(bps, BOUND) << "a grant above the channel's bound";
+    }
+}
+
 }  // namespace
 }  // namespace tgw::test

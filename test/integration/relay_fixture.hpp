@@ -35,10 +35,10 @@ class RelayTest : public GatewayIntegrationTest {
     }
 
     void start_relay(basecamp::SampleStore* store = nullptr, base::Duration report_period = 1s,
-                     std::vector<std::string> uplink = {}, double channel_bps = 0) {
+                     std::vector<std::string> uplink = {}, double channel_bps = 0, bool measure_channel = false) {
         relay_ = std::make_unique<basecamp::Relay>(
             domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port), local_domain_,
-            fdds::PARTICIPANT_QOS_DEFAULT, store, report_period, std::move(uplink), channel_bps);
+            fdds::PARTICIPANT_QOS_DEFAULT, store, report_period, std::move(uplink), channel_bps, measure_channel);
         relay_thread_ = std::thread([this] { relay_->run(std::chrono::minutes(5), stop_relay_); });
     }
 

@@ -73,6 +73,28 @@ inline Bytes statistics(std::uint8_t fill) {
     return submessage(0x80, 0x00, Bytes(56, fill));
 }
 
+/// Fills in the statistics submessage `message` ends with as Fast DDS's UDP transport does when it sends it
+/// (little-endian, whatever the flags say): the destination 10.77.0.6:`port`, `seconds` and a half, and the
+/// sender's `sequence`-th datagram to that destination.
+inline void stamp(Bytes& message, std::uint32_t seconds, std::uint64_t sequence, std::uint32_t port = 7411) {
+    const std::size_t body = message.size() - 56;
+    const auto put = [&](std::size_t at, std::uint64_t value, std::size_t bytes) {
+        for (std::size_t i = 0; i < bytes; ++i) {
+            message[body + at + i] = static_cast<std::uint8_t>(value >> (8 * i));
+        }
+    };
+    put(0, 1, 4);  // LOCATOR_KIND_UDPv4
+    put(4, port, 4);
+    put(16, 0, 4);
+    message[body + 20] = 10;
+    message[body + 21] = 77;
+    message[body + 22] = 0;
+    message[body + 23] = 6;
+    put(24, seconds, 4);
+    put(28, 0x80000000u, 4);
+    put(32, sequence, 8);
+}
+
 /// An RTPS message's protection as a whole (DDS Security, rtps_protection_kind SIGN): SRTPS_PREFIX (transformation
 /// id, session id, IV suffix: 20 bytes), `inner` as they are, SRTPS_POSTFIX (common MAC 16 bytes, no receiver MACs).
 inline std::vector<Bytes> signed_rtps(std::initializer_list<Bytes> inner) {

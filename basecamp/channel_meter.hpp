@@ -1,0 +1,63 @@
+// The base camp's measure of a fleet's shared channel (tm-basecamp relay --measure-channel): what arrives, what
+// is lost on the way and how long it took, fed to core::ChannelEstimate.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <optional>
+
+#include "base/clock.hpp"
+#include "basecamp/delivery_tally.hpp"
+#include "gateway/core/channel_estimate.hpp"
+
+namespace tgw::basecamp {
+
+/// What the meter found at its last measure.
+struct ChannelReading {
+    double channel_bps = 0;  ///< the rate it shares
+    core::ChannelVerdict verdict = core::ChannelVerdict::unknown;
+    std::optional<double> delivered_bps;     ///< core::ChannelEstimate::delivered_bps
+    std::optional<base::Duration> queueing;  ///< core::ChannelEstimate::queueing
+    std::uint64_t datagrams = 0;             ///< received so far
+    std::uint64_t stamped_datagrams = 0;     ///< of them, with a sender's send stamp
+    std::uint64_t lost_datagrams = 0;        ///< gaps in the senders' sequences
+};
+
+/// Thread-safe: the WAN transport's receive threads, the readers' listeners and the relay's thread meet here.
+class ChannelMeter {
+  public:
+    /// A channel of `upper_bps` at most. Throws base::ConfigError when it is not a rate above 0.
+    ChannelMeter(double upper_bps, const base::Clock& clock);
+
+    /// One datagram off the WAN (MeteredTransport): its bytes count as delivered, and where its sender's transport
+    /// stamped it (dds::read_send_stamp: a standard-mode gateway's every datagram) its delay and its place in the
+    /// sender's sequence count too.
+    void datagram(const std::uint8_t* bytes, std::size_t size);
+
+    /// A sample from `sender` whose source timestamp is its write time (a compact bundle; a gateway's status),
+    /// received `one_way` after it: for senders whose datagrams carry no stamp.
+    void stamped_sample(const ParticipantPrefix& sender, base::Duration one_way, std::size_t wire_bytes);
+
+    /// Once a grant period: `lost_samples` what the readers counted lost so far (DeliveryTally), and the grants
+    /// added up to `granted_bps`. Returns the channel's rate to share (core::ChannelEstimate::update).
+    double measure(std::uint64_t lost_samples, double granted_bps);
+
+    ChannelReading reading() const;
+
+  private:
+    using SequenceKey = std::array<std::uint8_t, 36>;  // the sender's prefix, then the destination it sent to
+
+    const base::Clock& clock_;
+    mutable std::mutex mutex_;
+    core::ChannelEstimate estimate_;
+    std::uint64_t delivered_wire_bytes_ = 0;
+    std::uint64_t datagrams_ = 0;
+    std::uint64_t stamped_datagrams_ = 0;
+    std::uint64_t lost_datagrams_ = 0;
+    std::map<SequenceKey, std::uint64_t> last_sequence_;
+};
+
+}  // namespace tgw::basecamp

@@ -1,0 +1,119 @@
+// What a fleet's shared channel delivers, as the base camp measures it (issue 21, part 3): the rate the grants
+// split, instead of the rate someone typed in. Pure: the base camp feeds it what arrived and when it left.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "base/clock.hpp"
+#include "base/time.hpp"
+
+namespace tgw::core {
+
+/// The AIMD of ChannelEstimate. The defaults cut within two seconds of a queue forming on the paper's channels and
+/// win back a tenth of the bound in five seconds of clear channel.
+struct ChannelEstimateConfig {
+    /// A cut takes the estimate to this fraction of what the channel delivered meanwhile (and at least 5 % down),
+    /// in (0, 1).
+    double decrease_factor = 0.9;
+    /// Growth per second of clear channel, as a fraction of the upper bound.
+    double increase_fraction_per_s = 0.02;
+    /// Samples that waited this much longer than their sender's quickest ever did: the channel queues.
+    base::Duration max_queueing = std::chrono::milliseconds(250);
+    /// Samples that waited longer than this, but not max_queueing: the channel is full, and the estimate holds.
+    /// Below it, a frame or two ahead in the router's queue (a 1,210-byte frame takes 320 ms at 30 kbit/s).
+    base::Duration hold_queueing = std::chrono::milliseconds(100);
+    /// At most one cut per interval: the new grants must reach the robots and the queue drain before a cut shows.
+    base::Duration decrease_interval = std::chrono::seconds(2);
+    /// The estimate never goes below this fraction of the upper bound, in (0, 1].
+    double min_fraction = 0.1;
+    /// Grow only while the channel carried at least this fraction of what was granted: an idle channel proves
+    /// nothing.
+    double min_utilisation = 0.7;
+    /// The queueing is measured over intervals at least this long.
+    base::Duration interval = std::chrono::seconds(1);
+    /// The delivered rate over this long: a second holds a few large frames, or none.
+    base::Duration delivered_window = std::chrono::seconds(3);
+    /// A sender's quickest delay is remembered this long (in five steps): the two clocks drift apart.
+    base::Duration baseline_window = std::chrono::minutes(5);
+
+    /// "" when usable, else what is wrong, naming the field.
+    std::string validate() const;
+};
+
+enum class ChannelVerdict {
+    unknown,   ///< no interval measured yet
+    clear,     ///< nothing lost, no queue: the channel carries what it is given
+    full,      ///< a short queue: the channel carries what it is given, and no more
+    draining,  ///< a queue, shrinking since the last cut
+    queueing,  ///< a queue that does not shrink: the grants add up to more than the channel delivers
+    losing,    ///< samples lost on the way (gaps in the writers' sequence numbers)
+};
+
+/// "clear", "queueing", ...
+const char* to_string(ChannelVerdict verdict);
+
+/// The rate of a fleet's shared channel, from what the base camp receives: the bytes that arrive (delivered),
+/// the samples lost on the way, and how long samples took from their sender, each sender's delay taken above the
+/// least it ever took, so that the two clocks' offset cancels. Starts at the upper bound (the channel's nominal
+/// rate), cuts to a fraction of what the channel delivered while it queued or lost, and grows back slowly while
+/// the grants are used and samples cross without queueing (not while no sample tells); never above the bound.
+/// Not thread-safe.
+class ChannelEstimate {
+  public:
+    /// Throws base::ConfigError when `config` is invalid or `upper_bps` is not a rate above 0. `clock` must
+    /// outlive the estimate.
+    ChannelEstimate(double upper_bps, ChannelEstimateConfig config, const base::Clock& clock);
+
+    /// One sample of `wire_bytes` from `sender`, which arrived `one_way` after its sender stamped it (the
+    /// receiver's clock less the sender's: it may be negative).
+    void arrived(const std::string& sender, base::Duration one_way, std::size_t wire_bytes);
+
+    /// At clock.now(): everything the channel delivered so far (wire bytes, cumulative) and the samples lost so
+    /// far (cumulative), while the grants handed out added up to `granted_bps`. Returns the estimate.
+    double update(std::uint64_t delivered_wire_bytes, std::uint64_t lost_samples, double granted_bps);
+
+    double channel_bps() const { return estimate_bps_; }
+    double upper_bps() const { return upper_bps_; }
+    /// What the channel delivered over the last delivered_window, bit/s; nullopt before an interval.
+    std::optional<double> delivered_bps() const { return delivered_bps_; }
+    /// The standing queue of the last interval (the least any sample in it waited); nullopt without samples.
+    std::optional<base::Duration> queueing() const { return queueing_; }
+    ChannelVerdict verdict() const { return verdict_; }
+
+  private:
+    /// A sender's quickest delays, one per step of baseline_window / BASELINE_STEPS.
+    struct Baseline {
+        static constexpr int STEPS = 5;
+        base::SteadyTime step_start{};
+        base::Duration minimum[STEPS]{};
+        int steps = 0;  ///< how many of minimum[] hold a value; minimum[0] is the current step's
+        base::Duration least() const;
+    };
+    struct Counters {
+        base::SteadyTime at{};
+        std::uint64_t delivered_wire_bytes = 0;
+        std::uint64_t lost_samples = 0;
+    };
+
+    void cut(double delivered_bps, base::SteadyTime now);
+
+    const ChannelEstimateConfig config_;
+    const base::Clock& clock_;
+    const double upper_bps_;
+    double estimate_bps_;
+    std::map<std::string, Baseline> baselines_;
+    std::optional<base::Duration> interval_queueing_;  ///< the least queueing of the interval so far
+    std::optional<Counters> last_;
+    std::deque<Counters> window_;  ///< the updates of the last delivered_window
+    std::optional<double> delivered_bps_;
+    std::optional<base::Duration> queueing_;
+    std::optional<base::SteadyTime> last_cut_;
+    ChannelVerdict verdict_ = ChannelVerdict::unknown;
+};
+
+}  // namespace tgw::core

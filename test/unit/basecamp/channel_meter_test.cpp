@@ -1,0 +1,83 @@
+// ChannelMeter: what it counts of the datagrams the relay's WAN transport receives.
+#include "basecamp/channel_meter.hpp"
+
+#include <gtest/gtest.h>
+
+#include "test/fakes/fake_clock.hpp"
+#include "test/unit/dds/rtps_bytes.hpp"
+
+namespace tgw::basecamp {
+namespace {
+
+using namespace std::chrono_literals;
+using test::rtps::Bytes;
+using test::rtps::data;
+using test::rtps::info_ts;
+using test::rtps::message;
+using test::rtps::statistics;
+
+/// A 40-byte sample's datagram from participant `sender`, its `sequence`-th to `port`, sent `age` before `now`.
+Bytes datagram(std::uint8_t sender, std::uint64_t sequence, base::WallTime now, base::Duration age = 50ms,
+               std::uint32_t port = 7411) {
+    Bytes m = message({info_ts(1), data(40), statistics(0)}, sender);
+    const auto sent = std::chrono::duration_cast<std::chrono::seconds>((now - age).time_since_epoch());
+    // The stamp's half second: the sender's clock reads `now - age` rounded down to the second, plus 0.5 s.
+    test::rtps::stamp(m, static_cast<std::uint32_t>(sent.count()), sequence, port);
+    return m;
+}
+
+class ChannelMeterTest : public ::testing::Test {
+  protected:
+    void receive(const Bytes& bytes) { meter_.datagram(bytes.data(), bytes.size()); }
+
+    test::FakeClock clock_;
+    ChannelMeter meter_{60'000, clock_};
+};
+
+TEST_F(ChannelMeterTest, CountsEveryDatagramAndReadsTheStampsOfThoseThatHaveOne) {
+    const Bytes stamped = datagram(1, 1, clock_.wall_now());
+    receive(stamped);
+    const Bytes compact = message({info_ts(1), data(40)}, 2);  // a compact-mode gateway strips the statistics
+    receive(compact);
+    const ChannelReading r = meter_.reading();
+    EXPECT_EQ(r.datagrams, 2u);
+    EXPECT_EQ(r.stamped_datagrams, 1u);
+    EXPECT_EQ(r.lost_datagrams, 0u);
+
+    // What the channel carried: each datagram with its Ethernet, IP and UDP headers.
+    meter_.measure(0, 0);
+    clock_.advance(1s);
+    receive(stamped);
+    receive(compact);
+    meter_.measure(0, 0);
+    EXPECT_NEAR(*meter_.reading().delivered_bps, 8.0 * (stamped.size() + compact.size() + 2 * 42), 1);
+    EXPECT_TRUE(meter_.reading().queueing.has_value()) << "the stamped datagram's delay";
+}
+
+TEST_F(ChannelMeterTest, GapsInASendersSequenceToOneDestinationAreLostDatagrams) {
+    const base::WallTime now = clock_.wall_now();
+    for (std::uint64_t sequence : {1, 2, 5, 6}) {
+        receive(datagram(1, sequence, now));
+    }
+    EXPECT_EQ(meter_.reading().lost_datagrams, 2u) << "3 and 4";
+    receive(datagram(1, 1, now, 50ms, 7413));  // its first to another of the relay's locators: a sequence of its own
+    receive(datagram(2, 9, now));              // another sender's first: where it starts is no loss
+    receive(datagram(1, 4, now));              // late, behind 6: still counted lost
+    EXPECT_EQ(meter_.reading().lost_datagrams, 2u);
+    receive(datagram(2, 12, now));
+    EXPECT_EQ(meter_.reading().lost_datagrams, 4u);
+}
+
+TEST_F(ChannelMeterTest, LostDatagramsCutTheChannel) {
+    meter_.measure(0, 0);
+    const base::WallTime now = clock_.wall_now();
+    for (std::uint64_t sequence = 1; sequence <= 100; sequence += 2) {  // every other datagram lost
+        receive(datagram(1, sequence, now));
+    }
+    clock_.advance(1s);
+    EXPECT_LT(meter_.measure(0, 54'000), 60'000);
+    EXPECT_EQ(meter_.reading().verdict, core::ChannelVerdict::losing);
+}
+
+}  // namespace
+}  // namespace tgw::basecamp

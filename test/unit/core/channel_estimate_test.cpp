@@ -1,0 +1,208 @@
+#include "gateway/core/channel_estimate.hpp"
+
+#include <gtest/gtest.h>
+
+#include "base/config_error.hpp"
+#include "test/fakes/fake_clock.hpp"
+
+namespace tgw::core {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr double BOUND = 60'000;
+
+/// A base camp's view of a channel: each second, what arrived from two robots and how long it took.
+class ChannelEstimateTest : public ::testing::Test {
+  protected:
+    /// One second: `bps` delivered in 250-byte samples, half from each robot, each after `delay` on the way
+    /// (rover2's clock 7 s ahead of the camp's), `lost` samples more lost; then the estimate's update with
+    /// `granted` handed out.
+    double second(double bps, base::Duration delay, double granted, std::uint64_t lost = 0) {
+        const auto samples = static_cast<int>(bps / 8 / SAMPLE_BYTES);
+        for (int i = 0; i < samples; ++i) {
+            const bool rover1 = i % 2 == 0;
+            estimate_.arrived(rover1 ? "rover1" : "rover2", rover1 ? delay : delay - 7s, SAMPLE_BYTES);
+        }
+        clock_.advance(1s);
+        delivered_ += static_cast<std::uint64_t>(samples) * SAMPLE_BYTES;
+        lost_ += lost;
+        return estimate_.update(delivered_, lost_, granted);
+    }
+
+    /// A channel of 30,000 bit/s carrying all it is given, delays at their least; the robots ask less than their
+    /// grants, so nothing says the channel is smaller than its bound.
+    void settle() {
+        for (int i = 0; i < 3; ++i) {
+            second(30'000, 40ms, 54'000);
+        }
+        ASSERT_EQ(estimate_.verdict(), ChannelVerdict::clear);
+    }
+
+    static constexpr std::size_t SAMPLE_BYTES = 250;
+    test::FakeClock clock_;
+    ChannelEstimate estimate_{BOUND, ChannelEstimateConfig{}, clock_};
+    std::uint64_t delivered_ = 0;
+    std::uint64_t lost_ = 0;
+};
+
+TEST_F(ChannelEstimateTest, AChannelThatCarriesWhatItIsGivenStaysAtTheBound) {
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::unknown);
+    for (int i = 0; i < 20; ++i) {
+        EXPECT_DOUBLE_EQ(second(50'000, 40ms, 54'000), BOUND) << "second " << i;
+    }
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::clear);
+    EXPECT_NEAR(*estimate_.delivered_bps(), 50'000, 500);
+    EXPECT_EQ(*estimate_.queueing(), 0ms) << "the offsets of both clocks cancel";
+}
+
+TEST_F(ChannelEstimateTest, AGrowingQueueCutsToAFractionOfWhatTheChannelDelivered) {
+    settle();
+    // The robots ask for their grants: 54,000 bit/s into the channel's 30,000 fill the router's queue.
+    second(30'000, 340ms, 54'000);
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::queueing);
+    EXPECT_NEAR(estimate_.channel_bps(), 0.9 * 30'000, 500);
+    EXPECT_NEAR(estimate_.queueing()->count(), std::chrono::nanoseconds(300ms).count(), 1e6);
+}
+
+TEST_F(ChannelEstimateTest, AShortQueueHoldsTheEstimateWithoutACut) {
+    settle();
+    second(30'000, 340ms, 54'000);
+    const double cut = estimate_.channel_bps();
+    for (int i = 0; i < 5; ++i) {
+        EXPECT_DOUBLE_EQ(second(0.8 * cut, 240ms, 0.9 * cut), cut) << "200 ms above the least, second " << i;
+        EXPECT_EQ(estimate_.verdict(), ChannelVerdict::full);
+    }
+}
+
+TEST_F(ChannelEstimateTest, AShrinkingQueueIsLeftToDrain) {
+    settle();
+    second(30'000, 640ms, 54'000);
+    const double cut = estimate_.channel_bps();
+    clock_.advance(5s);  // past the decrease interval: only the draining holds the next cut back
+    EXPECT_DOUBLE_EQ(second(30'000, 540ms, 24'000), cut);
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::draining);
+    EXPECT_DOUBLE_EQ(second(30'000, 340ms, 24'000), cut);
+    second(30'000, 40ms, 24'000);
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::clear);
+}
+
+TEST_F(ChannelEstimateTest, OneCutPerIntervalWhileTheLastCanShowNothingYet) {
+    settle();
+    second(30'000, 340ms, 54'000);
+    const double cut = estimate_.channel_bps();
+    EXPECT_DOUBLE_EQ(second(20'000, 640ms, 24'000), cut) << "a second after the cut";
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::queueing);
+    EXPECT_NEAR(second(20'000, 940ms, 24'000), 0.9 * (30'000 + 20'000 + 20'000) / 3, 500)
+        << "two seconds after it, at what the last three delivered";
+}
+
+TEST_F(ChannelEstimateTest, LostSamplesCutWithoutAQueue) {
+    settle();
+    EXPECT_NEAR(second(40'000, 40ms, 54'000, 3), 0.9 * (30'000 + 30'000 + 40'000) / 3, 500);
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::losing);
+}
+
+TEST_F(ChannelEstimateTest, GrowsBackWhileTheGrantsAreUsedAndNothingQueues) {
+    settle();
+    second(30'000, 340ms, 54'000);
+    const double cut = estimate_.channel_bps();
+    // The robots use their grants (90 % of the estimate, budgeted at 95 %): a fiftieth of the bound a second.
+    EXPECT_NEAR(second(0.8 * cut, 40ms, 0.9 * cut), cut + 0.02 * BOUND, 1);
+    for (int i = 0; i < 60; ++i) {
+        const double now = estimate_.channel_bps();
+        second(0.8 * now, 40ms, 0.9 * now);
+    }
+    EXPECT_DOUBLE_EQ(estimate_.channel_bps(), BOUND) << "never above the bound";
+}
+
+TEST_F(ChannelEstimateTest, AnIdleChannelProvesNothing) {
+    settle();
+    second(30'000, 340ms, 54'000);
+    for (int i = 0; i < 3; ++i) {
+        second(5'000, 40ms, 24'000);  // the busy seconds leave the delivered window
+    }
+    const double held = estimate_.channel_bps();
+    for (int i = 0; i < 10; ++i) {
+        EXPECT_DOUBLE_EQ(second(5'000, 40ms, 24'000), held) << "second " << i;
+    }
+}
+
+TEST_F(ChannelEstimateTest, BytesWithoutDelaysProveNothing) {
+    settle();
+    second(30'000, 340ms, 54'000);
+    const double cut = estimate_.channel_bps();
+    for (int i = 0; i < 5; ++i) {
+        clock_.advance(1s);
+        delivered_ += 3'000;  // 24,000 bit/s of datagrams no sender stamped
+        EXPECT_DOUBLE_EQ(estimate_.update(delivered_, lost_, 24'000), cut) << "second " << i;
+    }
+}
+
+TEST_F(ChannelEstimateTest, NeverBelowItsLeastFractionOfTheBound) {
+    settle();
+    for (int i = 0; i < 20; ++i) {
+        second(0, 40ms, 54'000, 1);
+    }
+    EXPECT_DOUBLE_EQ(estimate_.channel_bps(), 0.1 * BOUND);
+}
+
+TEST_F(ChannelEstimateTest, ALargeSampleTakesLongerOnTheWireWithoutQueueing) {
+    settle();
+    // 3,000 bytes at the bound take 400 ms to cross; each alone in its second.
+    for (int i = 0; i < 3; ++i) {
+        estimate_.arrived("rover1", 40ms + 400ms, 3'000);
+        clock_.advance(1s);
+        delivered_ += 3'000;
+        EXPECT_DOUBLE_EQ(estimate_.update(delivered_, lost_, 54'000), BOUND);
+        EXPECT_LT(*estimate_.queueing(), 50ms);
+    }
+}
+
+TEST_F(ChannelEstimateTest, ASendersQuickestDelayIsForgottenAfterTheBaselineWindow) {
+    // rover1's clock jumps 2 s back (a time server corrected it): every sample now seems 2 s slower.
+    const ChannelEstimateConfig config;
+    ChannelEstimate estimate(BOUND, config, clock_);
+    estimate.arrived("rover1", 40ms, SAMPLE_BYTES);
+    for (int i = 0; i < 7; ++i) {
+        clock_.advance(config.baseline_window / 5);
+        estimate.arrived("rover1", 2040ms, SAMPLE_BYTES);
+    }
+    clock_.advance(1s);
+    estimate.update(0, 0, 0);
+    clock_.advance(1s);
+    estimate.arrived("rover1", 2040ms, SAMPLE_BYTES);
+    estimate.update(SAMPLE_BYTES, 0, 0);
+    EXPECT_LT(*estimate.queueing(), 10ms) << "its new delay is its least now";
+}
+
+TEST_F(ChannelEstimateTest, CountersThatGoBackStartAfresh) {
+    settle();
+    clock_.advance(1s);
+    EXPECT_DOUBLE_EQ(estimate_.update(0, 0, 54'000), BOUND) << "the relay restarted its tally";
+    clock_.advance(1s);
+    EXPECT_DOUBLE_EQ(estimate_.update(6'000, 0, 54'000), BOUND);
+    EXPECT_NEAR(*estimate_.delivered_bps(), 48'000, 1);
+}
+
+TEST(ChannelEstimateConfigTest, NamesTheFieldThatIsWrong) {
+    ChannelEstimateConfig config;
+    EXPECT_EQ(config.validate(), "");
+    config.decrease_factor = 1.0;
+    EXPECT_NE(config.validate().find("decrease_factor"), std::string::npos);
+    config = {};
+    config.min_fraction = 0;
+    EXPECT_NE(config.validate().find("min_fraction"), std::string::npos);
+    config = {};
+    config.hold_queueing = 1s;
+    EXPECT_NE(config.validate().find("hold_queueing"), std::string::npos);
+    config = {};
+    config.interval = 0s;
+    EXPECT_NE(config.validate().find("interval"), std::string::npos);
+    test::FakeClock clock;
+    EXPECT_THROW(ChannelEstimate(0, {}, clock), base::ConfigError);
+    EXPECT_THROW(ChannelEstimate(BOUND, config, clock), base::ConfigError);
+}
+
+}  // namespace
+}  // namespace tgw::core

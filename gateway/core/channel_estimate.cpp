@@ -116,13 +116,23 @@ double ChannelEstimate::update(std::uint64_t delivered_wire_bytes, std::uint64_t
     } else if (queue) {
         verdict_ = ChannelVerdict::draining;  // the last cut shows: wait for the queue to go
     } else if (queueing_ && *queueing_ > config_.hold_queueing) {
-        verdict_ = ChannelVerdict::full;  // more would queue
+        // Full: ease down, the more the longer the queue, so that the estimate settles where a short queue stands
+        // instead of growing into a long one and being cut.
+        verdict_ = ChannelVerdict::full;
+        const double over = base::to_seconds(*queueing_ - config_.hold_queueing) /
+                            base::to_seconds(config_.max_queueing - config_.hold_queueing);
+        estimate_bps_ =
+            std::max(config_.min_fraction * upper_bps_,
+                     estimate_bps_ - over * config_.increase_fraction_per_s * upper_bps_ * base::to_seconds(elapsed));
     } else {
         verdict_ = ChannelVerdict::clear;
-        // Grow only on evidence: samples that crossed without queueing while the grants were used.
-        if (queueing_ && granted_bps > 0 && delivered >= config_.min_utilisation * granted_bps)
-            estimate_bps_ = std::min(
-                upper_bps_, estimate_bps_ + config_.increase_fraction_per_s * upper_bps_ * base::to_seconds(elapsed));
+        // Grow only on evidence: samples that crossed while the grants were used; the slower the nearer the
+        // queue is to full.
+        if (queueing_ && granted_bps > 0 && delivered >= config_.min_utilisation * granted_bps) {
+            const double room = 1.0 - base::to_seconds(*queueing_) / base::to_seconds(config_.hold_queueing);
+            estimate_bps_ = std::min(upper_bps_, estimate_bps_ + room * config_.increase_fraction_per_s * upper_bps_ *
+                                                                     base::to_seconds(elapsed));
+        }
     }
     return estimate_bps_;
 }

@@ -24,8 +24,8 @@ struct ChannelEstimateConfig {
     double increase_fraction_per_s = 0.02;
     /// Samples that waited this much longer than their sender's quickest ever did: the channel queues.
     base::Duration max_queueing = std::chrono::milliseconds(250);
-    /// Samples that waited longer than this, but not max_queueing: the channel is full, and the estimate holds.
-    /// Below it, a frame or two ahead in the router's queue (a 1,210-byte frame takes 320 ms at 30 kbit/s).
+    /// Samples that waited longer than this, but not max_queueing: the channel is full, and the estimate eases down
+    /// (up to increase_fraction_per_s at max_queueing); below it, it grows, the slower the nearer the queue is to it.
     base::Duration hold_queueing = std::chrono::milliseconds(100);
     /// At most one cut per interval: the new grants must reach the robots and the queue drain before a cut shows.
     base::Duration decrease_interval = std::chrono::seconds(2);
@@ -48,7 +48,7 @@ struct ChannelEstimateConfig {
 enum class ChannelVerdict {
     unknown,   ///< no interval measured yet
     clear,     ///< nothing lost, no queue: the channel carries what it is given
-    full,      ///< a short queue: the channel carries what it is given, and no more
+    full,      ///< a short queue: the channel carries what it is given, and no more; the estimate eases down
     draining,  ///< a queue, shrinking since the last cut
     queueing,  ///< a queue that does not shrink: the grants add up to more than the channel delivers
     losing,    ///< samples lost on the way (gaps in the writers' sequence numbers)
@@ -60,8 +60,9 @@ const char* to_string(ChannelVerdict verdict);
 /// The rate of a fleet's shared channel, from what the base camp receives: the bytes that arrive (delivered),
 /// the samples lost on the way, and how long samples took from their sender, each sender's delay taken above the
 /// least it ever took, so that the two clocks' offset cancels. Starts at the upper bound (the channel's nominal
-/// rate), cuts to a fraction of what the channel delivered while it queued or lost, and grows back slowly while
-/// the grants are used and samples cross without queueing (not while no sample tells); never above the bound.
+/// rate), cuts to a fraction of what the channel delivered while it queued long or lost, eases down while a short
+/// queue stands, and grows back slowly while the grants are used and samples cross with less (not while no sample
+/// tells); never above the bound.
 /// Not thread-safe.
 class ChannelEstimate {
   public:

@@ -13,18 +13,22 @@
 # Printed per way: rover1's hazards on time at the base camp (of those published), and rover2's bulk received.
 # Needs root; not in ctest (about 1 min a way). WAYS="none equal grants" by default; WAYS="grants overstated
 # measured" compares the measure.
-#   test/bench/fleet_channel_shares.sh BIN_DIR [--duration S] [--rate BPS] [--claimed BPS]
+# --rate-drop BPS@S: the channel's rate falls to BPS S seconds after the robots start publishing (scripts/testbed
+# set-rate): the base camp's --channel-rate is then the rate it had.
+#   test/bench/fleet_channel_shares.sh BIN_DIR [--duration S] [--rate BPS] [--claimed BPS] [--rate-drop BPS@S]
 set -euo pipefail
 BIN=$(cd "$1" && pwd)
 shift
 DURATION=30
 RATE=30000
 CLAIMED=""
+DROP=""
 while [ $# -gt 0 ]; do
     case "$1" in
         --duration) DURATION=$2; shift 2 ;;
         --rate) RATE=$2; shift 2 ;;
         --claimed) CLAIMED=$2; shift 2 ;;
+        --rate-drop) DROP=$2; shift 2 ;;
         *) echo "fleet_channel_shares.sh: unknown argument '$1'" >&2; exit 2 ;;
     esac
 done
@@ -83,6 +87,10 @@ run() {  # WAY
         sims+=("$!")
         pids+=("$!")
     done
+    if [ -n "$DROP" ]; then
+        sleep "${DROP#*@}"
+        scripts/testbed set-rate "${DROP%@*}" >/dev/null
+    fi
     for pid in "${sims[@]}"; do wait "$pid" || true; done
     sleep 2
     for pid in "${gateways[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
@@ -109,7 +117,7 @@ run() {  # WAY
     grep -h "last grant\|channel measured" "$dir/relay.out" | sed "s/^/$way  /" || true
 }
 
-echo "fleet_channel_shares: 2 robots, channel $RATE bit/s ($CLAIMED claimed where overstated or measured), $DURATION s each"
+echo "fleet_channel_shares: 2 robots, channel $RATE bit/s${DROP:+ falling to ${DROP%@*} after ${DROP#*@} s} ($CLAIMED claimed where overstated or measured), $DURATION s each"
 for way in ${WAYS:-none equal grants}; do
     run "$way"
 done

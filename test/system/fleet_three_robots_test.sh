@@ -11,7 +11,8 @@
 # arrives again after its restart; every robot's topics under its own name.
 # WAY=grants (not in ctest; for the README's comparison) runs the same with the base camp's grants instead: each
 # gateway senses the whole channel (--sensor fixed:60000, --channel-grants), the relay grants the shares
-# (--channel-rate 60000).
+# (--channel-rate 60000). WAY=measured: the same, the relay measuring the channel with twice its rate as the bound
+# (--channel-rate 120000 --measure-channel).
 set -euo pipefail
 BIN=$1
 cd "$(dirname "$0")/../.."
@@ -31,10 +32,13 @@ for k in $(seq 1 "$ROBOTS"); do peers+=(--peer "$(robot_address "$k")"); done
 WAY=${WAY:-equal}
 relay_flags=()
 grant_flags=()
-if [ "$WAY" = grants ]; then
+if [ "$WAY" = grants ] || [ "$WAY" = measured ]; then
     SHARE=60000
     relay_flags=(--channel-rate "${CHANNEL_RATE:-60000}")
     grant_flags=(--channel-grants)
+fi
+if [ "$WAY" = measured ]; then
+    relay_flags=(--channel-rate "${CHANNEL_RATE:-120000}" --measure-channel)
 fi
 echo "fleet_three_robots: $WAY shares"
 "${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --interface "$basecamp_addr" "${peers[@]}" \

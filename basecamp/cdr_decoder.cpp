@@ -4,6 +4,8 @@
 #include <cstring>
 #include <limits>
 
+#include "base/byte_order.hpp"
+
 namespace tgw::basecamp {
 
 namespace {
@@ -19,14 +21,6 @@ constexpr int MAX_DEPTH = 100;
 constexpr std::uint16_t CDR_LE = 0x0001;
 constexpr std::uint16_t CDR2_BE = 0x0006;
 constexpr std::uint16_t D_CDR2_LE = 0x0009;
-
-template <typename U>
-U load(const std::uint8_t* bytes, bool little_endian) {
-    U value = 0;
-    for (std::size_t i = 0; i < sizeof(U); ++i)
-        value |= static_cast<U>(static_cast<U>(bytes[little_endian ? i : sizeof(U) - 1 - i]) << (8 * i));
-    return value;
-}
 
 class Decoder {
   public:
@@ -92,7 +86,7 @@ class Decoder {
     bool read(U& value) {
         if (!align(sizeof(U)) || !need(sizeof(U)))
             return false;
-        value = load<U>(data_ + pos_, little_endian_);
+        value = base::load_unsigned<U>(data_ + pos_, little_endian_);
         pos_ += sizeof(U);
         return true;
     }

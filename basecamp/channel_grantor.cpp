@@ -188,12 +188,14 @@ void ChannelGrantor::measure_channel() {
     double granted = 0;
     for (const auto& [key, bps] : last_grants_)
         granted += bps;
-    const core::ChannelVerdict before = meter_->reading().verdict;
-    channel_bps_ = meter_->measure(lost, granted);
+    const ChannelReading reading = meter_->measure(lost, granted);
+    channel_bps_ = reading.channel_bps;
     shares_.set_capacity((1.0 - core::JOIN_SHARE) * channel_bps_);
-    if (const core::ChannelVerdict now = meter_->reading().verdict; now != before) {
+    if (reading.verdict != channel_verdict_) {
         // Each change of what it finds, not each second: a line to read when the grants look wrong.
-        std::fprintf(stderr, "tm-basecamp relay: channel %s: sharing %.0f bit/s\n", core::to_string(now), channel_bps_);
+        channel_verdict_ = reading.verdict;
+        std::fprintf(stderr, "tm-basecamp relay: channel %s: sharing %.0f bit/s\n", core::to_string(reading.verdict),
+                     channel_bps_);
     }
 }
 

@@ -70,8 +70,6 @@ class ChannelGrantor {
     core::ChannelGrants last_grants() const;
     /// The newcomers' share it writes (dds::NEWCOMER_PREFIX): core::JOIN_SHARE of the channel.
     double newcomer_share() const;
-    /// The channel's rate it shares now: --channel-rate, or what it measured.
-    double channel_bps() const;
     /// What its meter found; nullopt when it does not measure the channel.
     std::optional<ChannelReading> channel_reading() const;
 
@@ -86,6 +84,8 @@ class ChannelGrantor {
     };
 
     void write_grant(const Prefix& prefix, double bps, std::uint64_t sent_ns);
+    /// The channel's rate it shares now: --channel-rate, or what it measured.
+    double channel_bps() const;
     /// The channel's measure, once an interval; under mutex_.
     void measure_channel();
 
@@ -94,7 +94,8 @@ class ChannelGrantor {
     const base::Clock& clock_;
     const core::WireModel wire_;
     mutable std::mutex mutex_;
-    double channel_bps_;  // under mutex_
+    double channel_bps_;                                                    // under mutex_
+    core::ChannelVerdict channel_verdict_ = core::ChannelVerdict::unknown;  // under mutex_
     ChannelMeter* meter_;
     const DeliveryTally* tally_;
     core::ChannelShares shares_;  // under mutex_

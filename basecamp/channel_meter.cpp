@@ -3,14 +3,12 @@
 #include <algorithm>
 #include <string>
 
+#include "gateway/core/wire_model.hpp"
 #include "gateway/dds/send_stamp.hpp"
 
 namespace tgw::basecamp {
 
 namespace {
-
-// Ethernet 14, IPv4 20, UDP 8 around each datagram: what the channel carried for it.
-constexpr std::size_t FRAME_HEADER_BYTES = 42;
 
 std::string key_of(const std::array<std::uint8_t, 12>& prefix) {
     return std::string(prefix.begin(), prefix.end());
@@ -25,12 +23,12 @@ void ChannelMeter::datagram(const std::uint8_t* bytes, std::size_t size) {
     const std::optional<dds::SendStamp> stamp = dds::read_send_stamp(bytes, size);
     const base::WallTime now = clock_.wall_now();
     std::lock_guard<std::mutex> lock(mutex_);
-    delivered_wire_bytes_ += size + FRAME_HEADER_BYTES;
+    delivered_wire_bytes_ += size + core::WireModel::FRAME_HEADER_BYTES;
     ++datagrams_;
     if (!stamp)
         return;
     ++stamped_datagrams_;
-    estimate_.arrived(key_of(stamp->sender), now - stamp->sent, size + FRAME_HEADER_BYTES);
+    estimate_.arrived(key_of(stamp->sender), now - stamp->sent, size + core::WireModel::FRAME_HEADER_BYTES);
     SequenceKey key;
     std::copy(stamp->sender.begin(), stamp->sender.end(), key.begin());
     std::copy(stamp->destination.begin(), stamp->destination.end(), key.begin() + stamp->sender.size());
@@ -49,13 +47,18 @@ void ChannelMeter::stamped_sample(const ParticipantPrefix& sender, base::Duratio
     estimate_.arrived(key_of(sender), one_way, wire_bytes);
 }
 
-double ChannelMeter::measure(std::uint64_t lost_samples, double granted_bps) {
+ChannelReading ChannelMeter::measure(std::uint64_t lost_samples, double granted_bps) {
     std::lock_guard<std::mutex> lock(mutex_);
-    return estimate_.update(delivered_wire_bytes_, lost_datagrams_ + lost_samples, granted_bps);
+    estimate_.update(delivered_wire_bytes_, lost_datagrams_ + lost_samples, granted_bps);
+    return reading_locked();
 }
 
 ChannelReading ChannelMeter::reading() const {
     std::lock_guard<std::mutex> lock(mutex_);
+    return reading_locked();
+}
+
+ChannelReading ChannelMeter::reading_locked() const {
     return ChannelReading{estimate_.channel_bps(), estimate_.verdict(), estimate_.delivered_bps(),
                           estimate_.queueing(),    datagrams_,          stamped_datagrams_,
                           lost_datagrams_};

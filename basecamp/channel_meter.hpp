@@ -42,12 +42,15 @@ class ChannelMeter {
     void stamped_sample(const ParticipantPrefix& sender, base::Duration one_way, std::size_t wire_bytes);
 
     /// Once a grant period: `lost_samples` what the readers counted lost so far (DeliveryTally), and the grants
-    /// added up to `granted_bps`. Returns the channel's rate to share (core::ChannelEstimate::update).
-    double measure(std::uint64_t lost_samples, double granted_bps);
+    /// added up to `granted_bps`. Returns what it found, the channel's rate to share among it
+    /// (core::ChannelEstimate::update).
+    ChannelReading measure(std::uint64_t lost_samples, double granted_bps);
 
     ChannelReading reading() const;
 
   private:
+    ChannelReading reading_locked() const;
+
     using SequenceKey = std::array<std::uint8_t, 36>;  // the sender's prefix, then the destination it sent to
 
     const base::Clock& clock_;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "base/byte_order.hpp"
 #include "base/config_error.hpp"
 #include "basecamp/gateway_status.hpp"
 #include "basecamp/topic_robots.hpp"
@@ -55,20 +56,13 @@ Stmt prepare(sqlite3* db, const std::string& path, const char* sql) {
     return Stmt(stmt, sqlite3_finalize);
 }
 
-std::uint32_t read_u32(const std::uint8_t* p, bool little) {
-    return little ? (std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 |
-                     std::uint32_t{p[3]} << 24)
-                  : (std::uint32_t{p[3]} | std::uint32_t{p[2]} << 8 | std::uint32_t{p[1]} << 16 |
-                     std::uint32_t{p[0]} << 24);
-}
-
 }  // namespace
 
 std::optional<std::uint32_t> paper_message_sequence(const std::uint8_t* payload, std::size_t size) {
     // Encapsulation (2 bytes representation id, 2 options), then generated_ns (8), then sequence (4).
     if (payload == nullptr || size < 16 || payload[0] != 0x00 || payload[1] > 0x01)
         return std::nullopt;
-    return read_u32(payload + 12, payload[1] == 0x01);
+    return base::load_unsigned<std::uint32_t>(payload + 12, payload[1] == 0x01);
 }
 
 std::vector<TopicReport> read_report(const std::string& path, const ReportOptions& options) {

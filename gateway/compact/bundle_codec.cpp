@@ -6,6 +6,8 @@
 #include <cstring>
 #include <limits>
 
+#include "base/byte_order.hpp"
+
 namespace tgw::compact {
 
 namespace {
@@ -26,8 +28,8 @@ constexpr std::uint8_t PLAIN_CDR_HEADER[4] = {0x00, 0x01, 0x00, 0x00};
 constexpr std::size_t PLAIN_CDR_HEADER_BYTES = sizeof PLAIN_CDR_HEADER;
 constexpr std::size_t KEY_BYTES = 16;
 constexpr std::size_t HEADER_BYTES = 4;  // magic, version, flags
-constexpr std::size_t BASE_TIME_BYTES = 8;
-constexpr std::size_t CHECKSUM_BYTES = 4;
+constexpr std::size_t BASE_TIME_BYTES = sizeof(std::uint64_t);
+constexpr std::size_t CHECKSUM_BYTES = sizeof(std::uint32_t);
 /// Header, a one-byte sequence, base time, a one-byte entry count and the checksum: no bundle is shorter.
 constexpr std::size_t MIN_BUNDLE_BYTES = HEADER_BYTES + 1 + BASE_TIME_BYTES + 1 + CHECKSUM_BYTES;
 /// Flags, topic id, time delta and payload length, a byte each: no entry is shorter.
@@ -73,13 +75,6 @@ void put_varint(std::vector<std::uint8_t>& out, std::uint64_t value) {
 void put_le(std::vector<std::uint8_t>& out, std::uint64_t value, std::size_t bytes) {
     for (std::size_t i = 0; i < bytes; ++i)
         out.push_back(static_cast<std::uint8_t>(value >> (8 * i)));
-}
-
-std::uint64_t get_le(const std::uint8_t* p, std::size_t bytes) {
-    std::uint64_t value = 0;
-    for (std::size_t i = 0; i < bytes; ++i)
-        value |= std::uint64_t{p[i]} << (8 * i);
-    return value;
 }
 
 std::uint32_t checksum(const std::uint8_t* bytes, std::size_t size) {
@@ -339,18 +334,18 @@ BundleError BundleCodec::decode(const std::uint8_t* bytes, std::size_t size, Bun
     if (size < MIN_BUNDLE_BYTES)
         return BundleError::truncated;
     const std::size_t body = size - CHECKSUM_BYTES;
-    if (checksum(bytes, body) != get_le(bytes + body, CHECKSUM_BYTES))
+    if (checksum(bytes, body) != base::load_little_endian<std::uint32_t>(bytes + body))
         return BundleError::bad_checksum;
 
     const std::uint8_t flags = bytes[3];
     if ((flags & ~BUNDLE_COMPRESSED) != 0)
         return BundleError::malformed;
     Reader header(bytes + HEADER_BYTES, body - HEADER_BYTES);
-    const std::uint8_t* base = nullptr;
+    const std::uint8_t* base_time = nullptr;
     std::uint64_t count = 0;
-    if (!header.varint32(bundle.sequence) || !header.bytes(BASE_TIME_BYTES, base) || !header.varint(count))
+    if (!header.varint32(bundle.sequence) || !header.bytes(BASE_TIME_BYTES, base_time) || !header.varint(count))
         return BundleError::malformed;
-    const auto base_ns = static_cast<std::int64_t>(get_le(base, BASE_TIME_BYTES));
+    const auto base_ns = static_cast<std::int64_t>(base::load_little_endian<std::uint64_t>(base_time));
 
     const std::uint8_t* section = header.position();
     std::size_t section_size = header.remaining();

@@ -20,6 +20,8 @@ struct WireModel {
     static constexpr std::size_t MAX_DATAGRAM_PAYLOAD_BYTES = 1472;
     /// The largest UDP payload Fast DDS sends (its default maxMessageSize).
     static constexpr std::size_t MAX_UDP_PAYLOAD_BYTES = 65500;
+    /// Ethernet 14, IPv4 20 and UDP 8 around a datagram's UDP payload (one frame's worth).
+    static constexpr std::size_t FRAME_HEADER_BYTES = 42;
     /// The smallest datagram limit allowed: room for the headers and a useful fragment.
     static constexpr std::size_t MIN_DATAGRAM_PAYLOAD_BYTES = 512;
 

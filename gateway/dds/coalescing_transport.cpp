@@ -8,6 +8,8 @@
 #include <fastrtps/utils/IPLocator.h>
 #include <fastdds/rtps/common/LocatorsIterator.hpp>
 
+#include "gateway/core/wire_model.hpp"
+
 namespace tgw::dds {
 
 namespace rtps = eprosima::fastrtps::rtps;
@@ -17,9 +19,6 @@ namespace {
 // What a send of a datagram that waited may block for when the socket buffer is full: Fast DDS's default
 // max_blocking_time of a write.
 constexpr std::chrono::milliseconds SEND_TIMEOUT{100};
-
-// Ethernet 14, IPv4 20, UDP 8 around each datagram (WireModel counts the same).
-constexpr std::uint64_t FRAME_HEADER_BYTES = 42;
 
 /// Walks a DatagramDestination's locators for SenderResource::send.
 class LocatorVectorIterator final : public eprosima::fastdds::rtps::LocatorsIterator {
@@ -105,7 +104,7 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
                           [this](const rtps::Locator_t& locator) { return IsLocatorSupported(locator); }));
         std::uint64_t unscheduled = 0;
         if (copies > scheduled) {
-            unscheduled += (copies - scheduled) * (send_buffer_size + FRAME_HEADER_BYTES);
+            unscheduled += (copies - scheduled) * (send_buffer_size + core::WireModel::FRAME_HEADER_BYTES);
         }
         if (copies > 0 && scheduled > 0) {
             unscheduled += RtpsDatagram::heartbeat_bytes(send_buffer, send_buffer_size);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "base/byte_order.hpp"
 #include "gateway/dds/rtps_datagram.hpp"
 
 namespace tgw::dds {
@@ -17,15 +18,6 @@ constexpr std::size_t FRACTION_AT = 28;
 constexpr std::size_t SEQUENCE_AT = 32;
 constexpr std::size_t PREFIX_AT = 8;  // in the RTPS header: "RTPS", version 2, vendor 2
 
-template <typename T>
-T little_endian(const std::uint8_t* at) {
-    T value = 0;
-    for (std::size_t i = sizeof(T); i-- > 0;) {
-        value = static_cast<T>((value << 8) | at[i]);
-    }
-    return value;
-}
-
 }  // namespace
 
 std::optional<SendStamp> read_send_stamp(const std::uint8_t* datagram, std::size_t size) {
@@ -35,14 +27,14 @@ std::optional<SendStamp> read_send_stamp(const std::uint8_t* datagram, std::size
     SendStamp stamp;
     std::copy(datagram + PREFIX_AT, datagram + PREFIX_AT + stamp.sender.size(), stamp.sender.begin());
     std::copy(body, body + stamp.destination.size(), stamp.destination.begin());
-    const auto seconds = static_cast<std::int32_t>(little_endian<std::uint32_t>(body + SECONDS_AT));
-    const std::uint32_t fraction = little_endian<std::uint32_t>(body + FRACTION_AT);
+    const auto seconds = static_cast<std::int32_t>(base::load_little_endian<std::uint32_t>(body + SECONDS_AT));
+    const std::uint32_t fraction = base::load_little_endian<std::uint32_t>(body + FRACTION_AT);
     if (seconds <= 0)
         return std::nullopt;  // never filled in: the sender's transport did not stamp it
     const auto ns = static_cast<std::int64_t>(seconds) * 1'000'000'000 +
                     static_cast<std::int64_t>((static_cast<std::uint64_t>(fraction) * 1'000'000'000) >> 32);
     stamp.sent = base::wall_from_ns(ns);
-    stamp.sequence = little_endian<std::uint64_t>(body + SEQUENCE_AT);
+    stamp.sequence = base::load_little_endian<std::uint64_t>(body + SEQUENCE_AT);
     return stamp;
 }
 

@@ -75,7 +75,7 @@ TEST_F(ChannelMeterTest, LostDatagramsCutTheChannel) {
         receive(datagram(1, sequence, now));
     }
     clock_.advance(1s);
-    EXPECT_LT(meter_.measure(0, 54'000), 60'000);
+    EXPECT_LT(meter_.measure(0, 54'000).channel_bps, 60'000);
     EXPECT_EQ(meter_.reading().verdict, core::ChannelVerdict::losing);
 }
 

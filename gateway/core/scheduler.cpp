@@ -1,6 +1,7 @@
 #include "gateway/core/scheduler.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <utility>
 
 #include "gateway/compact/bundle_codec.hpp"
@@ -286,6 +287,55 @@ void Scheduler::evict_over_cap(SampleSink& sink) {
     }
 }
 
+std::optional<base::SteadyTime> Scheduler::first_yields(base::SteadyTime start) {
+    std::optional<DeadlineQueue::Peek> first;
+    std::optional<DeadlineQueue::Peek> urgent;
+    queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
+        const DeadlineQueue::Peek peek = queue_.at(slot);
+        if (!topics_[peek.topic].config.first) {
+            urgent = peek;
+            return false;
+        }
+        if (!first) {
+            first = peek;
+        }
+        return true;
+    });
+    if (!first || !urgent) {
+        return std::nullopt;
+    }
+    const TopicConfig& first_topic = topics_[first->topic].config;
+    if (first_topic.yields_within <= base::Duration::zero()) {
+        return std::nullopt;
+    }
+    std::uint64_t first_bits = 0;
+    std::uint64_t urgent_bits = 0;
+    std::uint64_t together_bits = 0;
+    if (config_.bundles) {
+        const auto entry_of = [](const DeadlineQueue::Peek& p) {
+            return BundleBuilder::Entry::of(p.topic, p.route, p.source_time, *p.payload, p.keyed);
+        };
+        BundleBuilder bundle(config_.wire);
+        first_bits = bundle.alone_wire_bits(entry_of(*first));
+        urgent_bits = bundle.alone_wire_bits(entry_of(*urgent));
+        bundle.add(entry_of(*first));
+        together_bits = bundle.wire_bits(bundle.encoded_bytes_with(entry_of(*urgent)));
+    } else {
+        first_bits = wire_bits(first->payload_bytes);
+        urgent_bits = wire_bits(urgent->payload_bytes);
+        together_bits = first_bits + urgent_bits;
+    }
+    const auto arrives = [&](std::uint64_t bits) { return start + budget_.transmit_time(bits) + config_.link_latency; };
+    const base::SteadyTime first_due =
+        std::min(first->deadline, first->deadline - first_topic.ttl + first_topic.yields_within);
+    const bool yields = arrives(together_bits) > urgent->deadline && arrives(urgent_bits) <= urgent->deadline &&
+                        arrives(urgent_bits + first_bits) <= first_due;
+    if (!yields) {
+        return std::nullopt;
+    }
+    return first_due - budget_.transmit_time(first_bits);
+}
+
 bool Scheduler::may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std::uint64_t bits, SampleSink& sink) {
     const DeadlineQueue::Peek sample = queue_.at(slot);
     const base::Duration tx = budget_.transmit_time(bits);
@@ -318,8 +368,12 @@ void Scheduler::release_by_deadline(base::SteadyTime now, SampleSink& sink) {
 
     while (!queue_.empty() && budget_.can_send(now)) {
         const base::SteadyTime start = std::max(now, budget_.busy_until());
+        const bool first_waits = first_yields(start).has_value();
         bool sent = false;
         queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
+            if (first_waits && topics_[queue_.at(slot).topic].config.first) {
+                return true;
+            }
             const std::uint64_t bits = wire_bits(queue_.at(slot).payload_bytes);
             if (!may_start(slot, start, bits, sink)) {
                 return true;
@@ -446,8 +500,17 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
             }
         }
     };
+    // A status that yields this bundle leaves in the next: this one must leave it the time.
+    const std::optional<base::SteadyTime> first_waits = first_yields(start);
+    if (first_waits) {
+        earliest_deadline = *first_waits;
+    }
     queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
         const DeadlineQueue::Peek peek = queue_.at(slot);
+        if (first_waits && topics_[peek.topic].config.first) {
+            passed_over = true;
+            return true;
+        }
         if (chunked_ && !chunk_tried) {
             const std::int64_t rank = rank_of(peek.topic);
             if (chunked_->rank < rank || (chunked_->rank == rank && chunked_->sample.deadline <= peek.deadline)) {

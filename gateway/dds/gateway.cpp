@@ -225,7 +225,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         OfferedQos offer;
         offer.reliable = true;  // matched by any reader's defaults
         status_topic_ = loop_->add_topic(core::TopicConfig{
-            STATUS_TOPIC, config_.channel_grants ? STATUS_LIFESPAN : STATUS_TTL, config_.channel_grants});
+            STATUS_TOPIC, config_.channel_grants ? STATUS_LIFESPAN : STATUS_TTL, config_.channel_grants, STATUS_TTL});
         if (compact_) {
             compact_->announce(CatalogLane{*status_topic_, STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true,
                                            STATUS_TTL, 0, offer, STATUS_LIFESPAN});

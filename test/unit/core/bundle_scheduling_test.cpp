@@ -120,6 +120,37 @@ TEST_F(BundleSchedulingTest, NoSampleJoinsABundleItWouldMakeAnEarlierEntryMissIt
     EXPECT_EQ(sut->queued_samples(), 1u);
 }
 
+// As in standard mode (SchedulerTest.TheStatusYields...): the status leaves in the next bundle, not in this one
+// with the A that its bytes would make late.
+// The bundle that goes in its place leaves it the time: a C sample that would make the status arrive more than a
+// second after its birth waits for the status's bundle.
+TEST_F(BundleSchedulingTest, TheStatusYieldsToTheSampleItsBundleWouldCostItsDeadline) {
+    make_sut(10'000);
+    const TopicId status = sut->add_topic({"status", seconds(5), true, seconds(1)});
+    push(c, 64);
+    release();  // the link is busy for about 0.2 s
+    push(a, 64, milliseconds(300));  // due in 0.7 s: at about 0.76 s behind the status, 0.6 s beside C
+    push(status, 450);
+    push(c, 288);
+    run_for(seconds(2));
+    ASSERT_EQ(sink.bundles().size(), 3u);
+    EXPECT_EQ(sink.bundles()[1].topics, (std::vector<TopicId>{a}));
+    EXPECT_EQ(sink.bundles()[2].topics, (std::vector<TopicId>{status, c}));
+    EXPECT_EQ(sut->counters(a).dropped_total(), 0u);
+}
+
+TEST_F(BundleSchedulingTest, TheStatusStillTakesTheSamplesThatMakeTheirDeadlinesBesideIt) {
+    make_sut(10'000);
+    const TopicId status = sut->add_topic({"status", seconds(5), true, seconds(1)});
+    push(c, 64);
+    release();
+    push(a, 64);  // due in 1 s: it makes it in the status's bundle
+    push(status, 450);
+    run_for(seconds(2));
+    ASSERT_EQ(sink.bundles().size(), 2u);
+    EXPECT_EQ(sink.bundles()[1].topics, (std::vector<TopicId>{status, a}));
+}
+
 TEST_F(BundleSchedulingTest, NoBundleHoldsTheLinkLongerThanTheMostUrgentActiveTopicAllows) {
     make_sut(10'000);
     push(a, 64);

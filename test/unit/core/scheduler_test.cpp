@@ -231,6 +231,56 @@ TEST_F(SchedulerTest, AtTheLeastShareTheStatusLeavesBesideTheMostUrgentTopic) {
     EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{a, status}));
 }
 
+// The status first, at a small share: a 450-byte status is half a second of wire at 10,000 bit/s, and an A sample
+// due sooner would expire behind it (three robots on grants lost A three at a time, once per status). It yields
+// where the A makes its deadline going before and the status still makes its own after.
+TEST_F(SchedulerTest, TheStatusYieldsToTheSampleItWouldCostItsDeadline) {
+    make_sut(PolicyKind::ttl, 10'000);
+    const TopicId status = sut->add_topic({"status", seconds(5), true, seconds(1)});  // as the gateway's
+    push(c);
+    release();                       // occupies the link for about 0.19 s
+    push(a, 64, milliseconds(500));  // due in 0.5 s: at 0.38 s alone, at 0.88 s behind the status
+    push(status, 450);
+    run_for(seconds(1));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, a, status}));
+    EXPECT_EQ(sut->counters(a).dropped_total(), 0u);
+}
+
+TEST_F(SchedulerTest, TheStatusDoesNotYieldWhereWaitingWouldCostItsOwnDeadline) {
+    make_sut(PolicyKind::ttl, 10'000);
+    const TopicId status = sut->add_topic({"status", seconds(1), true, seconds(1)});
+    push(c);
+    release();
+    push(a, 64, milliseconds(500));
+    push(status, 450, milliseconds(200));  // due in 0.8 s: at 0.69 s first, at 0.88 s after A
+    run_for(seconds(1));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, status}));
+}
+
+// Its deadline 5 s away, it still yields only while it arrives within a second of its birth: a starved robot's
+// status yielding for seconds kept the base camp from hearing the demand that would raise its grant.
+TEST_F(SchedulerTest, TheStatusYieldsOnlyWhileItStillArrivesWithinItsYieldWindow) {
+    make_sut(PolicyKind::ttl, 10'000);
+    const TopicId status = sut->add_topic({"status", seconds(5), true, seconds(1)});
+    push(c);
+    release();
+    push(a, 64, milliseconds(500));
+    push(status, 450, milliseconds(500));  // born 0.5 s ago: after A it would arrive 1.38 s after its birth
+    run_for(seconds(1));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, status}));
+}
+
+TEST_F(SchedulerTest, AFirstTopicWithoutAYieldWindowNeverYields) {
+    make_sut(PolicyKind::ttl, 10'000);
+    const TopicId status = sut->add_topic({"status", seconds(5), true});
+    push(c);
+    release();
+    push(a, 64, milliseconds(500));
+    push(status, 450);
+    run_for(seconds(1));
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, status}));
+}
+
 TEST_F(SchedulerTest, LargeSamplesAreNotHeldBackOnceNoShortTtlTopicIsActive) {
     make_sut(PolicyKind::ttl, 10'000);
     push(a);

@@ -8,36 +8,49 @@
 
 namespace tgw::core {
 
-void Scheduler::ProtectedTopics::offer(TopicId topic, base::Duration limit) {
+void Scheduler::ProtectedTopics::offer(TopicId topic, base::Duration limit, std::int64_t rank) {
+    if (limit <= base::Duration::zero()) {
+        return;  // no other sample's wait could let it arrive in time
+    }
     if (limit < first_limit) {
         second_topic = first_topic;
         second_limit = first_limit;
+        second_rank = first_rank;
         first_topic = topic;
         first_limit = limit;
+        first_rank = rank;
     } else if (limit < second_limit) {
         second_topic = topic;
         second_limit = limit;
+        second_rank = rank;
     }
 }
 
-bool Scheduler::ProtectedTopics::update(TopicId topic, base::Duration limit) {
+bool Scheduler::ProtectedTopics::update(TopicId topic, base::Duration limit, std::int64_t rank) {
+    if (limit <= base::Duration::zero()) {
+        return topic != first_topic && topic != second_topic;  // one of the two leaves: the next is unknown
+    }
     if (topic == first_topic) {
         if (limit > second_limit)
             return false;  // the new second is unknown
         first_limit = limit;
+        first_rank = rank;
     } else if (topic == second_topic) {
         if (limit < first_limit) {
             second_topic = first_topic;
             second_limit = first_limit;
+            second_rank = first_rank;
             first_topic = topic;
             first_limit = limit;
+            first_rank = rank;
         } else if (limit <= second_limit) {
             second_limit = limit;
+            second_rank = rank;
         } else {
             return false;
         }
     } else {
-        offer(topic, limit);
+        offer(topic, limit, rank);
     }
     return true;
 }
@@ -128,7 +141,7 @@ const Scheduler::ProtectedTopics& Scheduler::protected_topics(base::SteadyTime n
         ++protect_epoch_;
         for (TopicId id = 0; id < topics_.size(); ++id) {
             if (active(id, now)) {
-                protect_.offer(id, protect_limit(id));
+                protect_.offer(id, protect_limit(id), protect_rank_of(id));
                 topics_[id].protect_epoch = protect_epoch_;
             }
         }
@@ -142,6 +155,10 @@ std::int64_t Scheduler::rank_of(TopicId topic) const {
     if (topics_[topic].config.first) {
         return -1;  // below every TTL's rank, and below edf's and fifo's 0
     }
+    return protect_rank_of(topic);
+}
+
+std::int64_t Scheduler::protect_rank_of(TopicId topic) const {
     switch (config_.policy) {
         case PolicyKind::ttl:
         case PolicyKind::paper:
@@ -178,7 +195,7 @@ void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_
     topic.seen = true;
     // Offering a topic again with the limit it was last offered with changes nothing.
     if (protect_valid_ && !same_limit && topic.reachable) {
-        protect_valid_ = protect_.update(sample.topic, protect_limit(sample.topic));
+        protect_valid_ = protect_.update(sample.topic, protect_limit(sample.topic), protect_rank_of(sample.topic));
         topic.protect_epoch = protect_epoch_;
     }
 
@@ -339,7 +356,7 @@ std::optional<base::SteadyTime> Scheduler::first_yields(base::SteadyTime start) 
 bool Scheduler::may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std::uint64_t bits, SampleSink& sink) {
     const DeadlineQueue::Peek sample = queue_.at(slot);
     const base::Duration tx = budget_.transmit_time(bits);
-    const bool blocks_urgent = tx > protect_.limit_for(sample.topic);
+    const bool blocks_urgent = tx > protect_limit_for(sample.topic);
     if (start + tx + config_.link_latency > sample.deadline) {
         drop(take(slot), blocks_urgent ? DropReason::oversize : DropReason::doomed, sink);
         return false;
@@ -487,12 +504,11 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
         }
         const bool alone = bundle.empty();
         if (add_chunk(start, earliest_deadline, limit, bundle, samples)) {
-            limit = std::min(limit, protect_.limit_for(chunked_->sample.topic));
+            limit = std::min(limit, protect_limit_for(chunked_->sample.topic));
             earliest_deadline = std::min(earliest_deadline, chunked_->sample.deadline);
         } else if (alone) {
             // Not even a small chunk is short enough for the most urgent topic: look again once it goes quiet.
-            const TopicId guard =
-                chunked_->sample.topic == protect_.first_topic ? protect_.second_topic : protect_.first_topic;
+            const TopicId guard = protect_.guard_for(chunked_->sample.topic, protect_rank_of(chunked_->sample.topic));
             if (guard != ProtectedTopics::NONE) {
                 const TopicState& t = topics_[guard];
                 const base::SteadyTime quiet = t.last_arrival + t.config.ttl + base::Duration(1);
@@ -522,7 +538,7 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
         if (bundle.empty()) {
             const std::uint64_t alone_bits = bundle.alone_wire_bits(entry);
             const bool too_large = bundle.encoded_bytes_with(entry) > max_bytes ||
-                                   budget_.transmit_time(alone_bits) > protect_.limit_for(peek.topic);
+                                   budget_.transmit_time(alone_bits) > protect_limit_for(peek.topic);
             if (too_large) {
                 // In chunks, urgent samples travel between them; one sample at a time, the others wait. A bundle
                 // is never fragmented.
@@ -564,12 +580,12 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
             const base::Duration tx = budget_.transmit_time(bundle.wire_bits(bytes));
             // Joining must cost no entry its deadline, nor the most urgent topic its own (DESIGN section 4).
             if (bytes > max_bytes || start + tx + config_.link_latency > std::min(earliest_deadline, peek.deadline) ||
-                tx > std::min(limit, protect_.limit_for(peek.topic))) {
+                tx > std::min(limit, protect_limit_for(peek.topic))) {
                 passed_over = true;
                 return true;
             }
         }
-        limit = std::min(limit, protect_.limit_for(peek.topic));
+        limit = std::min(limit, protect_limit_for(peek.topic));
         earliest_deadline = std::min(earliest_deadline, peek.deadline);
         bundle.add(entry);
         samples.push_back(take(slot));
@@ -662,7 +678,7 @@ bool Scheduler::add_chunk(base::SteadyTime start, base::SteadyTime earliest_dead
         return BundleBuilder::Entry{whole.topic,     whole.route, whole.source_time, n, plain && n >= 4,
                                     whole.key.valid, &info};
     };
-    const base::Duration own_limit = std::min(limit, protect_.limit_for(whole.topic));
+    const base::Duration own_limit = std::min(limit, protect_limit_for(whole.topic));
     const base::SteadyTime by = std::min(earliest_deadline, whole.deadline);
     const auto fits = [&](std::size_t n) {
         const std::size_t bytes = bundle.encoded_bytes_with(entry_of(n));

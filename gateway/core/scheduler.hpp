@@ -180,25 +180,47 @@ class Scheduler {
     /// The two shortest-limit active topics (limit: TTL minus the topic's last wire time), so that a candidate
     /// from the most urgent topic is checked against the next one. Kept between releases and brought up to
     /// date on push; rebuilt over all topics only when one of the two goes inactive, the rate or a TTL changes.
+    /// The two active topics with the least room (TTL less their own sample's wire time), and their ranks: a
+    /// sample may hold the link at most the least room of the topics no less urgent than its own, itself aside.
+    /// What is more urgent goes first anyway; a topic without room (its own sample longer than its TTL) is not
+    /// protected at all. Two are kept, not all: a third, more urgent, topic behind two less urgent ones with less
+    /// room goes unprotected (less protection, never a stop).
     struct ProtectedTopics {
         static constexpr TopicId NONE = static_cast<TopicId>(-1);
         TopicId first_topic = NONE;
         TopicId second_topic = NONE;
         base::Duration first_limit = base::Duration::max();
         base::Duration second_limit = base::Duration::max();
+        std::int64_t first_rank = std::numeric_limits<std::int64_t>::max();
+        std::int64_t second_rank = std::numeric_limits<std::int64_t>::max();
 
-        void offer(TopicId topic, base::Duration limit);
+        void offer(TopicId topic, base::Duration limit, std::int64_t rank);
         /// False if the two can no longer be told without a rebuild.
-        bool update(TopicId topic, base::Duration limit);
-        base::Duration limit_for(TopicId candidate) const {
-            return candidate == first_topic ? second_limit : first_limit;
+        bool update(TopicId topic, base::Duration limit, std::int64_t rank);
+        /// The protected topic that bounds a sample of `candidate`, of `rank`; NONE for none.
+        TopicId guard_for(TopicId candidate, std::int64_t rank) const {
+            if (first_topic != candidate && first_rank <= rank)
+                return first_topic;
+            if (second_topic != candidate && second_rank <= rank)
+                return second_topic;
+            return NONE;
+        }
+        base::Duration limit_for(TopicId candidate, std::int64_t rank) const {
+            const TopicId guard = guard_for(candidate, rank);
+            return guard == NONE ? base::Duration::max() : guard == first_topic ? first_limit : second_limit;
         }
     };
 
     bool active(TopicId topic, base::SteadyTime now) const;
     base::Duration protect_limit(TopicId topic) const;
     const ProtectedTopics& protected_topics(base::SteadyTime now);
+    /// How long a sample of `topic` may hold the link (ProtectedTopics::limit_for).
+    base::Duration protect_limit_for(TopicId topic) const { return protect_.limit_for(topic, protect_rank_of(topic)); }
     std::int64_t rank_of(TopicId topic) const;
+    /// Its rank as the non-preemptive rule sees it: by its TTL under ttl, `first` or not. A status that goes first
+    /// is still held to the room of the topics of its TTL and shorter (it leaves in chunks, or waits): the least
+    /// share leaves room for it beside the most urgent topic (core::least_share_bps).
+    std::int64_t protect_rank_of(TopicId topic) const;
     Sample take(DeadlineQueue::Slot slot);
     void forward(Sample&& sample, std::uint64_t wire_bits, SampleSink& sink);
     void drop(Sample&& sample, DropReason reason, SampleSink& sink);

@@ -128,7 +128,7 @@ TEST_F(BundleSchedulingTest, TheStatusYieldsToTheSampleItsBundleWouldCostItsDead
     make_sut(10'000);
     const TopicId status = sut->add_topic({"status", seconds(5), true, seconds(1)});
     push(c, 64);
-    release();  // the link is busy for about 0.2 s
+    release();                       // the link is busy for about 0.2 s
     push(a, 64, milliseconds(300));  // due in 0.7 s: at about 0.76 s behind the status, 0.6 s beside C
     push(status, 450);
     push(c, 288);
@@ -310,6 +310,32 @@ TEST_F(BundleSchedulingTest, TheRoomMoreUrgentTopicsLeaveCarriesTheLeastUrgentTo
                                                          << ", doomed " << sink.dropped_count(DropReason::doomed);
     for (TopicId topic : {a, b, c})
         EXPECT_EQ(sut->counters(topic).dropped_total(), 0u) << "topic " << topic;
+}
+
+// A robot at its least share (7,599 bit/s) starts a 6 kB camera topic (TTL 5 s, about 7 s of wire): the camera's
+// topic became the one the non-preemptive rule protected, with a negative limit, and nothing left the gateway again
+// (three robots on grants: one robot's A 38 of 200 on time).
+TEST_F(BundleSchedulingTest, ACameraThatCannotMakeItsTtlAtTheRateStopsNothing) {
+    make_sut(7'599);
+    const TopicId status = sut->add_topic({"status", seconds(5), true, seconds(1)});
+    const TopicId camera = sut->add_topic({"camera", seconds(5)});
+    for (int tick = 0; tick < 200; ++tick) {  // 20 s
+        if (tick % 4 == 0) {
+            push(a, 64);
+            push(b, 88);
+        }
+        if (tick % 10 == 0) {
+            push(camera, 6'020);
+        }
+        if (tick % 50 == 0) {
+            push(status, 700);
+        }
+        run_for(milliseconds(100));
+    }
+    // Not all: each status is 0.74 s of wire here, most of A's TTL, and costs an A sample now and then (43 of 50).
+    EXPECT_GE(sut->counters(a).forwarded, 40u);
+    EXPECT_GE(sut->counters(b).forwarded, 40u);
+    EXPECT_EQ(sut->counters(status).forwarded, 4u);
 }
 
 TEST_F(BundleSchedulingTest, EverySampleIsForwardedQueuedOrLogged) {

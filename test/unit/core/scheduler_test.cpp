@@ -281,6 +281,34 @@ TEST_F(SchedulerTest, AFirstTopicWithoutAYieldWindowNeverYields) {
     EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, status}));
 }
 
+// The non-preemptive rule protects a topic from what is less urgent than it, not from what is more urgent: a
+// 6 kB picture (TTL 5 s) at 12,000 bit/s leaves itself 0.38 s, and a 1 kB sample of TTL 2 s takes 0.78 s. Under
+// ttl it would go before the picture anyway; held back for it, it waited until the picture's topic went quiet.
+TEST_F(SchedulerTest, ALessUrgentTopicsProtectionDoesNotHoldBackAMoreUrgentSample) {
+    make_sut(PolicyKind::ttl, 12'000);
+    push(c, 6'000);
+    run_for(milliseconds(4'700));  // the picture has left (4.62 s); its topic is still active
+    ASSERT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c}));
+    push(b, 1'000);
+    release();
+    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, b}));
+}
+
+// A topic whose own sample takes longer than its TTL at the rate cannot be protected: its limit is negative, and
+// held to it every other topic stopped (a robot at its least share with a camera: nothing left for 30 s).
+TEST_F(SchedulerTest, ATopicThatCannotMakeItsTtlAtTheRateProtectsNoOne) {
+    make_sut(PolicyKind::edf, 7'600);
+    const TopicId camera = sut->add_topic({"camera", seconds(5)});
+    push(camera, 6'000);  // 7.3 s on the wire
+    release();
+    run_for(milliseconds(100));
+    for (int i = 0; i < 10; ++i) {
+        push(a);  // 0.25 s on the wire, every 0.4 s
+        run_for(milliseconds(400));
+    }
+    EXPECT_EQ(sut->counters(a).forwarded, 10u);
+}
+
 TEST_F(SchedulerTest, LargeSamplesAreNotHeldBackOnceNoShortTtlTopicIsActive) {
     make_sut(PolicyKind::ttl, 10'000);
     push(a);

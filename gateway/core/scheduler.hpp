@@ -61,9 +61,9 @@ struct TopicConfig {
     /// A `first` topic's sample yields to the most urgent other sample where that one would miss its deadline
     /// behind it, and makes it going before, while it still arrives within this of its birth itself; 0: never.
     /// At a share of 10,000 bit/s a status is half a second of wire, and A samples due sooner expired behind it,
-    /// three at a time. Yielding for as long as its deadline (5 s) allowed, one robot of three starved in two
-    /// runs of eight (its B 93, another's A 51 of 200 on time): a status late by seconds leaves a robot's grant
-    /// where it was.
+    /// three at a time. The gateway's status yields within its Lifespan: bounded to 1 s (its TTL without grants),
+    /// it arrived too old to yield just when its bytes cost the most (three robots: A 193 to 200 of 200 on time,
+    /// against 199 to 200 yielding within 5 s).
     base::Duration yields_within = base::Duration::zero();
 };
 

@@ -221,11 +221,12 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         // the budget has room for them. Under grants it goes first, and its deadline is its Lifespan: a robot
         // granted its least share sends a status within about a second, but behind a sample already on the wire
         // it could not within STATUS_TTL, and a status doomed each time never told the base camp of the demand
-        // that would raise the grant.
+        // that would raise the grant. Within that Lifespan it yields to a sample it would make late.
         OfferedQos offer;
         offer.reliable = true;  // matched by any reader's defaults
-        status_topic_ = loop_->add_topic(core::TopicConfig{
-            STATUS_TOPIC, config_.channel_grants ? STATUS_LIFESPAN : STATUS_TTL, config_.channel_grants, STATUS_TTL});
+        status_topic_ =
+            loop_->add_topic(core::TopicConfig{STATUS_TOPIC, config_.channel_grants ? STATUS_LIFESPAN : STATUS_TTL,
+                                               config_.channel_grants, STATUS_LIFESPAN});
         if (compact_) {
             compact_->announce(CatalogLane{*status_topic_, STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true,
                                            STATUS_TTL, 0, offer, STATUS_LIFESPAN});

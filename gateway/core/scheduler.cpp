@@ -213,6 +213,7 @@ void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_
     }
     const std::int64_t rank = rank_of(sample.topic);
     topic.counters.queued_payload_bytes += sample.payload.size();
+    queued_first_ += topic.config.first ? 1 : 0;
     queue_.push(std::move(sample), rank);
     ++topic.counters.queued;
     evict_over_cap(sink);
@@ -244,6 +245,7 @@ void Scheduler::release(base::SteadyTime now, SampleSink& sink) {
 
 Sample Scheduler::take(DeadlineQueue::Slot slot) {
     Sample sample = queue_.take(slot);
+    queued_first_ -= topics_[sample.topic].config.first ? 1 : 0;
     TopicCounters& counters = topics_[sample.topic].counters;
     --counters.queued;
     counters.queued_payload_bytes -= sample.payload.size();
@@ -305,6 +307,9 @@ void Scheduler::evict_over_cap(SampleSink& sink) {
 }
 
 std::optional<base::SteadyTime> Scheduler::first_yields(base::SteadyTime start) {
+    if (queued_first_ == 0) {
+        return std::nullopt;  // the common case, and the admit path's: no walk of the queue
+    }
     std::optional<DeadlineQueue::Peek> first;
     std::optional<DeadlineQueue::Peek> urgent;
     queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {

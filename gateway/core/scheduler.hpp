@@ -263,6 +263,7 @@ class Scheduler {
     std::vector<TopicState> topics_;
     std::vector<TopicId> free_topics_;  ///< retired slots add_topic() may take
     std::size_t retired_slots_ = 0;
+    std::size_t queued_first_ = 0;  ///< samples of `first` topics in queue_
     TopicCounters retired_counters_;
     DeadlineQueue queue_;
     double sensed_rate_bps_;

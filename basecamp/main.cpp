@@ -268,8 +268,9 @@ int main(int argc, char** argv) {
                           << channel->lost_datagrams << " lost on the way)\n";
             for (const tgw::dds::UplinkCount& up : relaying.uplink_counts())
                 std::cout << "  uplink " << up.from_topic << ": " << up.received << " commands taken from the camp, "
-                          << up.delivered << " onto the WAN, " << up.expired << " past their Lifespan (dropped), "
-                          << up.failed << " failed\n";
+                          << up.delivered << " onto the WAN, " << up.no_reader
+                          << " written while no gateway listened (lost), " << up.expired
+                          << " past their Lifespan (dropped), " << up.failed << " failed\n";
             if (foxglove_server)
                 std::cout << "  Foxglove: " << foxglove_server->messages_sent() << " messages sent to clients\n";
         } else if (record->parsed()) {

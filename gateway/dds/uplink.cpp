@@ -56,9 +56,11 @@ class Uplink::Route final : public fdds::DataReaderListener {
                 expired_.fetch_add(1, std::memory_order_relaxed);
                 continue;
             }
+            // Matched before the write: a reader that matches during it may or may not have it.
+            const bool heard = reader_matches.matched.load() > 0;
             const ReturnCode_t rc = pass_on(*writer, data, info, keyed_, to_dds_time(source));
             if (rc == ReturnCode_t::RETCODE_OK) {
-                delivered_.fetch_add(1, std::memory_order_relaxed);
+                (heard ? delivered_ : no_reader_).fetch_add(1, std::memory_order_relaxed);
             } else if (failed_.fetch_add(1, std::memory_order_relaxed) == 0) {
                 std::cerr << "uplink: a write on " << names_.to_topic << " failed (code " << rc() << ")\n";
             }
@@ -73,6 +75,7 @@ class Uplink::Route final : public fdds::DataReaderListener {
         UplinkCount out = names_;
         out.received = received_.load();
         out.delivered = delivered_.load();
+        out.no_reader = no_reader_.load();
         out.expired = expired_.load();
         out.failed = failed_.load();
         out.wire_bytes = wire_bytes_.load();
@@ -94,6 +97,7 @@ class Uplink::Route final : public fdds::DataReaderListener {
     const Charge& charge_;
     std::atomic<std::uint64_t> received_{0};
     std::atomic<std::uint64_t> delivered_{0};
+    std::atomic<std::uint64_t> no_reader_{0};
     std::atomic<std::uint64_t> expired_{0};
     std::atomic<std::uint64_t> failed_{0};
     std::atomic<std::uint64_t> wire_bytes_{0};

@@ -26,14 +26,15 @@ class DomainParticipant;
 
 namespace tgw::dds {
 
-/// What became of one uplink topic's samples: received = delivered + expired + failed.
+/// What became of one uplink topic's samples: received = delivered + no_reader + expired + failed.
 struct UplinkCount {
     std::string from_topic;  ///< its name where the commands come from (the WAN for the gateway)
     std::string to_topic;    ///< its name where they go (the robot domain for the gateway)
     std::string type_name;
     std::optional<ResolvedTtl> ttl;  ///< nullopt: they never expire (no Lifespan, and no other TTL given)
     std::uint64_t received = 0;      ///< taken, the uplink's own participant's writes aside
-    std::uint64_t delivered = 0;     ///< written on the other side
+    std::uint64_t delivered = 0;     ///< written on the other side while a reader there had matched the writer
+    std::uint64_t no_reader = 0;     ///< written while none had: gone to no one, unless the writer keeps history
     std::uint64_t expired = 0;       ///< at or past their deadline when they came: never delivered
     std::uint64_t failed = 0;        ///< the write failed
     std::uint64_t wire_bytes = 0;    ///< what they cost the link, as the wire model counts them

@@ -69,26 +69,30 @@ check "rt/cmd_vel on the robot: nothing after its TTL (${received:-0} received)"
     "${on_time:-0}"
 stray=$(awk '$1 ~ /not_listed/ { n++ } END { print n + 0 }' "$WORK/commands-report.txt" "$WORK/robot-record.out")
 check "nothing of rt/rover1/not_listed on the robot domain" "a == 0" "$stray"
-# Each hop's count. The relay's summary: "  uplink TOPIC: T commands taken from the camp, W onto the WAN, E past
-# their Lifespan (dropped), F failed"; the gateway's: "uplink WAN -> ROBOT: R received, D delivered, E expired
-# before they came (never delivered), F failed; ...".
+# Each hop's count. The relay's summary: "  uplink TOPIC: T commands taken from the camp, W onto the WAN, L written
+# while no gateway listened (lost), E past their Lifespan (dropped), F failed"; the gateway's: "uplink WAN -> ROBOT:
+# R received, D delivered, E expired before they came (never delivered), F failed, N written while no robot reader
+# listened; ...".
 relay_line=$(grep '^  uplink rt/rover1/cmd_vel: ' "$WORK/camp.out" || true)
 relay_taken=$(sed -nE 's/.*: ([0-9]+) commands taken.*/\1/p' <<<"$relay_line")
 relay_sent=$(sed -nE 's/.*, ([0-9]+) onto the WAN.*/\1/p' <<<"$relay_line")
 relay_expired=$(sed -nE 's/.*, ([0-9]+) past their Lifespan.*/\1/p' <<<"$relay_line")
+relay_unheard=$(sed -nE 's/.*, ([0-9]+) written while no gateway listened.*/\1/p' <<<"$relay_line")
 gateway_line=$(grep '^uplink rt/rover1/cmd_vel -> rt/cmd_vel: ' "$WORK/gateway.out" || true)
-read -r up_received up_delivered up_expired up_failed <<<"$(sed -nE \
-    's/.*: ([0-9]+) received, ([0-9]+) delivered, ([0-9]+) expired.*, ([0-9]+) failed.*/\1 \2 \3 \4/p' \
+read -r up_received up_delivered up_expired up_failed up_unheard <<<"$(sed -nE \
+    's/.*: ([0-9]+) received, ([0-9]+) delivered, ([0-9]+) expired.*, ([0-9]+) failed, ([0-9]+) written.*/\1 \2 \3 \4 \5/p' \
     <<<"$gateway_line")"
 check "the relay took every command from the camp's domain (${relay_taken:-none} of $written)" "a == b" \
     "${relay_taken:-0}" "${written:-0}"
 # A command already past its Lifespan when the relay takes it (a loaded camp) is dropped there, as it should be.
-check "the relay sent them onto the WAN (${relay_sent:-none}, ${relay_expired:-?} past their Lifespan)" \
-    "a > 0 && a + ${relay_expired:-0} == b" "${relay_sent:-0}" "${relay_taken:-0}"
+check "the relay sent them onto the WAN (${relay_sent:-none}, ${relay_unheard:-?} before the gateway listened, \
+${relay_expired:-?} past their Lifespan)" "a > 0 && a + ${relay_unheard:-0} + ${relay_expired:-0} == b" \
+    "${relay_sent:-0}" "${relay_taken:-0}"
 check "the gateway received what the relay sent (${up_received:-none})" "b > 0 && a >= 0.99 * b" "${up_received:-0}" \
     "${relay_sent:-0}"
-check "the gateway's commands add up: ${up_received:-?} = ${up_delivered:-?} delivered + ${up_expired:-?} expired" \
-    "a > 0 && a == b" "${up_received:-0}" "$((${up_delivered:-0} + ${up_expired:-0} + ${up_failed:-0}))"
+check "the gateway's commands add up: ${up_received:-?} = ${up_delivered:-?} delivered + ${up_expired:-?} expired \
++ ${up_unheard:-?} with no robot reader" "a > 0 && a == b" "${up_received:-0}" \
+    "$((${up_delivered:-0} + ${up_expired:-0} + ${up_failed:-0} + ${up_unheard:-0}))"
 
 published=$(awk '$2 == "telemetry/A" { print $5 }' "$WORK/telemetry.out")
 "$BIN/tm-basecamp" report "$WORK/camp.db" --robot-log "$WORK/robot.db" --offered "rover1/telemetry/A=${published:-0}" \

@@ -122,11 +122,12 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
         const auto source = tgw::dds::to_string(ttl.source);
         std::printf(
             "uplink %s -> %s: %llu received, %llu delivered, %llu expired before they came (never delivered), "
-            "%llu failed; TTL %.3g s (%.*s); %llu bytes on the link%s\n",
+            "%llu failed, %llu written while no robot reader listened; TTL %.3g s (%.*s); %llu bytes on the link%s\n",
             up.from_topic.c_str(), up.to_topic.c_str(), static_cast<unsigned long long>(up.received),
             static_cast<unsigned long long>(up.delivered), static_cast<unsigned long long>(up.expired),
-            static_cast<unsigned long long>(up.failed), tgw::base::to_seconds(ttl.ttl), static_cast<int>(source.size()),
-            source.data(), static_cast<unsigned long long>(up.wire_bytes),
+            static_cast<unsigned long long>(up.failed), static_cast<unsigned long long>(up.no_reader),
+            tgw::base::to_seconds(ttl.ttl), static_cast<int>(source.size()), source.data(),
+            static_cast<unsigned long long>(up.wire_bytes),
             uplink_charged ? ", charged to the budget (--duplex half)" : " (--duplex full: not charged)");
     }
 }

@@ -8,6 +8,15 @@
 
 namespace tgw::core {
 
+namespace {
+
+/// A queued sample as a bundle entry, to size it without taking it from the queue.
+BundleBuilder::Entry peeked_entry(const DeadlineQueue::Peek& peek) {
+    return BundleBuilder::Entry::of(peek.topic, peek.route, peek.source_time, *peek.payload, peek.keyed);
+}
+
+}  // namespace
+
 void Scheduler::ProtectedTopics::offer(TopicId topic, base::Duration limit, std::int64_t rank) {
     if (limit <= base::Duration::zero()) {
         return;  // no other sample's wait could let it arrive in time
@@ -334,14 +343,11 @@ std::optional<base::SteadyTime> Scheduler::first_yields(base::SteadyTime start) 
     std::uint64_t urgent_bits = 0;
     std::uint64_t together_bits = 0;
     if (config_.bundles) {
-        const auto entry_of = [](const DeadlineQueue::Peek& p) {
-            return BundleBuilder::Entry::of(p.topic, p.route, p.source_time, *p.payload, p.keyed);
-        };
         BundleBuilder bundle(config_.wire);
-        first_bits = bundle.alone_wire_bits(entry_of(*first));
-        urgent_bits = bundle.alone_wire_bits(entry_of(*urgent));
-        bundle.add(entry_of(*first));
-        together_bits = bundle.wire_bits(bundle.encoded_bytes_with(entry_of(*urgent)));
+        first_bits = bundle.alone_wire_bits(peeked_entry(*first));
+        urgent_bits = bundle.alone_wire_bits(peeked_entry(*urgent));
+        bundle.add(peeked_entry(*first));
+        together_bits = bundle.wire_bits(bundle.encoded_bytes_with(peeked_entry(*urgent)));
     } else {
         first_bits = wire_bits(first->payload_bytes);
         urgent_bits = wire_bits(urgent->payload_bytes);
@@ -538,8 +544,7 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
                 try_chunk();
             }
         }
-        const auto entry =
-            BundleBuilder::Entry::of(peek.topic, peek.route, peek.source_time, *peek.payload, peek.keyed);
+        const auto entry = peeked_entry(peek);
         if (bundle.empty()) {
             const std::uint64_t alone_bits = bundle.alone_wire_bits(entry);
             const bool too_large = bundle.encoded_bytes_with(entry) > max_bytes ||

@@ -28,6 +28,25 @@ class SchedulerTest : public SchedulerFixture {
         return sent.size() < 2 ? "nothing" : sent[1] == status ? "status" : sent[1] == a ? "A" : "other";
     }
 
+    struct StatusRun {
+        TopicId status;
+        std::vector<TopicId> sent;
+    };
+
+    /// At 10,000 bit/s, with C on the link (about 0.19 s), an A sample aged 500 ms (due in 0.5 s: at 0.38 s alone,
+    /// at 0.88 s behind the status), then a 450-byte sample of `status_topic` (a `first` topic) aged `status_age`:
+    /// what left within a second.
+    StatusRun sent_beside_a_450_byte_status(const TopicConfig& status_topic, base::Duration status_age = {}) {
+        make_sut(PolicyKind::ttl, 10'000);
+        const TopicId status = sut->add_topic(status_topic);
+        push(c);
+        release();
+        push(a, 64, milliseconds(500));
+        push(status, 450, status_age);
+        run_for(seconds(1));
+        return {status, sink.forwarded_topics()};
+    }
+
     /// Wire time of a 64-byte sample at `rate_bps` under the default wire model.
     base::Duration wire_time_64(double rate_bps) const {
         return base::from_seconds(static_cast<double>(config.wire.wire_bits(64)) / rate_bps);
@@ -235,50 +254,28 @@ TEST_F(SchedulerTest, AtTheLeastShareTheStatusLeavesBesideTheMostUrgentTopic) {
 // due sooner would expire behind it (three robots on grants lost A three at a time, once per status). It yields
 // where the A makes its deadline going before and the status still makes its own after.
 TEST_F(SchedulerTest, TheStatusYieldsToTheSampleItWouldCostItsDeadline) {
-    make_sut(PolicyKind::ttl, 10'000);
-    const TopicId status = sut->add_topic({"status", seconds(5), true, seconds(1)});  // as the gateway's
-    push(c);
-    release();                       // occupies the link for about 0.19 s
-    push(a, 64, milliseconds(500));  // due in 0.5 s: at 0.38 s alone, at 0.88 s behind the status
-    push(status, 450);
-    run_for(seconds(1));
-    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, a, status}));
+    const StatusRun run = sent_beside_a_450_byte_status({"status", seconds(5), true, seconds(1)});  // the gateway's
+    EXPECT_EQ(run.sent, (std::vector<TopicId>{c, a, run.status}));
     EXPECT_EQ(sut->counters(a).dropped_total(), 0u);
 }
 
 TEST_F(SchedulerTest, TheStatusDoesNotYieldWhereWaitingWouldCostItsOwnDeadline) {
-    make_sut(PolicyKind::ttl, 10'000);
-    const TopicId status = sut->add_topic({"status", seconds(1), true, seconds(1)});
-    push(c);
-    release();
-    push(a, 64, milliseconds(500));
-    push(status, 450, milliseconds(200));  // due in 0.8 s: at 0.69 s first, at 0.88 s after A
-    run_for(seconds(1));
-    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, status}));
+    // Due in 0.8 s: at 0.69 s first, at 0.88 s after A.
+    const StatusRun run = sent_beside_a_450_byte_status({"status", seconds(1), true, seconds(1)}, milliseconds(200));
+    EXPECT_EQ(run.sent, (std::vector<TopicId>{c, run.status}));
 }
 
 // Its deadline 5 s away, it still yields only while it arrives within a second of its birth: a starved robot's
 // status yielding for seconds kept the base camp from hearing the demand that would raise its grant.
 TEST_F(SchedulerTest, TheStatusYieldsOnlyWhileItStillArrivesWithinItsYieldWindow) {
-    make_sut(PolicyKind::ttl, 10'000);
-    const TopicId status = sut->add_topic({"status", seconds(5), true, seconds(1)});
-    push(c);
-    release();
-    push(a, 64, milliseconds(500));
-    push(status, 450, milliseconds(500));  // born 0.5 s ago: after A it would arrive 1.38 s after its birth
-    run_for(seconds(1));
-    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, status}));
+    // Born 0.5 s ago: after A it would arrive 1.38 s after its birth.
+    const StatusRun run = sent_beside_a_450_byte_status({"status", seconds(5), true, seconds(1)}, milliseconds(500));
+    EXPECT_EQ(run.sent, (std::vector<TopicId>{c, run.status}));
 }
 
 TEST_F(SchedulerTest, AFirstTopicWithoutAYieldWindowNeverYields) {
-    make_sut(PolicyKind::ttl, 10'000);
-    const TopicId status = sut->add_topic({"status", seconds(5), true});
-    push(c);
-    release();
-    push(a, 64, milliseconds(500));
-    push(status, 450);
-    run_for(seconds(1));
-    EXPECT_EQ(sink.forwarded_topics(), (std::vector<TopicId>{c, status}));
+    const StatusRun run = sent_beside_a_450_byte_status({"status", seconds(5), true});
+    EXPECT_EQ(run.sent, (std::vector<TopicId>{c, run.status}));
 }
 
 // The non-preemptive rule protects a topic from what is less urgent than it, not from what is more urgent: a

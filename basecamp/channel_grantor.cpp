@@ -46,12 +46,13 @@ std::vector<core::TopicLoad> loads(const idl::GatewayStatus& status) {
 }  // namespace
 
 ChannelGrantor::ChannelGrantor(fdds::DomainParticipant* wan, double channel_bps, const base::Clock& clock,
-                               ChannelMeter* meter, const DeliveryTally* tally)
+                               ChannelMeter* meter, const DeliveryTally* tally, SampleConsumer* record)
     : wan_(wan),
       clock_(clock),
       channel_bps_(channel_bps),
       meter_(meter),
       tally_(tally),
+      record_(record),
       shares_(core::ChannelShares::Config{STALE_AFTER, FLOOR_BPS}, clock) {
     // The robots' grants leave the newcomers' share free (core::JOIN_SHARE): a robot that joins, or whose gateway
     // restarts, sends within it until its first own grant.
@@ -216,6 +217,28 @@ void ChannelGrantor::poll() {
     // Not more: several gateways may join at once (a fleet starting). Granting them also what the robots known
     // left unclaimed (all of the channel at the start) let three newcomers send three channels' worth at once.
     write_grant(dds::NEWCOMER_PREFIX, core::JOIN_SHARE * channel_bps_, sent_ns);
+    if (record_ != nullptr)
+        record_->add_channel(channel_record(sent_ns));
+}
+
+ChannelRecord ChannelGrantor::channel_record(std::uint64_t sent_ns) const {
+    ChannelRecord out;
+    out.time_ns = static_cast<std::int64_t>(sent_ns);
+    out.channel_bps = channel_bps_;
+    out.newcomer_bps = core::JOIN_SHARE * channel_bps_;
+    if (meter_ != nullptr) {
+        const ChannelReading reading = meter_->reading();
+        out.verdict = core::to_string(reading.verdict);
+        out.delivered_bps = reading.delivered_bps;
+        if (reading.queueing)
+            out.queueing_ns = reading.queueing->count();
+    }
+    for (const auto& [key, bps] : last_grants_) {
+        const auto heard = statuses_.find(key);
+        const std::string robot = heard != statuses_.end() && !heard->second.empty() ? heard->second.back().robot : "";
+        out.grants.push_back(GrantRecord{key, robot, bps});
+    }
+    return out;
 }
 
 void ChannelGrantor::write_grant(const Prefix& prefix, double bps, std::uint64_t sent_ns) {

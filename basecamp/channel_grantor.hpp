@@ -13,6 +13,7 @@
 #include "base/clock.hpp"
 #include "basecamp/channel_meter.hpp"
 #include "basecamp/delivery_tally.hpp"
+#include "basecamp/sample_consumer.hpp"
 #include "gateway/core/channel_shares.hpp"
 #include "gateway/core/demand_watch.hpp"
 #include "gateway/core/granted_rate.hpp"
@@ -47,9 +48,11 @@ class ChannelGrantor {
 
     /// Writes on `wan` (which must outlive it) a channel of `channel_bps`; with `meter` and `tally` (which must
     /// outlive it), a channel of what `meter` measures (`tally` counts the samples lost), `channel_bps` at most.
-    /// Throws base::ConfigError naming --channel-rate when DDS refuses the writer.
+    /// Each round of grants goes to `record` (the relay's recording) too, where given. Throws base::ConfigError
+    /// naming --channel-rate when DDS refuses the writer.
     ChannelGrantor(eprosima::fastdds::dds::DomainParticipant* wan, double channel_bps, const base::Clock& clock,
-                   ChannelMeter* meter = nullptr, const DeliveryTally* tally = nullptr);
+                   ChannelMeter* meter = nullptr, const DeliveryTally* tally = nullptr,
+                   SampleConsumer* record = nullptr);
     ~ChannelGrantor();
     ChannelGrantor(const ChannelGrantor&) = delete;
     ChannelGrantor& operator=(const ChannelGrantor&) = delete;
@@ -84,6 +87,8 @@ class ChannelGrantor {
     };
 
     void write_grant(const Prefix& prefix, double bps, std::uint64_t sent_ns);
+    /// This round's grants as the recording keeps them; under mutex_.
+    ChannelRecord channel_record(std::uint64_t sent_ns) const;
     /// The channel's rate it shares now: --channel-rate, or what it measured.
     double channel_bps() const;
     /// The channel's measure, once an interval; under mutex_.
@@ -98,6 +103,7 @@ class ChannelGrantor {
     core::ChannelVerdict channel_verdict_ = core::ChannelVerdict::unknown;  // under mutex_
     ChannelMeter* meter_;
     const DeliveryTally* tally_;
+    SampleConsumer* record_;
     core::ChannelShares shares_;  // under mutex_
     /// Per gateway, its latest statuses: the newest at least core::DEMAND_WINDOW old, and those after it; under
     /// mutex_.

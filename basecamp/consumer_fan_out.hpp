@@ -24,6 +24,11 @@ class ConsumerFanOut final : public SampleConsumer {
             consumers_.back()->add(std::move(sample));
     }
 
+    void add_channel(const ChannelRecord& channel) override {
+        for (SampleConsumer* consumer : consumers_)
+            consumer->add_channel(channel);
+    }
+
   private:
     std::vector<SampleConsumer*> consumers_;
 };

@@ -151,7 +151,7 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
         uplink_ = std::make_unique<dds::Uplink>(local_, wan_, clock_, core::WireModel{}, dds::Uplink::Charge{});
     }
     if (channel_bps > 0) {
-        grantor_ = std::make_unique<ChannelGrantor>(wan_, channel_bps, clock_, meter_.get(), &tally_);
+        grantor_ = std::make_unique<ChannelGrantor>(wan_, channel_bps, clock_, meter_.get(), &tally_, store_);
     }
 }
 

@@ -13,6 +13,8 @@ class SampleConsumer {
     /// A topic whose writer was discovered, before its first sample.
     virtual void add_topic(TopicRecord topic) = 0;
     virtual void add(SampleRecord sample) = 0;
+    /// A round of the fleet's grants, where the relay shares a channel; most consumers have no use for it.
+    virtual void add_channel(const ChannelRecord& /*channel*/) {}
 };
 
 }  // namespace tgw::basecamp

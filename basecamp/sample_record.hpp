@@ -1,5 +1,5 @@
 // What the base camp keeps of a topic and of each sample it receives: a recording's rows, and what live tools
-// (stats, echo) are given.
+// (stats, echo) are given; and, where it shares a fleet's channel, each round of grants.
 #pragma once
 
 #include <cstdint>
@@ -31,6 +31,25 @@ struct SampleRecord {
     std::int64_t receive_ns = 0;
     std::optional<std::int64_t> lifespan_ns;
     std::vector<std::uint8_t> instance;  ///< 16-byte instance handle of keyed topics, else empty
+};
+
+/// One gateway's share in a round of grants.
+struct GrantRecord {
+    std::string gateway;  ///< its participant's GUID prefix, hex
+    std::string robot;    ///< its --robot-name, or empty
+    double rate_bps = 0;
+};
+
+/// One round of a fleet's grants (tm-basecamp relay --channel-rate): the channel's rate they split, what the camp
+/// measured of it (--measure-channel), and each gateway's share. Wall clock, nanoseconds since the Unix epoch.
+struct ChannelRecord {
+    std::int64_t time_ns = 0;
+    double channel_bps = 0;                   ///< told (--channel-rate), or measured
+    double newcomer_bps = 0;                  ///< the share of any gateway without its own
+    std::string verdict;                      ///< core::ChannelVerdict as text; empty when the channel is not measured
+    std::optional<double> delivered_bps;      ///< what the channel delivered lately, where measured
+    std::optional<std::int64_t> queueing_ns;  ///< its standing queue, where measured
+    std::vector<GrantRecord> grants;
 };
 
 }  // namespace tgw::basecamp

@@ -37,6 +37,18 @@ CREATE TABLE IF NOT EXISTS samples(
 CREATE TABLE IF NOT EXISTS announced_types(
     type_name TEXT PRIMARY KEY,
     idl TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS channel(
+    time_ns INTEGER NOT NULL,
+    channel_bps REAL NOT NULL,
+    newcomer_bps REAL NOT NULL,
+    verdict TEXT,
+    delivered_bps REAL,
+    queueing_ns INTEGER);
+CREATE TABLE IF NOT EXISTS grants(
+    time_ns INTEGER NOT NULL,
+    gateway TEXT NOT NULL,
+    robot TEXT,
+    rate_bps REAL NOT NULL);
 )sql";
 
 void bind_optional(sqlite3_stmt* stmt, int index, const std::optional<std::int64_t>& value) {
@@ -44,6 +56,20 @@ void bind_optional(sqlite3_stmt* stmt, int index, const std::optional<std::int64
         sqlite3_bind_int64(stmt, index, *value);
     else
         sqlite3_bind_null(stmt, index);
+}
+
+void bind_optional(sqlite3_stmt* stmt, int index, const std::optional<double>& value) {
+    if (value)
+        sqlite3_bind_double(stmt, index, *value);
+    else
+        sqlite3_bind_null(stmt, index);
+}
+
+void bind_text_or_null(sqlite3_stmt* stmt, int index, const std::string& text) {
+    if (text.empty())
+        sqlite3_bind_null(stmt, index);
+    else
+        sqlite3_bind_text(stmt, index, text.c_str(), -1, SQLITE_TRANSIENT);
 }
 
 void bind_blob(sqlite3_stmt* stmt, int index, const std::vector<std::uint8_t>& bytes, bool null_if_empty) {
@@ -81,6 +107,12 @@ class SampleStore::Impl {
                            -1, &insert_topic_, nullptr);
         sqlite3_prepare_v2(db_, "INSERT OR REPLACE INTO announced_types(type_name, idl) VALUES(?,?)", -1,
                            &insert_announced_type_, nullptr);
+        sqlite3_prepare_v2(db_,
+                           "INSERT INTO channel(time_ns, channel_bps, newcomer_bps, verdict, delivered_bps, "
+                           "queueing_ns) VALUES(?,?,?,?,?,?)",
+                           -1, &insert_channel_, nullptr);
+        sqlite3_prepare_v2(db_, "INSERT INTO grants(time_ns, gateway, robot, rate_bps) VALUES(?,?,?,?)", -1,
+                           &insert_grant_, nullptr);
         writer_ = std::thread([this] { write_loop(); });
     }
 
@@ -94,6 +126,8 @@ class SampleStore::Impl {
         sqlite3_finalize(insert_sample_);
         sqlite3_finalize(insert_topic_);
         sqlite3_finalize(insert_announced_type_);
+        sqlite3_finalize(insert_channel_);
+        sqlite3_finalize(insert_grant_);
         sqlite3_close(db_);
     }
 
@@ -106,6 +140,12 @@ class SampleStore::Impl {
     void add(SampleRecord sample) {
         std::lock_guard<std::mutex> lock(mutex_);
         samples_.push_back(std::move(sample));
+        ++added_;
+    }
+
+    void add_channel(const ChannelRecord& channel) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        channels_.push_back(channel);
         ++added_;
     }
 
@@ -128,12 +168,14 @@ class SampleStore::Impl {
             flush_requested_ = false;
             std::vector<TopicRecord> topics;
             std::vector<SampleRecord> samples;
+            std::vector<ChannelRecord> channels;
             topics.swap(topics_);
             samples.swap(samples_);
+            channels.swap(channels_);
             const std::uint64_t target = added_;
             const bool last = stopping_;
             lock.unlock();
-            write_batch(topics, samples);
+            write_batch(topics, samples, channels);
             lock.lock();
             committed_ = target;
             done_.notify_all();
@@ -142,8 +184,9 @@ class SampleStore::Impl {
         }
     }
 
-    void write_batch(const std::vector<TopicRecord>& topics, const std::vector<SampleRecord>& samples) {
-        if (topics.empty() && samples.empty())
+    void write_batch(const std::vector<TopicRecord>& topics, const std::vector<SampleRecord>& samples,
+                     const std::vector<ChannelRecord>& channels) {
+        if (topics.empty() && samples.empty() && channels.empty())
             return;
         sqlite3_exec(db_, "BEGIN", nullptr, nullptr, nullptr);
         for (const TopicRecord& t : topics) {
@@ -171,6 +214,22 @@ class SampleStore::Impl {
             if (step(insert_sample_))
                 ++rows_written;
         }
+        for (const ChannelRecord& c : channels) {
+            sqlite3_bind_int64(insert_channel_, 1, c.time_ns);
+            sqlite3_bind_double(insert_channel_, 2, c.channel_bps);
+            sqlite3_bind_double(insert_channel_, 3, c.newcomer_bps);
+            bind_text_or_null(insert_channel_, 4, c.verdict);
+            bind_optional(insert_channel_, 5, c.delivered_bps);
+            bind_optional(insert_channel_, 6, c.queueing_ns);
+            step(insert_channel_);
+            for (const GrantRecord& g : c.grants) {
+                sqlite3_bind_int64(insert_grant_, 1, c.time_ns);
+                sqlite3_bind_text(insert_grant_, 2, g.gateway.c_str(), -1, SQLITE_TRANSIENT);
+                bind_text_or_null(insert_grant_, 3, g.robot);
+                sqlite3_bind_double(insert_grant_, 4, g.rate_bps);
+                step(insert_grant_);
+            }
+        }
         if (sqlite3_exec(db_, "COMMIT", nullptr, nullptr, nullptr) != SQLITE_OK)
             report_error("commit");
     }
@@ -194,12 +253,15 @@ class SampleStore::Impl {
     sqlite3_stmt* insert_sample_ = nullptr;
     sqlite3_stmt* insert_topic_ = nullptr;
     sqlite3_stmt* insert_announced_type_ = nullptr;  ///< the IDL a type's TypeObject gave, for export --mcap
+    sqlite3_stmt* insert_channel_ = nullptr;
+    sqlite3_stmt* insert_grant_ = nullptr;
     std::chrono::milliseconds period_;
     std::mutex mutex_;
     std::condition_variable wake_;
     std::condition_variable done_;
     std::vector<TopicRecord> topics_;
     std::vector<SampleRecord> samples_;
+    std::vector<ChannelRecord> channels_;
     std::uint64_t added_ = 0;
     std::uint64_t committed_ = 0;
     bool stopping_ = false;
@@ -218,6 +280,10 @@ void SampleStore::add_topic(TopicRecord topic) {
 
 void SampleStore::add(SampleRecord sample) {
     impl_->add(std::move(sample));
+}
+
+void SampleStore::add_channel(const ChannelRecord& channel) {
+    impl_->add_channel(channel);
 }
 
 void SampleStore::flush() {

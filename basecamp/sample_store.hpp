@@ -9,7 +9,9 @@
 
 namespace tgw::basecamp {
 
-/// The base camp's recording: an SQLite file in WAL mode with a `topics` and a `samples` table. Rows are
+/// The base camp's recording: an SQLite file in WAL mode with a `topics` and a `samples` table, and where the relay
+/// shares a fleet's channel a `channel` table (a row per round of grants) and a `grants` table (a row per gateway
+/// per round). Rows are
 /// buffered and committed by a background thread every `commit_period_ms`, so a kill loses at most that
 /// much; the DDS threads that call add() never wait on the disk.
 class SampleStore final : public SampleConsumer {
@@ -23,6 +25,7 @@ class SampleStore final : public SampleConsumer {
     /// Never throws; failures are counted.
     void add_topic(TopicRecord topic) override;
     void add(SampleRecord sample) override;
+    void add_channel(const ChannelRecord& channel) override;
     /// Blocks until everything added so far is committed.
     void flush();
 

@@ -7,6 +7,8 @@
 
 #include <atomic>
 #include <cmath>
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <thread>
@@ -14,6 +16,7 @@
 
 #include "ChannelGrantPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
+#include "basecamp/sample_store.hpp"
 #include "gateway/core/granted_rate.hpp"
 #include "gateway/dds/channel_grant_topic.hpp"
 #include "test/integration/relay_fixture.hpp"
@@ -41,7 +44,9 @@ class ChannelGrantTest : public RelayTest {
         c2.wan_port = dds::metatraffic_unicast_port(domains_.wan, 62);
         start_gateway(c1);
         rover2_ = std::make_unique<Gateway>(c2, clock_);
-        start_relay(nullptr, 1s, {}, CHANNEL_BPS);
+        store_path_ = temp_file(".db");
+        store_ = std::make_unique<basecamp::SampleStore>(store_path_, "--out", 50);
+        start_relay(store_.get(), 1s, {}, CHANNEL_BPS);
     }
 
     void TearDown() override {
@@ -87,17 +92,24 @@ class ChannelGrantTest : public RelayTest {
                                              << rover2_->granted_bps().value_or(-1) << " bit/s";
     }
 
+    /// rover1 publishes hazards and rover2 bulk until hazards_granted_first (30 s at most).
+    ::testing::AssertionResult both_publishing_hazards_granted_first() {
+        publish("hazards", 1s, 41);
+        publish("bulk", 20s, 1016);
+        const ::testing::AssertionResult settled = hazards_granted_first(30s);
+        stop_publishing();
+        return settled;
+    }
+
     std::unique_ptr<Gateway> rover2_;
+    std::string store_path_;
+    std::unique_ptr<basecamp::SampleStore> store_;  ///< the relay's recording; outlives it (RelayTest::TearDown)
     std::atomic<bool> stop_{false};
     std::vector<std::thread> publishers_;
 };
 
 TEST_F(ChannelGrantTest, TheRobotWithUrgentSamplesGetsTheirShareFirst) {
-    publish("hazards", 1s, 41);
-    publish("bulk", 20s, 1016);
-    const ::testing::AssertionResult settled = hazards_granted_first(30s);
-    stop_publishing();
-    ASSERT_TRUE(settled);
+    ASSERT_TRUE(both_publishing_hazards_granted_first());
 
     // Each gateway budgets for its grant (its sensor, 50 Mbit/s, sees the whole radio), and together no more than
     // the channel.
@@ -112,6 +124,58 @@ TEST_F(ChannelGrantTest, TheRobotWithUrgentSamplesGetsTheirShareFirst) {
     for (const auto& [gateway, bps] : grants)
         total += bps;
     EXPECT_LE(total, CHANNEL_BPS * 1.001);
+}
+
+// The relay's recording keeps every round of grants, each gateway's under its robot's name: what a robot was granted
+// is there to read beside what arrived of it.
+TEST_F(ChannelGrantTest, TheCampRecordsEachRoundOfGrantsUnderTheRobotsNames) {
+    ASSERT_TRUE(both_publishing_hazards_granted_first());
+    stop_relay_.store(true);  // no round after the last one read here
+    relay_thread_.join();
+    const core::ChannelGrants last = relay_->channel_grants();
+    store_->flush();
+
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open_v2(store_path_.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+    const auto query = [&](const std::string& sql, const std::function<void(sqlite3_stmt*)>& row) {
+        sqlite3_stmt* stmt = nullptr;
+        ASSERT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
+        while (sqlite3_step(stmt) == SQLITE_ROW)
+            row(stmt);
+        sqlite3_finalize(stmt);
+    };
+    // A round a second at least (and at once when a status comes), the channel as told, nothing measured.
+    std::int64_t rounds = 0;
+    query("SELECT COUNT(*), MIN(channel_bps), MAX(channel_bps), COUNT(verdict), MIN(newcomer_bps) FROM channel",
+          [&](sqlite3_stmt* row) {
+              rounds = sqlite3_column_int64(row, 0);
+              EXPECT_EQ(sqlite3_column_double(row, 1), CHANNEL_BPS);
+              EXPECT_EQ(sqlite3_column_double(row, 2), CHANNEL_BPS);
+              EXPECT_EQ(sqlite3_column_int64(row, 3), 0) << "a verdict where the channel is not measured";
+              EXPECT_NEAR(sqlite3_column_double(row, 4), core::JOIN_SHARE * CHANNEL_BPS, 1e-6);
+          });
+    EXPECT_GE(rounds, 2);
+    // Each robot's newest grant is the one the relay last wrote to its gateway, and no round grants more than the
+    // channel.
+    std::map<std::string, double> newest;
+    query("SELECT robot, gateway, rate_bps FROM grants ORDER BY time_ns", [&](sqlite3_stmt* row) {
+        const auto* robot = reinterpret_cast<const char*>(sqlite3_column_text(row, 0));
+        const auto* gateway = reinterpret_cast<const char*>(sqlite3_column_text(row, 1));
+        ASSERT_NE(robot, nullptr) << "a grant without its robot's name";
+        ASSERT_NE(gateway, nullptr);
+        if (last.count(gateway) != 0)
+            newest[robot] = sqlite3_column_double(row, 2);
+    });
+    query("SELECT MAX(total) FROM (SELECT SUM(rate_bps) AS total FROM grants GROUP BY time_ns)",
+          [&](sqlite3_stmt* row) { EXPECT_LE(sqlite3_column_double(row, 0), CHANNEL_BPS * 1.001); });
+    sqlite3_close(db);
+    ASSERT_EQ(newest.size(), 2u) << "rover1's and rover2's grants";
+    EXPECT_GT(newest["rover1"], 20'000);
+    EXPECT_LT(newest["rover2"], 10'000);
+    double last_total = 0;
+    for (const auto& [gateway, bps] : last)
+        last_total += bps;
+    EXPECT_NEAR(newest["rover1"] + newest["rover2"], last_total, 1e-6);
 }
 
 // rover1 says it has nothing to send, and the camp grants rover2 all but rover1's least share. rover1's hazards

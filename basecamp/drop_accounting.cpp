@@ -7,6 +7,7 @@
 #include <set>
 
 #include "base/config_error.hpp"
+#include "basecamp/read_only_db.hpp"
 #include "basecamp/report.hpp"
 
 namespace tgw::basecamp {
@@ -54,7 +55,6 @@ std::optional<std::size_t> reason_index(const std::string& reason) {
     return std::nullopt;
 }
 
-using Db = std::unique_ptr<sqlite3, int (*)(sqlite3*)>;
 using Stmt = std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)>;
 
 }  // namespace
@@ -126,13 +126,7 @@ DropAccounting account_topic(const std::vector<ReceivedSample>& received, const 
 }
 
 std::vector<LoggedSample> read_robot_log(const std::string& path, const std::string& flag, std::int64_t since_ns) {
-    sqlite3* raw = nullptr;
-    if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
-        const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
-        sqlite3_close(raw);
-        throw base::ConfigError(flag + ": cannot open '" + path + "': " + why);
-    }
-    Db db(raw, sqlite3_close);
+    const ReadOnlyDb db = open_read_only(path, flag);
     sqlite3_stmt* stmt_raw = nullptr;
     if (sqlite3_prepare_v2(db.get(),
                            "SELECT topic, type_name, payload, source_time_ns, reason FROM dropped_samples "

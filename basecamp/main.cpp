@@ -18,6 +18,7 @@
 #include "basecamp/echo_command.hpp"
 #include "basecamp/export_command.hpp"
 #include "basecamp/foxglove_server.hpp"
+#include "basecamp/grant_summary.hpp"
 #include "basecamp/linkmap_command.hpp"
 #include "basecamp/mcap_recording.hpp"
 #include "basecamp/merge_command.hpp"
@@ -352,6 +353,8 @@ int main(int argc, char** argv) {
                                              ": expected bit/s above 0");
             const std::vector<tgw::basecamp::TopicReport> reports = tgw::basecamp::read_report(in, options);
             tgw::basecamp::print_report(std::cout, reports);
+            if (const auto grants = tgw::basecamp::read_grant_summary(in))
+                tgw::basecamp::print_grant_summary(std::cout, *grants);
             if (link_rate_bps > 0.0) {
                 tgw::basecamp::print_on_time_payload(
                     std::cout, tgw::basecamp::read_on_time_payload(in, reports, options.since_ns, link_rate_bps),

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "base/config_error.hpp"
+#include "basecamp/read_only_db.hpp"
 
 namespace tgw::basecamp {
 
@@ -35,13 +36,7 @@ std::optional<OnTimePayload> read_on_time_payload(const std::string& path, const
             ttl_ns[r.topic] = static_cast<std::int64_t>(*r.ttl_s * 1e9);
         }
     }
-    sqlite3* raw = nullptr;
-    if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
-        const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
-        sqlite3_close(raw);
-        throw base::ConfigError("report: cannot open '" + path + "': " + why);
-    }
-    const std::unique_ptr<sqlite3, int (*)(sqlite3*)> db(raw, sqlite3_close);
+    const ReadOnlyDb db = open_read_only(path, "report");
     sqlite3_stmt* stmt = nullptr;
     if (sqlite3_prepare_v2(db.get(),
                            "SELECT topic, source_ns, receive_ns, length(payload) FROM samples WHERE source_ns >= ?1",

@@ -10,6 +10,7 @@
 #include "base/byte_order.hpp"
 #include "base/config_error.hpp"
 #include "basecamp/gateway_status.hpp"
+#include "basecamp/read_only_db.hpp"
 #include "basecamp/topic_robots.hpp"
 #include "gateway/dds/status_topic.hpp"
 
@@ -46,16 +47,6 @@ struct Accumulator {
     std::vector<ReceivedSample> samples;
 };
 
-using Db = std::unique_ptr<sqlite3, int (*)(sqlite3*)>;
-using Stmt = std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)>;
-
-Stmt prepare(sqlite3* db, const std::string& path, const char* sql) {
-    sqlite3_stmt* stmt = nullptr;
-    if (sqlite3_prepare_v2(db, sql, -1, &stmt, nullptr) != SQLITE_OK)
-        throw base::ConfigError(path + ": not a tm-basecamp recording: " + sqlite3_errmsg(db));
-    return Stmt(stmt, sqlite3_finalize);
-}
-
 }  // namespace
 
 std::optional<std::uint32_t> paper_message_sequence(const std::uint8_t* payload, std::size_t size) {
@@ -66,16 +57,11 @@ std::optional<std::uint32_t> paper_message_sequence(const std::uint8_t* payload,
 }
 
 std::vector<TopicReport> read_report(const std::string& path, const ReportOptions& options) {
-    sqlite3* raw = nullptr;
-    if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
-        const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
-        sqlite3_close(raw);
-        throw base::ConfigError("report: cannot open '" + path + "': " + why);
-    }
-    Db db(raw, sqlite3_close);
+    const ReadOnlyDb db = open_read_only(path, "report");
 
     std::map<std::string, Accumulator> topics;
-    Stmt declared = prepare(db.get(), path, "SELECT topic, type_name, lifespan_ns FROM topics");
+    const std::string not_a_recording = path + ": not a tm-basecamp recording";
+    Statement declared = prepare(db.get(), "SELECT topic, type_name, lifespan_ns FROM topics", not_a_recording);
     while (sqlite3_step(declared.get()) == SQLITE_ROW) {
         Accumulator& acc = topics[reinterpret_cast<const char*>(sqlite3_column_text(declared.get(), 0))];
         acc.report.type_name = reinterpret_cast<const char*>(sqlite3_column_text(declared.get(), 1));
@@ -83,9 +69,10 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
             acc.lifespan_ns = sqlite3_column_int64(declared.get(), 2);
     }
 
-    Stmt rows = prepare(db.get(), path,
-                        "SELECT topic, type_name, source_ns, receive_ns, lifespan_ns, payload FROM samples "
-                        "WHERE source_ns >= ?1 ORDER BY id");
+    Statement rows = prepare(db.get(),
+                             "SELECT topic, type_name, source_ns, receive_ns, lifespan_ns, payload FROM samples "
+                             "WHERE source_ns >= ?1 ORDER BY id",
+                             not_a_recording);
     sqlite3_bind_int64(rows.get(), 1, options.since_ns);
     std::map<std::string, std::vector<double>> transits;
     TopicRobots robots;  // from the gateways' status samples among the rows

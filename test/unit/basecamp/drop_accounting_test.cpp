@@ -3,9 +3,7 @@
 #include "basecamp/drop_accounting.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
-#include <filesystem>
 #include <map>
 #include <sstream>
 #include <string>
@@ -16,11 +14,10 @@
 #include "gateway/log/robot_log.hpp"
 #include "test/fakes/config_error_of.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
+#include "test/unit/basecamp/scratch_dir.hpp"
 
 namespace tgw::basecamp {
 namespace {
-
-namespace fs = std::filesystem;
 
 constexpr const char* PAPER_TYPE = "tgw::idl::PaperMessage";
 constexpr std::int64_t T0_NS = 1'800'000'000'000'000'000;  // a wall-clock instant in 2027
@@ -51,14 +48,9 @@ std::int64_t source_of(std::uint32_t sequence) {
 class DropAccountingTest : public ::testing::Test {
   protected:
     void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("tgw-accounting-" + std::to_string(::getpid()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-        recording_ = (dir_ / "record.db").string();
-        robot_log_ = (dir_ / "robot-log.db").string();
+        recording_ = dir_.file("record.db");
+        robot_log_ = dir_.file("robot-log.db");
     }
-    void TearDown() override { fs::remove_all(dir_); }
 
     void declare(const std::string& topic, double ttl_s, const std::string& type = PAPER_TYPE) {
         TopicRecord t;
@@ -133,7 +125,7 @@ class DropAccountingTest : public ::testing::Test {
         core::DropReason reason = core::DropReason::expired;
     };
 
-    fs::path dir_;
+    test::ScratchDir dir_{"tgw-accounting"};
     std::string recording_;
     std::string robot_log_;
     std::vector<TopicRecord> topics_;

@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -16,6 +15,7 @@
 #include "gateway/log/robot_log.hpp"
 #include "test/fakes/config_error_of.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
+#include "test/unit/basecamp/scratch_dir.hpp"
 
 namespace tgw::basecamp {
 namespace {
@@ -77,15 +77,10 @@ std::vector<std::string> dump(const std::string& archive) {
 class MissionArchiveTest : public ::testing::Test {
   protected:
     void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("tgw-archive-" + std::to_string(::getpid()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-        robot_log_ = (dir_ / "robot-log.db").string();
-        recording_ = (dir_ / "basecamp.db").string();
-        archive_ = (dir_ / "mission.db").string();
+        robot_log_ = dir_.file("robot-log.db");
+        recording_ = dir_.file("basecamp.db");
+        archive_ = dir_.file("mission.db");
     }
-    void TearDown() override { fs::remove_all(dir_); }
 
     void declare(const std::string& topic, std::optional<std::int64_t> lifespan_ns) {
         TopicRecord t;
@@ -189,7 +184,7 @@ class MissionArchiveTest : public ::testing::Test {
         return s;
     }
 
-    fs::path dir_;
+    test::ScratchDir dir_{"tgw-archive"};
     std::string robot_log_;
     std::string recording_;
     std::string archive_;
@@ -358,7 +353,7 @@ TEST_F(MissionArchiveTest, MergingAgainGivesTheSameArchive) {
     record("telemetry/A", T0_NS + 60'000 * MS, 41, 10.0);  // after the log ended
     const MergeCounts first = write_and_merge();
     const std::vector<std::string> before = dump(archive_);
-    const std::string elsewhere = (dir_ / "again.db").string();
+    const std::string elsewhere = dir_.file("again.db");
 
     const MergeCounts second = merge(elsewhere);
     const MergeCounts replaced = merge(archive_);
@@ -369,20 +364,20 @@ TEST_F(MissionArchiveTest, MergingAgainGivesTheSameArchive) {
     EXPECT_EQ(dump(archive_), before);
     EXPECT_EQ(second.total.produced(), first.total.produced());
     EXPECT_EQ(replaced.total.lost, first.total.lost);
-    for (const auto& entry : fs::directory_iterator(dir_))
+    for (const auto& entry : fs::directory_iterator(dir_.path()))
         EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos) << entry.path();
 }
 
 TEST_F(MissionArchiveTest, NamesAnInputThatIsNotWhatItShouldBe) {
     write_files();
-    const std::string text = (dir_ / "notes.txt").string();
+    const std::string text = dir_.file("notes.txt");
     std::ofstream(text) << "not a database, but long enough to be read as one would be read by SQLite\n";
 
     EXPECT_NE(test::config_error_of([&] { merge_mission(text, recording_, archive_); }).find(text), std::string::npos);
     EXPECT_NE(test::config_error_of([&] { merge_mission(robot_log_, text, archive_); }).find(text), std::string::npos);
     const std::string swapped = test::config_error_of([&] { merge_mission(recording_, robot_log_, archive_); });
     EXPECT_NE(swapped.find("on-robot log '" + recording_ + "'"), std::string::npos) << swapped;
-    const std::string missing = (dir_ / "missing.db").string();
+    const std::string missing = dir_.file("missing.db");
     EXPECT_NE(test::config_error_of([&] { merge_mission(missing, recording_, archive_); }).find(missing),
               std::string::npos);
     EXPECT_FALSE(fs::exists(archive_));
@@ -453,7 +448,7 @@ TEST_F(MissionArchiveTest, AStoppedMergeLeavesThePreviousArchiveAndNoTemporaryFi
     EXPECT_FALSE(merge_mission(robot_log_, recording_, archive_, &stop).has_value());
 
     EXPECT_EQ(dump(archive_), before);
-    for (const auto& entry : fs::directory_iterator(dir_))
+    for (const auto& entry : fs::directory_iterator(dir_.path()))
         EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos) << entry.path();
 }
 

@@ -3,20 +3,17 @@
 #include "basecamp/on_time_payload.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
-#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "basecamp/report.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
+#include "test/unit/basecamp/scratch_dir.hpp"
 
 namespace tgw::basecamp {
 namespace {
-
-namespace fs = std::filesystem;
 
 constexpr std::int64_t T0_NS = 1'800'000'000'000'000'000;
 constexpr std::int64_t MS = 1'000'000;
@@ -24,14 +21,7 @@ constexpr std::int64_t S = 1'000 * MS;
 
 class OnTimePayloadTest : public ::testing::Test {
   protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("tgw-payload-" + std::to_string(::getpid()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-        recording_ = (dir_ / "record.db").string();
-    }
-    void TearDown() override { fs::remove_all(dir_); }
+    void SetUp() override { recording_ = dir_.file("record.db"); }
 
     void declare(const std::string& topic, double ttl_s) {
         TopicRecord t;
@@ -67,7 +57,7 @@ class OnTimePayloadTest : public ::testing::Test {
         return read_on_time_payload(recording_, read_report(recording_, options), since_ns, link_rate_bps);
     }
 
-    fs::path dir_;
+    test::ScratchDir dir_{"tgw-payload"};
     std::string recording_;
     std::vector<TopicRecord> topics_;
     std::vector<SampleRecord> samples_;

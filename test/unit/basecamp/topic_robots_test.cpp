@@ -3,9 +3,7 @@
 #include "basecamp/topic_robots.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
-#include <filesystem>
 #include <iterator>
 #include <sstream>
 
@@ -15,11 +13,10 @@
 #include "gateway/dds/status_topic.hpp"
 #include "status_samples.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
+#include "test/unit/basecamp/scratch_dir.hpp"
 
 namespace tgw::basecamp {
 namespace {
-
-namespace fs = std::filesystem;
 
 constexpr std::int64_t MS = 1'000'000;
 constexpr std::int64_t T0 = 1'700'000'000'000 * MS;
@@ -134,14 +131,7 @@ TEST(TopicRobotsTest, TheStatusViewNamesEachGatewaysRobotInRobotOrder) {
 
 class ReportRobotsTest : public ::testing::Test {
   protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("tgw-report-robots-" + std::to_string(::getpid()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-        recording_ = (dir_ / "record.db").string();
-    }
-    void TearDown() override { fs::remove_all(dir_); }
+    void SetUp() override { recording_ = dir_.file("record.db"); }
 
     std::string printed(const std::vector<SampleRecord>& samples) {
         test::write_recording(recording_, {}, samples);
@@ -150,7 +140,7 @@ class ReportRobotsTest : public ::testing::Test {
         return out.str();
     }
 
-    fs::path dir_;
+    test::ScratchDir dir_{"tgw-report-robots"};
     std::string recording_;
 };
 

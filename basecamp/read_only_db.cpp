@@ -1,0 +1,26 @@
+#include "basecamp/read_only_db.hpp"
+
+#include <sqlite3.h>
+
+#include "base/config_error.hpp"
+
+namespace tgw::basecamp {
+
+ReadOnlyDb open_read_only(const std::string& path, const std::string& who) {
+    sqlite3* raw = nullptr;
+    if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
+        const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
+        sqlite3_close(raw);
+        throw base::ConfigError(who + ": cannot open '" + path + "': " + why);
+    }
+    return ReadOnlyDb(raw, sqlite3_close);
+}
+
+Statement prepare(sqlite3* db, const char* sql, const std::string& what) {
+    sqlite3_stmt* stmt = nullptr;
+    if (sqlite3_prepare_v2(db, sql, -1, &stmt, nullptr) != SQLITE_OK)
+        throw base::ConfigError(what + ": " + sqlite3_errmsg(db));
+    return Statement(stmt, sqlite3_finalize);
+}
+
+}  // namespace tgw::basecamp

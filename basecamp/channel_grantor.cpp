@@ -178,9 +178,9 @@ void ChannelGrantor::arrived(const ParticipantPrefix& sender, base::Duration one
         meter_->stamped_sample(sender, one_way, wire_.wire_bytes(payload_bytes));
 }
 
-void ChannelGrantor::measure_channel() {
+std::optional<ChannelReading> ChannelGrantor::measure_channel() {
     if (meter_ == nullptr)
-        return;
+        return std::nullopt;
     std::uint64_t lost = 0;
     if (tally_ != nullptr) {
         for (const auto& [prefix, totals] : tally_->totals())
@@ -198,6 +198,7 @@ void ChannelGrantor::measure_channel() {
         std::fprintf(stderr, "tm-basecamp relay: channel %s: sharing %.0f bit/s\n", core::to_string(reading.verdict),
                      channel_bps_);
     }
+    return reading;
 }
 
 void ChannelGrantor::poll() {
@@ -206,37 +207,36 @@ void ChannelGrantor::poll() {
         return;
     next_grant_ = clock_.now() + GRANT_PERIOD;
     std::lock_guard<std::mutex> lock(mutex_);
-    measure_channel();
+    const std::optional<ChannelReading> reading = measure_channel();
     last_grants_ = shares_.grants();
     const auto sent_ns = static_cast<std::uint64_t>(base::to_ns(clock_.wall_now()));
+    ChannelRecord round = channel_record(sent_ns, reading);
     for (const auto& [key, bps] : last_grants_) {
         const auto heard = statuses_.find(key);
-        if (heard != statuses_.end() && !heard->second.empty())
+        const bool known = heard != statuses_.end() && !heard->second.empty();
+        if (known)
             write_grant(heard->second.back().prefix, bps, sent_ns);
+        if (record_ != nullptr)
+            round.grants.push_back(GrantRecord{key, known ? heard->second.back().robot : "", bps});
     }
     // Not more: several gateways may join at once (a fleet starting). Granting them also what the robots known
     // left unclaimed (all of the channel at the start) let three newcomers send three channels' worth at once.
     write_grant(dds::NEWCOMER_PREFIX, core::JOIN_SHARE * channel_bps_, sent_ns);
     if (record_ != nullptr)
-        record_->add_channel(channel_record(sent_ns));
+        record_->add_channel(round);
 }
 
-ChannelRecord ChannelGrantor::channel_record(std::uint64_t sent_ns) const {
+ChannelRecord ChannelGrantor::channel_record(std::uint64_t sent_ns,
+                                             const std::optional<ChannelReading>& reading) const {
     ChannelRecord out;
     out.time_ns = static_cast<std::int64_t>(sent_ns);
     out.channel_bps = channel_bps_;
     out.newcomer_bps = core::JOIN_SHARE * channel_bps_;
-    if (meter_ != nullptr) {
-        const ChannelReading reading = meter_->reading();
-        out.verdict = core::to_string(reading.verdict);
-        out.delivered_bps = reading.delivered_bps;
-        if (reading.queueing)
-            out.queueing_ns = reading.queueing->count();
-    }
-    for (const auto& [key, bps] : last_grants_) {
-        const auto heard = statuses_.find(key);
-        const std::string robot = heard != statuses_.end() && !heard->second.empty() ? heard->second.back().robot : "";
-        out.grants.push_back(GrantRecord{key, robot, bps});
+    if (reading) {
+        out.verdict = core::to_string(reading->verdict);
+        out.delivered_bps = reading->delivered_bps;
+        if (reading->queueing)
+            out.queueing_ns = reading->queueing->count();
     }
     return out;
 }

@@ -87,12 +87,12 @@ class ChannelGrantor {
     };
 
     void write_grant(const Prefix& prefix, double bps, std::uint64_t sent_ns);
-    /// This round's grants as the recording keeps them; under mutex_.
-    ChannelRecord channel_record(std::uint64_t sent_ns) const;
+    /// This round's channel as the recording keeps it, its grants to be added; under mutex_.
+    ChannelRecord channel_record(std::uint64_t sent_ns, const std::optional<ChannelReading>& reading) const;
     /// The channel's rate it shares now: --channel-rate, or what it measured.
     double channel_bps() const;
-    /// The channel's measure, once an interval; under mutex_.
-    void measure_channel();
+    /// The channel's measure, once an interval; nullopt where it is not measured. Under mutex_.
+    std::optional<ChannelReading> measure_channel();
 
     eprosima::fastdds::dds::DomainParticipant* wan_;
     eprosima::fastdds::dds::DataWriter* writer_ = nullptr;

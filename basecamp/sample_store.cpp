@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 
 #include "base/config_error.hpp"
 
@@ -51,18 +52,15 @@ CREATE TABLE IF NOT EXISTS grants(
     rate_bps REAL NOT NULL);
 )sql";
 
-void bind_optional(sqlite3_stmt* stmt, int index, const std::optional<std::int64_t>& value) {
-    if (value)
-        sqlite3_bind_int64(stmt, index, *value);
-    else
+/// An INTEGER or a REAL column's value, NULL when absent.
+template <typename Number>
+void bind_optional(sqlite3_stmt* stmt, int index, const std::optional<Number>& value) {
+    if (!value)
         sqlite3_bind_null(stmt, index);
-}
-
-void bind_optional(sqlite3_stmt* stmt, int index, const std::optional<double>& value) {
-    if (value)
+    else if constexpr (std::is_floating_point_v<Number>)
         sqlite3_bind_double(stmt, index, *value);
     else
-        sqlite3_bind_null(stmt, index);
+        sqlite3_bind_int64(stmt, index, *value);
 }
 
 void bind_text_or_null(sqlite3_stmt* stmt, int index, const std::string& text) {
@@ -131,23 +129,9 @@ class SampleStore::Impl {
         sqlite3_close(db_);
     }
 
-    void add_topic(TopicRecord topic) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        topics_.push_back(std::move(topic));
-        ++added_;
-    }
-
-    void add(SampleRecord sample) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        samples_.push_back(std::move(sample));
-        ++added_;
-    }
-
-    void add_channel(const ChannelRecord& channel) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        channels_.push_back(channel);
-        ++added_;
-    }
+    void add_topic(TopicRecord topic) { enqueue(topics_, std::move(topic)); }
+    void add(SampleRecord sample) { enqueue(samples_, std::move(sample)); }
+    void add_channel(ChannelRecord channel) { enqueue(channels_, std::move(channel)); }
 
     void flush() {
         std::unique_lock<std::mutex> lock(mutex_);
@@ -161,6 +145,14 @@ class SampleStore::Impl {
     std::atomic<std::uint64_t> write_errors{0};
 
   private:
+    /// For the writer thread's next batch.
+    template <typename Record>
+    void enqueue(std::vector<Record>& pending, Record record) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        pending.push_back(std::move(record));
+        ++added_;
+    }
+
     void write_loop() {
         std::unique_lock<std::mutex> lock(mutex_);
         for (;;) {

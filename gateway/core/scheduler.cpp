@@ -17,49 +17,37 @@ BundleBuilder::Entry peeked_entry(const DeadlineQueue::Peek& peek) {
 
 }  // namespace
 
-void Scheduler::ProtectedTopics::offer(TopicId topic, base::Duration limit, std::int64_t rank) {
-    if (limit <= base::Duration::zero()) {
+void Scheduler::ProtectedTopics::offer(const Guard& guard) {
+    if (guard.limit <= base::Duration::zero()) {
         return;  // no other sample's wait could let it arrive in time
     }
-    if (limit < first_limit) {
-        second_topic = first_topic;
-        second_limit = first_limit;
-        second_rank = first_rank;
-        first_topic = topic;
-        first_limit = limit;
-        first_rank = rank;
-    } else if (limit < second_limit) {
-        second_topic = topic;
-        second_limit = limit;
-        second_rank = rank;
+    if (guard.limit < first.limit) {
+        second = first;
+        first = guard;
+    } else if (guard.limit < second.limit) {
+        second = guard;
     }
 }
 
-bool Scheduler::ProtectedTopics::update(TopicId topic, base::Duration limit, std::int64_t rank) {
-    if (limit <= base::Duration::zero()) {
-        return topic != first_topic && topic != second_topic;  // one of the two leaves: the next is unknown
+bool Scheduler::ProtectedTopics::update(const Guard& guard) {
+    if (guard.limit <= base::Duration::zero()) {
+        return guard.topic != first.topic && guard.topic != second.topic;  // one leaves: the next is unknown
     }
-    if (topic == first_topic) {
-        if (limit > second_limit)
+    if (guard.topic == first.topic) {
+        if (guard.limit > second.limit)
             return false;  // the new second is unknown
-        first_limit = limit;
-        first_rank = rank;
-    } else if (topic == second_topic) {
-        if (limit < first_limit) {
-            second_topic = first_topic;
-            second_limit = first_limit;
-            second_rank = first_rank;
-            first_topic = topic;
-            first_limit = limit;
-            first_rank = rank;
-        } else if (limit <= second_limit) {
-            second_limit = limit;
-            second_rank = rank;
+        first = guard;
+    } else if (guard.topic == second.topic) {
+        if (guard.limit < first.limit) {
+            second = first;
+            first = guard;
+        } else if (guard.limit <= second.limit) {
+            second = guard;
         } else {
             return false;
         }
     } else {
-        offer(topic, limit, rank);
+        offer(guard);
     }
     return true;
 }
@@ -143,14 +131,14 @@ const Scheduler::ProtectedTopics& Scheduler::protected_topics(base::SteadyTime n
     // Only a push (handled there), a TTL or a rate change can bring a topic in; the two fall out by going
     // inactive. Time running backwards could make topics active again.
     const bool still_valid = protect_valid_ && now >= protect_built_at_ &&
-                             (protect_.first_topic == ProtectedTopics::NONE || active(protect_.first_topic, now)) &&
-                             (protect_.second_topic == ProtectedTopics::NONE || active(protect_.second_topic, now));
+                             (protect_.first.topic == ProtectedTopics::NONE || active(protect_.first.topic, now)) &&
+                             (protect_.second.topic == ProtectedTopics::NONE || active(protect_.second.topic, now));
     if (!still_valid) {
         protect_ = ProtectedTopics{};
         ++protect_epoch_;
         for (TopicId id = 0; id < topics_.size(); ++id) {
             if (active(id, now)) {
-                protect_.offer(id, protect_limit(id), protect_rank_of(id));
+                protect_.offer({id, protect_limit(id), protect_rank_of(id)});
                 topics_[id].protect_epoch = protect_epoch_;
             }
         }
@@ -204,7 +192,7 @@ void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_
     topic.seen = true;
     // Offering a topic again with the limit it was last offered with changes nothing.
     if (protect_valid_ && !same_limit && topic.reachable) {
-        protect_valid_ = protect_.update(sample.topic, protect_limit(sample.topic), protect_rank_of(sample.topic));
+        protect_valid_ = protect_.update({sample.topic, protect_limit(sample.topic), protect_rank_of(sample.topic)});
         topic.protect_epoch = protect_epoch_;
     }
 
@@ -519,9 +507,10 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
             earliest_deadline = std::min(earliest_deadline, chunked_->sample.deadline);
         } else if (alone) {
             // Not even a small chunk is short enough for the most urgent topic: look again once it goes quiet.
-            const TopicId guard = protect_.guard_for(chunked_->sample.topic, protect_rank_of(chunked_->sample.topic));
-            if (guard != ProtectedTopics::NONE) {
-                const TopicState& t = topics_[guard];
+            const ProtectedTopics::Guard* guard =
+                protect_.guard_for(chunked_->sample.topic, protect_rank_of(chunked_->sample.topic));
+            if (guard != nullptr) {
+                const TopicState& t = topics_[guard->topic];
                 const base::SteadyTime quiet = t.last_arrival + t.config.ttl + base::Duration(1);
                 blocked_wakeup_ = blocked_wakeup_ ? std::min(*blocked_wakeup_, quiet) : quiet;
             }

@@ -177,37 +177,36 @@ class Scheduler {
         base::SteadyTime last_origin{};
     };
 
-    /// The two shortest-limit active topics (limit: TTL minus the topic's last wire time), so that a candidate
-    /// from the most urgent topic is checked against the next one. Kept between releases and brought up to
-    /// date on push; rebuilt over all topics only when one of the two goes inactive, the rate or a TTL changes.
-    /// The two active topics with the least room (TTL less their own sample's wire time), and their ranks: a
+    /// The two active topics with the least room (TTL less their own sample's last wire time), and their ranks: a
     /// sample may hold the link at most the least room of the topics no less urgent than its own, itself aside.
     /// What is more urgent goes first anyway; a topic without room (its own sample longer than its TTL) is not
-    /// protected at all. Two are kept, not all: a third, more urgent, topic behind two less urgent ones with less
-    /// room goes unprotected (less protection, never a stop).
+    /// protected at all. Kept between releases and brought up to date on push; rebuilt over all topics only when
+    /// one of the two goes inactive, the rate or a TTL changes. Two are kept, not all: a third, more urgent, topic
+    /// behind two less urgent ones with less room goes unprotected (less protection, never a stop).
     struct ProtectedTopics {
         static constexpr TopicId NONE = static_cast<TopicId>(-1);
-        TopicId first_topic = NONE;
-        TopicId second_topic = NONE;
-        base::Duration first_limit = base::Duration::max();
-        base::Duration second_limit = base::Duration::max();
-        std::int64_t first_rank = std::numeric_limits<std::int64_t>::max();
-        std::int64_t second_rank = std::numeric_limits<std::int64_t>::max();
+        struct Guard {
+            TopicId topic = NONE;
+            base::Duration limit = base::Duration::max();  ///< its room
+            std::int64_t rank = std::numeric_limits<std::int64_t>::max();
+        };
+        Guard first;  ///< the least room
+        Guard second;
 
-        void offer(TopicId topic, base::Duration limit, std::int64_t rank);
+        void offer(const Guard& guard);
         /// False if the two can no longer be told without a rebuild.
-        bool update(TopicId topic, base::Duration limit, std::int64_t rank);
-        /// The protected topic that bounds a sample of `candidate`, of `rank`; NONE for none.
-        TopicId guard_for(TopicId candidate, std::int64_t rank) const {
-            if (first_topic != candidate && first_rank <= rank)
-                return first_topic;
-            if (second_topic != candidate && second_rank <= rank)
-                return second_topic;
-            return NONE;
+        bool update(const Guard& guard);
+        /// The protected topic that bounds a sample of `candidate`, of `rank`; nullptr for none.
+        const Guard* guard_for(TopicId candidate, std::int64_t rank) const {
+            if (first.topic != candidate && first.rank <= rank)
+                return &first;
+            if (second.topic != candidate && second.rank <= rank)
+                return &second;
+            return nullptr;
         }
         base::Duration limit_for(TopicId candidate, std::int64_t rank) const {
-            const TopicId guard = guard_for(candidate, rank);
-            return guard == NONE ? base::Duration::max() : guard == first_topic ? first_limit : second_limit;
+            const Guard* guard = guard_for(candidate, rank);
+            return guard == nullptr ? base::Duration::max() : guard->limit;
         }
     };
 

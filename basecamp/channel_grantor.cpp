@@ -38,7 +38,8 @@ std::vector<core::TopicLoad> loads(const idl::GatewayStatus& status) {
     std::vector<core::TopicLoad> out;
     for (const idl::TopicStatus& t : status.topics()) {
         out.push_back(core::TopicLoad{t.name(), std::chrono::milliseconds(t.ttl_ms()), t.received(), t.forwarded(),
-                                      t.forwarded_wire_bytes(), t.queued_samples(), t.queued_bytes()});
+                                      t.forwarded_wire_bytes(), t.queued_samples(), t.queued_bytes(),
+                                      t.forwarded_bytes()});
     }
     return out;
 }
@@ -145,7 +146,8 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
             ? 8.0 * static_cast<double>(now.unscheduled_wire_bytes - earlier->unscheduled_wire_bytes) /
                   base::to_seconds(elapsed)
             : 0.0;
-    const std::size_t status_wire_bytes = wire_.wire_bytes(payload.size());
+    const core::AloneWire alone{wire_, status.compact_wan()};
+    const std::size_t status_wire_bytes = alone.wire_bytes(payload.size(), true);
     // Its next status may come later than it said: its spacing follows its rate, and the grant is its rate now.
     base::Duration spacing = period;
     if (const auto granted = last_grants_.find(key); granted != last_grants_.end() && granted->second > 0) {
@@ -162,7 +164,7 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
     // runs, against 200 and 200).
     const double budget_fraction = status.sensed_rate_bps() > 0 ? status.budget_bps() / status.sensed_rate_bps() : 1.0;
     const double floor_bps =
-        core::least_share_bps(now.topics, status_wire_bytes, dds::STATUS_TTL, wire_, budget_fraction, unscheduled_bps);
+        core::least_share_bps(now.topics, payload.size(), dds::STATUS_TTL, alone, budget_fraction, unscheduled_bps);
     shares_.report(key,
                    core::grantable_demand(core::urgency_demand(before, now.topics, elapsed, wire_), unscheduled_bps,
                                           budget_fraction),

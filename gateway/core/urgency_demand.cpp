@@ -28,6 +28,13 @@ double wire_bytes_per_sample(const TopicLoad& t, const WireModel& wire) {
     return waiting_wire_bytes_per_sample(t, wire);
 }
 
+/// The mean payload of one of `t`'s samples: of those forwarded, else of those waiting (0 when none).
+std::size_t payload_bytes_per_sample(const TopicLoad& t) {
+    if (t.forwarded > 0)
+        return static_cast<std::size_t>(t.forwarded_payload_bytes / t.forwarded);
+    return static_cast<std::size_t>(t.queued_samples > 0 ? t.queued_bytes / t.queued_samples : 0);
+}
+
 /// The part of its rate a gateway budgets, as its status says it; anything not in (0, 1] counts as all of it.
 double usable_fraction(double budget_fraction) {
     return budget_fraction > 0 && budget_fraction <= 1 ? budget_fraction : 1.0;
@@ -70,11 +77,11 @@ std::vector<UrgencyDemand> grantable_demand(std::vector<UrgencyDemand> demand, d
     return demand;
 }
 
-double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_wire_bytes, base::Duration status_ttl,
-                       const WireModel& wire, double budget_fraction, double unscheduled_bps) {
-    double bps = status_ttl > base::Duration::zero()
-                     ? 8.0 * static_cast<double>(status_wire_bytes) / base::to_seconds(status_ttl)
-                     : 0.0;
+double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_payload_bytes,
+                       base::Duration status_ttl, const AloneWire& wire, double budget_fraction,
+                       double unscheduled_bps) {
+    const auto status_wire_bytes = static_cast<double>(wire.wire_bytes(status_payload_bytes, true));
+    double bps = status_ttl > base::Duration::zero() ? 8.0 * status_wire_bytes / base::to_seconds(status_ttl) : 0.0;
     const TopicLoad* urgent = nullptr;
     for (const TopicLoad& t : topics) {
         if (t.ttl > base::Duration::zero() && (t.forwarded > 0 || t.queued_samples > 0) &&
@@ -83,9 +90,10 @@ double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_
     }
     if (urgent != nullptr) {
         for (const TopicLoad& t : topics) {  // every topic of that TTL: the largest sample among them
-            if (t.ttl == urgent->ttl && (t.forwarded > 0 || t.queued_samples > 0))
-                bps = std::max(bps, 8.0 * (static_cast<double>(status_wire_bytes) + wire_bytes_per_sample(t, wire)) /
-                                        base::to_seconds(t.ttl));
+            if (t.ttl == urgent->ttl && (t.forwarded > 0 || t.queued_samples > 0)) {
+                const auto sample_wire_bytes = static_cast<double>(wire.wire_bytes(payload_bytes_per_sample(t)));
+                bps = std::max(bps, 8.0 * (status_wire_bytes + sample_wire_bytes) / base::to_seconds(t.ttl));
+            }
         }
     }
     return (bps + std::max(0.0, unscheduled_bps)) / usable_fraction(budget_fraction);

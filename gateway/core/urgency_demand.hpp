@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "base/time.hpp"
+#include "gateway/core/alone_wire.hpp"
 #include "gateway/core/channel_shares.hpp"
 #include "gateway/core/wire_model.hpp"
 
@@ -21,6 +22,7 @@ struct TopicLoad {
     std::uint64_t forwarded_wire_bytes = 0;
     std::uint64_t queued_samples = 0;
     std::uint64_t queued_bytes = 0;  ///< their serialized payloads
+    std::uint64_t forwarded_payload_bytes = 0;
 };
 
 /// The bit/s each TTL needs, shortest TTL first, from the topics' counts `elapsed` apart: per topic, what arrived
@@ -38,16 +40,20 @@ std::vector<UrgencyDemand> urgency_demand(const std::vector<TopicLoad>& before, 
 std::vector<UrgencyDemand> grantable_demand(std::vector<UrgencyDemand> demand, double unscheduled_bps,
                                             double budget_fraction);
 
-/// The least share a robot needs to keep in touch (split_channel()'s floor for it): room for its status, of
-/// `status_wire_bytes` on the wire, within `status_ttl`, and for the status and one sample of its most urgent
-/// topic (shortest TTL; the mean wire size of what it forwarded, else of what waits) within that topic's TTL, the
-/// larger; plus `unscheduled_bps`, the gateway's traffic outside the schedule, which its budget pays first; all
-/// divided by `budget_fraction`, the part of its rate the gateway budgets (a fraction not in (0, 1] counts as 1).
+/// The least share a robot needs to keep in touch (split_channel()'s floor for it): room for its status of
+/// `status_payload_bytes` within `status_ttl`, and for the status and then one sample of its most urgent topic
+/// (shortest TTL; the mean payload of what it forwarded, else of what waits) within that topic's TTL, the larger;
+/// each as it goes on the wire by itself (`wire`: in compact mode a bundle of its own each); plus
+/// `unscheduled_bps`, the gateway's traffic outside the schedule, which its budget pays first; all divided by
+/// `budget_fraction`, the part of its rate the gateway budgets (a fraction not in (0, 1] counts as 1).
 /// Below it a status cannot leave, and the base camp never learns the robot's demand: the status alone within its
 /// TTL at 95 % of the rate doomed it (454 bytes at 95 % of 3,632 bit/s: 1.05 s), and a status that left the most
 /// urgent topic too little time for its own sample was held back for that topic's sake (Scheduler's non-preemptive
-/// rule); either way a robot kept that grant for good (ChannelGrantTest, once in CI).
-double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_wire_bytes, base::Duration status_ttl,
-                       const WireModel& wire, double budget_fraction = 1.0, double unscheduled_bps = 0);
+/// rule); either way a robot kept that grant for good (ChannelGrantTest, once in CI). Sized as if the two shared a
+/// bundle, a compact robot's floor (6,574 bit/s) left its 720-byte status 0.81 s of wire beside A's 0.24: held
+/// back, then past its TTL, for 20 s of a fleet run.
+double least_share_bps(const std::vector<TopicLoad>& topics, std::size_t status_payload_bytes,
+                       base::Duration status_ttl, const AloneWire& wire, double budget_fraction = 1.0,
+                       double unscheduled_bps = 0);
 
 }  // namespace tgw::core

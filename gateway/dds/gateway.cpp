@@ -801,7 +801,8 @@ std::vector<core::TopicLoad> loads_of(const std::vector<TopicCount>& rows) {
     for (const TopicCount& row : rows) {
         const core::TopicCounters& c = row.counters;
         loads.push_back(core::TopicLoad{row.name, std::chrono::milliseconds(status_ttl_ms(row)), c.received,
-                                        c.forwarded, c.forwarded_wire_bytes, c.queued, c.queued_payload_bytes});
+                                        c.forwarded, c.forwarded_wire_bytes, c.queued, c.queued_payload_bytes,
+                                        c.forwarded_payload_bytes});
     }
     return loads;
 }
@@ -850,6 +851,7 @@ void Gateway::publish_status_nts() {
     const auto prefix = wan_->guid_prefix();
     std::copy(std::begin(prefix.value), std::end(prefix.value), status.gateway_prefix().begin());
     status.robot_name(config_.robot_name);
+    status.compact_wan(config_.compact_wan);
     status.sent_ns(static_cast<std::uint64_t>(base::to_ns(clock_.wall_now())));
     status.sensed_rate_bps(rate);
     status.budget_bps(rate * config_.scheduler.budget_fraction);
@@ -876,6 +878,7 @@ void Gateway::publish_status_nts() {
         t.received(c.received);
         t.forwarded(c.forwarded);
         t.forwarded_wire_bytes(c.forwarded_wire_bytes);
+        t.forwarded_bytes(c.forwarded_payload_bytes);
         t.expired(c.dropped_for(core::DropReason::expired));
         t.doomed(c.dropped_for(core::DropReason::doomed));
         t.evicted(c.dropped_for(core::DropReason::evicted));
@@ -901,8 +904,9 @@ void Gateway::publish_status_nts() {
         // doubles it before the first grant: core::granted_rate_bps). Not with the traffic outside the schedule
         // over the last status period, as the grantor adds it over 2 s: a burst of repairs made this floor, and
         // the gateway's rate, exceed its grant (ChannelGrantTest: two gateways 31,016 bit/s of a 30,000 channel).
-        least_share_bps_.store(core::least_share_bps(loads, config_.scheduler.wire.wire_bytes(bytes), STATUS_TTL,
-                                                     config_.scheduler.wire, config_.scheduler.budget_fraction));
+        least_share_bps_.store(core::least_share_bps(loads, bytes, STATUS_TTL,
+                                                     core::AloneWire{config_.scheduler.wire, config_.compact_wan},
+                                                     config_.scheduler.budget_fraction));
         apply_rate();
     }
 

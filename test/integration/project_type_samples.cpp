@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
     status.robot_name("rover1");
     status.sent_ns(1'795'560'000'000'000'000ULL);
     status.sensed_rate_bps(20'000.5);
+    status.compact_wan(true);
     status.sensor("qdisc:veth0");
     status.sensor_detail("tbf rate 20kbit");
     status.status_period_s(1.0);
@@ -93,6 +94,7 @@ int main(int argc, char** argv) {
     topic.ttl_ms(1000);
     topic.received(300);
     topic.forwarded(298);
+    topic.forwarded_bytes(298 * 64);
     topic.expired(2);
     topic.matched_readers(1);
     status.topics().push_back(topic);
@@ -116,11 +118,12 @@ int main(int argc, char** argv) {
                    "received_bytes": "98765", "lost_samples": "3", "sent_ns": "1795560000123456789"},
   "robot/pose": {"x": 120.5, "y": -3.25, "heading_rad": 1.5},
   "tgw/status": {"gateway_prefix": [1, 15, 2, 3, 4, 5, 6, 7, 8, 9, 10, 255], "robot_name": "rover1",
-                 "sent_ns": "1795560000000000000", "sensed_rate_bps": 20000.5, "sensor": "qdisc:veth0", "sensor_detail": "tbf rate 20kbit",
+                 "sent_ns": "1795560000000000000", "sensed_rate_bps": 20000.5, "compact_wan": true, "sensor": "qdisc:veth0", "sensor_detail": "tbf rate 20kbit",
                  "status_period_s": 1, "budget_bps": 19000.25, "delivered_cap_bps": 18000,
                  "unscheduled_wire_bytes": "4096", "log_samples": "17", "matched_readers": 2,
                  "topics": [{"name": "telemetry/A", "ttl_ms": 1000, "queued_samples": 0, "queued_bytes": "0",
-                             "received": "300", "forwarded": "298", "forwarded_wire_bytes": "0", "expired": "2",
+                             "received": "300", "forwarded": "298", "forwarded_wire_bytes": "0", "forwarded_bytes": "19072",
+                             "expired": "2",
                              "doomed": "0", "evicted": "0", "oversize": "0", "shutdown": "0", "write_failed": "0",
                              "no_reader": "0",
                              "matched_readers": 1}]}

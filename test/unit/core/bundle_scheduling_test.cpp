@@ -6,6 +6,7 @@
 
 #include "gateway/compact/bundle_codec.hpp"
 #include "gateway/core/paper_workload.hpp"
+#include "gateway/core/urgency_demand.hpp"
 #include "test/unit/core/scheduler_fixture.hpp"
 
 namespace tgw::core {
@@ -149,6 +150,27 @@ TEST_F(BundleSchedulingTest, TheStatusStillTakesTheSamplesThatMakeTheirDeadlines
     run_for(seconds(2));
     ASSERT_EQ(sink.bundles().size(), 2u);
     EXPECT_EQ(sink.bundles()[1].topics, (std::vector<TopicId>{status, a}));
+}
+
+// The status under --channel-grants at a compact robot's least share (core::least_share_bps), made as a hazard
+// (TTL 1 s) is born: both must arrive in time, each in a bundle of its own if need be. At the share that counted
+// each as a DDS sample of its own (7,824 bit/s here) the 720-byte status took 0.95 s of wire: it could neither
+// yield (after the hazard it would arrive past its yield window) nor leave the hazard time, and 6 of 30 hazards
+// expired behind it.
+TEST_F(BundleSchedulingTest, AtTheLeastShareTheStatusAndAHazardBornTogetherBothArriveInTime) {
+    const std::size_t status_bytes = 720;
+    const TopicLoad hazards{"A", seconds(1), 10, 10, 0, 0, 0, 10 * 64};
+    make_sut(least_share_bps({hazards}, status_bytes, seconds(1), {config.wire, true}));
+    const TopicId status = sut->add_topic({"status", seconds(5), true, seconds(1)});
+    for (int second = 0; second < 30; ++second) {
+        if (second % 5 == 0) {
+            push(status, status_bytes);
+        }
+        push(a, 64);
+        run_for(seconds(1));
+    }
+    EXPECT_EQ(sut->counters(status).forwarded, 6u);
+    EXPECT_EQ(sut->counters(a).forwarded, 30u);
 }
 
 TEST_F(BundleSchedulingTest, NoBundleHoldsTheLinkLongerThanTheMostUrgentActiveTopicAllows) {

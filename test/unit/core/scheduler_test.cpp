@@ -240,8 +240,9 @@ TEST_F(SchedulerTest, LogsAHeldBackSampleAsOversizeWhenItCanNoLongerMakeItsDeadl
 // the share (ChannelGrantTest: a robot kept 2,375 bit/s for good while its hazards waited).
 TEST_F(SchedulerTest, AtTheLeastShareTheStatusLeavesBesideTheMostUrgentTopic) {
     const std::size_t status_bytes = 450;
-    const std::vector<TopicLoad> loads = {TopicLoad{"A", seconds(1), 10, 10, 10 * config.wire.wire_bytes(64), 0, 0}};
-    make_sut(PolicyKind::ttl, least_share_bps(loads, config.wire.wire_bytes(status_bytes), seconds(1), config.wire));
+    const std::vector<TopicLoad> loads = {
+        TopicLoad{"A", seconds(1), 10, 10, 10 * config.wire.wire_bytes(64), 0, 0, 10 * 64}};
+    make_sut(PolicyKind::ttl, least_share_bps(loads, status_bytes, seconds(1), {config.wire}));
     const TopicId status = sut->add_topic({"status", seconds(5), true});
     push(a);
     run_for(milliseconds(500));  // A has left and is still active: the topic the non-preemptive rule protects

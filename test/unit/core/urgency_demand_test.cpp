@@ -84,28 +84,55 @@ TEST(GrantableDemandTest, NoDemandNoGrantAndAnOddFractionCountsAsWhole) {
     EXPECT_DOUBLE_EQ(grantable_demand({{1s, 1'000}}, -5, 1.5)[0].bps, 1'000);
 }
 
+/// `topic`'s load after forwarding `forwarded` samples of `payload_bytes` each (their wire bytes as alone).
+TopicLoad forwarded(const std::string& name, base::Duration ttl, std::uint64_t forwarded, std::size_t payload_bytes) {
+    TopicLoad t = topic(name, ttl, forwarded, forwarded, forwarded * WIRE.wire_bytes(payload_bytes));
+    t.forwarded_payload_bytes = forwarded * payload_bytes;
+    return t;
+}
+
+/// Bits of a status of 226 bytes (402 on the wire by itself in standard mode) and of a 64-byte hazard (238).
+const double STATUS_BITS = 8.0 * 402;
+const double HAZARD_BITS = 8.0 * 238;
+
 TEST(LeastShareTest, RoomForTheStatusWithinItsTtlAndBesideTheMostUrgentSampleWithinThatTtl) {
-    // A status of 400 bytes on the wire within 1 s: 3,200 bit/s; with a hazard of 238 bytes within the hazard's
-    // TTL of 1 s: 5,104 (the status on the wire must leave the hazard time for its own); the 20-second topic's
-    // 1,210-byte samples do not count.
-    const std::vector<TopicLoad> topics = {topic("D", 20s, 10, 10, 12'100), topic("A", 1s, 10, 10, 2'380)};
-    EXPECT_DOUBLE_EQ(least_share_bps(topics, 400, 1s, WIRE), 3'200 + 1'904);
-    EXPECT_DOUBLE_EQ(least_share_bps({}, 100, 1s, WIRE), 800) << "no topic yet";
-    const std::vector<TopicLoad> slow = {topic("D", 20s, 10, 10, 12'100)};
-    EXPECT_DOUBLE_EQ(least_share_bps(slow, 400, 1s, WIRE), 3'200) << "a long TTL: the status within its own decides";
+    ASSERT_EQ(WIRE.wire_bytes(226), 402u);
+    ASSERT_EQ(WIRE.wire_bytes(64), 238u);
+    // The status within 1 s: 3,216 bit/s; with the hazard within the hazard's TTL of 1 s: 5,120 (the status on the
+    // wire must leave the hazard time for its own); the 20-second topic's 1,016-byte samples do not count.
+    const std::vector<TopicLoad> topics = {forwarded("D", 20s, 10, 1'016), forwarded("A", 1s, 10, 64)};
+    EXPECT_DOUBLE_EQ(least_share_bps(topics, 226, 1s, {WIRE}), STATUS_BITS + HAZARD_BITS);
+    EXPECT_DOUBLE_EQ(least_share_bps({}, 226, 1s, {WIRE}), STATUS_BITS) << "no topic yet";
+    const std::vector<TopicLoad> slow = {forwarded("D", 20s, 10, 1'016)};
+    EXPECT_DOUBLE_EQ(least_share_bps(slow, 226, 1s, {WIRE}), STATUS_BITS)
+        << "a long TTL: the status within its own decides";
+}
+
+// In compact mode the status too long to share a bundle with the hazard goes in one of its own, and the hazard in
+// another: each pays a bundle's frame and a datagram's headers.
+TEST(LeastShareTest, InCompactModeTheStatusAndTheHazardEachPayForABundleOfTheirOwn) {
+    const AloneWire compact{WIRE, true};
+    const std::vector<TopicLoad> topics = {forwarded("A", 1s, 10, 64)};
+    const double expected = 8.0 * static_cast<double>(compact.wire_bytes(720, true) + compact.wire_bytes(64));
+    EXPECT_DOUBLE_EQ(least_share_bps(topics, 720, 1s, compact), expected);
+    // 9,952 bit/s, against 7,824 for the same two as DDS samples of their own.
+    EXPECT_GT(expected, least_share_bps(topics, 720, 1s, {WIRE}));
+    EXPECT_GT(compact.wire_bytes(64), WIRE.wire_bytes(64)) << "a bundle's frame on top of the DDS sample's headers";
 }
 
 TEST(LeastShareTest, PaysForTheBudgetFractionAndTheTrafficOutsideTheSchedule) {
     // A gateway that budgets 95 % of its rate needs its floor over 0.95 for the status to leave within its TTL.
-    EXPECT_DOUBLE_EQ(least_share_bps({}, 400, 1s, WIRE, 0.95), 3'200 / 0.95);
-    EXPECT_DOUBLE_EQ(least_share_bps({}, 400, 1s, WIRE, 0.5, 800), (3'200 + 800) / 0.5);
-    EXPECT_DOUBLE_EQ(least_share_bps({}, 400, 1s, WIRE, 0), 3'200) << "an odd fraction counts as whole";
-    EXPECT_DOUBLE_EQ(least_share_bps({}, 400, 1s, WIRE, 1.5), 3'200);
+    EXPECT_DOUBLE_EQ(least_share_bps({}, 226, 1s, {WIRE}, 0.95), STATUS_BITS / 0.95);
+    EXPECT_DOUBLE_EQ(least_share_bps({}, 226, 1s, {WIRE}, 0.5, 800), (STATUS_BITS + 800) / 0.5);
+    EXPECT_DOUBLE_EQ(least_share_bps({}, 226, 1s, {WIRE}, 0), STATUS_BITS) << "an odd fraction counts as whole";
+    EXPECT_DOUBLE_EQ(least_share_bps({}, 226, 1s, {WIRE}, 1.5), STATUS_BITS);
 }
 
 TEST(LeastShareTest, AnUrgentTopicNeverForwardedIsSizedFromWhatWaits) {
     const std::vector<TopicLoad> topics = {topic("A", 500ms, 3, 0, 0, 3, 3 * 1000)};
-    EXPECT_DOUBLE_EQ(least_share_bps(topics, 0, 1s, WIRE), 8.0 * static_cast<double>(WIRE.wire_bytes(1000)) / 0.5);
+    const double status_bits = 8.0 * static_cast<double>(WIRE.wire_bytes(0));
+    EXPECT_DOUBLE_EQ(least_share_bps(topics, 0, 1s, {WIRE}),
+                     (status_bits + 8.0 * static_cast<double>(WIRE.wire_bytes(1000))) / 0.5);
 }
 
 }  // namespace

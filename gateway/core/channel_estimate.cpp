@@ -16,6 +16,10 @@ std::string ChannelEstimateConfig::validate() const {
         return "max_queueing must be above 0";
     if (decrease_interval < base::Duration::zero())
         return "decrease_interval must not be negative";
+    if (!(start_fraction > 0 && start_fraction <= 1))
+        return "start_fraction must be in (0, 1]";
+    if (!(start_growth_per_s >= 0 && std::isfinite(start_growth_per_s)))
+        return "start_growth_per_s must be a fraction >= 0";
     if (!(min_fraction > 0 && min_fraction <= 1))
         return "min_fraction must be in (0, 1]";
     if (!(min_utilisation >= 0 && min_utilisation <= 1))
@@ -54,16 +58,22 @@ base::Duration ChannelEstimate::Baseline::least() const {
 }
 
 ChannelEstimate::ChannelEstimate(double upper_bps, ChannelEstimateConfig config, const base::Clock& clock)
-    : config_(config), clock_(clock), upper_bps_(upper_bps), estimate_bps_(upper_bps) {
+    : config_(config), clock_(clock), upper_bps_(upper_bps) {
     if (const std::string error = config_.validate(); !error.empty())
         throw base::ConfigError("channel estimate: " + error);
     if (!(upper_bps > 0 && std::isfinite(upper_bps)))
         throw base::ConfigError("channel estimate: the upper bound must be a rate above 0");
+    estimate_bps_ = std::max(config_.min_fraction, config_.start_fraction) * upper_bps_;
+    starting_ = estimate_bps_ < upper_bps_;
 }
 
 void ChannelEstimate::arrived(const std::string& sender, base::Duration one_way, std::size_t wire_bytes) {
-    // Its own time on the wire at the channel's rate is not queueing: a 3 kB bundle takes 400 ms at 60 kbit/s.
-    const base::Duration adjusted = one_way - base::from_seconds(8.0 * static_cast<double>(wire_bytes) / estimate_bps_);
+    // Its own time on the wire is not queueing: a 3 kB bundle takes 400 ms at 60 kbit/s. Taken at the bound, which
+    // it never took less than: at an estimate below the channel's rate a large datagram looked quicker than any
+    // before it, and every small one after it queued (a relay measuring a 30,000 bit/s channel held it at 16,000,
+    // "full" every other second, hazards 153 of 300 on time). Too little taken off only makes a large datagram
+    // look later, and the interval's queue is its quickest datagram's.
+    const base::Duration adjusted = one_way - base::from_seconds(8.0 * static_cast<double>(wire_bytes) / upper_bps_);
     const base::SteadyTime now = clock_.now();
     Baseline& baseline = baselines_[sender];
     if (baseline.steps == 0) {
@@ -102,6 +112,10 @@ double ChannelEstimate::update(std::uint64_t delivered_wire_bytes, std::uint64_t
         window_.pop_front();
     const double delivered = 8.0 * static_cast<double>(delivered_wire_bytes - window_.front().delivered_wire_bytes) /
                              base::to_seconds(now - window_.front().at);
+    // The slow start judges its growth by the last interval alone: the window's rate lags an estimate growing by a
+    // tenth a second by a third, and held it back while every robot used all it was granted.
+    const double delivered_lately =
+        8.0 * static_cast<double>(delivered_wire_bytes - last_->delivered_wire_bytes) / base::to_seconds(elapsed);
     const std::optional<base::Duration> previous_queueing = queueing_;
     delivered_bps_ = delivered;
     queueing_ = interval_queueing_;
@@ -109,6 +123,13 @@ double ChannelEstimate::update(std::uint64_t delivered_wire_bytes, std::uint64_t
     last_ = counters;
 
     const bool queue = queueing_ && *queueing_ > config_.max_queueing;
+    if (starting_ && (lost || (queueing_ && *queueing_ > config_.hold_queueing))) {
+        // The first queue: the channel is full, and what it carried is the best guess of it, above the estimate
+        // (robots not yet granted send at a newcomer's share of their own sensor's rate) or below it (the grants
+        // outran the channel while the delivered rate lagged them: its window, and the grants' way to the robots).
+        starting_ = false;
+        estimate_bps_ = std::clamp(delivered, config_.min_fraction * upper_bps_, upper_bps_);
+    }
     const bool shrinking = queue && previous_queueing && *queueing_ < *previous_queueing;
     if (lost || (queue && !shrinking)) {
         verdict_ = lost ? ChannelVerdict::losing : ChannelVerdict::queueing;
@@ -126,15 +147,25 @@ double ChannelEstimate::update(std::uint64_t delivered_wire_bytes, std::uint64_t
                      estimate_bps_ - over * config_.increase_fraction_per_s * upper_bps_ * base::to_seconds(elapsed));
     } else {
         verdict_ = ChannelVerdict::clear;
-        // Grow only on evidence: samples that crossed while the grants were used; the slower the nearer the
-        // queue is to full.
-        if (queueing_ && granted_bps > 0 && delivered >= config_.min_utilisation * granted_bps) {
-            const double room = 1.0 - base::to_seconds(*queueing_) / base::to_seconds(config_.hold_queueing);
-            estimate_bps_ = std::min(upper_bps_, estimate_bps_ + room * config_.increase_fraction_per_s * upper_bps_ *
-                                                                     base::to_seconds(elapsed));
+        if (queueing_) {
+            estimate_bps_ = grown(elapsed, starting_ ? delivered_lately : delivered, *queueing_, granted_bps);
+            starting_ = starting_ && estimate_bps_ < upper_bps_;
         }
     }
     return estimate_bps_;
+}
+
+double ChannelEstimate::grown(base::Duration elapsed, double delivered_bps, base::Duration queueing,
+                              double granted_bps) const {
+    // Only on evidence: samples that crossed while the robots used the estimate.
+    if (granted_bps <= 0 || delivered_bps < config_.min_utilisation * estimate_bps_)
+        return estimate_bps_;
+    const double seconds = base::to_seconds(elapsed);
+    if (starting_)
+        return std::min(upper_bps_, estimate_bps_ * std::pow(1.0 + config_.start_growth_per_s, seconds));
+    // The slower the nearer the queue is to full.
+    const double room = 1.0 - base::to_seconds(queueing) / base::to_seconds(config_.hold_queueing);
+    return std::min(upper_bps_, estimate_bps_ + room * config_.increase_fraction_per_s * upper_bps_ * seconds);
 }
 
 void ChannelEstimate::cut(double delivered_bps, base::SteadyTime now) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "base/config_error.hpp"
 #include "test/fakes/fake_clock.hpp"
 
@@ -15,11 +17,14 @@ constexpr double BOUND = 60'000;
 /// A base camp's view of a channel: each second, what arrived from two robots and how long it took.
 class ChannelEstimateTest : public ::testing::Test {
   protected:
+    explicit ChannelEstimateTest(const ChannelEstimateConfig& config = without_slow_start())
+        : estimate_{BOUND, config, clock_} {}
+
     /// One second: `bps` delivered in 250-byte samples, half from each robot, each after `delay` on the way
     /// (rover2's clock 7 s ahead of the camp's), `lost` samples more lost; then the estimate's update with
     /// `granted` handed out.
     double second(double bps, base::Duration delay, double granted, std::uint64_t lost = 0) {
-        const auto samples = static_cast<int>(bps / 8 / SAMPLE_BYTES);
+        const auto samples = static_cast<int>(std::lround(bps / 8 / SAMPLE_BYTES));
         for (int i = 0; i < samples; ++i) {
             const bool rover1 = i % 2 == 0;
             estimate_.arrived(rover1 ? "rover1" : "rover2", rover1 ? delay : delay - 7s, SAMPLE_BYTES);
@@ -39,9 +44,16 @@ class ChannelEstimateTest : public ::testing::Test {
         ASSERT_EQ(estimate_.verdict(), ChannelVerdict::clear);
     }
 
+    /// The AIMD from the bound: the slow start has tests of its own (ChannelSlowStartTest).
+    static ChannelEstimateConfig without_slow_start() {
+        ChannelEstimateConfig config;
+        config.start_fraction = 1.0;
+        return config;
+    }
+
     static constexpr std::size_t SAMPLE_BYTES = 250;
     test::FakeClock clock_;
-    ChannelEstimate estimate_{BOUND, ChannelEstimateConfig{}, clock_};
+    ChannelEstimate estimate_;
     std::uint64_t delivered_ = 0;
     std::uint64_t lost_ = 0;
 };
@@ -83,7 +95,7 @@ TEST_F(ChannelEstimateTest, GrowsTheSlowerTheNearerTheQueueIsToFull) {
     settle();
     second(30'000, 340ms, 54'000);
     const double cut = estimate_.channel_bps();
-    const double grown = second(0.8 * cut, 90ms, 0.9 * cut);  // 50 ms above the least, less its time on the wire
+    const double grown = second(0.9 * cut, 90ms, 0.9 * cut);  // 50 ms above the least, less its time on the wire
     EXPECT_GT(grown, cut);
     EXPECT_LT(grown, cut + 0.02 * BOUND) << "slower than on a clear channel";
 }
@@ -116,15 +128,15 @@ TEST_F(ChannelEstimateTest, LostSamplesCutWithoutAQueue) {
     EXPECT_EQ(estimate_.verdict(), ChannelVerdict::losing);
 }
 
-TEST_F(ChannelEstimateTest, GrowsBackWhileTheGrantsAreUsedAndNothingQueues) {
+TEST_F(ChannelEstimateTest, GrowsBackWhileTheRobotsUseItAndNothingQueues) {
     settle();
     second(30'000, 340ms, 54'000);
     const double cut = estimate_.channel_bps();
-    // The robots use their grants (90 % of the estimate, budgeted at 95 %): a fiftieth of the bound a second.
-    EXPECT_NEAR(second(0.8 * cut, 40ms, 0.9 * cut), cut + 0.02 * BOUND, 1);
+    // The robots use all they are granted (90 % of the estimate): a fiftieth of the bound a second.
+    EXPECT_NEAR(second(0.9 * cut, 40ms, 0.9 * cut), cut + 0.02 * BOUND, 1);
     for (int i = 0; i < 60; ++i) {
         const double now = estimate_.channel_bps();
-        second(0.8 * now, 40ms, 0.9 * now);
+        second(0.9 * now, 40ms, 0.9 * now);
     }
     EXPECT_DOUBLE_EQ(estimate_.channel_bps(), BOUND) << "never above the bound";
 }
@@ -158,6 +170,21 @@ TEST_F(ChannelEstimateTest, NeverBelowItsLeastFractionOfTheBound) {
         second(0, 40ms, 54'000, 1);
     }
     EXPECT_DOUBLE_EQ(estimate_.channel_bps(), 0.1 * BOUND);
+}
+
+// The grants hand out the whole estimate, used or not: what proves the channel is what it carried.
+TEST_F(ChannelEstimateTest, AnEstimateTheRobotsUseOnlyPartOfDoesNotGrow) {
+    settle();
+    second(30'000, 340ms, 54'000);
+    const double cut = estimate_.channel_bps();
+    for (int i = 0; i < 3; ++i) {
+        second(0.7 * cut, 40ms, 0.9 * cut);  // the busier seconds leave the delivered window
+    }
+    const double used = estimate_.channel_bps();
+    for (int i = 0; i < 10; ++i) {
+        // 70 % of it, and of the grants 78 %: growth, judged against the grants.
+        EXPECT_DOUBLE_EQ(second(0.7 * used, 40ms, 0.9 * used), used) << "second " << i;
+    }
 }
 
 TEST_F(ChannelEstimateTest, ALargeSampleTakesLongerOnTheWireWithoutQueueing) {
@@ -198,6 +225,61 @@ TEST_F(ChannelEstimateTest, CountersThatGoBackStartAfresh) {
     EXPECT_NEAR(*estimate_.delivered_bps(), 48'000, 1);
 }
 
+/// A fleet's start: the estimate from a quarter of its bound, the robots using what they are granted.
+class ChannelSlowStartTest : public ChannelEstimateTest {
+  protected:
+    ChannelSlowStartTest() : ChannelEstimateTest(ChannelEstimateConfig{}) {}
+
+    /// A second of the channel carrying 95 % of the estimate, granted 90 %, with `delay` on the way.
+    double used_second(base::Duration delay = 40ms) {
+        const double now = estimate_.channel_bps();
+        return second(0.95 * now, delay, 0.9 * now);
+    }
+};
+
+TEST_F(ChannelSlowStartTest, StartsAtAQuarterOfTheBoundAndGrowsByATenthOfItselfASecondWhileUsed) {
+    EXPECT_DOUBLE_EQ(estimate_.channel_bps(), 0.25 * BOUND);
+    used_second();  // the first update only starts the count
+    EXPECT_NEAR(used_second(), 0.25 * BOUND * 1.1, 1);
+    EXPECT_NEAR(used_second(), 0.25 * BOUND * 1.1 * 1.1, 1);
+    for (int i = 0; i < 30; ++i) {
+        used_second();
+    }
+    EXPECT_DOUBLE_EQ(estimate_.channel_bps(), BOUND) << "never above the bound";
+}
+
+// At the bound's wire time, not the estimate's: a 3,000-byte bundle takes 0.4 s at the bound, 1.6 s at a quarter.
+TEST_F(ChannelSlowStartTest, ALargeBundleIsNotTheQuickestEverBeforeTheFirstQueue) {
+    estimate_.arrived("rover1", 40ms, SAMPLE_BYTES);
+    estimate_.arrived("rover1", 440ms, 3'000);  // 0.4 s on the wire at the bound, no queue
+    clock_.advance(1s);
+    estimate_.update(3'250, 0, 0);
+    clock_.advance(1s);
+    estimate_.arrived("rover1", 40ms, SAMPLE_BYTES);
+    estimate_.update(3'500, 0, 0);
+    EXPECT_LT(*estimate_.queueing(), 10ms);
+}
+
+TEST_F(ChannelSlowStartTest, AnIdleChannelDoesNotGrowIt) {
+    for (int i = 0; i < 10; ++i) {
+        EXPECT_DOUBLE_EQ(second(2'000, 40ms, 0.25 * BOUND), 0.25 * BOUND) << "second " << i;
+    }
+}
+
+TEST_F(ChannelSlowStartTest, TheFirstShortQueueEndsIt) {
+    used_second(40ms);
+    used_second(40ms);
+    used_second(40ms);
+    const double before = estimate_.channel_bps();
+    used_second(190ms);  // 150 ms above the least: a short queue stands
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::full);
+    const double eased = estimate_.channel_bps();
+    EXPECT_LT(eased, *estimate_.delivered_bps()) << "down to what the channel carried, and eased from there";
+    EXPECT_LT(*estimate_.delivered_bps(), before);
+    // Clear again: it grows by a fiftieth of the bound a second, no longer by a tenth of itself.
+    EXPECT_NEAR(used_second(40ms), eased + 0.02 * BOUND, 1);
+}
+
 TEST(ChannelEstimateConfigTest, NamesTheFieldThatIsWrong) {
     ChannelEstimateConfig config;
     EXPECT_EQ(config.validate(), "");
@@ -209,6 +291,12 @@ TEST(ChannelEstimateConfigTest, NamesTheFieldThatIsWrong) {
     config = {};
     config.hold_queueing = 1s;
     EXPECT_NE(config.validate().find("hold_queueing"), std::string::npos);
+    config = {};
+    config.start_fraction = 0;
+    EXPECT_NE(config.validate().find("start_fraction"), std::string::npos);
+    config = {};
+    config.start_growth_per_s = -1;
+    EXPECT_NE(config.validate().find("start_growth_per_s"), std::string::npos);
     config = {};
     config.interval = 0s;
     EXPECT_NE(config.validate().find("interval"), std::string::npos);

@@ -113,7 +113,8 @@ double ChannelEstimate::update(std::uint64_t delivered_wire_bytes, std::uint64_t
     const double delivered = 8.0 * static_cast<double>(delivered_wire_bytes - window_.front().delivered_wire_bytes) /
                              base::to_seconds(now - window_.front().at);
     // The slow start judges its growth by the last interval alone: the window's rate lags an estimate growing by a
-    // tenth a second by a third, and held it back while every robot used all it was granted.
+    // tenth a second, and held it back while every robot used all of it (with min_utilisation at 0.85, three
+    // robots' A 196.5 of 200 on time on average over 6 runs, against 198.7 over 7 judged by the interval).
     const double delivered_lately =
         8.0 * static_cast<double>(delivered_wire_bytes - last_->delivered_wire_bytes) / base::to_seconds(elapsed);
     const std::optional<base::Duration> previous_queueing = queueing_;

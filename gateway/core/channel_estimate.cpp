@@ -148,18 +148,17 @@ double ChannelEstimate::update(std::uint64_t delivered_wire_bytes, std::uint64_t
                      estimate_bps_ - over * config_.increase_fraction_per_s * upper_bps_ * base::to_seconds(elapsed));
     } else {
         verdict_ = ChannelVerdict::clear;
-        if (queueing_) {
-            estimate_bps_ = grown(elapsed, starting_ ? delivered_lately : delivered, *queueing_, granted_bps);
+        if (queueing_ && granted_bps > 0) {  // nothing granted: no robot to prove the channel
+            estimate_bps_ = grown(elapsed, starting_ ? delivered_lately : delivered, *queueing_);
             starting_ = starting_ && estimate_bps_ < upper_bps_;
         }
     }
     return estimate_bps_;
 }
 
-double ChannelEstimate::grown(base::Duration elapsed, double delivered_bps, base::Duration queueing,
-                              double granted_bps) const {
+double ChannelEstimate::grown(base::Duration elapsed, double delivered_bps, base::Duration queueing) const {
     // Only on evidence: samples that crossed while the robots used the estimate.
-    if (granted_bps <= 0 || delivered_bps < config_.min_utilisation * estimate_bps_)
+    if (delivered_bps < config_.min_utilisation * estimate_bps_)
         return estimate_bps_;
     const double seconds = base::to_seconds(elapsed);
     if (starting_)

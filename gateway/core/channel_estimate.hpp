@@ -116,8 +116,8 @@ class ChannelEstimate {
 
     void cut(double delivered_bps, base::SteadyTime now);
     /// The estimate after an interval of `elapsed` on a clear channel that carried `delivered_bps` (over the
-    /// delivered window; in the slow start over the interval) with `queueing`, while `granted_bps` was handed out.
-    double grown(base::Duration elapsed, double delivered_bps, base::Duration queueing, double granted_bps) const;
+    /// delivered window; in the slow start over the interval) with `queueing`.
+    double grown(base::Duration elapsed, double delivered_bps, base::Duration queueing) const;
 
     const ChannelEstimateConfig config_;
     const base::Clock& clock_;
@@ -131,7 +131,7 @@ class ChannelEstimate {
     std::optional<base::Duration> queueing_;
     std::optional<base::SteadyTime> last_cut_;
     ChannelVerdict verdict_ = ChannelVerdict::unknown;
-    bool starting_;  ///< in the slow start: no queue seen yet
+    bool starting_ = false;  ///< in the slow start: no queue seen yet (set by the constructor)
 };
 
 }  // namespace tgw::core

@@ -15,10 +15,14 @@ const TopicLoad* find(const std::vector<TopicLoad>& topics, const std::string& n
     return nullptr;
 }
 
+/// The mean payload of `t`'s samples waiting now; 0 when none waits.
+std::size_t waiting_payload_bytes_per_sample(const TopicLoad& t) {
+    return static_cast<std::size_t>(t.queued_samples > 0 ? t.queued_bytes / t.queued_samples : 0);
+}
+
 /// The wire size of one of `t`'s samples waiting now, by their mean payload; headers alone when none waits.
 double waiting_wire_bytes_per_sample(const TopicLoad& t, const WireModel& wire) {
-    const std::uint64_t payload = t.queued_samples > 0 ? t.queued_bytes / t.queued_samples : 0;
-    return static_cast<double>(wire.wire_bytes(static_cast<std::size_t>(payload)));
+    return static_cast<double>(wire.wire_bytes(waiting_payload_bytes_per_sample(t)));
 }
 
 /// The mean wire size of one of `t`'s samples: of those forwarded, else of those waiting.
@@ -32,7 +36,7 @@ double wire_bytes_per_sample(const TopicLoad& t, const WireModel& wire) {
 std::size_t payload_bytes_per_sample(const TopicLoad& t) {
     if (t.forwarded > 0)
         return static_cast<std::size_t>(t.forwarded_payload_bytes / t.forwarded);
-    return static_cast<std::size_t>(t.queued_samples > 0 ? t.queued_bytes / t.queued_samples : 0);
+    return waiting_payload_bytes_per_sample(t);
 }
 
 /// The part of its rate a gateway budgets, as its status says it; anything not in (0, 1] counts as all of it.

@@ -87,7 +87,7 @@ ChannelGrantor::~ChannelGrantor() {
         const_cast<fdds::Publisher*>(writer_->get_publisher())->delete_datawriter(writer_);
 }
 
-void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
+void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload, std::size_t sent_bytes) {
     idl::GatewayStatusPubSubType type;
     idl::GatewayStatus status;
     eprosima::fastrtps::rtps::SerializedPayload_t serialized(static_cast<std::uint32_t>(payload.size()));
@@ -147,14 +147,15 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload) {
                   base::to_seconds(elapsed)
             : 0.0;
     const core::AloneWire alone{wire_, status.compact_wan()};
-    const std::size_t status_wire_bytes = alone.wire_bytes(payload.size(), true);
+    const std::size_t status_wire_bytes = alone.wire_bytes(sent_bytes, true);
     // Its next status may come later than it said: its spacing follows its rate, and the grant is its rate now.
     base::Duration spacing = period;
     if (const auto granted = last_grants_.find(key); granted != last_grants_.end() && granted->second > 0) {
         spacing = std::max(spacing, std::chrono::duration_cast<base::Duration>(dds::status_rate_spacing(
                                         8.0 * static_cast<double>(status_wire_bytes), granted->second)));
     }
-    // Its floor (core::least_share_bps): room for its next status (this one's size) within its TTL, and for that
+    // Its floor (core::least_share_bps): room for its next status (this one's size as serialized, as the gateway
+    // sizes its own floor, not as a compact gateway compressed it) within its TTL, and for that
     // status beside its most urgent sample within the sample's TTL, once over (a gateway without a grant of its own
     // budgets twice that, core::NEWCOMER_LEAST_SHARE_FACTOR), and for its traffic outside the schedule since then,
     // which its budget pays first, over the part of its rate it budgets.

@@ -57,9 +57,9 @@ class ChannelGrantor {
     ChannelGrantor(const ChannelGrantor&) = delete;
     ChannelGrantor& operator=(const ChannelGrantor&) = delete;
 
-    /// One sample of tgw/status as it came off the WAN (its serialized payload); any thread. A payload that does
-    /// not decode is ignored.
-    void take_status(const std::vector<std::uint8_t>& payload);
+    /// One sample of tgw/status as it came off the WAN (its serialized payload), `sent_bytes` of it on the WAN
+    /// (a compact gateway's status travels compressed); any thread. A payload that does not decode is ignored.
+    void take_status(const std::vector<std::uint8_t>& payload, std::size_t sent_bytes);
 
     /// A compact bundle of `payload_bytes` from the gateway `sender` came off the WAN `one_way` after its writer
     /// stamped it (the relay's clock less the gateway's); any thread. Counts only where the channel is measured.

@@ -18,6 +18,7 @@
 #include "base/config_error.hpp"
 #include "basecamp/channel_grantor.hpp"
 #include "basecamp/wan_capture.hpp"
+#include "gateway/compact/zstd_frame.hpp"
 #include "gateway/dds/compact_topics.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/guarded_type.hpp"
@@ -280,6 +281,23 @@ bool CompactUnpacker::deliver_nts(const ParticipantPrefix& gateway, compact::Bun
     ReturnCode_t rc = ReturnCode_t::RETCODE_OK;
     switch (entry.kind) {
         case compact::EntryKind::data: {
+            // The gateway's status travels compressed: as published again, recorded and granted from, it is the
+            // serialized status; the grantor sizes the robot's floor by what it took on the WAN.
+            const std::size_t sent_bytes = entry.payload.size();
+            if (stream.entry.zstd_payload()) {
+                std::vector<std::uint8_t> raw;
+                if (compact::unzstd_frame(entry.payload.data(), entry.payload.size(),
+                                          compact::BundleCodec::MAX_DECODED_BYTES, raw) != compact::FrameError::none) {
+                    if (counts_.undecodable_entries++ == 0) {
+                        std::fprintf(stderr,
+                                     "tm-basecamp relay: an entry of '%s' is not the zstd frame its catalog "
+                                     "entry promised: dropped (counted at exit)\n",
+                                     stream.entry.topic().c_str());
+                    }
+                    return true;
+                }
+                entry.payload = std::move(raw);
+            }
             if (store_ != nullptr) {
                 SampleRecord record;
                 record.topic = stream.record.topic;
@@ -293,7 +311,7 @@ bool CompactUnpacker::deliver_nts(const ParticipantPrefix& gateway, compact::Bun
                 store_->add(std::move(record));
             }
             if (statuses_ != nullptr && stream.record.topic == dds::STATUS_TOPIC) {
-                statuses_->take_status(entry.payload);
+                statuses_->take_status(entry.payload, sent_bytes);
             }
             data.payload = std::move(entry.payload);
             rc = lane.writer->write_w_timestamp(&data, handle, stamp);

@@ -52,7 +52,8 @@ class CompactUnpacker {
         std::uint64_t lost_bundles = 0;     ///< gaps in a gateway's bundle sequence
         std::uint64_t unknown_entries = 0;  ///< never described by a catalog entry in time
         std::uint64_t failed_writes = 0;
-        std::uint64_t incomplete_samples = 0;  ///< chunks of a sample whose other chunks never came
+        std::uint64_t incomplete_samples = 0;   ///< chunks of a sample whose other chunks never came
+        std::uint64_t undecodable_entries = 0;  ///< of a compressed topic (zstd_payload), not one good zstd frame
     };
 
     /// Entries waiting for their catalog entry, at most.

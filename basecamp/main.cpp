@@ -256,7 +256,8 @@ int main(int argc, char** argv) {
                 std::cout << "  compact WAN: " << c.bundles << " bundles taken (" << c.rejected_bundles << " rejected, "
                           << c.lost_bundles << " lost on the way), " << c.entries << " entries, " << c.relayed
                           << " samples relayed, " << c.unknown_entries << " never described by a catalog entry, "
-                          << c.incomplete_samples << " chunked samples incomplete\n";
+                          << c.incomplete_samples << " chunked samples incomplete, " << c.undecodable_entries
+                          << " compressed entries undecodable\n";
             }
             for (const auto& [gateway, bps] : relaying.channel_grants())
                 std::cout << "  last grant to gateway " << gateway << ": " << static_cast<long long>(bps) << " bit/s\n";

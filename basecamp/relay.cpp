@@ -64,7 +64,7 @@ class Relay::Lane final : public fdds::DataReaderListener {
                     store_->add(sample_record(topic_, data.payload, info));
                 }
                 if (statuses != nullptr) {
-                    statuses->take_status(data.payload);
+                    statuses->take_status(data.payload, data.payload.size());
                 }
             }
             // SampleInfo carries the RTPS time type; the writers take the DDS one.

@@ -1,12 +1,12 @@
 #include "gateway/compact/bundle_codec.hpp"
 
 #include <zlib.h>
-#include <zstd.h>
 
 #include <cstring>
 #include <limits>
 
 #include "base/byte_order.hpp"
+#include "gateway/compact/zstd_frame.hpp"
 
 namespace tgw::compact {
 
@@ -34,7 +34,6 @@ constexpr std::size_t CHECKSUM_BYTES = sizeof(std::uint32_t);
 constexpr std::size_t MIN_BUNDLE_BYTES = HEADER_BYTES + 1 + BASE_TIME_BYTES + 1 + CHECKSUM_BYTES;
 /// Flags, topic id, time delta and payload length, a byte each: no entry is shorter.
 constexpr std::size_t MIN_ENTRY_BYTES = 4;
-constexpr int ZSTD_LEVEL = 3;
 
 // Zigzag in unsigned arithmetic: shifting a negative value is what it must not do.
 std::uint64_t zigzag(std::int64_t value) {
@@ -213,15 +212,13 @@ bool compress_section(const std::uint8_t* raw, std::size_t raw_size, std::vector
     // The decoder refuses more than MAX_DECODED_BYTES; such a section travels as it is.
     if (raw_size == 0 || raw_size > BundleCodec::MAX_DECODED_BYTES)
         return false;
+    std::vector<std::uint8_t> frame;
+    if (!zstd_frame(raw, raw_size, frame))
+        return false;
     out.clear();
     put_varint(out, raw_size);
-    const std::size_t prefix = out.size();
-    out.resize(prefix + ZSTD_compressBound(raw_size));
-    const std::size_t frame = ZSTD_compress(out.data() + prefix, out.size() - prefix, raw, raw_size, ZSTD_LEVEL);
-    if (ZSTD_isError(frame) || prefix + frame >= raw_size)
-        return false;
-    out.resize(prefix + frame);
-    return true;
+    out.insert(out.end(), frame.begin(), frame.end());
+    return out.size() < raw_size;
 }
 
 /// Decompresses the section `bytes` (varint raw length, one zstd frame) into `raw`.
@@ -232,20 +229,14 @@ BundleError decompress_section(const std::uint8_t* bytes, std::size_t size, std:
         return BundleError::malformed;
     if (raw_size > BundleCodec::MAX_DECODED_BYTES)
         return BundleError::too_large;
-    const std::uint8_t* frame = in.position();
-    const std::size_t frame_size = in.remaining();
-    // Exactly one frame, whose header declares the raw length: nothing is decompressed before that is known.
-    const std::size_t frame_bytes = ZSTD_findFrameCompressedSize(frame, frame_size);
-    if (ZSTD_isError(frame_bytes) || frame_bytes != frame_size)
-        return BundleError::malformed;
-    const unsigned long long content = ZSTD_getFrameContentSize(frame, frame_size);
-    if (content == ZSTD_CONTENTSIZE_ERROR || content == ZSTD_CONTENTSIZE_UNKNOWN || content != raw_size)
-        return BundleError::malformed;
-    raw.resize(static_cast<std::size_t>(raw_size));
-    const std::size_t written = ZSTD_decompress(raw.data(), raw.size(), frame, frame_size);
-    if (ZSTD_isError(written) || written != raw.size())
-        return BundleError::malformed;
-    return BundleError::none;
+    switch (unzstd_frame(in.position(), in.remaining(), static_cast<std::size_t>(raw_size), raw)) {
+        case FrameError::none:
+            return raw.size() == raw_size ? BundleError::none : BundleError::malformed;
+        case FrameError::too_large:  // more than the section said
+        case FrameError::malformed:
+            break;
+    }
+    return BundleError::malformed;
 }
 
 }  // namespace

@@ -21,12 +21,15 @@ bool demand_changed(const std::vector<UrgencyDemand>& told, const std::vector<Ur
 
 DemandWatch::DemandWatch(Config config, WireModel wire) : config_(config), wire_(wire) {}
 
-bool DemandWatch::changed(base::SteadyTime now, const std::vector<TopicLoad>& loads) {
+bool DemandWatch::changed(base::SteadyTime now, const std::vector<TopicLoad>& loads, double rate_bps) {
     recent_.emplace_back(now, loads);
     // Keep one snapshot at or before the window's start, so that the demand spans the whole window.
     while (recent_.size() > 2 && recent_[1].first <= now - config_.window)
         recent_.pop_front();
     if (pending_)
+        return false;
+    if (last_left_ && rate_bps > 0 &&
+        now - last_left_->first < base::from_seconds(last_left_->second / (config_.rate_share * rate_bps)))
         return false;
     if (!last_sent_)
         return true;
@@ -37,14 +40,16 @@ bool DemandWatch::changed(base::SteadyTime now, const std::vector<TopicLoad>& lo
     return demand_changed(told_, demand, config_.fraction, config_.floor_bps);
 }
 
-void DemandWatch::sent(base::SteadyTime at, std::vector<TopicLoad> loads) {
+void DemandWatch::sent(base::SteadyTime at, std::vector<TopicLoad> loads, double wire_bits) {
     pending_ = Snapshot{at, std::move(loads)};
+    pending_bits_ = wire_bits;
 }
 
-void DemandWatch::delivered(bool left) {
+void DemandWatch::delivered(bool left, base::SteadyTime seen_at) {
     if (!pending_)
         return;
     if (left) {
+        last_left_.emplace(seen_at, pending_bits_);
         // As the base camp works it out: from the status before, or for the first one what waits (ChannelGrantor:
         // its counts gathered over an unknown time); the span only has to be positive then.
         const auto& [at, loads] = *pending_;

@@ -30,6 +30,11 @@ class DemandWatch {
         base::Duration window = DEMAND_WINDOW;  ///< the demand now is over this much of the recent past
         double fraction = 0.25;                 ///< see demand_changed()
         double floor_bps = 1000;
+        /// The most of the rate statuses made for the demand's sake may take. Unbounded, a robot on a small share
+        /// sent one a second while its demand grew at a fleet's start: a compact status is half a second of wire
+        /// at 12,000 bit/s, and B (TTL 2 s) expired behind them (three robots at 60,000 bit/s, the measuring
+        /// relay's slow start: B 197 of 200 on two robots, all lost at 3.7 to 4.3 s).
+        double rate_share = 0.2;
     };
 
     DemandWatch(Config config, WireModel wire);
@@ -38,13 +43,17 @@ class DemandWatch {
     /// go now for the demand's sake, and every time until one status has left: a base camp that has heard none
     /// grants the robot nothing of its own (a gateway that restarted made one status, which expired behind its
     /// discovery's traffic, and its next waited for the spacing: 50 s at 6,000 bit/s). Never while the last
-    /// status's fate is unknown.
-    bool changed(base::SteadyTime now, const std::vector<TopicLoad>& loads);
-    /// A status with `loads` was made at `at`; it tells the base camp once delivered() says it left.
-    void sent(base::SteadyTime at, std::vector<TopicLoad> loads);
-    /// The status of the last sent() left for the base camp (true), or was dropped before it could (false): the
-    /// base camp grants from the statuses it gets, so a dropped one told it nothing.
-    void delivered(bool left);
+    /// status's fate is unknown, nor sooner after the last status left than Config::rate_share of `rate_bps`
+    /// allows for its bits.
+    bool changed(base::SteadyTime now, const std::vector<TopicLoad>& loads, double rate_bps);
+    /// A status with `loads`, `wire_bits` on the wire, was made at `at`; it tells the base camp once delivered()
+    /// says it left.
+    void sent(base::SteadyTime at, std::vector<TopicLoad> loads, double wire_bits);
+    /// The status of the last sent() left for the base camp (true), or was dropped before it could (false), as
+    /// seen at `seen_at`: the base camp grants from the statuses it gets, so a dropped one told it nothing, and
+    /// cost the link nothing. The spacing Config::rate_share asks for counts from when one left: a status that
+    /// waited in the queue and left just before the next was made would otherwise go back to back with it.
+    void delivered(bool left, base::SteadyTime seen_at);
     /// Whether the last status's fate is still unknown.
     bool pending() const { return pending_.has_value(); }
 
@@ -60,6 +69,9 @@ class DemandWatch {
     std::optional<Snapshot> pending_;    ///< made, not yet known to have left
     std::optional<Snapshot> last_sent_;  ///< the last that left
     std::vector<UrgencyDemand> told_;
+    double pending_bits_ = 0.0;  ///< the wire bits of the status pending_ stands for
+    /// When the last status that left was seen to have, and its bits on the wire.
+    std::optional<std::pair<base::SteadyTime, double>> last_left_;
 };
 
 }  // namespace tgw::core

@@ -78,6 +78,7 @@ bool CompactWan::announce(const CatalogLane& lane) {
     entry.type_name(lane.type_name);
     entry.keyed(lane.keyed);
     entry.ttl_ns(std::chrono::duration_cast<std::chrono::nanoseconds>(lane.ttl).count());
+    entry.zstd_payload(lane.zstd_payload);
     if (entry.lanes().size() <= lane.lane) {
         entry.lanes().resize(lane.lane + 1u);
     }

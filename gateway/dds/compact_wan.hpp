@@ -33,6 +33,8 @@ struct CatalogLane {
     std::uint16_t lane = 0;
     OfferedQos offer;
     std::optional<base::Duration> lifespan;  ///< what the relay republishes with; nullopt: infinite
+    /// Its samples travel as one zstd frame each (the gateway compressed them), which the relay decompresses.
+    bool zstd_payload = false;
 };
 
 /// The gateway's side of the compact WAN mode (--wan-mode compact): instead of a WAN writer per lane, one

@@ -7,11 +7,13 @@
 #include <set>
 
 #include "CompactWanPubSubTypes.h"
+#include "GatewayStatusPubSubTypes.h"
 #include "KeyedReadingPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
 #include "basecamp/compact_unpacker.hpp"
 #include "gateway/compact/bundle_codec.hpp"
 #include "gateway/dds/compact_topics.hpp"
+#include "gateway/dds/status_topic.hpp"
 #include "gateway/dds/wan_address.hpp"
 #include "test/integration/raw_sample_type.hpp"
 #include "test/integration/relay_fixture.hpp"
@@ -57,6 +59,14 @@ class CompactWanTest : public RelayTest {
                        MATCH_TIMEOUT);
         EXPECT_TRUE(matched) << "the path of " << topic << " never matched end to end";
         return matched ? writer : nullptr;
+    }
+
+    /// The gateway started with `c`, the relay, and paper_path(topic, reader).
+    fdds::DataWriter* started_paper_path(const GatewayConfig& c, const std::string& topic,
+                                         CollectingReader<idl::PaperMessage>& reader) {
+        start_gateway(c);
+        start_relay();
+        return paper_path(topic, reader);
     }
 
     std::map<std::uint64_t, eprosima::fastrtps::Time_t> stamps_;
@@ -142,11 +152,9 @@ TEST_F(CompactWanTest, PlainSubscribersOfTheOriginalTypesGetPayloadKeyAndTimesta
 TEST_F(CompactWanTest, APictureLargerThanABundleLeavesInChunksAndArrivesWhole) {
     GatewayConfig c = compact_config();
     c.scheduler.initial_rate_bps = 400'000;
-    start_gateway(c);
-    start_relay();
     const std::string pictures = topic_prefix_ + "pictures";
     auto& reader = listener<CollectingReader<idl::PaperMessage>>();
-    auto* writer = paper_path(pictures, reader);
+    auto* writer = started_paper_path(c, pictures, reader);
     ASSERT_NE(writer, nullptr);
 
     constexpr std::uint32_t N = 3;
@@ -174,14 +182,48 @@ TEST_F(CompactWanTest, APictureLargerThanABundleLeavesInChunksAndArrivesWhole) {
     expect_balanced();
 }
 
+TEST_F(CompactWanTest, TheStatusTravelsCompressedAndReachesTheCampWhole) {
+    GatewayConfig c = compact_config();
+    c.status_period = 100ms;
+    const std::string paper = topic_prefix_ + "paper";
+    auto& reader = listener<CollectingReader<idl::PaperMessage>>();
+    auto* writer = started_paper_path(c, paper, reader);
+    ASSERT_NE(writer, nullptr);
+    auto& statuses = listener<CollectingReader<idl::GatewayStatus>>();
+    local_reader<idl::GatewayStatusPubSubType>(dds::STATUS_TOPIC, local_->default_reader_qos(), statuses);
+    publish_paper(writer, 0, 10);
+    ASSERT_TRUE(wait_until([&] { return reader.count() >= 10; })) << reader.count() << " of 10";
+    // A status made after the samples left says so.
+    ASSERT_TRUE(wait_until([&] {
+        for (const auto& r : statuses.received()) {
+            for (const idl::TopicStatus& t : r.data.topics()) {
+                if (t.name() == paper && t.forwarded() == 10)
+                    return true;
+            }
+        }
+        return false;
+    })) << statuses.count()
+        << " statuses, none telling the 10 samples forwarded";
+    const idl::GatewayStatus& status = statuses.received().back().data;
+    EXPECT_TRUE(status.compact_wan());
+    EXPECT_GT(status.sensed_rate_bps(), 0.0);
+    // What crossed the WAN was smaller than what the camp's reader got (a status of one topic, 232 bytes, takes
+    // about 157; of the paper's four, 664 take about 270).
+    idl::GatewayStatus copy = status;
+    const std::size_t serialized = idl::GatewayStatusPubSubType().getSerializedSizeProvider(&copy)();
+    const core::TopicCounters sent = gateway_->status_counters();
+    ASSERT_GT(sent.forwarded, 0u);
+    EXPECT_LT(sent.forwarded_payload_bytes / sent.forwarded, serialized * 3 / 4)
+        << "a status of " << serialized << " bytes took " << sent.forwarded_payload_bytes / sent.forwarded;
+    EXPECT_EQ(relay_->compact()->counts().undecodable_entries, 0u);
+}
+
 TEST_F(CompactWanTest, TheRelaysReceiverReportsCountTheGatewaysBundles) {
     GatewayConfig c = compact_config();
     c.receiver_reports = true;
-    start_gateway(c);
-    start_relay();
     const std::string paper = topic_prefix_ + "paper";
     auto& reader = listener<CollectingReader<idl::PaperMessage>>();
-    auto* writer = paper_path(paper, reader);
+    auto* writer = started_paper_path(c, paper, reader);
     ASSERT_NE(writer, nullptr);
     publish_paper(writer, 0, 10);
     ASSERT_TRUE(wait_until([&] { return reader.count() >= 10; })) << reader.count() << " of 10";

@@ -204,7 +204,7 @@ TEST_F(CompactWanTest, TheStatusTravelsCompressedAndReachesTheCampWhole) {
         return false;
     })) << statuses.count()
         << " statuses, none telling the 10 samples forwarded";
-    const idl::GatewayStatus& status = statuses.received().back().data;
+    const idl::GatewayStatus status = statuses.received().back().data;  // received() is a copy
     EXPECT_TRUE(status.compact_wan());
     EXPECT_GT(status.sensed_rate_bps(), 0.0);
     // What crossed the WAN was smaller than what the camp's reader got (a status of one topic, 232 bytes, takes

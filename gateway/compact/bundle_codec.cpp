@@ -212,13 +212,9 @@ bool compress_section(const std::uint8_t* raw, std::size_t raw_size, std::vector
     // The decoder refuses more than MAX_DECODED_BYTES; such a section travels as it is.
     if (raw_size == 0 || raw_size > BundleCodec::MAX_DECODED_BYTES)
         return false;
-    std::vector<std::uint8_t> frame;
-    if (!zstd_frame(raw, raw_size, frame))
-        return false;
     out.clear();
     put_varint(out, raw_size);
-    out.insert(out.end(), frame.begin(), frame.end());
-    return out.size() < raw_size;
+    return zstd_frame(raw, raw_size, out) && out.size() < raw_size;
 }
 
 /// Decompresses the section `bytes` (varint raw length, one zstd frame) into `raw`.
@@ -229,14 +225,11 @@ BundleError decompress_section(const std::uint8_t* bytes, std::size_t size, std:
         return BundleError::malformed;
     if (raw_size > BundleCodec::MAX_DECODED_BYTES)
         return BundleError::too_large;
-    switch (unzstd_frame(in.position(), in.remaining(), static_cast<std::size_t>(raw_size), raw)) {
-        case FrameError::none:
-            return raw.size() == raw_size ? BundleError::none : BundleError::malformed;
-        case FrameError::too_large:  // more than the section said
-        case FrameError::malformed:
-            break;
-    }
-    return BundleError::malformed;
+    // A frame of more than the section said, or of less, is as malformed as one that does not decode.
+    const bool whole =
+        unzstd_frame(in.position(), in.remaining(), static_cast<std::size_t>(raw_size), raw) == FrameError::none &&
+        raw.size() == raw_size;
+    return whole ? BundleError::none : BundleError::malformed;
 }
 
 }  // namespace

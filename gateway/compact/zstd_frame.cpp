@@ -12,14 +12,11 @@ constexpr int ZSTD_LEVEL = 3;
 }  // namespace
 
 bool zstd_frame(const std::uint8_t* raw, std::size_t size, std::vector<std::uint8_t>& out) {
-    out.resize(ZSTD_compressBound(size));
-    const std::size_t frame = ZSTD_compress(out.data(), out.size(), raw, size, ZSTD_LEVEL);
-    if (ZSTD_isError(frame)) {
-        out.clear();
-        return false;
-    }
-    out.resize(frame);
-    return true;
+    const std::size_t prefix = out.size();
+    out.resize(prefix + ZSTD_compressBound(size));
+    const std::size_t frame = ZSTD_compress(out.data() + prefix, out.size() - prefix, raw, size, ZSTD_LEVEL);
+    out.resize(ZSTD_isError(frame) ? prefix : prefix + frame);
+    return !ZSTD_isError(frame);
 }
 
 FrameError unzstd_frame(const std::uint8_t* bytes, std::size_t size, std::size_t max_bytes,

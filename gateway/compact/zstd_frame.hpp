@@ -9,7 +9,8 @@
 
 namespace tgw::compact {
 
-/// Replaces `out` with one zstd frame of `raw` (its content size in the frame's header). False if zstd failed.
+/// Appends one zstd frame of `raw` to `out` (its content size in the frame's header). False, `out` as it was, if
+/// zstd failed.
 bool zstd_frame(const std::uint8_t* raw, std::size_t size, std::vector<std::uint8_t>& out);
 
 enum class FrameError { none, malformed, too_large };

@@ -32,6 +32,8 @@ std::string ChannelEstimateConfig::validate() const {
         return "delivered_window must be at least interval";
     if (baseline_window <= base::Duration::zero())
         return "baseline_window must be above 0";
+    if (joining < base::Duration::zero())
+        return "joining must not be negative";
     return "";
 }
 
@@ -77,6 +79,7 @@ void ChannelEstimate::arrived(const std::string& sender, base::Duration one_way,
     const base::SteadyTime now = clock_.now();
     Baseline& baseline = baselines_[sender];
     if (baseline.steps == 0) {
+        baseline.joined = now;
         baseline.step_start = now;
         baseline.minimum[0] = adjusted;
         baseline.steps = 1;
@@ -91,7 +94,27 @@ void ChannelEstimate::arrived(const std::string& sender, base::Duration one_way,
     }
     const base::Duration queued = std::max(base::Duration::zero(), adjusted - baseline.least());
     // The least of the interval: a queue that stands delays every sample, a burst of one sender's only some.
-    interval_queueing_ = interval_queueing_ ? std::min(*interval_queueing_, queued) : queued;
+    const bool joining = now - baseline.joined < config_.joining;
+    std::optional<base::Duration>& least = joining ? joining_queueing_ : interval_queueing_;
+    least = least ? std::min(*least, queued) : queued;
+    if (joining)
+        baseline.interval_quickest =
+            baseline.interval_quickest ? std::min(*baseline.interval_quickest, adjusted) : adjusted;
+}
+
+std::optional<base::Duration> ChannelEstimate::end_interval(base::SteadyTime now) {
+    const std::optional<base::Duration> known = interval_queueing_;
+    for (auto& [sender, baseline] : baselines_) {
+        // A sender that joined a queue waited in it as long as the others: its quickest without it. Only while it
+        // still joins: one whose own delays told the queue would correct itself by it.
+        if (known && baseline.interval_quickest && now - baseline.joined < config_.joining)
+            baseline.minimum[0] = std::min(baseline.minimum[0], *baseline.interval_quickest - *known);
+        baseline.interval_quickest.reset();
+    }
+    const std::optional<base::Duration> queueing = known ? known : joining_queueing_;  // a fleet that starts at once
+    interval_queueing_.reset();
+    joining_queueing_.reset();
+    return queueing;
 }
 
 double ChannelEstimate::update(std::uint64_t delivered_wire_bytes, std::uint64_t lost_samples, double granted_bps) {
@@ -100,7 +123,7 @@ double ChannelEstimate::update(std::uint64_t delivered_wire_bytes, std::uint64_t
     if (!last_ || delivered_wire_bytes < last_->delivered_wire_bytes || lost_samples < last_->lost_samples) {
         last_ = counters;  // the first, or the counters started again: measure from here
         window_.assign(1, counters);
-        interval_queueing_.reset();
+        end_interval(now);
         return estimate_bps_;
     }
     const base::Duration elapsed = now - last_->at;
@@ -119,8 +142,7 @@ double ChannelEstimate::update(std::uint64_t delivered_wire_bytes, std::uint64_t
         8.0 * static_cast<double>(delivered_wire_bytes - last_->delivered_wire_bytes) / base::to_seconds(elapsed);
     const std::optional<base::Duration> previous_queueing = queueing_;
     delivered_bps_ = delivered;
-    queueing_ = interval_queueing_;
-    interval_queueing_.reset();
+    queueing_ = end_interval(now);
     last_ = counters;
 
     const bool queue = queueing_ && *queueing_ > config_.max_queueing;

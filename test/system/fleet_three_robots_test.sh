@@ -13,6 +13,8 @@
 # gateway senses the whole channel (--sensor fixed:60000, --channel-grants), the relay grants the shares
 # (--channel-rate 60000). WAY=measured: the same, the relay measuring the channel with twice its rate as the bound
 # (--channel-rate 120000 --measure-channel).
+# RESTART=0 (not in ctest; the baseline of issue 21's restart target) leaves rover3's gateway running, and checks
+# rover3's A and B as the others'.
 set -euo pipefail
 BIN=$1
 cd "$(dirname "$0")/../.."
@@ -75,12 +77,15 @@ printf 'P camera/image 6000 5 1\n' >"$WORK/camera.workload"
     --duration $((DURATION - CAMERA_AT)) --linger 0 >"$WORK/camera.out" 2>&1 &
 camera=$!
 PIDS+=("$camera")
-sleep $((RESTART_AT - CAMERA_AT))
-kill -TERM "${gateways[2]}"
-wait "${gateways[2]}" || true
-sleep 2
-start_gateway 3 gateway3-restarted
-gateways[2]=$gateway_pid
+RESTART=${RESTART:-1}
+if [ "$RESTART" = 1 ]; then
+    sleep $((RESTART_AT - CAMERA_AT))
+    kill -TERM "${gateways[2]}"
+    wait "${gateways[2]}" || true
+    sleep 2
+    start_gateway 3 gateway3-restarted
+    gateways[2]=$gateway_pid
+fi
 
 for pid in "${sims[@]}" "$camera"; do wait "$pid" || true; done
 finish_fleet "$relay" "${gateways[@]}"
@@ -97,7 +102,9 @@ cat "$WORK/report.txt"
 row() {  # TOPIC: report's row, topic ttl_s offered received on_time %on_time mean_ms sd_ms max_ms robot
     awk -v t="$1" '$1 == t && (NF == 9 || NF == 10) { print; exit }' "$WORK/report.txt"
 }
-for k in 1 2; do
+checked_robots="1 2"
+[ "$RESTART" = 1 ] || checked_robots="1 2 3"
+for k in $checked_robots; do
     for type in A B; do
         read -r _ _ offered_n _ on_time _ <<<"$(row "rover$k/telemetry/$type")" || true
         check "rover$k/telemetry/$type: ${on_time:-0} of ${offered_n:-0} on time at the base camp" \
@@ -110,10 +117,12 @@ echo "rover2's camera frames received: ${camera_received:-0} of $(awk '$2 == "ca
 # depends on how soon the relay matches its new writers across the busy channel: 87 and 91 in runs on an idle
 # machine, 48 in one CI run beside another system test (37 held back for want of a reader, about 7 s). The check
 # is that it came back; that the others did not notice is the check above.
-forwarded_after=$(awk '$1 == "telemetry/A" { print $3; exit }' "$WORK/gateway3-restarted.out")
-check "rover3's gateway, started again, forwarded telemetry/A ($forwarded_after)" "a >= 30" "${forwarded_after:-0}"
-read -r _ _ _ received3 _ <<<"$(row "rover3/telemetry/A")" || true
-check "rover3/telemetry/A reached the base camp (${received3:-0})" "a >= 100" "${received3:-0}"
+if [ "$RESTART" = 1 ]; then
+    forwarded_after=$(awk '$1 == "telemetry/A" { print $3; exit }' "$WORK/gateway3-restarted.out")
+    check "rover3's gateway, started again, forwarded telemetry/A ($forwarded_after)" "a >= 30" "${forwarded_after:-0}"
+    read -r _ _ _ received3 _ <<<"$(row "rover3/telemetry/A")" || true
+    check "rover3/telemetry/A reached the base camp (${received3:-0})" "a >= 100" "${received3:-0}"
+fi
 # The robot column, from the gateways' status recorded at the camp.
 for k in $(seq 1 "$ROBOTS"); do
     robot=$(row "rover$k/telemetry/A" | awk '{ print $10 }')
@@ -123,6 +132,7 @@ done
 if [ "$fail" -ne 0 ]; then
     for f in relay.out gateway1.out gateway2.out gateway3.out gateway3-restarted.out sim1.out sim2.out sim3.out \
         camera.out tc.txt; do
+        [ -f "$WORK/$f" ] || continue
         echo "--- $f"
         cat "$WORK/$f"
     done

@@ -216,6 +216,40 @@ TEST_F(ChannelEstimateTest, ASendersQuickestDelayIsForgottenAfterTheBaselineWind
     EXPECT_LT(*estimate.queueing(), 10ms) << "its new delay is its least now";
 }
 
+TEST_F(ChannelEstimateTest, AGatewayThatJoinsAStandingQueueDoesNotHideIt) {
+    const ChannelEstimateConfig config = without_slow_start();
+    for (int i = 0; i < 12; ++i) {
+        second(30'000, 40ms, 54'000);  // rover1 and rover2, known for longer than config.joining
+    }
+    // A restarted gateway's first samples come through the router's queue of 300 ms, as the others' do: its
+    // quickest delay is a queued one (its clock 3 s behind the camp's).
+    const auto queued_second = [&](bool others) {
+        for (int i = 0; i < 10; ++i) {
+            estimate_.arrived("rover3", 3s + 340ms, SAMPLE_BYTES);
+        }
+        if (others) {
+            for (int i = 0; i < 10; ++i) {
+                estimate_.arrived("rover1", 340ms, SAMPLE_BYTES);
+            }
+        }
+        clock_.advance(1s);
+        delivered_ += (others ? 20 : 10) * SAMPLE_BYTES;
+        return estimate_.update(delivered_, lost_, 54'000);
+    };
+    queued_second(true);
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::queueing);
+    EXPECT_NEAR(estimate_.queueing()->count(), std::chrono::nanoseconds(300ms).count(), 1e6);
+    EXPECT_LT(estimate_.channel_bps(), BOUND);
+
+    // Past its joining window, its delays count, its quickest taken without the queue it joined: alone, it tells
+    // the queue that still stands.
+    clock_.advance(config.joining);
+    estimate_.update(delivered_, lost_, 54'000);
+    queued_second(false);
+    ASSERT_TRUE(estimate_.queueing());
+    EXPECT_NEAR(estimate_.queueing()->count(), std::chrono::nanoseconds(300ms).count(), 1e6);
+}
+
 TEST_F(ChannelEstimateTest, CountersThatGoBackStartAfresh) {
     settle();
     clock_.advance(1s);
@@ -297,6 +331,9 @@ TEST(ChannelEstimateConfigTest, NamesTheFieldThatIsWrong) {
     config = {};
     config.start_growth_per_s = -1;
     EXPECT_NE(config.validate().find("start_growth_per_s"), std::string::npos);
+    config = {};
+    config.joining = -1s;
+    EXPECT_NE(config.validate().find("joining"), std::string::npos);
     config = {};
     config.interval = 0s;
     EXPECT_NE(config.validate().find("interval"), std::string::npos);

@@ -39,7 +39,7 @@ std::vector<core::TopicLoad> loads(const idl::GatewayStatus& status) {
     for (const idl::TopicStatus& t : status.topics()) {
         out.push_back(core::TopicLoad{t.name(), std::chrono::milliseconds(t.ttl_ms()), t.received(), t.forwarded(),
                                       t.forwarded_wire_bytes(), t.queued_samples(), t.queued_bytes(),
-                                      t.forwarded_bytes()});
+                                      t.forwarded_bytes(), std::chrono::milliseconds(t.active_ms())});
     }
     return out;
 }

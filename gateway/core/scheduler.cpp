@@ -170,6 +170,9 @@ std::int64_t Scheduler::protect_rank_of(TopicId topic) const {
 void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_now, SampleSink& sink) {
     TopicState& topic = topics_[sample.topic];
     ++topic.counters.received;
+    if (!topic.counters.first_received) {
+        topic.counters.first_received = now;
+    }
     sample.arrival = now;
     sample.sequence = next_sequence_++;
     // A sample cannot be born after it arrived: a source clock running ahead must not lengthen its life.

@@ -2,6 +2,9 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
+
+#include "base/time.hpp"
 
 #include "gateway/core/drop_reason.hpp"
 
@@ -16,6 +19,8 @@ struct TopicCounters {
     std::array<std::uint64_t, DROP_REASON_COUNT> dropped{};
     std::uint64_t forwarded_payload_bytes = 0;
     std::uint64_t forwarded_wire_bytes = 0;
+    /// When its first sample arrived; nullopt before one did.
+    std::optional<base::SteadyTime> first_received;
 
     std::uint64_t dropped_total() const {
         std::uint64_t n = 0;
@@ -36,6 +41,8 @@ struct TopicCounters {
             dropped[i] += o.dropped[i];
         forwarded_payload_bytes += o.forwarded_payload_bytes;
         forwarded_wire_bytes += o.forwarded_wire_bytes;
+        if (o.first_received && (!first_received || *o.first_received < *first_received))
+            first_received = o.first_received;
         return *this;
     }
 };

@@ -57,7 +57,13 @@ std::vector<UrgencyDemand> urgency_demand(const std::vector<TopicLoad>& before, 
         const std::uint64_t since = earlier != nullptr ? earlier->received : 0;
         const double arrived = t.received >= since ? static_cast<double>(t.received - since) : 0.0;
         const double per_sample = wire_bytes_per_sample(t, wire);
-        double bytes_per_second = arrived / seconds * per_sample;
+        // A topic that began within the window came over its own time, not the window's: a robot's first status,
+        // 0.2 s into its publishing, told a tenth of what came, and its share stayed at its floor for 3 s, while
+        // its B expired (three robots, grants: B 197 of 200).
+        double over = seconds;
+        if (since == 0 && t.active_for > base::Duration::zero())
+            over = std::min(seconds, std::max(base::to_seconds(t.active_for), base::to_seconds(MIN_ACTIVE)));
+        double bytes_per_second = arrived / over * per_sample;
         if (t.queued_samples > 0 && t.ttl > base::Duration::zero()) {
             const double queued_wire = static_cast<double>(t.queued_samples) * waiting_wire_bytes_per_sample(t, wire);
             bytes_per_second += queued_wire / base::to_seconds(t.ttl);

@@ -23,12 +23,19 @@ struct TopicLoad {
     std::uint64_t queued_samples = 0;
     std::uint64_t queued_bytes = 0;  ///< their serialized payloads
     std::uint64_t forwarded_payload_bytes = 0;
+    /// Since its first sample arrived, when the counts were taken; 0 before one did.
+    base::Duration active_for{};
 };
 
 /// The bit/s each TTL needs, shortest TTL first, from the topics' counts `elapsed` apart: per topic, what arrived
 /// per second at its mean size on the wire (what was forwarded, else what waits, as `wire` counts it), plus what
 /// waits now spread over its TTL. A topic not in `before` counts from zero; one whose counts went down (a gateway
-/// restarted under the same name) counts its queue only. Empty when `elapsed` is not positive.
+/// restarted under the same name) counts its queue only. A topic with nothing in `before` that began within
+/// `elapsed` counts its arrivals over the time since its first (TopicLoad::active_for), MIN_ACTIVE at least. Empty
+/// when `elapsed` is not positive.
+/// The least time a new topic's arrivals are counted over: its first two samples, born together, are not a rate.
+inline constexpr base::Duration MIN_ACTIVE = std::chrono::milliseconds(500);
+
 std::vector<UrgencyDemand> urgency_demand(const std::vector<TopicLoad>& before, const std::vector<TopicLoad>& now,
                                           base::Duration elapsed, const WireModel& wire);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <set>
 #include <utility>
 
@@ -288,7 +289,9 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         if (!uplink_topics_.empty()) {
             Uplink::Charge charge;
             if (config_.uplink_shares_link) {
-                charge = [this](std::uint64_t frame_bytes) { charge_link(frame_bytes); };
+                // Outside the schedule, as discovery is: so the status tells the base camp's grantor, and a robot's
+                // grant leaves room for the commands the camp sends it on the shared channel.
+                charge = [this](std::uint64_t frame_bytes) { charge_unscheduled(frame_bytes); };
             }
             uplink_ = std::make_unique<Uplink>(wan_->participant(), robot_->participant(), clock_,
                                                config_.scheduler.wire, std::move(charge));
@@ -797,13 +800,22 @@ std::uint32_t status_ttl_ms(const TopicCount& row) {
 }
 
 /// The rows as the base camp's grantor reads them from the status.
-std::vector<core::TopicLoad> loads_of(const std::vector<TopicCount>& rows) {
+/// How long `c`'s topic has had samples at `now`, in whole milliseconds as the status tells it; 0 before any.
+std::uint32_t active_ms(const core::TopicCounters& c, base::SteadyTime now) {
+    if (!c.first_received || *c.first_received > now) {
+        return 0;
+    }
+    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now - *c.first_received).count();
+    return static_cast<std::uint32_t>(std::min<std::int64_t>(ms, std::numeric_limits<std::uint32_t>::max()));
+}
+
+std::vector<core::TopicLoad> loads_of(const std::vector<TopicCount>& rows, base::SteadyTime now) {
     std::vector<core::TopicLoad> loads;
     for (const TopicCount& row : rows) {
         const core::TopicCounters& c = row.counters;
         loads.push_back(core::TopicLoad{row.name, std::chrono::milliseconds(status_ttl_ms(row)), c.received,
                                         c.forwarded, c.forwarded_wire_bytes, c.queued, c.queued_payload_bytes,
-                                        c.forwarded_payload_bytes});
+                                        c.forwarded_payload_bytes, std::chrono::milliseconds(active_ms(c, now))});
     }
     return loads;
 }
@@ -835,7 +847,7 @@ void Gateway::publish_status_nts() {
             }
         }
         rows = status_rows();
-        loads = loads_of(*rows);
+        loads = loads_of(*rows, clock_.now());
         due = demand_watch_->changed(now, loads, rate) || due;  // changed() sees every period's counts
     }
     if (!due) {
@@ -848,6 +860,7 @@ void Gateway::publish_status_nts() {
     }
 
     idl::GatewayStatus status;
+    const base::SteadyTime status_made = clock_.now();
     const auto prefix = wan_->guid_prefix();
     std::copy(std::begin(prefix.value), std::end(prefix.value), status.gateway_prefix().begin());
     status.robot_name(config_.robot_name);
@@ -887,6 +900,7 @@ void Gateway::publish_status_nts() {
         t.write_failed(c.dropped_for(core::DropReason::write_failed));
         t.no_reader(c.dropped_for(core::DropReason::no_reader));
         t.matched_readers(row.matched_readers);
+        t.active_ms(active_ms(c, status_made));
         all_readers += t.matched_readers();
         status.topics().push_back(std::move(t));
     }

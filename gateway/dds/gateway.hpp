@@ -72,7 +72,8 @@ struct GatewayConfig {
     /// under its WAN name (base::namespaced_topic); empty: nothing flows from the WAN into the robot domain.
     std::vector<std::string> uplink;
     /// --duplex half: the radio carries both directions on one channel, so the uplink's bytes are charged to the
-    /// budget; false (full): they are only counted.
+    /// budget as traffic outside the schedule (and told in the status: a base camp's grants leave room for them);
+    /// false (full): they are only counted.
     bool uplink_shares_link = true;
     /// --robot-name: the robot's topics appear on the WAN under this name (base::namespaced_topic); empty: under
     /// their own names. Allow, deny and --qos profiles go by the robot's own names.
@@ -271,7 +272,8 @@ class Gateway {
     base::Duration status_spacing(double rate_bps, double wire_bits) const;
     /// Tells the loop which topics a base-camp reader takes now, and looks again after REACHABILITY_POLL.
     void poll_reachability_nts();  // the worker thread only
-    /// Counts traffic the WAN transport sent outside the schedule and charges it to the loop (charge_link).
+    /// Counts traffic outside the schedule (what the WAN transport sent; commands received on a half-duplex link)
+    /// and charges it to the loop (charge_link).
     void charge_unscheduled(std::uint64_t frame_bytes);
     /// Has the worker charge `frame_bytes` that crossed the link outside the schedule to the loop's budget.
     void charge_link(std::uint64_t frame_bytes);

@@ -97,6 +97,7 @@ int main(int argc, char** argv) {
     topic.forwarded_bytes(298 * 64);
     topic.expired(2);
     topic.matched_readers(1);
+    topic.active_ms(60'000);
     status.topics().push_back(topic);
     add("tgw/status", "tgw::idl::GatewayStatus",
         tgw::test::fastcdr_payload(status, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS));
@@ -126,7 +127,7 @@ int main(int argc, char** argv) {
                              "expired": "2",
                              "doomed": "0", "evicted": "0", "oversize": "0", "shutdown": "0", "write_failed": "0",
                              "no_reader": "0",
-                             "matched_readers": 1}]}
+                             "matched_readers": 1, "active_ms": 60000}]}
 }
 )";
     return out ? 0 : 1;

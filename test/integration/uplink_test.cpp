@@ -106,6 +106,7 @@ TEST_F(UplinkTest, ListedCommandsReachTheRobotFreshAndNothingElseDoes) {
     // do; a fresh one after them shows that nothing of them was still on its way.
     constexpr std::uint64_t FRESH = 10;
     constexpr std::uint64_t STALE = 5;
+    const std::uint64_t unscheduled_before = gateway_->unscheduled_wire_bytes();
     const std::vector<base::WallTime> stamps = write_commands(command_writer, other_writer, clock_, FRESH, STALE);
     ASSERT_TRUE(wait_until([&] { return commands.count() >= FRESH + 1; })) << commands.count() << " commands came";
 
@@ -142,6 +143,9 @@ TEST_F(UplinkTest, ListedCommandsReachTheRobotFreshAndNothingElseDoes) {
     eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&sample)());
     ASSERT_TRUE(type.serialize(&sample, &payload));
     EXPECT_EQ(up.wire_bytes, (FRESH + STALE + 1) * c.scheduler.wire.wire_bytes(payload.length));
+    // ...as traffic outside the schedule (--duplex half, the default), which the status tells the base camp's
+    // grantor: a robot's share then leaves room for its commands.
+    EXPECT_GE(gateway_->unscheduled_wire_bytes() - unscheduled_before, up.wire_bytes);
 }
 
 using UplinkRelayTest = RelayTest;

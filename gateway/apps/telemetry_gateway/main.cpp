@@ -90,9 +90,9 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
     }
     std::printf("\n");
     std::printf(
-        "WAN traffic outside the schedule (discovery, heartbeats, repairs, copies to further readers): %llu "
-        "bytes, charged to the budget; %llu repeated heartbeats, acknacks and announcements held back; %llu "
-        "announcements repeated to base camps that had not answered\n",
+        "WAN traffic outside the schedule (discovery, heartbeats, repairs, copies to further readers, commands on a "
+        "half-duplex link): %llu bytes, charged to the budget; %llu repeated heartbeats, acknacks and announcements "
+        "held back; %llu announcements repeated to base camps that had not answered\n",
         static_cast<unsigned long long>(gateway.unscheduled_wire_bytes()),
         static_cast<unsigned long long>(gateway.suppressed_repeats()),
         static_cast<unsigned long long>(gateway.introductions()));

@@ -103,7 +103,7 @@ TEST_F(SamplePrinterTest, IndentsNestedStructsAndListsOfStructsAsRos2TopicEchoDo
     EXPECT_NE(sut.find("\nsensor: \"fixed:20000\"\n"), std::string::npos) << sut;
     EXPECT_NE(sut.find("\ntopics:\n- name: \"telemetry/A\"\n  ttl_ms: 1000\n  queued_samples: 0\n"), std::string::npos)
         << sut;
-    const std::string end = "  matched_readers: 0\n---\n";  // the last topic's last member
+    const std::string end = "  active_ms: 0\n---\n";  // the last topic's last member
     EXPECT_EQ(sut.compare(sut.size() - end.size(), end.size(), end), 0) << sut;
 }
 

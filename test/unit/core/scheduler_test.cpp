@@ -66,6 +66,20 @@ TEST_F(SchedulerTest, CountsARefusedWriteAsWriteFailedNotForwarded) {
     EXPECT_EQ(counters.received, counters.forwarded + counters.queued + counters.dropped_total());
 }
 
+// The base camp's grants count a topic that began lately over the time since its first sample (urgency_demand).
+TEST_F(SchedulerTest, RemembersWhenATopicsFirstSampleArrived) {
+    make_sut(PolicyKind::ttl, 100'000);
+    EXPECT_FALSE(sut->counters(a).first_received);
+    const base::SteadyTime first = clock.now();
+    push(a);
+    clock.advance(seconds(1));
+    push(a);
+    release();
+    ASSERT_TRUE(sut->counters(a).first_received);
+    EXPECT_EQ(*sut->counters(a).first_received, first);
+    EXPECT_FALSE(sut->counters(b).first_received);
+}
+
 TEST_F(SchedulerTest, KeepsABurstInItsSourceOrderWhenTheWallClockIsReadLate) {
     make_sut(PolicyKind::ttl, 1'000);  // slow: the burst queues, about 2 s a sample
     for (std::uint8_t i = 0; i < 3; ++i) {

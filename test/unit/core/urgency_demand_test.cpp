@@ -52,6 +52,30 @@ TEST(UrgencyDemandTest, SamplesNeverForwardedAreSizedFromTheQueue) {
     EXPECT_DOUBLE_EQ(demand[0].bps, 8 * (5 * per_sample + 5 * per_sample / 1));
 }
 
+// A robot that starts publishing: its first status, 0.4 s in, has A's first 3 samples. Counted over the 2 s since
+// the status before, that is 1.5 a second, where 5 come.
+TEST(UrgencyDemandTest, ATopicThatBeganWithinTheWindowCountsOverTheTimeSinceItsFirstSample) {
+    TopicLoad began = topic("A", 1s, 3, 3, 3 * 238);
+    began.active_for = 400ms;
+    auto demand = urgency_demand({topic("A", 1s, 0, 0, 0)}, {began}, 2s, WIRE);
+    ASSERT_EQ(demand.size(), 1u);
+    EXPECT_DOUBLE_EQ(demand[0].bps, 8 * 3 * 238 / base::to_seconds(MIN_ACTIVE)) << "half a second at least";
+
+    began = topic("A", 1s, 8, 8, 8 * 238);
+    began.active_for = 1600ms;
+    demand = urgency_demand({topic("A", 1s, 0, 0, 0)}, {began}, 2s, WIRE);
+    EXPECT_DOUBLE_EQ(demand[0].bps, 8 * 8 * 238 / 1.6);
+
+    // A topic that had samples before counts over the whole window, however long it has been active.
+    TopicLoad going = topic("A", 1s, 110, 110, 110 * 238);
+    going.active_for = 30s;
+    demand = urgency_demand({topic("A", 1s, 100, 100, 100 * 238)}, {going}, 2s, WIRE);
+    EXPECT_DOUBLE_EQ(demand[0].bps, 8 * 5 * 238);
+    going.active_for = 1s;  // not more than the window, either
+    demand = urgency_demand({topic("A", 1s, 0, 0, 0)}, {going}, 500ms, WIRE);
+    EXPECT_DOUBLE_EQ(demand[0].bps, 8 * 110 * 238 / 0.5);
+}
+
 TEST(UrgencyDemandTest, ATopicNewSinceTheLastStatusCountsFromZero) {
     const auto demand = urgency_demand({}, {topic("A", 1s, 5, 5, 1'190)}, 1s, WIRE);
     ASSERT_EQ(demand.size(), 1u);

@@ -14,7 +14,8 @@
 # (--channel-rate 60000). WAY=measured: the same, the relay measuring the channel with twice its rate as the bound
 # (--channel-rate 120000 --measure-channel).
 # RESTART=0 (not in ctest; the baseline of issue 21's restart target) leaves rover3's gateway running, and checks
-# rover3's A and B as the others'.
+# rover3's A and B as the others'. DISCOVERY=server (not in ctest): the WAN's discovery through Debian's
+# fast-discovery-server at the base camp instead of the peers, with 15 s to settle (fleet_test.sh).
 set -euo pipefail
 BIN=$1
 cd "$(dirname "$0")/../.."
@@ -32,6 +33,18 @@ robot_address() { TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info "robot$1-add
 peers=()
 for k in $(seq 1 "$ROBOTS"); do peers+=(--peer "$(robot_address "$k")"); done
 WAY=${WAY:-equal}
+DISCOVERY=${DISCOVERY:-peers}
+relay_discovery=("${peers[@]}")
+gateway_discovery=(--wan-peer "$basecamp_addr" --wan-peer-participants 1)
+if [ "$DISCOVERY" = server ]; then
+    require_tools fast-discovery-server
+    WARMUP=15
+    server="$basecamp_addr:11811"
+    "${tb[@]}" basecamp fast-discovery-server -i 0 -l "$basecamp_addr" -p 11811 >"$WORK/server.out" 2>&1 &
+    PIDS+=("$!")
+    relay_discovery=(--discovery-server "$server")
+    gateway_discovery=(--wan-discovery-server "$server")
+fi
 relay_flags=()
 grant_flags=()
 if [ "$WAY" = grants ] || [ "$WAY" = measured ]; then
@@ -42,15 +55,15 @@ fi
 if [ "$WAY" = measured ]; then
     relay_flags=(--channel-rate "${CHANNEL_RATE:-120000}" --measure-channel)
 fi
-echo "fleet_three_robots: $WAY shares"
-"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --interface "$basecamp_addr" "${peers[@]}" \
+echo "fleet_three_robots: $WAY shares, discovery by $DISCOVERY"
+"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --interface "$basecamp_addr" "${relay_discovery[@]}" \
     --local-domain 2 --local-interface 127.0.0.1 "${relay_flags[@]}" --out "$WORK/camp.db" >"$WORK/relay.out" 2>&1 &
 relay=$!
 PIDS+=("$relay")
 
 start_gateway() {  # K OUTPUT_NAME: rover K's gateway; sets gateway_pid
     "${tb[@]}" "robot$1" "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-interface "$(robot_address "$1")" \
-        --wan-peer "$basecamp_addr" --wan-peer-participants 1 --robot-name "rover$1" --wan-mode compact \
+        "${gateway_discovery[@]}" --robot-name "rover$1" --wan-mode compact \
         --sensor "fixed:$SHARE" "${grant_flags[@]}" --qos qos/paper_workload.xml --log "$WORK/$2.db" \
         >"$WORK/$2.out" 2>&1 &
     gateway_pid=$!
@@ -130,7 +143,7 @@ for k in $(seq 1 "$ROBOTS"); do
 done
 
 if [ "$fail" -ne 0 ]; then
-    for f in relay.out gateway1.out gateway2.out gateway3.out gateway3-restarted.out sim1.out sim2.out sim3.out \
+    for f in server.out relay.out gateway1.out gateway2.out gateway3.out gateway3-restarted.out sim1.out sim2.out sim3.out \
         camera.out tc.txt; do
         [ -f "$WORK/$f" ] || continue
         echo "--- $f"

@@ -106,6 +106,8 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload, std::
     now.unscheduled_wire_bytes = status.unscheduled_wire_bytes();
     now.topics = loads(status);
     const std::string key = hex(now.prefix);
+    if (meter_ != nullptr)
+        meter_->gateway(now.prefix);  // its datagrams cross the channel
 
     std::lock_guard<std::mutex> lock(mutex_);
     if (!now.robot.empty() && statuses_.count(key) == 0) {

@@ -252,6 +252,7 @@ TEST_F(RelayTest, AMeasuringRelayReadsTheSendStampsOfTheGatewaysDatagrams) {
     GatewayConfig c = config();
     c.robot_name = "rover1";
     c.channel_grants = true;
+    c.status_period = 1s;  // the relay counts the datagrams of participants it heard a status from
     start_gateway(c);
     constexpr double BOUND = 30'000;
     start_relay(nullptr, 1s, {}, BOUND, true);

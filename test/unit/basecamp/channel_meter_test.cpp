@@ -26,8 +26,21 @@ Bytes datagram(std::uint8_t sender, std::uint64_t sequence, base::WallTime now, 
     return m;
 }
 
+/// The GUID prefix test::rtps::message() gives participant `sender`.
+ParticipantPrefix prefix_of(std::uint8_t sender) {
+    ParticipantPrefix prefix;
+    prefix.fill(sender);
+    return prefix;
+}
+
+/// Participants 1 and 2 are gateways (they sent a status).
 class ChannelMeterTest : public ::testing::Test {
   protected:
+    ChannelMeterTest() {
+        meter_.gateway(prefix_of(1));
+        meter_.gateway(prefix_of(2));
+    }
+
     void receive(const Bytes& bytes) { meter_.datagram(bytes.data(), bytes.size()); }
 
     test::FakeClock clock_;
@@ -77,6 +90,31 @@ TEST_F(ChannelMeterTest, LostDatagramsCutTheChannel) {
     clock_.advance(1s);
     EXPECT_LT(meter_.measure(0, 54'000).channel_bps, 60'000);
     EXPECT_EQ(meter_.reading().verdict, core::ChannelVerdict::losing);
+}
+
+// A participant beside the relay (the discovery server, a camp tool on the WAN domain) sends datagrams that never
+// crossed the channel: they tell neither its rate nor its queue.
+TEST_F(ChannelMeterTest, OnlyTheGatewaysDatagramsCount) {
+    meter_.measure(0, 0);
+    for (int second = 0; second < 3; ++second) {
+        const base::WallTime now = clock_.wall_now();
+        for (std::uint64_t i = 1; i <= 10; ++i) {
+            receive(datagram(1, 10 * second + i, now, second == 0 ? 50ms : 1050ms));  // rover1: its queue grows
+            receive(datagram(7, 10 * second + i, now, 0ms));                          // the server: never waits
+        }
+        receive(Bytes{'n', 'o', 't', ' ', 'R', 'T', 'P', 'S'});
+        clock_.advance(1s);
+        meter_.measure(0, 54'000);
+    }
+    const ChannelReading r = meter_.reading();
+    EXPECT_EQ(r.datagrams, 30u) << "rover1's alone";
+    ASSERT_TRUE(r.queueing.has_value());
+    EXPECT_GT(*r.queueing, 700ms);
+    EXPECT_EQ(r.verdict, core::ChannelVerdict::queueing);
+
+    meter_.gateway(prefix_of(7));  // it turns out to be a gateway after all: from now on it counts
+    receive(datagram(7, 31, clock_.wall_now(), 0ms));
+    EXPECT_EQ(meter_.reading().datagrams, 31u);
 }
 
 }  // namespace

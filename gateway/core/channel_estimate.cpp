@@ -156,7 +156,11 @@ double ChannelEstimate::update(std::uint64_t delivered_wire_bytes, std::uint64_t
     const bool shrinking = queue && previous_queueing && *queueing_ < *previous_queueing;
     if (lost || (queue && !shrinking)) {
         verdict_ = lost ? ChannelVerdict::losing : ChannelVerdict::queueing;
-        cut(delivered, now);
+        // Behind a queue, what arrived in its own second, where more: the channel carried all it could then, and no
+        // more (the camp hears it past the bottleneck). Over the window alone, a queue that a robot's return made
+        // after seconds of less traffic cut a channel of 60,000 bit/s to 29,682, and the others' hazards expired as
+        // their grants halved. A loss alone does not say the channel was full.
+        cut(queue ? std::max(delivered, delivered_lately) : delivered, now);
     } else if (queue) {
         verdict_ = ChannelVerdict::draining;  // the last cut shows: wait for the queue to go
     } else if (queueing_ && *queueing_ > config_.hold_queueing) {

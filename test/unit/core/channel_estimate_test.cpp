@@ -77,6 +77,17 @@ TEST_F(ChannelEstimateTest, AGrowingQueueCutsToAFractionOfWhatTheChannelDelivere
     EXPECT_NEAR(estimate_.queueing()->count(), std::chrono::nanoseconds(300ms).count(), 1e6);
 }
 
+// A robot away for 2 s, the others held to their grants: the channel carried less than it could. When the robot
+// returns, a queue forms: its second shows what the channel carries, the seconds before it did not.
+TEST_F(ChannelEstimateTest, AQueueAfterAQuietSpellCutsToWhatTheChannelCarriedInIt) {
+    settle();
+    second(12'000, 40ms, 54'000);
+    second(12'000, 40ms, 54'000);
+    second(30'000, 340ms, 54'000);
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::queueing);
+    EXPECT_NEAR(estimate_.channel_bps(), 0.9 * 30'000, 500) << "not 0.9 of the window's 18,000";
+}
+
 TEST_F(ChannelEstimateTest, AShortQueueEasesTheEstimateDownWithoutACut) {
     settle();
     second(30'000, 340ms, 54'000);

@@ -1,7 +1,6 @@
 #include "basecamp/channel_meter.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <string>
 
 #include "gateway/core/wire_model.hpp"
@@ -16,23 +15,13 @@ std::string key_of(const std::array<std::uint8_t, 12>& prefix) {
     return std::string(prefix.begin(), prefix.end());
 }
 
-/// The sending participant named in an RTPS message's header; nullopt for bytes that are not one.
-std::optional<ParticipantPrefix> sender_of(const std::uint8_t* bytes, std::size_t size) {
-    constexpr std::size_t PREFIX_AT = 8;  // "RTPS", version 2, vendor 2
-    if (bytes == nullptr || size < dds::RtpsDatagram::HEADER_BYTES || std::memcmp(bytes, "RTPS", 4) != 0)
-        return std::nullopt;
-    ParticipantPrefix prefix;
-    std::copy(bytes + PREFIX_AT, bytes + PREFIX_AT + prefix.size(), prefix.begin());
-    return prefix;
-}
-
 }  // namespace
 
 ChannelMeter::ChannelMeter(double upper_bps, const base::Clock& clock)
     : clock_(clock), estimate_(upper_bps, core::ChannelEstimateConfig{}, clock) {}
 
 void ChannelMeter::datagram(const std::uint8_t* bytes, std::size_t size) {
-    const std::optional<ParticipantPrefix> sender = sender_of(bytes, size);
+    const std::optional<ParticipantPrefix> sender = dds::RtpsDatagram::sender(bytes, size);
     if (!sender)
         return;
     const std::optional<dds::SendStamp> stamp = dds::read_send_stamp(bytes, size);

@@ -94,7 +94,7 @@ void ChannelEstimate::arrived(const std::string& sender, base::Duration one_way,
     }
     const base::Duration queued = std::max(base::Duration::zero(), adjusted - baseline.least());
     // The least of the interval: a queue that stands delays every sample, a burst of one sender's only some.
-    const bool joining = now - baseline.joined < config_.joining;
+    const bool joining = baseline.joining(now, config_.joining);
     std::optional<base::Duration>& least = joining ? joining_queueing_ : interval_queueing_;
     least = least ? std::min(*least, queued) : queued;
     if (joining)
@@ -107,7 +107,7 @@ std::optional<base::Duration> ChannelEstimate::end_interval(base::SteadyTime now
     for (auto& [sender, baseline] : baselines_) {
         // A sender that joined a queue waited in it as long as the others: its quickest without it. Only while it
         // still joins: one whose own delays told the queue would correct itself by it.
-        if (known && baseline.interval_quickest && now - baseline.joined < config_.joining)
+        if (known && baseline.interval_quickest && baseline.joining(now, config_.joining))
             baseline.minimum[0] = std::min(baseline.minimum[0], *baseline.interval_quickest - *known);
         baseline.interval_quickest.reset();
     }

@@ -114,6 +114,7 @@ class ChannelEstimate {
         int steps = 0;  ///< how many of minimum[] hold a value; minimum[0] is the current step's
         std::optional<base::Duration> interval_quickest;  ///< while it joins: its quickest delay this interval
         base::Duration least() const;
+        bool joining(base::SteadyTime now, base::Duration window) const { return now - joined < window; }
     };
     struct Counters {
         base::SteadyTime at{};

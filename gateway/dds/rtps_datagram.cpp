@@ -118,6 +118,15 @@ std::size_t RtpsDatagram::heartbeat_bytes(const std::uint8_t* message, std::size
     return shape_of(message, size).heartbeat_bytes;
 }
 
+std::optional<std::array<std::uint8_t, 12>> RtpsDatagram::sender(const std::uint8_t* message, std::size_t size) {
+    constexpr std::size_t PREFIX_AT = 8;  // after "RTPS", the version (2) and the vendor (2)
+    if (message == nullptr || size < HEADER_BYTES || std::memcmp(message, "RTPS", 4) != 0)
+        return std::nullopt;
+    std::array<std::uint8_t, 12> prefix{};
+    std::copy(message + PREFIX_AT, message + PREFIX_AT + prefix.size(), prefix.begin());
+    return prefix;
+}
+
 std::size_t RtpsDatagram::statistics_trailer_bytes(const std::uint8_t* message, std::size_t size) {
     return strippable(message, size).trailer_bytes;
 }

@@ -1,8 +1,10 @@
 // One UDP datagram built from several whole RTPS messages of one participant. Pure bytes: no Fast DDS header.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace tgw::dds {
@@ -46,6 +48,8 @@ class RtpsDatagram {
     /// The bytes of the statistics submessage (header included) that ends a well-formed eProsima RTPS message,
     /// or 0 when it does not end with one. Receivers read it only for eProsima's statistics module.
     static std::size_t statistics_trailer_bytes(const std::uint8_t* message, std::size_t size);
+    /// The sending participant's GUID prefix, from the message's header; nullopt for bytes that are not RTPS.
+    static std::optional<std::array<std::uint8_t, 12>> sender(const std::uint8_t* message, std::size_t size);
     /// The bytes of the INFO_DST (header included) that a well-formed, unprotected message starts with when it is
     /// the message's only one and names a participant; else 0. Sent only to that participant's unicast
     /// locators, the message reads the same without it: a receiver takes a message that names nobody as its own.

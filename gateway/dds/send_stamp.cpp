@@ -16,16 +16,16 @@ constexpr std::size_t BODY_BYTES = 56;
 constexpr std::size_t SECONDS_AT = 24;
 constexpr std::size_t FRACTION_AT = 28;
 constexpr std::size_t SEQUENCE_AT = 32;
-constexpr std::size_t PREFIX_AT = 8;  // in the RTPS header: "RTPS", version 2, vendor 2
 
 }  // namespace
 
 std::optional<SendStamp> read_send_stamp(const std::uint8_t* datagram, std::size_t size) {
-    if (datagram == nullptr || RtpsDatagram::statistics_trailer_bytes(datagram, size) != RtpsDatagram::STATISTICS_BYTES)
+    const std::optional<std::array<std::uint8_t, 12>> sender = RtpsDatagram::sender(datagram, size);
+    if (!sender || RtpsDatagram::statistics_trailer_bytes(datagram, size) != RtpsDatagram::STATISTICS_BYTES)
         return std::nullopt;
     const std::uint8_t* body = datagram + size - BODY_BYTES;
     SendStamp stamp;
-    std::copy(datagram + PREFIX_AT, datagram + PREFIX_AT + stamp.sender.size(), stamp.sender.begin());
+    stamp.sender = *sender;
     std::copy(body, body + stamp.destination.size(), stamp.destination.begin());
     const auto seconds = static_cast<std::int32_t>(base::load_little_endian<std::uint32_t>(body + SECONDS_AT));
     const std::uint32_t fraction = base::load_little_endian<std::uint32_t>(body + FRACTION_AT);

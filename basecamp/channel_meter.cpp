@@ -20,15 +20,18 @@ std::string key_of(const std::array<std::uint8_t, 12>& prefix) {
 ChannelMeter::ChannelMeter(double upper_bps, const base::Clock& clock)
     : clock_(clock), estimate_(upper_bps, core::ChannelEstimateConfig{}, clock) {}
 
-void ChannelMeter::datagram(const std::uint8_t* bytes, std::size_t size) {
+void ChannelMeter::datagram(const std::uint8_t* bytes, std::size_t size, const SourceAddress& from) {
     const std::optional<ParticipantPrefix> sender = dds::RtpsDatagram::sender(bytes, size);
     if (!sender)
         return;
     const std::optional<dds::SendStamp> stamp = dds::read_send_stamp(bytes, size);
     const base::WallTime now = clock_.wall_now();
     std::lock_guard<std::mutex> lock(mutex_);
-    if (gateways_.count(*sender) == 0)
+    if (gateways_.count(*sender) != 0) {
+        gateway_addresses_.insert(from);
+    } else if (gateway_addresses_.count(from) == 0) {
         return;
+    }
     delivered_wire_bytes_ += size + core::WireModel::FRAME_HEADER_BYTES;
     ++datagrams_;
     if (!stamp)
@@ -46,6 +49,11 @@ void ChannelMeter::datagram(const std::uint8_t* bytes, std::size_t size) {
         lost_datagrams_ += stamp->sequence - last->second - 1;
         last->second = stamp->sequence;
     }
+}
+
+void ChannelMeter::participant_joined() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    estimate_.participant_joined();
 }
 
 void ChannelMeter::gateway(const ParticipantPrefix& sender) {

@@ -16,6 +16,9 @@
 
 namespace tgw::basecamp {
 
+/// Where a datagram came from: its sender's IP address (Fast DDS's Locator_t::address, IPv4 in the last four).
+using SourceAddress = std::array<std::uint8_t, 16>;
+
 /// What the meter found at its last measure.
 struct ChannelReading {
     double channel_bps = 0;  ///< the rate it shares
@@ -33,13 +36,19 @@ class ChannelMeter {
     /// A channel of `upper_bps` at most. Throws base::ConfigError when it is not a rate above 0.
     ChannelMeter(double upper_bps, const base::Clock& clock);
 
-    /// One datagram off the WAN (MeteredTransport). A gateway's (its RTPS header names a participant known by
-    /// gateway() or stamped_sample()) crossed the channel: its bytes count as delivered, and where its sender's
-    /// transport stamped it (dds::read_send_stamp: a standard-mode gateway's every datagram) its delay and its
-    /// place in the sender's sequence count too. Any other's did not cross it, and counts for nothing: Debian's
-    /// fast-discovery-server beside the relay stamps its datagrams too, took no time, and hid a standing queue
-    /// of 800 ms while the estimate grew to 87,565 bit/s on a channel of 60,000.
-    void datagram(const std::uint8_t* bytes, std::size_t size);
+    /// One datagram off the WAN (MeteredTransport), `from` the address it came from. A gateway's (its RTPS header
+    /// names a participant known by gateway() or stamped_sample()) crossed the channel, and so did any other from an
+    /// address a gateway sent from (a robot's host: a gateway restarted there before its first status, its discovery
+    /// a burst on the channel): its bytes count as delivered, and where its sender's transport stamped it
+    /// (dds::read_send_stamp: a standard-mode gateway's every datagram) its delay and its place in the sender's
+    /// sequence count too. Any other's did not cross it, and counts for nothing: Debian's fast-discovery-server
+    /// beside the relay stamps its datagrams too, took no time, and hid a standing queue of 800 ms while the
+    /// estimate grew to 87,565 bit/s on a channel of 60,000. A gateway on the camp's own host makes the camp's
+    /// other participants count too.
+    void datagram(const std::uint8_t* bytes, std::size_t size, const SourceAddress& from);
+
+    /// A participant joined the WAN domain (core::ChannelEstimate::participant_joined).
+    void participant_joined();
 
     /// `sender` is a robot's gateway (it sent a status): its datagrams cross the channel.
     void gateway(const ParticipantPrefix& sender);
@@ -69,6 +78,7 @@ class ChannelMeter {
     std::uint64_t lost_datagrams_ = 0;
     std::map<SequenceKey, std::uint64_t> last_sequence_;
     std::set<ParticipantPrefix> gateways_;
+    std::set<SourceAddress> gateway_addresses_;  ///< where the gateways' datagrams came from
 };
 
 }  // namespace tgw::basecamp

@@ -1,5 +1,7 @@
 #include "basecamp/metered_transport.hpp"
 
+#include <algorithm>
+#include <iterator>
 #include <utility>
 
 #include <fastdds/rtps/network/SenderResource.h>
@@ -30,8 +32,11 @@ bool MeteredTransport::send(rtps::SenderResource* low_sender_resource, const rtp
 void MeteredTransport::receive(eprosima::fastdds::rtps::TransportReceiverInterface* next_receiver,
                                const rtps::octet* receive_buffer, std::uint32_t receive_buffer_size,
                                const rtps::Locator_t& local_locator, const rtps::Locator_t& remote_locator) {
-    if (descriptor_.meter)
-        descriptor_.meter(receive_buffer, receive_buffer_size);
+    if (descriptor_.meter) {
+        std::array<std::uint8_t, 16> from;
+        std::copy(std::begin(remote_locator.address), std::end(remote_locator.address), from.begin());
+        descriptor_.meter(receive_buffer, receive_buffer_size, from);
+    }
     next_receiver->OnDataReceived(receive_buffer, receive_buffer_size, local_locator, remote_locator);
 }
 

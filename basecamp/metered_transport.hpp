@@ -2,6 +2,7 @@
 // the UDP transport below it does, and shows every datagram to a meter on the way in.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -12,8 +13,10 @@
 
 namespace tgw::basecamp {
 
-/// Called with each datagram received, in Fast DDS's receive threads, before the participant reads it.
-using DatagramMeter = std::function<void(const std::uint8_t* bytes, std::size_t size)>;
+/// Called with each datagram received and the address it came from (Locator_t::address), in Fast DDS's receive
+/// threads, before the participant reads it.
+using DatagramMeter =
+    std::function<void(const std::uint8_t* bytes, std::size_t size, const std::array<std::uint8_t, 16>& from)>;
 
 /// Put in a participant's user_transports in place of `low_level`: Fast DDS creates a MeteredTransport from it.
 struct MeteredTransportDescriptor : public eprosima::fastdds::rtps::ChainingTransportDescriptor {

@@ -106,7 +106,9 @@ std::shared_ptr<ChannelMeter> metered(fdds::DomainParticipantQos& qos, double up
         if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(transport) == nullptr)
             continue;
         transport = std::make_shared<MeteredTransportDescriptor>(
-            transport, [meter](const std::uint8_t* bytes, std::size_t size) { meter->datagram(bytes, size); });
+            transport, [meter](const std::uint8_t* bytes, std::size_t size, const SourceAddress& from) {
+                meter->datagram(bytes, size, from);
+            });
         any = true;
     }
     if (!any)
@@ -123,8 +125,10 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     wan_qos.name("tm-basecamp relay/wan");
-    if (channel_bps > 0 && measure_channel)
+    if (channel_bps > 0 && measure_channel) {
         meter_ = metered(wan_qos, channel_bps, clock_);
+        discovery_->on_participant([meter = meter_](const auto& /*prefix*/) { meter->participant_joined(); });
+    }
     local_qos.name("tm-basecamp relay/local");
     // The WAN participant first: Fast DDS 2.9 numbers a process's participants in the order they are made, and a
     // robot announces itself to the camp's participant 0 (telemetry-gateway --wan-peer-participants 1). What

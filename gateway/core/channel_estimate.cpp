@@ -160,7 +160,7 @@ double ChannelEstimate::update(std::uint64_t delivered_wire_bytes, std::uint64_t
         // more (the camp hears it past the bottleneck). Over the window alone, a queue that a robot's return made
         // after seconds of less traffic cut a channel of 60,000 bit/s to 29,682, and the others' hazards expired as
         // their grants halved. A loss alone does not say the channel was full.
-        cut(queue ? std::max(delivered, delivered_lately) : delivered, now);
+        cut(queue ? std::max(delivered, delivered_lately) : delivered, now, joined_lately(now));
     } else if (queue) {
         verdict_ = ChannelVerdict::draining;  // the last cut shows: wait for the queue to go
     } else if (queueing_ && *queueing_ > config_.hold_queueing) {
@@ -194,14 +194,29 @@ double ChannelEstimate::grown(base::Duration elapsed, double delivered_bps, base
     return std::min(upper_bps_, estimate_bps_ + room * config_.increase_fraction_per_s * upper_bps_ * seconds);
 }
 
-void ChannelEstimate::cut(double delivered_bps, base::SteadyTime now) {
+bool ChannelEstimate::joined_lately(base::SteadyTime now) const {
+    bool joining = participant_joined_ && now - *participant_joined_ < config_.joining;
+    bool known = false;
+    for (const auto& [sender, baseline] : baselines_) {
+        (baseline.joining(now, config_.joining) ? joining : known) = true;
+    }
+    return joining && known;
+}
+
+void ChannelEstimate::cut(double delivered_bps, base::SteadyTime now, bool burst) {
     if (last_cut_ && now - *last_cut_ < config_.decrease_interval)
         return;
     // What the channel carried while it queued is about what it can carry: below it, the queue drains. Cut after
     // cut while a queue lasts (one that traffic outside the grants keeps up), a twentieth of the estimate each:
     // compounding the whole factor took a channel of 30,000 bit/s to 24,000 in two cuts at a fleet's start.
-    estimate_bps_ = std::max(config_.min_fraction * upper_bps_,
-                             std::min(config_.decrease_factor * delivered_bps, 0.95 * estimate_bps_));
+    // A sender that joins a running fleet announces itself in a burst of discovery the camp does not all see
+    // (with a discovery server, none of it: the server takes it), and the channel looks half used while it
+    // queues: cut by the twentieth alone. Its samples are in the grants already (the newcomers' share), and the
+    // burst drains by itself. Cut to what was delivered, a restarted gateway's discovery took a channel of 61,950
+    // bit/s to 44,923, and the others' hazards expired on their halved grants.
+    const double to =
+        burst ? 0.95 * estimate_bps_ : std::min(config_.decrease_factor * delivered_bps, 0.95 * estimate_bps_);
+    estimate_bps_ = std::max(config_.min_fraction * upper_bps_, to);
     last_cut_ = now;
 }
 

@@ -92,6 +92,10 @@ class ChannelEstimate {
     /// receiver's clock less the sender's: it may be negative).
     void arrived(const std::string& sender, base::Duration one_way, std::size_t wire_bytes);
 
+    /// At clock.now(): a participant joined the WAN domain. Its discovery crosses the channel before any sample of
+    /// it arrives (arrived()); for config_.joining it counts as a sender that joins (cut()).
+    void participant_joined() { participant_joined_ = clock_.now(); }
+
     /// At clock.now(): everything the channel delivered so far (wire bytes, cumulative) and the samples lost so
     /// far (cumulative), while the grants handed out added up to `granted_bps`. Returns the estimate.
     double update(std::uint64_t delivered_wire_bytes, std::uint64_t lost_samples, double granted_bps);
@@ -122,7 +126,11 @@ class ChannelEstimate {
         std::uint64_t lost_samples = 0;
     };
 
-    void cut(double delivered_bps, base::SteadyTime now);
+    /// `burst`: the queue may be a joining sender's discovery, which the camp does not all see (cut() says why).
+    void cut(double delivered_bps, base::SteadyTime now, bool burst);
+    /// A sender or a participant joins (config_.joining) while senders known longer send: a gateway restarted, or a
+    /// robot new to the running fleet.
+    bool joined_lately(base::SteadyTime now) const;
     /// The standing queue of the interval just ended: the senders known longer than config_.joining tell it where
     /// they sent, and the queue they tell corrects the joining senders' quickest delays. Starts the next interval.
     std::optional<base::Duration> end_interval(base::SteadyTime now);
@@ -142,6 +150,7 @@ class ChannelEstimate {
     std::optional<double> delivered_bps_;
     std::optional<base::Duration> queueing_;
     std::optional<base::SteadyTime> last_cut_;
+    std::optional<base::SteadyTime> participant_joined_;
     ChannelVerdict verdict_ = ChannelVerdict::unknown;
     bool starting_ = false;  ///< in the slow start: no queue seen yet (set by the constructor)
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <utility>
 
+#include <fastdds/rtps/participant/ParticipantDiscoveryInfo.h>
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
 
 #include "gateway/dds/dds_time.hpp"
@@ -49,6 +50,14 @@ void Discovery::ignore_participant(const GuidPrefix_t& prefix) {
 bool Discovery::ignored(const GuidPrefix_t& prefix) const {
     std::lock_guard<std::mutex> lock(mutex_);
     return std::find(ignored_.begin(), ignored_.end(), prefix) != ignored_.end();
+}
+
+void Discovery::on_participant_discovery(eprosima::fastdds::dds::DomainParticipant* /*participant*/,
+                                         eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) {
+    using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
+    if (on_participant_ && info.status == Status::DISCOVERED_PARTICIPANT && !ignored(info.info.m_guid.guidPrefix)) {
+        on_participant_(info.info.m_guid.guidPrefix);
+    }
 }
 
 void Discovery::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* participant,

@@ -53,6 +53,14 @@ class Discovery final : public TypeObjectGuard {
     /// Publishers of this participant will not be reported (the gateway's own).
     void ignore_participant(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix);
 
+    /// Called for each participant discovered, but the ignored ones. Set it before the participant is made.
+    void on_participant(std::function<void(const eprosima::fastrtps::rtps::GuidPrefix_t&)> callback) {
+        on_participant_ = std::move(callback);
+    }
+
+    void on_participant_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
+                                  eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override;
+
     void on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant* participant,
                                 eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override;
 
@@ -61,6 +69,7 @@ class Discovery final : public TypeObjectGuard {
 
     Callback on_publisher_;
     GoneCallback on_gone_;
+    std::function<void(const eprosima::fastrtps::rtps::GuidPrefix_t&)> on_participant_;
     mutable std::mutex mutex_;
     std::vector<eprosima::fastrtps::rtps::GuidPrefix_t> ignored_;
 };

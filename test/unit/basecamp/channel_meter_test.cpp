@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
+
+#include "gateway/dds/rtps_datagram.hpp"
 #include "test/fakes/fake_clock.hpp"
 #include "test/unit/dds/rtps_bytes.hpp"
 
@@ -33,6 +36,11 @@ ParticipantPrefix prefix_of(std::uint8_t sender) {
     return prefix;
 }
 
+/// An IPv4 address as Fast DDS's locators hold it.
+SourceAddress ipv4(std::uint8_t last) {
+    return SourceAddress{0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 10, 0, 0, last};
+}
+
 /// Participants 1 and 2 are gateways (they sent a status).
 class ChannelMeterTest : public ::testing::Test {
   protected:
@@ -41,7 +49,11 @@ class ChannelMeterTest : public ::testing::Test {
         meter_.gateway(prefix_of(2));
     }
 
-    void receive(const Bytes& bytes) { meter_.datagram(bytes.data(), bytes.size()); }
+    /// From `from`: by default the address of the sender the test participant `bytes` names (10.0.0.N).
+    void receive(const Bytes& bytes, std::optional<SourceAddress> from = std::nullopt) {
+        const std::optional<ParticipantPrefix> sender = dds::RtpsDatagram::sender(bytes.data(), bytes.size());
+        meter_.datagram(bytes.data(), bytes.size(), from ? *from : ipv4(sender ? (*sender)[0] : 0));
+    }
 
     test::FakeClock clock_;
     ChannelMeter meter_{60'000, clock_};
@@ -115,6 +127,16 @@ TEST_F(ChannelMeterTest, OnlyTheGatewaysDatagramsCount) {
     meter_.gateway(prefix_of(7));  // it turns out to be a gateway after all: from now on it counts
     receive(datagram(7, 31, clock_.wall_now(), 0ms));
     EXPECT_EQ(meter_.reading().datagrams, 31u);
+}
+
+// rover3's gateway restarted: its new participant's discovery crossed the channel as a burst before its first
+// status, and uncounted it made the channel look half used while it queued (a cut to 31,493 bit/s of 60,000, the
+// fleet's hazards late for 3 s).
+TEST_F(ChannelMeterTest, ANewParticipantOnAGatewaysHostCountsFromItsFirstDatagram) {
+    receive(datagram(1, 1, clock_.wall_now()));           // rover1's gateway, from 10.0.0.1
+    receive(datagram(9, 1, clock_.wall_now()), ipv4(1));  // its host's new participant
+    receive(datagram(8, 1, clock_.wall_now()));           // from 10.0.0.8: no gateway's host
+    EXPECT_EQ(meter_.reading().datagrams, 2u);
 }
 
 }  // namespace

@@ -88,6 +88,39 @@ TEST_F(ChannelEstimateTest, AQueueAfterAQuietSpellCutsToWhatTheChannelCarriedInI
     EXPECT_NEAR(estimate_.channel_bps(), 0.9 * 30'000, 500) << "not 0.9 of the window's 18,000";
 }
 
+// A gateway restarted into a running fleet (rover3) announces itself in a burst of discovery that the camp's
+// relay does not see (a discovery server takes it): a queue while the channel looks half used. Cut to what was
+// delivered, the others' grants halved for a burst that drains by itself.
+TEST_F(ChannelEstimateTest, AQueueWhileASenderJoinsARunningFleetCutsByATwentiethAlone) {
+    for (int i = 0; i < 12; ++i) {
+        second(30'000, 40ms, 54'000);  // rover1 and rover2, known for longer than the joining window
+    }
+    estimate_.arrived("rover3", 2s + 340ms, SAMPLE_BYTES);
+    second(20'000, 340ms, 54'000);
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::queueing);
+    EXPECT_NEAR(estimate_.channel_bps(), 0.95 * BOUND, 1) << "not 0.9 of the 20,000 the camp saw";
+
+    // Once it is known as long as the others, a queue cuts to what the channel delivered again.
+    clock_.advance(without_slow_start().joining);
+    estimate_.update(delivered_, lost_, 54'000);
+    estimate_.arrived("rover3", 2s + 340ms, SAMPLE_BYTES);
+    second(20'000, 340ms, 54'000);
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::queueing);
+    EXPECT_NEAR(estimate_.channel_bps(), 0.9 * 20'000, 500);
+}
+
+// With a discovery server, the relay hears of rover3's new participant seconds before its first sample, and its
+// discovery queues the channel meanwhile.
+TEST_F(ChannelEstimateTest, AParticipantThatJoinedCountsAsJoiningBeforeItsFirstSample) {
+    for (int i = 0; i < 12; ++i) {
+        second(30'000, 40ms, 54'000);
+    }
+    estimate_.participant_joined();
+    second(20'000, 340ms, 54'000);
+    EXPECT_EQ(estimate_.verdict(), ChannelVerdict::queueing);
+    EXPECT_NEAR(estimate_.channel_bps(), 0.95 * BOUND, 1);
+}
+
 TEST_F(ChannelEstimateTest, AShortQueueEasesTheEstimateDownWithoutACut) {
     settle();
     second(30'000, 340ms, 54'000);

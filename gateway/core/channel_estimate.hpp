@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "base/clock.hpp"
 #include "base/time.hpp"
@@ -147,6 +148,8 @@ class ChannelEstimate {
     std::optional<base::Duration> joining_queueing_;   ///< the same, of the senders still joining
     std::optional<Counters> last_;
     std::deque<Counters> window_;  ///< the updates of the last delivered_window
+    /// The delivered rate of each update of the last config_.joining, for a cut behind a joining sender's burst.
+    std::deque<std::pair<base::SteadyTime, double>> recent_delivered_;
     std::optional<double> delivered_bps_;
     std::optional<base::Duration> queueing_;
     std::optional<base::SteadyTime> last_cut_;

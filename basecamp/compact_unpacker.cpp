@@ -125,10 +125,19 @@ CompactUnpacker::CompactUnpacker(fdds::DomainParticipant* wan, fdds::DomainParti
               // The bundle's DDS sample: its encapsulation and length, then the bytes.
               tally_.add(writer_guid(info), info.sample_identity.sequence_number().to64long(),
                          BUNDLE_ENVELOPE_BYTES + bundle.bytes().size());
-              // A bundle's source timestamp is its write time: how long it took is the channel's doing.
-              if (const auto one_way = one_way_delay(info); one_way && statuses_ != nullptr)
+              compact::Bundle decoded;
+              const compact::BundleError error =
+                  compact::BundleCodec::decode(bundle.bytes().data(), bundle.bytes().size(), decoded);
+              const std::int64_t received_ns = receive_ns(info);
+              // How long the channel took: from the write time the bundle holds (its DDS message has no
+              // timestamp, dds::UnstampedWrite), or from its DDS source timestamp (a gateway before 2026-11-28).
+              const std::optional<base::Duration> one_way =
+                  decoded.write_ns
+                      ? std::optional<base::Duration>(std::chrono::nanoseconds(received_ns - *decoded.write_ns))
+                      : one_way_delay(info);
+              if (one_way && statuses_ != nullptr)
                   statuses_->arrived(writer_prefix(info), *one_way, BUNDLE_ENVELOPE_BYTES + bundle.bytes().size());
-              on_bundle(writer_prefix(info), bundle.bytes(), receive_ns(info));
+              on_bundle(writer_prefix(info), error, decoded, bundle.bytes().size(), received_ns);
           })) {
     fdds::TypeSupport catalog_type(new dds::GuardedType<wan::CatalogEntryPubSubType>());
     fdds::TypeSupport bundle_type(new dds::GuardedType<wan::BundlePubSubType>());
@@ -186,10 +195,8 @@ void CompactUnpacker::on_catalog(const ParticipantPrefix& gateway, wan::CatalogE
     new_entries_.emplace_back(gateway, std::move(entry));
 }
 
-void CompactUnpacker::on_bundle(const ParticipantPrefix& gateway, const std::vector<std::uint8_t>& bytes,
-                                std::int64_t receive_ns) {
-    compact::Bundle bundle;
-    const compact::BundleError error = compact::BundleCodec::decode(bytes.data(), bytes.size(), bundle);
+void CompactUnpacker::on_bundle(const ParticipantPrefix& gateway, compact::BundleError error, compact::Bundle& bundle,
+                                std::size_t bytes, std::int64_t receive_ns) {
     std::lock_guard<std::mutex> lock(mutex_);
     ++counts_.bundles;
     if (error != compact::BundleError::none) {
@@ -198,7 +205,7 @@ void CompactUnpacker::on_bundle(const ParticipantPrefix& gateway, const std::vec
         if (!error_reported_[kind]) {
             error_reported_[kind] = true;
             std::fprintf(stderr, "tm-basecamp relay: rejected a bundle of %zu bytes from %s: %s (reported once)\n",
-                         bytes.size(), prefix_text(gateway).c_str(), compact::to_string(error));
+                         bytes, prefix_text(gateway).c_str(), compact::to_string(error));
         }
         return;
     }

@@ -103,7 +103,9 @@ class CompactUnpacker {
     void on_catalog(const ParticipantPrefix& gateway, wan::CatalogEntry entry);
     /// Adds a chunk; true (and `entry` the whole sample) when it was the last one. mutex_ held.
     bool reassemble_nts(const ParticipantPrefix& gateway, compact::BundleEntry& entry, std::int64_t receive_ns);
-    void on_bundle(const ParticipantPrefix& gateway, const std::vector<std::uint8_t>& bytes, std::int64_t receive_ns);
+    /// A bundle of `bytes` as it decoded (`error`), its entries taken from `bundle`.
+    void on_bundle(const ParticipantPrefix& gateway, compact::BundleError error, compact::Bundle& bundle,
+                   std::size_t bytes, std::int64_t receive_ns);
     /// Writes the entry on the local domain if its lane's writer exists; false if it must wait. mutex_ held.
     bool deliver_nts(const ParticipantPrefix& gateway, compact::BundleEntry& entry, std::int64_t receive_ns);
 

@@ -14,6 +14,8 @@ namespace {
 
 constexpr std::uint8_t MAGIC[2] = {'T', 'B'};
 constexpr std::uint8_t BUNDLE_COMPRESSED = 0x01;
+constexpr std::uint8_t BUNDLE_STAMPED = 0x02;
+constexpr std::int64_t NS_PER_US = 1000;
 
 constexpr std::uint8_t ENTRY_KIND_MASK = 0x03;
 constexpr std::uint8_t ENTRY_KEYED = 0x04;
@@ -285,9 +287,18 @@ void BundleCodec::encode(const Bundle& bundle, std::vector<std::uint8_t>& out, B
 
     out.insert(out.end(), std::begin(MAGIC), std::end(MAGIC));
     out.push_back(VERSION);
-    out.push_back(0);  // flags, set below if the section is compressed
+    out.push_back(0);  // flags, set below
     put_varint(out, bundle.sequence);
     put_le(out, static_cast<std::uint64_t>(base_ns), BASE_TIME_BYTES);
+    if (bundle.write_ns) {
+        // Rounded down, so that a decoded time encodes again to the same offset.
+        const std::int64_t offset_ns = wrapping_difference(*bundle.write_ns, base_ns);
+        const std::int64_t offset_us = offset_ns / NS_PER_US - (offset_ns % NS_PER_US < 0 ? 1 : 0);
+        if (offset_us >= -BundleCodec::MAX_STAMP_OFFSET_US && offset_us <= BundleCodec::MAX_STAMP_OFFSET_US) {
+            put_varint(out, zigzag(offset_us));
+            out[3] |= BUNDLE_STAMPED;
+        }
+    }
     put_varint(out, bundle.entries.size());
     const std::size_t section = out.size();
     for (const BundleEntry& e : bundle.entries)
@@ -306,6 +317,7 @@ void BundleCodec::encode(const Bundle& bundle, std::vector<std::uint8_t>& out, B
 
 BundleError BundleCodec::decode(const std::uint8_t* bytes, std::size_t size, Bundle& bundle) {
     bundle.sequence = 0;
+    bundle.write_ns.reset();
     bundle.entries.clear();
     if (size < sizeof MAGIC)
         return BundleError::truncated;
@@ -322,14 +334,23 @@ BundleError BundleCodec::decode(const std::uint8_t* bytes, std::size_t size, Bun
         return BundleError::bad_checksum;
 
     const std::uint8_t flags = bytes[3];
-    if ((flags & ~BUNDLE_COMPRESSED) != 0)
+    if ((flags & ~(BUNDLE_COMPRESSED | BUNDLE_STAMPED)) != 0)
         return BundleError::malformed;
     Reader header(bytes + HEADER_BYTES, body - HEADER_BYTES);
     const std::uint8_t* base_time = nullptr;
-    std::uint64_t count = 0;
-    if (!header.varint32(bundle.sequence) || !header.bytes(BASE_TIME_BYTES, base_time) || !header.varint(count))
+    if (!header.varint32(bundle.sequence) || !header.bytes(BASE_TIME_BYTES, base_time))
         return BundleError::malformed;
     const auto base_ns = static_cast<std::int64_t>(base::load_little_endian<std::uint64_t>(base_time));
+    if ((flags & BUNDLE_STAMPED) != 0) {
+        std::uint64_t offset = 0;
+        // Only what the encoder writes: an offset in range (which also keeps the product below from overflowing).
+        if (!header.varint(offset) || offset > zigzag(BundleCodec::MAX_STAMP_OFFSET_US))
+            return BundleError::malformed;
+        bundle.write_ns = wrapping_sum(base_ns, unzigzag(offset) * NS_PER_US);
+    }
+    std::uint64_t count = 0;
+    if (!header.varint(count))
+        return BundleError::malformed;
 
     const std::uint8_t* section = header.position();
     std::size_t section_size = header.remaining();
@@ -350,7 +371,13 @@ BundleError BundleCodec::decode(const std::uint8_t* bytes, std::size_t size, Bun
         if (!get_entry(in, base_ns, entry))
             return BundleError::malformed;
     }
-    return in.remaining() == 0 ? BundleError::none : BundleError::malformed;
+    if (in.remaining() != 0)
+        return BundleError::malformed;
+    // The write time counts from the first entry's time, as the encoder writes it: with no entry, or a first entry
+    // off the base, it would encode again to other bytes.
+    if (bundle.write_ns && (bundle.entries.empty() || bundle.entries.front().source_ns != base_ns))
+        return BundleError::malformed;
+    return BundleError::none;
 }
 
 }  // namespace tgw::compact

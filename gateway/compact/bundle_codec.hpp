@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace tgw::compact {
@@ -37,6 +38,10 @@ struct BundleEntry {
 struct Bundle {
     std::uint32_t sequence = 0;  ///< per gateway, from 0: a gap is bundles lost on the link
     std::vector<BundleEntry> entries;
+    /// When the gateway wrote it, ns since the Unix epoch, kept to the microsecond: the relay's one-way delay. The
+    /// gateway's transport leaves the DDS message's own timestamp (INFO_TS, 12 bytes) out of a bundle. Left out of
+    /// the encoding when it lies further than MAX_STAMP_OFFSET_US from the base time (decodes as nullopt).
+    std::optional<std::int64_t> write_ns;
 };
 
 enum class BundleCompression { none, zstd_if_smaller };
@@ -46,8 +51,9 @@ enum class BundleError { none, truncated, bad_magic, bad_version, bad_checksum, 
 const char* to_string(BundleError error);
 
 /// Bundle format, version 1. Integers are little-endian; a varint is LEB128, a signed one zigzag-coded first.
-///   'T' 'B' version(1) flags(u8: bit 0 the entry section is zstd-compressed)
-///   varint sequence, i64 base_source_ns (the first entry's, 8 bytes), varint entry count
+///   'T' 'B' version(1) flags(u8: bit 0 the entry section is zstd-compressed, bit 1 the write time follows)
+///   varint sequence, i64 base_source_ns (the first entry's, 8 bytes),
+///   [signed varint (write_ns - base_source_ns) in microseconds, at most 5 bytes], varint entry count
 ///   entry section: the entries, back to back; when compressed, varint raw length and the zstd frame
 ///   CRC-32 (zlib's) of everything before it, 4 bytes
 /// Entry:
@@ -68,9 +74,11 @@ struct BundleCodec {
     /// Decodes `bytes` into `bundle`; on error `bundle` is unspecified.
     static BundleError decode(const std::uint8_t* bytes, std::size_t size, Bundle& bundle);
 
+    /// The farthest the write time is from the base time and still encoded: its zigzag value fits 5 varint bytes.
+    static constexpr std::int64_t MAX_STAMP_OFFSET_US = (std::int64_t{1} << 34) - 1;
     /// Bytes of a bundle beyond its entries, at most: header and checksum, uncompressed (the sequence and the
-    /// entry count are charged as 5-byte varints).
-    static constexpr std::size_t MAX_FRAME_BYTES = 4 + 5 + 8 + 5 + 4;
+    /// entry count are charged as 5-byte varints, the write time at its 5 at most).
+    static constexpr std::size_t MAX_FRAME_BYTES = 4 + 5 + 8 + 5 + 5 + 4;
     /// Exactly the bytes an entry takes in an uncompressed bundle whose base time is `source_ns - delta_ns`:
     /// what the scheduler charges before the bundle is built. `chunk`: null unless the entry is a chunk.
     static std::size_t entry_bytes(std::uint32_t topic_id, std::uint16_t lane, std::int64_t delta_ns,

@@ -48,6 +48,15 @@ struct WireModel {
         return model;
     }
 
+    /// The INFO_TS that stamps each sample with its source time.
+    static constexpr std::size_t TIMESTAMP_SUBMESSAGE_BYTES = 12;
+    /// The same model for samples that leave without it (WanConfig::strip_timestamp: compact mode's bundles).
+    WireModel without_timestamp() const {
+        WireModel model = *this;
+        model.per_sample_bytes -= TIMESTAMP_SUBMESSAGE_BYTES;
+        return model;
+    }
+
     /// DDS Security as scripts/make-certs' governance sets it (RTPS messages signed, submessages and payloads
     /// encrypted with AES-GCM), from a loopback capture of the paper's four types at an 8,192-byte datagram limit
     /// (frames of 466, 490, 690 and 1,438 bytes against 238, 262, 462 and 1,210 plain): each message gains

@@ -9,6 +9,7 @@
 #include <fastdds/rtps/common/LocatorsIterator.hpp>
 
 #include "gateway/core/wire_model.hpp"
+#include "gateway/dds/unstamped_write.hpp"
 
 namespace tgw::dds {
 
@@ -70,23 +71,33 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     for (rtps::LocatorsIterator& it = *destination_locators_begin; it != *destination_locators_end; ++it) {
         destination.locators.push_back(*it);
     }
-    if (descriptor_.strip_destination || descriptor_.strip_statistics) {
+    const bool strip_timestamp = descriptor_.strip_timestamp && UnstampedWrite::active();
+    if (descriptor_.strip_destination || descriptor_.strip_statistics || strip_timestamp) {
         const RtpsDatagram::Strippable strip = RtpsDatagram::strippable(send_buffer, send_buffer_size);
         if (descriptor_.strip_statistics) {
             // The trailer is the message's last submessage: the message without it is its first bytes.
             send_buffer_size -= static_cast<std::uint32_t>(strip.trailer_bytes);
         }
+        // Both come right after the header, the INFO_DST first: one cut leaves out either or both.
+        std::size_t cut = 0;
         if (descriptor_.strip_destination && strip.destination_bytes > 0 &&
             std::none_of(destination.locators.begin(), destination.locators.end(),
                          [](const rtps::Locator_t& locator) { return rtps::IPLocator::isMulticast(locator); })) {
             // Only that participant listens at its unicast locators: without the INFO_DST the message reads the
             // same.
-            const rtps::octet* rest = send_buffer + RtpsDatagram::HEADER_BYTES + strip.destination_bytes;
-            thread_local std::vector<rtps::octet> without_destination;
-            without_destination.assign(send_buffer, send_buffer + RtpsDatagram::HEADER_BYTES);
-            without_destination.insert(without_destination.end(), rest, send_buffer + send_buffer_size);
-            send_buffer = without_destination.data();
-            send_buffer_size -= static_cast<std::uint32_t>(strip.destination_bytes);
+            cut += strip.destination_bytes;
+        }
+        if (strip_timestamp && strip.timestamp_bytes > 0 && (cut > 0 || strip.destination_bytes == 0)) {
+            // The sample's payload holds its write time; the receiver takes it as a sample without a timestamp.
+            cut += strip.timestamp_bytes;
+        }
+        if (cut > 0) {
+            const rtps::octet* rest = send_buffer + RtpsDatagram::HEADER_BYTES + cut;
+            thread_local std::vector<rtps::octet> stripped;
+            stripped.assign(send_buffer, send_buffer + RtpsDatagram::HEADER_BYTES);
+            stripped.insert(stripped.end(), rest, send_buffer + send_buffer_size);
+            send_buffer = stripped.data();
+            send_buffer_size -= static_cast<std::uint32_t>(cut);
         }
     }
     const bool scheduled_write = DatagramCoalescer::DeferScope::current() != 0;

@@ -43,6 +43,9 @@ struct CoalescingTransportDescriptor : public eprosima::fastdds::rtps::ChainingT
     /// Leave out the INFO_DST a message to one participant's unicast locators starts with
     /// (RtpsDatagram::leading_destination_bytes).
     bool strip_destination = false;
+    /// Leave out the INFO_TS of a message that carries one sample written inside an UnstampedWrite
+    /// (RtpsDatagram::Strippable::timestamp_bytes).
+    bool strip_timestamp = false;
     std::shared_ptr<DatagramCoalescer> coalescer;
     UnscheduledTrafficCallback on_unscheduled;
     /// Holds back repeated HEARTBEATs and ACKNACKs; none: every message goes.

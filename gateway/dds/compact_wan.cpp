@@ -11,6 +11,7 @@
 #include "gateway/core/bundle_builder.hpp"
 #include "gateway/dds/compact_topics.hpp"
 #include "gateway/dds/keyed_sample.hpp"
+#include "gateway/dds/unstamped_write.hpp"
 #include "gateway/dds/wan_router.hpp"
 #include "gateway/dds/wan_writer.hpp"
 
@@ -97,6 +98,8 @@ bool CompactWan::announce(const CatalogLane& lane) {
 
 std::size_t CompactWan::encode(std::vector<core::Sample>& samples, core::EncodedBundle& out) {
     bundle_.sequence = next_sequence_++;
+    // Written a moment after it is encoded (ForwardingLoop writes after deciding): the relay's one-way delay.
+    bundle_.write_ns = base::to_ns(base::WallClock::now());
     bundle_.entries.resize(samples.size());
     for (std::size_t i = 0; i < samples.size(); ++i) {
         core::Sample& sample = samples[i];
@@ -138,7 +141,12 @@ std::size_t CompactWan::encode(std::vector<core::Sample>& samples, core::Encoded
 bool CompactWan::send(core::EncodedBundle&& bundle, std::size_t entries) {
     std::swap(carrier_.payload, bundle.bytes);  // the carrier's buffer goes back to be reused or freed
     carrier_.source_time = base::WallClock::now();
-    if (bundle_writer_->write(carrier_) != WriteResult::ok) {
+    const WriteResult written = [&] {
+        // The bundle holds its write time: the transport leaves the INFO_TS out (WanConfig::strip_timestamp).
+        const UnstampedWrite unstamped;
+        return bundle_writer_->write(carrier_);
+    }();
+    if (written != WriteResult::ok) {
         return false;
     }
     const std::size_t wire_bytes = bundle.wire_bytes;

@@ -177,9 +177,11 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         wan.strip_statistics = true;
         config_.scheduler.wire = config_.scheduler.wire.without_statistics();
         if (!wan.security) {
-            // ... and, in a message to the relay alone, the 16 bytes that name it (security signs them).
+            // ... and, in a message to the relay alone, the 16 bytes that name it (security signs them), and a
+            // bundle's INFO_TS, 12 bytes: the bundle holds its write time. Only bundles are scheduled here.
             wan.strip_destination = true;
-            config_.scheduler.wire = config_.scheduler.wire.without_destination();
+            wan.strip_timestamp = true;
+            config_.scheduler.wire = config_.scheduler.wire.without_destination().without_timestamp();
         }
     }
     if (wan.security) {

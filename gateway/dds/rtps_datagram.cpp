@@ -49,6 +49,10 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
     std::size_t protected_groups = 0;
     std::size_t group_start = 0;  // where the SEC_PREFIX of the protected submessage being read is
     std::size_t protected_extra_bytes = 0;
+    // The submessages other than a leading INFO_DST and the statistics trailer, in order, as far as they read
+    // INFO_TS DATA: 0 none yet, 1 the INFO_TS, 2 the DATA after it, 3 anything else.
+    int lone_sample = 0;
+    std::size_t timestamp_bytes = 0;
     std::size_t pos = HEADER_BYTES;
     while (pos < size) {
         if (size - pos < SUBMESSAGE_HEADER_BYTES) {
@@ -92,6 +96,18 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
         leading_info = leading_info && is_info(id);
         // Receivers step to the next 4-byte boundary.
         const std::size_t next = body + ((length + 3) & ~std::size_t{3});
+        const bool leading_destination = id == INFO_DST && pos == HEADER_BYTES;
+        const bool trailer = eprosima && id == EPROSIMA_STATISTICS;
+        if (!leading_destination && !trailer) {
+            if (lone_sample == 0 && id == INFO_TS && (sub[1] & FLAG_INVALIDATE) == 0) {
+                lone_sample = 1;
+                timestamp_bytes = next - pos;
+            } else if (lone_sample == 1 && id == DATA) {
+                lone_sample = 2;
+            } else {
+                lone_sample = 3;
+            }
+        }
         if (eprosima && id == EPROSIMA_STATISTICS) {
             shape.trailer_last = next == size;
             if (!shape.trailer_last) {
@@ -106,6 +122,9 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
     }
     if (shape.rtps_protected) {
         shape.heartbeat_bytes += protected_extra_bytes;
+    }
+    if (lone_sample == 2 && !shape.rtps_protected && !shape.protected_submessages) {
+        shape.lone_sample_timestamp_bytes = timestamp_bytes;
     }
     if (pos != size) {
         shape.mergeable = false;  // the last submessage is not padded to 4 bytes
@@ -148,6 +167,7 @@ RtpsDatagram::Strippable RtpsDatagram::strippable(const std::uint8_t* message, s
         octets_to_next_header(message + HEADER_BYTES) == GUID_PREFIX_BYTES) {
         out.destination_bytes = SUBMESSAGE_HEADER_BYTES + GUID_PREFIX_BYTES;
     }
+    out.timestamp_bytes = shape.lone_sample_timestamp_bytes;
     return out;
 }
 

@@ -55,10 +55,14 @@ class RtpsDatagram {
     /// locators, the message reads the same without it: a receiver takes a message that names nobody as its own.
     static std::size_t leading_destination_bytes(const std::uint8_t* message, std::size_t size);
     /// What a transport may leave out of one message, from one reading of it: its leading INFO_DST
-    /// (leading_destination_bytes) and its statistics trailer (statistics_trailer_bytes).
+    /// (leading_destination_bytes), its statistics trailer (statistics_trailer_bytes), and the INFO_TS of a
+    /// message that carries one sample: an unprotected [INFO_DST] INFO_TS DATA [statistics], whose INFO_TS comes
+    /// right after the header or the INFO_DST (the sample then has no source timestamp; the caller knows whether
+    /// its payload holds one).
     struct Strippable {
         std::size_t destination_bytes = 0;
         std::size_t trailer_bytes = 0;
+        std::size_t timestamp_bytes = 0;
     };
     static Strippable strippable(const std::uint8_t* message, std::size_t size);
     /// The bytes of PAD submessages to append to a datagram that does not end with a statistics submessage (its
@@ -84,6 +88,8 @@ class RtpsDatagram {
         std::size_t trailer_bytes = 0;       ///< the statistics submessage it ends with, header included
         bool trailer_last = false;           ///< the statistics submessage is the last submessage
         std::size_t heartbeat_bytes = 0;     ///< HEARTBEAT submessages, headers included
+        /// [INFO_DST] INFO_TS DATA [statistics] and nothing else: the INFO_TS's bytes (header included), else 0.
+        std::size_t lone_sample_timestamp_bytes = 0;
     };
     static Shape shape_of(const std::uint8_t* message, std::size_t size);
 

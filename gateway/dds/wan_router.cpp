@@ -251,6 +251,7 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     coalescing->heartbeat_spacing_bytes = config.heartbeat_spacing_bytes;
     coalescing->strip_statistics = config.strip_statistics;
     coalescing->strip_destination = config.strip_destination;
+    coalescing->strip_timestamp = config.strip_timestamp;
     qos.transport().user_transports.push_back(coalescing);
 
     // An explicit metatraffic unicast locator and no multicast one: Fast DDS then opens no multicast

@@ -77,6 +77,10 @@ struct WanConfig {
     /// reach that participant alone): WireModel::without_destination() must then be the model. Leave it off
     /// with security, which signs the message as Fast DDS made it.
     bool strip_destination = false;
+    /// Leave out the INFO_TS of a one-sample message written inside an UnstampedWrite (compact mode's bundles,
+    /// which hold their write time): WireModel::without_timestamp() must then be the model. Leave it off with
+    /// security, as strip_destination.
+    bool strip_timestamp = false;
     /// DDS Security (--wan-security): the identity whose checked files the participant authenticates with, and
     /// the governance and permissions it follows; none: a plain participant.
     std::optional<base::SecurityFiles> security;

@@ -31,7 +31,7 @@ bool same(const BundleEntry& a, const BundleEntry& b) {
 }
 
 bool same(const Bundle& a, const Bundle& b) {
-    return a.sequence == b.sequence && a.entries.size() == b.entries.size() &&
+    return a.sequence == b.sequence && a.write_ns == b.write_ns && a.entries.size() == b.entries.size() &&
            std::equal(a.entries.begin(), a.entries.end(), b.entries.begin(),
                       [](const BundleEntry& x, const BundleEntry& y) { return same(x, y); });
 }
@@ -70,14 +70,23 @@ void check(const std::vector<std::uint8_t>& bytes) {
                                             BundleCodec::plain_cdr(e.payload.data(), e.payload.size()), e.keyed,
                                             e.chunked ? &e.chunk : nullptr);
     }
-    TGW_FUZZ_CHECK(plain.size() ==
-                   4 + varint_bytes(bundle.sequence) + 8 + varint_bytes(bundle.entries.size()) + charged + 4);
+    std::size_t stamp_bytes = 0;
+    if (bundle.write_ns) {
+        const auto offset_us = static_cast<std::int64_t>(static_cast<std::uint64_t>(*bundle.write_ns) -
+                                                         static_cast<std::uint64_t>(base_ns)) /
+                               1000;
+        stamp_bytes = varint_bytes(offset_us < 0 ? 2 * static_cast<std::uint64_t>(-offset_us) - 1
+                                                 : 2 * static_cast<std::uint64_t>(offset_us));
+        TGW_FUZZ_CHECK(stamp_bytes <= 5);
+    }
+    TGW_FUZZ_CHECK(plain.size() == 4 + varint_bytes(bundle.sequence) + 8 + stamp_bytes +
+                                       varint_bytes(bundle.entries.size()) + charged + 4);
     TGW_FUZZ_CHECK(plain.size() <= BundleCodec::MAX_FRAME_BYTES + charged);
 
     std::vector<std::uint8_t> compressed;
     BundleCodec::encode(bundle, compressed, BundleCompression::zstd_if_smaller);
     TGW_FUZZ_CHECK(compressed.size() <= plain.size());
-    TGW_FUZZ_CHECK((compressed[3] == 0) == (compressed == plain));
+    TGW_FUZZ_CHECK(((compressed[3] & 0x01) == 0) == (compressed == plain));
     Bundle unpacked;
     TGW_FUZZ_CHECK(BundleCodec::decode(compressed.data(), compressed.size(), unpacked) == BundleError::none);
     TGW_FUZZ_CHECK(same(unpacked, bundle));
@@ -100,6 +109,9 @@ std::vector<std::string> seeds() {
     plain.entries = {entry(1, now_ns, {0x00, 0x01, 0x00, 0x00, 0x2a, 0x00, 0x00, 0x00}),
                      entry(300, now_ns - 20'000'000'000, {0x00, 0x07, 0x00, 0x00, 0x01}),
                      entry(2, now_ns + 5, {}, EntryKind::unregister)};
+
+    Bundle stamped = plain;
+    stamped.write_ns = now_ns + 250'000'000;
 
     Bundle keyed;
     keyed.sequence = 70000;
@@ -130,7 +142,7 @@ std::vector<std::string> seeds() {
     return {
         as_string(plain, BundleCompression::none),    as_string(keyed, BundleCompression::none),
         as_string(chunked, BundleCompression::none),  as_string(compressible, BundleCompression::zstd_if_smaller),
-        as_string(Bundle{}, BundleCompression::none),
+        as_string(Bundle{}, BundleCompression::none), as_string(stamped, BundleCompression::none),
     };
 }
 

@@ -13,6 +13,7 @@
 #include "basecamp/compact_unpacker.hpp"
 #include "gateway/compact/bundle_codec.hpp"
 #include "gateway/dds/compact_topics.hpp"
+#include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/status_topic.hpp"
 #include "gateway/dds/wan_address.hpp"
 #include "test/integration/raw_sample_type.hpp"
@@ -237,6 +238,55 @@ TEST_F(CompactWanTest, TheRelaysReceiverReportsCountTheGatewaysBundles) {
     EXPECT_GT(gateway_->receiver_report()->received_bytes, 10u * 60u);
 }
 
+// A bundle holds the time it was written, and its DDS message goes without the INFO_TS that would say it again
+// (12 bytes a bundle): a plain reader of the bundles sees no source timestamp, and a measuring relay still times
+// each bundle's crossing from the time inside it.
+TEST_F(CompactWanTest, BundlesLeaveWithoutTheirDdsTimestampAndAMeasuringRelayTimesThemFromTheirOwn) {
+    GatewayConfig c = compact_config();
+    c.channel_grants = true;
+    c.status_period = 1s;  // the relay counts the bundles of gateways it heard a status from
+    start_gateway(c);
+    start_relay(nullptr, 1s, {}, 30'000, true);
+    TestParticipant other(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 62),
+                                                                 domains_.gateway_wan_port));
+    ASSERT_TRUE(other.ok());
+    auto& bundles = listener<CollectingReader<wan::Bundle>>();
+    fdds::DataReaderQos qos = other.default_reader_qos();
+    qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+    ASSERT_NE(
+        other.make_reader(dds::COMPACT_BUNDLE_TOPIC, fdds::TypeSupport(new wan::BundlePubSubType()), qos, &bundles),
+        nullptr);
+    const std::string paper = topic_prefix_ + "paper";
+    auto& reader = listener<CollectingReader<idl::PaperMessage>>();
+    auto* writer = paper_path(paper, reader);
+    ASSERT_NE(writer, nullptr);
+    ASSERT_TRUE(wait_until([&] { return bundles.matched.load() > 0; }, 3 * MATCH_TIMEOUT));
+
+    const std::int64_t before_ns = base::to_ns(base::WallClock::now());
+    for (std::uint32_t i = 0; i < 20; ++i) {
+        publish_paper(writer, i, 1);
+        std::this_thread::sleep_for(50ms);
+    }
+    ASSERT_TRUE(wait_until([&] { return reader.count() >= 20 && bundles.count() >= 1; }))
+        << reader.count() << " of 20 samples, " << bundles.count() << " bundles";
+    ASSERT_TRUE(wait_until([&] {
+        const auto reading = relay_->channel_reading();
+        return reading && reading->queueing;
+    })) << "the relay timed no bundle";
+
+    for (const auto& received : bundles.received()) {
+        EXPECT_FALSE(dds::to_wall_time(received.info.source_timestamp).has_value())
+            << "a bundle came with its DDS timestamp";
+        compact::Bundle decoded;
+        ASSERT_EQ(compact::BundleCodec::decode(received.data.bytes().data(), received.data.bytes().size(), decoded),
+                  compact::BundleError::none);
+        ASSERT_TRUE(decoded.write_ns.has_value());
+        EXPECT_GE(*decoded.write_ns, before_ns - 5'000'000'000) << "written before the test began";
+        EXPECT_LE(*decoded.write_ns, base::to_ns(base::WallClock::now()));
+    }
+    EXPECT_LT(*relay_->channel_reading()->queueing, 250ms) << "nothing queues on loopback";
+}
+
 TEST_F(CompactWanTest, ARelayThatJoinsLateDecodesOnceTheCatalogReachesIt) {
     start_gateway(compact_config());
     const std::string paper = topic_prefix_ + "late";
@@ -289,7 +339,7 @@ TEST_F(CompactWanTest, TheRelayRejectsCorruptAndTruncatedBundlesAndGoesOn) {
         other.make_writer(dds::COMPACT_BUNDLE_TOPIC, fdds::TypeSupport(new wan::BundlePubSubType()), qos, &matches);
     ASSERT_NE(forger, nullptr);
     ASSERT_TRUE(wait_until([&] { return matches.matched.load() > 0; }, 3 * MATCH_TIMEOUT));
-    compact::Bundle real{0, {}};
+    compact::Bundle real;
     compact::BundleEntry entry;
     entry.topic_id = 0;
     entry.payload = {0x00, 0x01, 0x00, 0x00, 1, 2, 3, 4};

@@ -126,9 +126,11 @@ int main(int argc, char** argv) {
                 config.scheduler.paper_overhead = paper_overhead;
                 config.scheduler.budget_fraction = budget_fraction;
                 if (compact) {
-                    // As telemetry-gateway --wan-mode compact: bundles, no statistics submessage, no INFO_DST.
+                    // As telemetry-gateway --wan-mode compact: bundles, no statistics submessage, no INFO_DST, no
+                    // INFO_TS.
                     config.scheduler.bundles = tgw::core::BundleLimits{};
-                    config.scheduler.wire = config.scheduler.wire.without_statistics().without_destination();
+                    config.scheduler.wire =
+                        config.scheduler.wire.without_statistics().without_destination().without_timestamp();
                 }
                 config.link = links[i];
                 config.duration = tgw::base::from_seconds(duration_s);

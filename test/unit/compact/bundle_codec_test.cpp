@@ -26,7 +26,7 @@ bool operator==(const BundleEntry& a, const BundleEntry& b) {
 }
 
 bool operator==(const Bundle& a, const Bundle& b) {
-    return a.sequence == b.sequence && a.entries == b.entries;
+    return a.sequence == b.sequence && a.write_ns == b.write_ns && a.entries == b.entries;
 }
 
 void PrintTo(const BundleEntry& e, std::ostream* os) {
@@ -254,6 +254,85 @@ TEST_F(BundleCodecTest, EncodesTheDocumentedLayoutByteForByte) {
     ASSERT_EQ(sut.size(), expected_body.size() + 4);
     EXPECT_EQ(Bytes(sut.begin(), sut.end() - 4), expected_body);
     EXPECT_EQ(Bytes(sut.end() - 4, sut.end()), le(crc(sut, sut.size() - 4), 4));
+}
+
+TEST_F(BundleCodecTest, EncodesTheWriteTimeAfterTheBaseTimeInMicroseconds) {
+    Bundle bundle;
+    bundle.sequence = 1;
+    bundle.write_ns = SECOND_NS + 200'000'999;  // 200,000 us after the base; the last 999 ns are not kept
+    bundle.entries = {entry(7, SECOND_NS, {0x00, 0x01, 0x00, 0x00, 0xaa})};
+
+    const Bytes sut = encoded(bundle);
+
+    const Bytes expected_body = cat({
+        {'T', 'B', 1, 0x02},                               // the write time follows
+        {0x01},                                            // sequence 1
+        {0x00, 0xca, 0x9a, 0x3b, 0x00, 0x00, 0x00, 0x00},  // base: the first entry's time
+        {0x80, 0xb5, 0x18},                                // zigzag(+200,000 us)
+        {0x01},                                            // 1 entry
+        {0x10, 0x07, 0x00, 0x01, 0xaa},
+    });
+    ASSERT_EQ(sut.size(), expected_body.size() + 4);
+    EXPECT_EQ(Bytes(sut.begin(), sut.end() - 4), expected_body);
+}
+
+TEST_F(BundleCodecTest, RoundTripsTheWriteTimeToTheMicrosecondBothSidesOfTheBase) {
+    for (const std::int64_t offset_us :
+         {std::int64_t{0}, std::int64_t{1}, std::int64_t{-1}, std::int64_t{350'000}, std::int64_t{-20'000'000},
+          BundleCodec::MAX_STAMP_OFFSET_US, -BundleCodec::MAX_STAMP_OFFSET_US}) {
+        Bundle bundle;
+        bundle.write_ns = NOW_NS + offset_us * 1000 + 123;
+        bundle.entries = {entry(3, NOW_NS, {0x00, 0x01, 0x00, 0x00, 0x10})};
+
+        const Bundle sut = round_trip(bundle, BundleCompression::zstd_if_smaller);
+
+        ASSERT_TRUE(sut.write_ns.has_value()) << offset_us;
+        EXPECT_EQ(*sut.write_ns, NOW_NS + offset_us * 1000) << offset_us;
+        EXPECT_EQ(sut.entries, bundle.entries) << offset_us;
+    }
+}
+
+TEST_F(BundleCodecTest, LeavesOutAWriteTimeTooFarFromTheBaseForFiveVarintBytes) {
+    Bundle bundle;
+    bundle.write_ns = NOW_NS + (BundleCodec::MAX_STAMP_OFFSET_US + 1) * 1000;
+    bundle.entries = {entry(3, NOW_NS, {0x00, 0x01, 0x00, 0x00, 0x10})};
+    Bundle unstamped = bundle;
+    unstamped.write_ns.reset();
+
+    const Bytes sut = encoded(bundle);
+
+    EXPECT_EQ(sut, encoded(unstamped));
+    EXPECT_FALSE(round_trip(bundle).write_ns.has_value());
+}
+
+TEST_F(BundleCodecTest, RejectsAWriteTimeFartherThanTheEncoderWritesOrMissingAsMalformed) {
+    const auto stamped = [](std::uint64_t zigzag_offset) {
+        Bytes out = cat(
+            {{'T', 'B', 1, 0x02}, varint(5), le(0, 8), varint(zigzag_offset), varint(1), SMALL_ENTRY, {0, 0, 0, 0}});
+        fix_checksum(out);
+        return out;
+    };
+    const auto max_zigzag = 2 * static_cast<std::uint64_t>(BundleCodec::MAX_STAMP_OFFSET_US);
+
+    EXPECT_EQ(decode(stamped(max_zigzag)), BundleError::none);
+    EXPECT_EQ(decode(stamped(max_zigzag + 1)), BundleError::malformed);
+    EXPECT_EQ(decode(stamped(std::numeric_limits<std::uint64_t>::max())), BundleError::malformed);
+    // The flag without the offset: the entry count is read as the offset, and the entries do not parse.
+    EXPECT_EQ(decode(bundle_bytes(0x02, 1, SMALL_ENTRY)), BundleError::malformed);
+}
+
+TEST_F(BundleCodecTest, RejectsAWriteTimeInABundleWithoutEntriesOrWhoseFirstEntryIsOffTheBase) {
+    const auto stamped = [](std::uint64_t count, const Bytes& section) {
+        Bytes out = cat({{'T', 'B', 1, 0x02}, varint(5), le(0, 8), varint(2), varint(count), section, {0, 0, 0, 0}});
+        fix_checksum(out);
+        return out;
+    };
+    Bytes off_base = SMALL_ENTRY;
+    off_base[2] = 0x02;  // the time delta: +1 ns
+
+    EXPECT_EQ(decode(stamped(1, SMALL_ENTRY)), BundleError::none);
+    EXPECT_EQ(decode(stamped(0, {})), BundleError::malformed);
+    EXPECT_EQ(decode(stamped(1, off_base)), BundleError::malformed);
 }
 
 TEST_F(BundleCodecTest, RoundTripsDataDisposeAndUnregisterEntries) {
@@ -538,7 +617,7 @@ TEST_F(BundleCodecTest, RejectsKindThreeAndUnknownBundleFlagsAsMalformed) {
         section[0] = flags;
         EXPECT_EQ(decode(bundle_bytes(0x00, 1, section)), BundleError::malformed) << int{flags};
     }
-    for (std::uint8_t flags = 0x02; flags != 0; flags = static_cast<std::uint8_t>(flags << 1))
+    for (std::uint8_t flags = 0x04; flags != 0; flags = static_cast<std::uint8_t>(flags << 1))
         EXPECT_EQ(decode(bundle_bytes(flags, 1, SMALL_ENTRY)), BundleError::malformed) << int{flags};
 }
 
@@ -546,7 +625,7 @@ TEST_F(BundleCodecTest, CarriesLanesUpToSixInTheFlagsAndLargerOnesAfterTheTopicI
     for (const std::uint16_t lane : {0, 1, 6, 7, 8, 127, 128, 65535}) {
         BundleEntry e = entry(3, NOW_NS, {0x00, 0x01, 0x00, 0x00, 0x42});
         e.lane = lane;
-        Bundle sut{5, {e}};
+        Bundle sut{5, {e}, std::nullopt};
         Bytes bytes;
         BundleCodec::encode(sut, bytes);
         Bundle back;

@@ -200,6 +200,37 @@ TEST(RtpsLeadingDestination, IsNothingUnlessOneParticipantIsNamedFirstInAPlainWe
     EXPECT_EQ(cut(truncated), 0u);
 }
 
+TEST(RtpsLoneSampleTimestamp, IsTheInfoTsOfAMessageThatCarriesOneSample) {
+    const auto stamp = [](const Bytes& m) { return RtpsDatagram::strippable(m.data(), m.size()).timestamp_bytes; };
+    EXPECT_EQ(stamp(message({info_ts(1), data(40)})), 12u);
+    EXPECT_EQ(stamp(message({info_ts(1), data(40), statistics(0)})), 12u);
+    const Bytes to_one = message({info_dst(0x33), info_ts(1), data(40), statistics(0)});
+    const RtpsDatagram::Strippable sut = RtpsDatagram::strippable(to_one.data(), to_one.size());
+    ASSERT_EQ(sut.destination_bytes, 16u);
+    ASSERT_EQ(sut.timestamp_bytes, 12u);
+    // Both come right after the header: cut together, what is left is the sample's DATA alone.
+    Bytes without(to_one.begin(), to_one.begin() + RtpsDatagram::HEADER_BYTES);
+    without.insert(without.end(), to_one.begin() + RtpsDatagram::HEADER_BYTES + 16 + 12, to_one.end());
+    EXPECT_EQ(without, message({data(40), statistics(0)}));
+}
+
+TEST(RtpsLoneSampleTimestamp, IsNothingUnlessTheMessageIsOneStampedSampleAndPlain) {
+    const auto stamp = [](const Bytes& m) { return RtpsDatagram::strippable(m.data(), m.size()).timestamp_bytes; };
+    const Bytes invalidate = {0x09, 0x03, 0x00, 0x00};
+    EXPECT_EQ(stamp(message({data(40)})), 0u);                                    // no timestamp
+    EXPECT_EQ(stamp(message({invalidate, data(40)})), 0u);                        // no time in it
+    EXPECT_EQ(stamp(message({info_ts(1), data(40), info_ts(2), data(40)})), 0u);  // two samples
+    EXPECT_EQ(stamp(message({info_ts(1), data(40), data(40)})), 0u);              // two under one stamp
+    EXPECT_EQ(stamp(message({info_ts(1), data(40), heartbeat()})), 0u);           // a HEARTBEAT after it
+    EXPECT_EQ(stamp(message({heartbeat(), info_ts(1), data(40)})), 0u);           // not right after the header
+    EXPECT_EQ(stamp(message({info_ts(1), info_dst(0x33), data(40)})), 0u);        // INFO_DST between
+    EXPECT_EQ(stamp(message({info_ts(1), heartbeat()})), 0u);                     // no sample
+    EXPECT_EQ(stamp(message(signed_rtps({info_ts(1), data(40)}))), 0u);           // signed as it is
+    Bytes truncated = message({info_ts(1), data(40)});
+    truncated.resize(truncated.size() - 8);
+    EXPECT_EQ(stamp(truncated), 0u);
+}
+
 TEST_F(RtpsDatagramTest, SendsAMessageProtectedAsAWholeAlone) {
     // A receiver decodes the protected message and reads nothing after its SRTPS_POSTFIX.
     const Bytes secured = message(signed_rtps({info_ts(1), data(40)}));

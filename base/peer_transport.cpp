@@ -69,6 +69,24 @@ std::string resolve_ipv4(const std::string& name_or_addr, const std::string& fla
     throw ConfigError(flag + ": '" + name_or_addr + "' is neither an IPv4 address nor an interface with one");
 }
 
+bool is_this_hosts_address(const std::string& ipv4) {
+    in_addr wanted{};
+    if (inet_pton(AF_INET, ipv4.c_str(), &wanted) != 1)
+        return false;
+    if (is_loopback(ipv4))
+        return true;
+    ifaddrs* list = nullptr;
+    if (getifaddrs(&list) != 0)
+        return false;
+    std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> guard(list, freeifaddrs);
+    for (const ifaddrs* it = list; it != nullptr; it = it->ifa_next) {
+        if (it->ifa_addr != nullptr && it->ifa_addr->sa_family == AF_INET &&
+            reinterpret_cast<const sockaddr_in*>(it->ifa_addr)->sin_addr.s_addr == wanted.s_addr)
+            return true;
+    }
+    return false;
+}
+
 void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport,
                           int domain) {
     using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
@@ -86,7 +104,8 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
         bound = resolve_ipv4(transport.interface, transport.interface_flag);
         udp->interfaceWhiteList.push_back(bound);
         if (!transport.discovery_server.empty())
-            listen_for_a_same_host_server(*udp, bound);
+            listen_for_a_same_host_server(
+                *udp, bound, parse_discovery_server(transport.discovery_server, transport.discovery_server_flag));
     }
     qos.transport().use_builtin_transports = false;
     qos.transport().user_transports.push_back(udp);

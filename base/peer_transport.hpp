@@ -28,6 +28,10 @@ struct PeerTransport {
 /// named. Throws ConfigError naming `flag` when it is neither.
 std::string resolve_ipv4(const std::string& name_or_addr, const std::string& flag);
 
+/// True if `ipv4` is a loopback address or an address of one of this host's interfaces (of this network
+/// namespace): Fast DDS reaches a participant there through 127.0.0.1.
+bool is_this_hosts_address(const std::string& ipv4);
+
 /// The RTPS well-known metatraffic unicast port of participant `participant_id` in `domain` (RTPS 9.6.1.1).
 std::uint16_t metatraffic_unicast_port(int domain, int participant_id);
 

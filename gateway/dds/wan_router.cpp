@@ -243,7 +243,7 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     if (!config.interface_address.empty()) {
         udp->interfaceWhiteList.push_back(config.interface_address);
         if (config.discovery_server) {
-            base::listen_for_a_same_host_server(*udp, config.interface_address);
+            base::listen_for_a_same_host_server(*udp, config.interface_address, *config.discovery_server);
         }
     }
     auto coalescing =

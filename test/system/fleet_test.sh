@@ -31,6 +31,7 @@ for k in 1 2; do
     [ "$k" -eq 2 ] && mode=compact
     "${tb[@]}" "robot$k" "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-interface "$addr" \
         --wan-discovery-server "$server" --robot-name "rover$k" --wan-mode "$mode" --sensor fixed:30000 \
+        --robot-interface 127.0.0.1 \
         --qos qos/paper_workload.xml --log "$WORK/rover$k.db" >"$WORK/gateway$k.out" 2>&1 &
     gateways+=("$!")
     PIDS+=("$!")
@@ -65,6 +66,21 @@ for k in 1 2; do
             "$(awk -v t="rover$k/telemetry/$type" '$1 == t && (NF == 9 || NF == 10) { print $4; exit }' "$WORK/report$k.txt")"
     done
 done
+# Each bundle leaves once, and the budget charged what the robot sent: with the server at the base camp, a gateway
+# whose transport also listened on its own loopback sent every message a second time from there (nothing of it
+# reached the link) and charged its budget for both (base::listen_for_a_same_host_server).
+rover2_veth=$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info robot2-veth)
+sent_bytes=$("${tb[@]}" robot2 cat "/sys/class/net/$rover2_veth/statistics/tx_bytes")
+bundles=$(sed -n 's/^WAN bundles: \([0-9]*\),.*/\1/p' "$WORK/gateway2.out")
+bundle_wire=$(sed -n 's/^WAN bundles: .* and \([0-9]*\) on the wire on average.*/\1/p' "$WORK/gateway2.out")
+messages=$(sed -n "s/^WAN datagrams: \([0-9]*\) samples' messages.*/\1/p" "$WORK/gateway2.out")
+unscheduled=$(sed -n 's/^WAN traffic outside the schedule ([^)]*): \([0-9]*\) bytes.*/\1/p' "$WORK/gateway2.out")
+charged=$(( ${bundles:-0} * ${bundle_wire:-0} + ${unscheduled:-0} ))
+check "rover2's gateway wrote each bundle once (${messages:-?} messages for ${bundles:-?} bundles)" "b > 0 && a == b" \
+    "${messages:-0}" "${bundles:-0}"
+check "rover2's gateway charged its budget what it sent (${charged} bytes charged, ${sent_bytes:-?} sent)" \
+    "b > 0 && a >= 0.95 * b && a <= 1.05 * b" "$charged" "${sent_bytes:-0}"
+
 if [ "$fail" -ne 0 ]; then
     for f in server.out relay.out gateway1.out gateway2.out sim1.out sim2.out report1.txt report2.txt tc.txt; do
         echo "--- $f"

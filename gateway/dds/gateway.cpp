@@ -283,6 +283,20 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         for (std::string& interface : transport.interfaces) {
             interface = resolve_interface_address(interface, "--robot-interface");
         }
+        // The declared topics go to the worker first, before any publisher the robot participant finds: a lane
+        // declared after a running publisher had its own would not carry it (TopicBridge::lane_for_nts), and the
+        // publisher's samples would cross with its QoS instead of the file's.
+        if (!config_.qos_file.empty()) {
+            for (const DeclaredTopic& declared : declared_topics(config_.qos_file)) {
+                DiscoveredPublisher pub;
+                pub.topic = declared.topic;
+                pub.type_name = declared.type_name;
+                pub.keyed = declared.keyed;
+                pub.lifespan = declared.lifespan;
+                pub.qos = OfferedQos::from_writer(declared.qos, declared.keyed);
+                post([this, pub = std::move(pub)] { bridge_nts(pub, true); });
+            }
+        }
         // Discovery starts inside the participant's creation, and what it finds is posted to the worker: the
         // worker starts once robot_ is set, so that nothing found meanwhile meets a participant not yet there.
         robot_ = std::make_unique<RobotParticipant>(config_.robot_domain, discovery_.get(), transport,
@@ -299,17 +313,6 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
                                                config_.scheduler.wire, std::move(charge));
         }
         worker_ = std::thread([this] { run_worker(); });
-        if (!config_.qos_file.empty()) {
-            for (const DeclaredTopic& declared : declared_topics(config_.qos_file)) {
-                DiscoveredPublisher pub;
-                pub.topic = declared.topic;
-                pub.type_name = declared.type_name;
-                pub.keyed = declared.keyed;
-                pub.lifespan = declared.lifespan;
-                pub.qos = OfferedQos::from_writer(declared.qos, declared.keyed);
-                post([this, pub = std::move(pub)] { bridge_nts(pub, true); });
-            }
-        }
     } catch (...) {
         stop();
         throw;
@@ -578,7 +581,7 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
         return;
     }
     if (const std::shared_ptr<TopicBridge> bridge = topics_->find(pub.topic)) {
-        if (!bridge->admit(pub, false)) {
+        if (!bridge->admit(pub, declared)) {
             refused_lanes_.fetch_add(1, std::memory_order_relaxed);
         }
         return;

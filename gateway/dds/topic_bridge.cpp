@@ -92,6 +92,9 @@ bool TopicBridge::admit(const DiscoveredPublisher& pub, bool declared) {
     } else {
         lanes_[index] = std::move(lane);
     }
+    if (std::count_if(lanes_.begin(), lanes_.end(), [](const Lane& l) { return l.live; }) > 1) {
+        writers_.several_lanes();
+    }
     return true;
 }
 

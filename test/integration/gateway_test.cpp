@@ -373,6 +373,39 @@ TEST_F(GatewayIntegrationTest, BridgesATopicTheQosFileDeclaresBeforeItsPublisher
     EXPECT_TRUE(wait_until([&] { return wan.count() >= 10; })) << "got " << wan.count();
 }
 
+TEST_F(GatewayIntegrationTest, ADeclaredTopicWhosePublisherRanBeforeTheGatewayCrossesOnceAsDeclared) {
+    // A gateway restarted on a running robot: its publishers are there when its robot participant starts. The
+    // declaration must still take them, so that each sample crosses once, with the file's QoS.
+    const std::string topic = topic_prefix_ + std::to_string(::getpid()) + "/running";
+    auto& writer_matches = listener<MatchCounter>();
+    auto* writer = robot_->make_writer(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                       robot_writer_qos(*robot_), &writer_matches);
+    ASSERT_NE(writer, nullptr);
+    GatewayConfig c = config();
+    c.qos_file =
+        writer_profile_file(topic, 2, "<topic><kind>NO_KEY</kind><dataType>tgw::idl::PaperMessage</dataType></topic>");
+    start_gateway(c);
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    ASSERT_NE(basecamp_->make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
+                                     wan_reader_qos(*basecamp_), &wan),
+              nullptr);
+    wait_for_bridge(topic, writer_matches, wan.matched);
+    ASSERT_FALSE(HasFatalFailure());
+    EXPECT_EQ(gateway_->find_topic(topic)->lanes.size(), 1u) << "the running publisher took a lane of its own";
+    PublisherWatcher::Seen seen;
+    ASSERT_TRUE(wait_until([&] { return watcher_.find(topic, seen); }));
+    EXPECT_EQ(seen.reliability, fdds::BEST_EFFORT_RELIABILITY_QOS) << "the WAN writer offers the file's QoS";
+    constexpr std::uint64_t SAMPLES = 10;
+    for (std::uint64_t i = 0; i < SAMPLES; ++i) {
+        idl::PaperMessage msg;
+        msg.generated_ns(i);
+        ASSERT_TRUE(writer->write(&msg));
+    }
+    ASSERT_TRUE(wait_until([&] { return wan.count() >= SAMPLES; })) << "got " << wan.count();
+    std::this_thread::sleep_for(500ms);  // a second copy of any would have come by now
+    EXPECT_EQ(wan.count(), SAMPLES);
+}
+
 TEST_F(GatewayIntegrationTest, UsesTheDefaultTtlWhenNothingElseApplies) {
     GatewayConfig c = config();
     c.default_ttl = 9s;

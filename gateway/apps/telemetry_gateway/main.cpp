@@ -262,7 +262,7 @@ int main(int argc, char** argv) {
     CLI::Option* budget_fraction =
         app.add_option("--budget-fraction", config.scheduler.budget_fraction,
                        "share of the sensed rate the scheduler spends; the rest absorbs discovery traffic (default: "
-                       "0.95, in --wan-mode compact 0.98)")
+                       "0.95, in --wan-mode compact 0.99)")
             ->check(tgw::base::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"));
     double queue_mib = static_cast<double>(config.scheduler.memory_cap_bytes) / (1 << 20);
     app.add_option("--queue-memory", queue_mib,

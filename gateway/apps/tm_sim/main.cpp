@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
         ->check(tgw::base::non_negative());
     CLI::Option* budget_fraction_option =
         app.add_option("--budget-fraction", budget_fraction,
-                       "share of the sensed rate the scheduler spends (default: 0.95, in --wan-mode compact 0.98)")
+                       "share of the sensed rate the scheduler spends (default: 0.95, in --wan-mode compact 0.99)")
             ->check(tgw::base::number_in(0.01, 1.0, "a fraction from 0.01 to 1", "IN [0.01, 1]"));
     app.add_flag("--summary", summary, "one Markdown row per rate: percent on time per type");
     try {

@@ -4,7 +4,10 @@
 #include <ifaddrs.h>
 #include <netinet/in.h>
 
+#include <algorithm>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
@@ -20,9 +23,44 @@ namespace {
 using eprosima::fastrtps::rtps::IPLocator;
 using eprosima::fastrtps::rtps::Locator_t;
 
-bool is_ipv4(const std::string& text) {
+std::optional<in_addr> parse_ipv4(const std::string& text) {
     in_addr addr{};
-    return inet_pton(AF_INET, text.c_str(), &addr) == 1;
+    if (inet_pton(AF_INET, text.c_str(), &addr) != 1)
+        return std::nullopt;
+    return addr;
+}
+
+bool is_ipv4(const std::string& text) {
+    return parse_ipv4(text).has_value();
+}
+
+bool is_loopback(in_addr addr) {
+    return (ntohl(addr.s_addr) >> 24) == 127;
+}
+
+bool is_loopback(const std::string& ipv4) {
+    const auto addr = parse_ipv4(ipv4);
+    return addr && is_loopback(*addr);
+}
+
+struct InterfaceAddress {
+    std::string interface;
+    in_addr address;
+};
+
+/// The IPv4 addresses of this host's interfaces (of this network namespace); nullopt when the kernel will not
+/// list them.
+std::optional<std::vector<InterfaceAddress>> interface_addresses() {
+    ifaddrs* list = nullptr;
+    if (getifaddrs(&list) != 0)
+        return std::nullopt;
+    std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> guard(list, freeifaddrs);
+    std::vector<InterfaceAddress> found;
+    for (const ifaddrs* it = list; it != nullptr; it = it->ifa_next) {
+        if (it->ifa_addr != nullptr && it->ifa_addr->sa_family == AF_INET)
+            found.push_back({it->ifa_name, reinterpret_cast<const sockaddr_in*>(it->ifa_addr)->sin_addr});
+    }
+    return found;
 }
 
 // RTPS 2.x port mapping defaults (PB, DG, PG, d1).
@@ -39,11 +77,6 @@ Locator_t udp_locator(const std::string& address, std::uint16_t port = 0) {
     return locator;
 }
 
-bool is_loopback(const std::string& ipv4) {
-    in_addr addr{};
-    return inet_pton(AF_INET, ipv4.c_str(), &addr) == 1 && (ntohl(addr.s_addr) >> 24) == 127;
-}
-
 }  // namespace
 
 std::uint16_t metatraffic_unicast_port(int domain, int participant_id) {
@@ -54,37 +87,29 @@ std::uint16_t metatraffic_unicast_port(int domain, int participant_id) {
 std::string resolve_ipv4(const std::string& name_or_addr, const std::string& flag) {
     if (is_ipv4(name_or_addr))
         return name_or_addr;
-    ifaddrs* list = nullptr;
-    if (getifaddrs(&list) != 0)
+    const auto addresses = interface_addresses();
+    if (!addresses)
         throw ConfigError(flag + ": cannot list network interfaces");
-    std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> guard(list, freeifaddrs);
-    for (const ifaddrs* it = list; it != nullptr; it = it->ifa_next) {
-        if (it->ifa_addr == nullptr || it->ifa_addr->sa_family != AF_INET || name_or_addr != it->ifa_name)
+    for (const InterfaceAddress& each : *addresses) {
+        if (each.interface != name_or_addr)
             continue;
         char text[INET_ADDRSTRLEN] = {};
-        const auto* sin = reinterpret_cast<const sockaddr_in*>(it->ifa_addr);
-        inet_ntop(AF_INET, &sin->sin_addr, text, sizeof(text));
+        inet_ntop(AF_INET, &each.address, text, sizeof(text));
         return text;
     }
     throw ConfigError(flag + ": '" + name_or_addr + "' is neither an IPv4 address nor an interface with one");
 }
 
 bool is_this_hosts_address(const std::string& ipv4) {
-    in_addr wanted{};
-    if (inet_pton(AF_INET, ipv4.c_str(), &wanted) != 1)
+    const auto wanted = parse_ipv4(ipv4);
+    if (!wanted)
         return false;
-    if (is_loopback(ipv4))
+    if (is_loopback(*wanted))
         return true;
-    ifaddrs* list = nullptr;
-    if (getifaddrs(&list) != 0)
-        return false;
-    std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> guard(list, freeifaddrs);
-    for (const ifaddrs* it = list; it != nullptr; it = it->ifa_next) {
-        if (it->ifa_addr != nullptr && it->ifa_addr->sa_family == AF_INET &&
-            reinterpret_cast<const sockaddr_in*>(it->ifa_addr)->sin_addr.s_addr == wanted.s_addr)
-            return true;
-    }
-    return false;
+    const auto addresses = interface_addresses();
+    return addresses && std::any_of(addresses->begin(), addresses->end(), [&](const InterfaceAddress& each) {
+               return each.address.s_addr == wanted->s_addr;
+           });
 }
 
 void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport,
@@ -98,14 +123,17 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
         throw ConfigError(transport.discovery_server_flag + " excludes " + transport.peers_flag +
                           ": the server tells each participant of the others");
 
+    std::optional<DiscoveryServerAddress> server;
+    if (!transport.discovery_server.empty())
+        server = parse_discovery_server(transport.discovery_server, transport.discovery_server_flag);
+
     auto udp = std::make_shared<UDPv4TransportDescriptor>();
     std::string bound;
     if (!transport.interface.empty()) {
         bound = resolve_ipv4(transport.interface, transport.interface_flag);
         udp->interfaceWhiteList.push_back(bound);
-        if (!transport.discovery_server.empty())
-            listen_for_a_same_host_server(
-                *udp, bound, parse_discovery_server(transport.discovery_server, transport.discovery_server_flag));
+        if (server)
+            listen_for_a_same_host_server(*udp, bound, *server);
     }
     qos.transport().use_builtin_transports = false;
     qos.transport().user_transports.push_back(udp);
@@ -132,9 +160,8 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
         for (int id = 0; id < SAME_HOST_PEER_PARTICIPANTS; ++id)
             builtin.initialPeersList.push_back(udp_locator(peer, metatraffic_unicast_port(domain, id)));
     }
-    if (!transport.discovery_server.empty())
-        apply_discovery_client(qos, parse_discovery_server(transport.discovery_server, transport.discovery_server_flag),
-                               transport.discovery_role);
+    if (server)
+        apply_discovery_client(qos, *server, transport.discovery_role);
     // Naming a unicast metatraffic locator keeps Fast DDS from adding its default multicast ones; port 0
     // lets it pick the participant's standard port.
     const std::string local = bound.empty() ? std::string("0.0.0.0") : bound;

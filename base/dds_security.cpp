@@ -1,5 +1,7 @@
 #include "base/dds_security.hpp"
 
+#include <algorithm>
+
 namespace tgw::base {
 
 void apply_dds_security(eprosima::fastdds::dds::DomainParticipantQos& qos, const SecurityFiles& files) {
@@ -24,6 +26,12 @@ void apply_dds_security(eprosima::fastdds::dds::DomainParticipantQos& qos, const
     set("dds.sec.access.builtin.Access-Permissions.governance", file(files.governance));
     set("dds.sec.access.builtin.Access-Permissions.permissions", file(files.permissions));
     set("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+}
+
+bool has_dds_security(const eprosima::fastdds::dds::DomainParticipantQos& qos) {
+    const auto& properties = qos.properties().properties();
+    return std::any_of(properties.begin(), properties.end(),
+                       [](const auto& property) { return property.name() == "dds.sec.auth.plugin"; });
 }
 
 }  // namespace tgw::base

@@ -12,4 +12,8 @@ namespace tgw::base {
 /// governance says (here: everything encrypted, no unauthenticated participant) then applies to the participant.
 void apply_dds_security(eprosima::fastdds::dds::DomainParticipantQos& qos, const SecurityFiles& files);
 
+/// Whether `qos` authenticates its participant (apply_dds_security() did, or a profile's properties): its messages
+/// then carry the security submessages (core::WireModel::with_security()).
+bool has_dds_security(const eprosima::fastdds::dds::DomainParticipantQos& qos);
+
 }  // namespace tgw::base

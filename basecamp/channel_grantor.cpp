@@ -105,6 +105,12 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload, std::
     now.sent_ns = status.sent_ns();
     now.unscheduled_wire_bytes = status.unscheduled_wire_bytes();
     now.topics = loads(status);
+    now.uplink_topics = status.uplink_topics();
+    now.uplink_charged = status.uplink_charged();
+    // The camp counts its commands as it sends them (count_commands()): not again in its traffic outside the schedule.
+    const std::uint64_t uplink_charged_bytes = now.uplink_charged ? status.uplink_wire_bytes() : 0;
+    if (now.unscheduled_wire_bytes >= uplink_charged_bytes)
+        now.unscheduled_wire_bytes -= uplink_charged_bytes;
     const std::string key = hex(now.prefix);
     if (meter_ != nullptr)
         meter_->gateway(now.prefix);  // its datagrams cross the channel
@@ -166,6 +172,7 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload, std::
     // swing below what a robot's A and B needed (three robots at 60,000 bit/s: 41 and 109 of 200 A on time in two
     // runs, against 200 and 200).
     const double budget_fraction = status.sensed_rate_bps() > 0 ? status.budget_bps() / status.sensed_rate_bps() : 1.0;
+    now.budget_fraction = budget_fraction > 0 && budget_fraction <= 1.0 ? budget_fraction : 1.0;
     const double floor_bps =
         core::least_share_bps(now.topics, payload.size(), dds::STATUS_TTL, alone, budget_fraction, unscheduled_bps);
     shares_.report(key,
@@ -176,6 +183,36 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload, std::
     while (heard.size() > 1 && heard.back().sent_ns - heard[1].sent_ns >= window_ns)
         heard.pop_front();
     status_heard_.store(true);
+}
+
+void ChannelGrantor::commands_sent(const std::vector<dds::UplinkCount>& counts) {
+    const base::SteadyTime now = clock_.now();
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const dds::UplinkCount& up : counts) {
+        Sent& sent = sent_[up.from_topic];
+        sent.rate.update(now, up.wire_bytes);
+        sent.ttl = up.ttl ? std::optional<base::Duration>(up.ttl->ttl) : std::nullopt;
+    }
+}
+
+void ChannelGrantor::count_commands() {
+    const base::SteadyTime now = clock_.now();
+    for (const auto& [key, heard] : statuses_) {
+        if (heard.empty())
+            continue;
+        const Heard& last = heard.back();
+        // At the commands' most urgent TTL; one without a TTL ranks first, for it leaves whatever the grants say.
+        core::UrgencyDemand camp{base::Duration::max(), 0.0};
+        for (const std::string& topic : last.uplink_topics) {
+            const auto it = sent_.find(topic);
+            if (!last.uplink_charged || it == sent_.end())
+                continue;
+            camp.bps += it->second.rate.bps(now);
+            camp.ttl = std::min(camp.ttl, it->second.ttl.value_or(base::Duration{}));
+        }
+        camp.bps /= last.budget_fraction;
+        shares_.set_camp_traffic(key, camp);
+    }
 }
 
 void ChannelGrantor::arrived(const ParticipantPrefix& sender, base::Duration one_way, std::size_t payload_bytes) {
@@ -213,6 +250,7 @@ void ChannelGrantor::poll() {
     next_grant_ = clock_.now() + GRANT_PERIOD;
     std::lock_guard<std::mutex> lock(mutex_);
     const std::optional<ChannelReading> reading = measure_channel();
+    count_commands();
     last_grants_ = shares_.grants();
     const auto sent_ns = static_cast<std::uint64_t>(base::to_ns(clock_.wall_now()));
     ChannelRecord round = channel_record(sent_ns, reading);

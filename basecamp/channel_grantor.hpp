@@ -17,7 +17,9 @@
 #include "gateway/core/channel_shares.hpp"
 #include "gateway/core/demand_watch.hpp"
 #include "gateway/core/granted_rate.hpp"
+#include "gateway/core/sent_rate.hpp"
 #include "gateway/core/urgency_demand.hpp"
+#include "gateway/dds/uplink.hpp"
 
 namespace eprosima::fastdds::dds {
 class DataWriter;
@@ -65,6 +67,13 @@ class ChannelGrantor {
     /// stamped it (the relay's clock less the gateway's); any thread. Counts only where the channel is measured.
     void arrived(const ParticipantPrefix& sender, base::Duration one_way, std::size_t payload_bytes);
 
+    /// The relay's uplink counts now (`tm-basecamp relay --uplink`): what the camp sends each robot on the channel.
+    /// A gateway whose status says its budget pays for its commands (`--duplex half`) is granted their rate on top
+    /// of its floor and before any telemetry, from the next round on: they take the air whatever it is granted, and
+    /// a grant without room for them starved its telemetry and the statuses that would have asked for more (rover1
+    /// at 11,506 bit/s with 12,320 of commands: 37 of 200 A on time). The relay's thread, before poll().
+    void commands_sent(const std::vector<dds::UplinkCount>& counts);
+
     /// Writes the grants when GRANT_PERIOD has passed since the last, or a status came since: a robot whose demand
     /// rose hears its grant at once (its gateway sends a status when its demand moves); the relay's thread.
     void poll();
@@ -84,7 +93,18 @@ class ChannelGrantor {
         std::uint64_t sent_ns = 0;
         std::uint64_t unscheduled_wire_bytes = 0;  ///< cumulative: its traffic outside the schedule
         std::vector<core::TopicLoad> topics;
+        std::vector<std::string> uplink_topics;  ///< its commands' names at the camp
+        bool uplink_charged = false;             ///< its budget pays for them
+        double budget_fraction = 1.0;            ///< what it budgets of its rate
     };
+    /// What the camp sends on one uplink topic.
+    struct Sent {
+        core::SentRate rate;
+        std::optional<base::Duration> ttl;
+    };
+
+    /// Each gateway's commands, as the camp sends them now, into shares_; under mutex_.
+    void count_commands();
 
     void write_grant(const Prefix& prefix, double bps, std::uint64_t sent_ns);
     /// This round's channel as the recording keeps it, its grants to be added; under mutex_.
@@ -108,7 +128,8 @@ class ChannelGrantor {
     /// Per gateway, its latest statuses: the newest at least core::DEMAND_WINDOW old, and those after it; under
     /// mutex_.
     std::map<std::string, std::deque<Heard>> statuses_;
-    core::ChannelGrants last_grants_;  // under mutex_
+    core::ChannelGrants last_grants_;   // under mutex_
+    std::map<std::string, Sent> sent_;  // by the uplink topic's name; under mutex_
     base::SteadyTime next_grant_{};
     std::atomic<bool> status_heard_{false};  ///< a status came since the grants were last written
 };

@@ -16,6 +16,7 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "base/config_error.hpp"
+#include "base/dds_security.hpp"
 #include "basecamp/compact_unpacker.hpp"
 #include "basecamp/metered_transport.hpp"
 #include "basecamp/receiver_reporter.hpp"
@@ -151,8 +152,10 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
         reporter_ = std::make_unique<ReceiverReporter>(wan_);
     }
     if (!uplink_topics_.empty()) {
-        // Nothing is charged: the camp has no link budget; the gateway counts what crossed.
-        uplink_ = std::make_unique<dds::Uplink>(local_, wan_, clock_, core::WireModel{}, dds::Uplink::Charge{});
+        // Nothing is charged: the camp has no link budget. Its counts tell the grantor what the camp sends each robot.
+        const core::WireModel wire =
+            base::has_dds_security(wan_qos) ? core::WireModel{}.with_security() : core::WireModel{};
+        uplink_ = std::make_unique<dds::Uplink>(local_, wan_, clock_, wire, dds::Uplink::Charge{});
     }
     if (channel_bps > 0) {
         grantor_ = std::make_unique<ChannelGrantor>(wan_, channel_bps, clock_, meter_.get(), &tally_, store_);
@@ -295,6 +298,9 @@ void Relay::run(base::Duration duration, const std::atomic<bool>& stop) {
             compact_->poll();
         }
         if (grantor_) {
+            if (uplink_) {
+                grantor_->commands_sent(uplink_->counts());
+            }
             grantor_->poll();
         }
         for (const dds::DiscoveredPublisher& publisher : local_discovered_.take(std::chrono::milliseconds(0))) {

@@ -97,8 +97,16 @@ void ChannelShares::report(const std::string& robot, std::vector<UrgencyDemand> 
     robots_[robot] = Heard{std::move(demand), floor_bps, clock_.now() + stale_after.value_or(config_.stale_after)};
 }
 
+void ChannelShares::set_camp_traffic(const std::string& robot, UrgencyDemand traffic) {
+    if (traffic.bps > 0)
+        camp_traffic_[robot] = traffic;
+    else
+        camp_traffic_.erase(robot);
+}
+
 void ChannelShares::forget(const std::string& robot) {
     robots_.erase(robot);
+    camp_traffic_.erase(robot);
 }
 
 ChannelGrants ChannelShares::grants() {
@@ -113,6 +121,10 @@ ChannelGrants ChannelShares::grants() {
     for (const auto& [robot, heard] : robots_) {
         demands[robot] = heard.demand;
         floors[robot] = heard.floor_bps;
+        if (const auto camp = camp_traffic_.find(robot); camp != camp_traffic_.end()) {
+            demands[robot].push_back(camp->second);
+            floors[robot] = std::max(heard.floor_bps, config_.floor_bps) + camp->second.bps;
+        }
     }
     return split_channel(capacity_bps_, demands, config_.floor_bps, floors);
 }

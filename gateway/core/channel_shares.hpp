@@ -57,6 +57,11 @@ class ChannelShares {
     /// it holds for `stale_after` (Config::stale_after when nullopt).
     void report(const std::string& robot, std::vector<UrgencyDemand> demand,
                 std::optional<base::Duration> stale_after = std::nullopt, double floor_bps = 0);
+    /// What the base camp itself sends `robot` on the channel now (its commands, where one channel carries both
+    /// directions), at the urgency `traffic.ttl`: it leaves whatever the grants say, so it is added to the robot's
+    /// floor and to its demand, and replaces what was set before (0 bit/s: nothing). It keeps no share of a robot
+    /// not heard from.
+    void set_camp_traffic(const std::string& robot, UrgencyDemand traffic);
     /// Forgets `robot` at once (its gateway restarted under another name): no share until it reports again.
     void forget(const std::string& robot);
     /// The grants of the robots heard from within stale_after; none before set_capacity().
@@ -73,6 +78,7 @@ class ChannelShares {
     const base::Clock& clock_;
     double capacity_bps_ = -1;  ///< negative: not measured yet
     std::map<std::string, Heard> robots_;
+    std::map<std::string, UrgencyDemand> camp_traffic_;
 };
 
 }  // namespace tgw::core

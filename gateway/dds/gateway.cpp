@@ -171,6 +171,8 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     wan.max_datagram_bytes = config_.scheduler.wire.max_datagram_bytes;
     wan.coalesce_window = config_.wan_coalesce_window;
     wan.heartbeat_spacing_bytes = config_.wan_heartbeat_bytes;
+    // The camp's datagrams (its commands) come as its Fast DDS sends them, whatever this end strips from its own.
+    camp_wire_ = wan.security ? config_.scheduler.wire.with_security() : config_.scheduler.wire;
     if (config_.compact_wan) {
         // Only the relay reads this participant's samples, and nothing at all reads the statistics submessage:
         // 60 bytes less in every datagram, bundles and discovery alike.
@@ -309,8 +311,8 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
                 // grant leaves room for the commands the camp sends it on the shared channel.
                 charge = [this](std::uint64_t frame_bytes) { charge_unscheduled(frame_bytes); };
             }
-            uplink_ = std::make_unique<Uplink>(wan_->participant(), robot_->participant(), clock_,
-                                               config_.scheduler.wire, std::move(charge));
+            uplink_ = std::make_unique<Uplink>(wan_->participant(), robot_->participant(), clock_, camp_wire_,
+                                               std::move(charge));
         }
         worker_ = std::thread([this] { run_worker(); });
     } catch (...) {
@@ -880,6 +882,13 @@ void Gateway::publish_status_nts() {
         status.delivered_cap_bps(delivered_cap_bps_);
     }
     status.unscheduled_wire_bytes(unscheduled_wire_bytes_.load());
+    status.uplink_topics(uplink_topics_.wan_topics());
+    status.uplink_charged(config_.uplink_shares_link);
+    std::uint64_t uplink_bytes = 0;
+    for (const UplinkCount& up : uplink_counts()) {
+        uplink_bytes += up.wire_bytes;
+    }
+    status.uplink_wire_bytes(uplink_bytes);
     status.log_samples(logged());
     std::int32_t all_readers = 0;
     if (!rows) {

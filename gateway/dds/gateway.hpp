@@ -291,6 +291,9 @@ class Gateway {
     /// How the WAN participant's callbacks (unscheduled traffic, base-camp writers) reach this object while it lives.
     std::shared_ptr<WanCallbackLink> wan_callbacks_;
     UplinkTopics uplink_topics_;
+    /// What the camp's commands cost on the link: its datagrams as Fast DDS sends them (compact mode strips only
+    /// this end's).
+    core::WireModel camp_wire_;
 
     std::unique_ptr<log::RobotLog> log_;
     std::unique_ptr<ReceiverReportReader> reports_;  ///< before wan_: its reader's listener outlives it

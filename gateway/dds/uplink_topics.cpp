@@ -34,6 +34,14 @@ std::optional<std::string> UplinkTopics::robot_topic(std::string_view wan_topic)
     return std::nullopt;
 }
 
+std::vector<std::string> UplinkTopics::wan_topics() const {
+    std::vector<std::string> out;
+    for (const Route& route : routes_) {
+        out.push_back(route.wan);
+    }
+    return out;
+}
+
 bool uplink_expired(base::WallTime source, base::Duration ttl, base::WallTime now) {
     return now >= source + std::chrono::duration_cast<base::WallClock::duration>(ttl);
 }

@@ -21,6 +21,8 @@ class UplinkTopics {
     /// The robot topic `wan_topic` is the WAN name of, or nullopt when it is not on the list.
     std::optional<std::string> robot_topic(std::string_view wan_topic) const;
     bool empty() const { return routes_.empty(); }
+    /// Every listed topic's WAN name, in the order listed.
+    std::vector<std::string> wan_topics() const;
 
   private:
     struct Route {

@@ -19,6 +19,7 @@
 #include "basecamp/sample_store.hpp"
 #include "gateway/core/granted_rate.hpp"
 #include "gateway/dds/channel_grant_topic.hpp"
+#include "gateway/dds/dds_time.hpp"
 #include "test/integration/relay_fixture.hpp"
 
 namespace tgw::test {
@@ -38,16 +39,21 @@ class ChannelGrantTest : public RelayTest {
         c1.allow = {topic_prefix_ + "hazards"};
         c1.channel_grants = true;
         c1.status_period = 1s;
+        c1.uplink = {topic_prefix_ + "cmd_vel"};  // --duplex half: its budget pays for the camp's commands
         GatewayConfig c2 = c1;
         c2.robot_name = "rover2";
+        c2.uplink = {};
         c2.allow = {topic_prefix_ + "bulk"};
         c2.wan_port = dds::metatraffic_unicast_port(domains_.wan, 62);
         start_gateway(c1);
         rover2_ = std::make_unique<Gateway>(c2, clock_);
         store_path_ = temp_file(".db");
         store_ = std::make_unique<basecamp::SampleStore>(store_path_, "--out", 50);
-        start_relay(store_.get(), 1s, {}, CHANNEL_BPS);
+        start_relay(store_.get(), 1s, {camp_command()}, CHANNEL_BPS);
     }
+
+    /// rover1's command topic at the camp, which the relay carries (relay --uplink).
+    std::string camp_command() const { return "rover1/" + topic_prefix_ + "cmd_vel"; }
 
     void TearDown() override {
         stop_publishing();
@@ -86,6 +92,23 @@ class ChannelGrantTest : public RelayTest {
                 return g1 && g2 && *g1 > 20'000 && *g2 < 10'000;
             },
             timeout);
+        if (ok)
+            return ::testing::AssertionSuccess();
+        return ::testing::AssertionFailure() << "grants: rover1 " << gateway_->granted_bps().value_or(-1) << ", rover2 "
+                                             << rover2_->granted_bps().value_or(-1) << " bit/s";
+    }
+
+    /// rover2 publishes bulk, rover1 nothing: waits up to 30 s for rover1's grant below 6,000 bit/s (its least
+    /// share) and rover2's above 20,000.
+    ::testing::AssertionResult rover1_idle_at_its_least_share() {
+        publish("bulk", 20s, 1016);
+        const bool ok = wait_until(
+            [&] {
+                const auto g1 = gateway_->granted_bps();
+                const auto g2 = rover2_->granted_bps();
+                return g1 && g2 && *g1 < 6'000 && *g2 > 20'000;
+            },
+            30s);
         if (ok)
             return ::testing::AssertionSuccess();
         return ::testing::AssertionFailure() << "grants: rover1 " << gateway_->granted_bps().value_or(-1) << ", rover2 "
@@ -183,18 +206,53 @@ TEST_F(ChannelGrantTest, TheCampRecordsEachRoundOfGrantsUnderTheRobotsNames) {
 // bytes at 95 % of a 3,632 bit/s grant needed 1.05 s, was doomed against its TTL of a second every time, and
 // rover1 kept that grant for the test's 30 s.
 TEST_F(ChannelGrantTest, ARobotGrantedItsLeastShareStillTellsTheCampOfNewHazards) {
-    publish("bulk", 20s, 1016);
-    const bool at_least_share = wait_until(
-        [&] {
-            const auto g1 = gateway_->granted_bps();
-            const auto g2 = rover2_->granted_bps();
-            return g1 && g2 && *g1 < 6'000 && *g2 > 20'000;
-        },
-        30s);
-    ASSERT_TRUE(at_least_share) << "grants: rover1 " << gateway_->granted_bps().value_or(-1) << ", rover2 "
-                                << rover2_->granted_bps().value_or(-1) << " bit/s";
+    ASSERT_TRUE(rover1_idle_at_its_least_share());
     publish("hazards", 1s, 41);
     EXPECT_TRUE(hazards_granted_first(20s));
+}
+
+// The camp sends rover1 commands at 10 Hz (48 bytes, 242 on the wire each: 19,360 bit/s) on the channel, and
+// rover1's gateway pays for them (half duplex). They take the air whatever rover1 is granted: its grant must carry
+// them on top of its least share, though rover2's bulk asks for the whole channel. Without it, in a three-robot
+// run, rover1 stayed at 11,506 bit/s beside its commands, and 37 of 200 of its A were on time; here its grant
+// lapsed (its statuses no longer left).
+TEST_F(ChannelGrantTest, TheCampsCommandsToARobotAreInItsGrant) {
+    ASSERT_TRUE(rover1_idle_at_its_least_share());
+    const double least = *gateway_->granted_bps();
+
+    fdds::DataWriterQos qos = local_->default_writer_qos();  // a camp program's defaults: reliable
+    qos.lifespan().duration = dds::to_dds_duration(200ms);
+    auto& matches = listener<MatchCounter>();
+    auto* commands =
+        local_->make_writer(camp_command(), fdds::TypeSupport(new idl::PaperMessagePubSubType()), qos, &matches);
+    ASSERT_NE(commands, nullptr);
+    ASSERT_TRUE(wait_until([&] { return matches.matched.load() > 0; })) << "the relay never read " << camp_command();
+    publishers_.emplace_back([this, commands] {
+        for (std::uint32_t i = 0; !stop_.load(); ++i) {
+            idl::PaperMessage m;
+            m.sequence_number(i);
+            m.data(std::vector<std::uint8_t>(48, 1));
+            commands->write(&m);
+            std::this_thread::sleep_for(100ms);
+        }
+    });
+    const auto commands_sent_bytes = [&] {
+        const auto up = relay_->uplink_counts();
+        return up.empty() ? std::uint64_t{0} : up.front().wire_bytes;
+    };
+    const bool made_room = wait_until(
+        [&] {
+            const auto g1 = gateway_->granted_bps();
+            return g1 && *g1 > least + 15'000;
+        },
+        30s);
+    EXPECT_TRUE(made_room) << "rover1's grant: " << gateway_->granted_bps().value_or(-1) << " bit/s, " << least
+                           << " before the commands; the relay sent " << commands_sent_bytes() << " bytes of them";
+    EXPECT_GT(gateway_->rate_bps(), least + 15'000) << "what rover1 budgets for";
+    double total = 0;
+    for (const auto& [gateway, bps] : relay_->channel_grants())
+        total += bps;
+    EXPECT_LE(total, CHANNEL_BPS * 1.001);
 }
 
 // A gateway the base camp has no status of (it sends none here) has no grant of its own: it budgets for the

@@ -16,6 +16,12 @@
 # RESTART=0 (not in ctest; the baseline of issue 21's restart target) leaves rover3's gateway running, and checks
 # rover3's A and B as the others'. DISCOVERY=server (not in ctest): the WAN's discovery through Debian's
 # fast-discovery-server at the base camp instead of the peers, with 15 s to settle (fleet_test.sh).
+# COMMANDS=1 (not in ctest; issue 21's commands target): a camp program publishes 10 Hz commands (48 bytes, Lifespan
+# 200 ms) on rt/rover1/cmd_vel on the camp's domain, the relay carries them (--uplink), rover1's gateway delivers
+# them as rt/cmd_vel (--uplink) to a recorder with Fast DDS's defaults on its robot domain; checks that 99 % arrive
+# within their TTL. Under grants rover1's gateway runs --duplex half (its default): the commands' bytes are charged
+# to it and the relay grants them. With equal fixed shares, --duplex full: a fixed share has no room for them, and
+# the testbed's camp -> robot direction is not shaped.
 set -euo pipefail
 BIN=$1
 cd "$(dirname "$0")/../.."
@@ -55,15 +61,28 @@ fi
 if [ "$WAY" = measured ]; then
     relay_flags=(--channel-rate "${CHANNEL_RATE:-120000}" --measure-channel)
 fi
-echo "fleet_three_robots: $WAY shares, discovery by $DISCOVERY"
+COMMANDS=${COMMANDS:-0}
+uplink_flags=()
+if [ "$COMMANDS" = 1 ]; then
+    relay_flags+=(--uplink rt/rover1/cmd_vel)
+    uplink_flags=(--uplink rt/cmd_vel --duplex full)
+    [ "$WAY" = equal ] || uplink_flags=(--uplink rt/cmd_vel --duplex half)
+    "${tb[@]}" robot1 "$BIN/tm-basecamp" record --domain 0 --interface 127.0.0.1 --report-period 0 \
+        --topic rt/cmd_vel --out "$WORK/commands.db" >"$WORK/commands-record.out" 2>&1 &
+    commands_record=$!
+    PIDS+=("$commands_record")
+fi
+echo "fleet_three_robots: $WAY shares, discovery by $DISCOVERY, commands to rover1: $COMMANDS"
 "${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --interface "$basecamp_addr" "${relay_discovery[@]}" \
     --local-domain 2 --local-interface 127.0.0.1 "${relay_flags[@]}" --out "$WORK/camp.db" >"$WORK/relay.out" 2>&1 &
 relay=$!
 PIDS+=("$relay")
 
 start_gateway() {  # K OUTPUT_NAME: rover K's gateway; sets gateway_pid
+    local uplink=()
+    [ "$1" != 1 ] || uplink=("${uplink_flags[@]}")
     "${tb[@]}" "robot$1" "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-interface "$(robot_address "$1")" \
-        "${gateway_discovery[@]}" --robot-name "rover$1" --wan-mode compact \
+        "${gateway_discovery[@]}" --robot-name "rover$1" --wan-mode compact "${uplink[@]}" \
         --sensor "fixed:$SHARE" "${grant_flags[@]}" --qos qos/paper_workload.xml --log "$WORK/$2.db" \
         >"$WORK/$2.out" 2>&1 &
     gateway_pid=$!
@@ -84,6 +103,13 @@ for k in $(seq 1 "$ROBOTS"); do
     sims+=("$!")
     PIDS+=("$!")
 done
+if [ "$COMMANDS" = 1 ]; then
+    printf 'cmd rt/rover1/cmd_vel 48 0.2 10\n' >"$WORK/commands.workload"
+    "${tb[@]}" basecamp "$BIN/tm-robot-sim" --domain 2 --interface 127.0.0.1 --workload "$WORK/commands.workload" \
+        --duration "$DURATION" --linger 0 --wait-match 10 >"$WORK/commands.out" 2>&1 &
+    commands=$!
+    PIDS+=("$commands")
+fi
 sleep "$CAMERA_AT"
 printf 'P camera/image 6000 5 1\n' >"$WORK/camera.workload"
 "${tb[@]}" robot2 "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload "$WORK/camera.workload" \
@@ -100,8 +126,12 @@ if [ "$RESTART" = 1 ]; then
     gateways[2]=$gateway_pid
 fi
 
-for pid in "${sims[@]}" "$camera"; do wait "$pid" || true; done
+for pid in "${sims[@]}" "$camera" ${commands:+"$commands"}; do wait "$pid" || true; done
 finish_fleet "$relay" "${gateways[@]}"
+if [ "$COMMANDS" = 1 ]; then
+    kill -TERM "$commands_record" 2>/dev/null || true
+    wait "$commands_record" 2>/dev/null || true
+fi
 
 published() {  # K TOPIC: what rover K's tm-robot-sim published of TOPIC
     awk -v t="$2" '$2 == t { print $5; exit }' "$WORK/sim$1.out"
@@ -136,6 +166,18 @@ if [ "$RESTART" = 1 ]; then
     read -r _ _ _ received3 _ <<<"$(row "rover3/telemetry/A")" || true
     check "rover3/telemetry/A reached the base camp (${received3:-0})" "a >= 100" "${received3:-0}"
 fi
+if [ "$COMMANDS" = 1 ]; then
+    written=$(awk '$2 == "rt/rover1/cmd_vel" { print $5 }' "$WORK/commands.out")
+    "$BIN/tm-basecamp" report "$WORK/commands.db" --offered "rt/cmd_vel=${written:-0}" >"$WORK/commands-report.txt" \
+        2>&1 || true
+    cat "$WORK/commands-report.txt"
+    read -r _ _ offered_n received on_time _ <<<"$(awk '$1 == "rt/cmd_vel" && (NF == 9 || NF == 10) { print; exit }' \
+        "$WORK/commands-report.txt")" || true
+    check "rt/cmd_vel on rover1: ${on_time:-0} of ${offered_n:-0} within their TTL (${received:-0} received)" \
+        "b >= 0.9 * 10 * $DURATION && a >= 0.99 * b" "${on_time:-0}" "${offered_n:-0}"
+    grep '^  uplink rt/rover1/cmd_vel: ' "$WORK/relay.out" || true
+    grep '^uplink rt/rover1/cmd_vel -> rt/cmd_vel: ' "$WORK/gateway1.out" || true
+fi
 # The robot column, from the gateways' status recorded at the camp.
 for k in $(seq 1 "$ROBOTS"); do
     robot=$(row "rover$k/telemetry/A" | awk '{ print $10 }')
@@ -144,7 +186,7 @@ done
 
 if [ "$fail" -ne 0 ]; then
     for f in server.out relay.out gateway1.out gateway2.out gateway3.out gateway3-restarted.out sim1.out sim2.out sim3.out \
-        camera.out tc.txt; do
+        camera.out commands.out commands-record.out tc.txt; do
         [ -f "$WORK/$f" ] || continue
         echo "--- $f"
         cat "$WORK/$f"

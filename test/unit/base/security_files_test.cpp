@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "base/dds_security.hpp"
 #include "base/security_files.hpp"
 #include "test/fakes/config_error_of.hpp"
 
@@ -70,6 +71,14 @@ TEST_F(SecurityFilesTest, AcceptsEachIdentityMakeCertsMade) {
     for (const char* name : {"gateway", "basecamp", "limited", "intruder"}) {
         EXPECT_EQ(load_error(identity(name).string()), "<no error>") << name;
     }
+}
+
+// The relay sizes the commands it sends by whether its WAN participant is secured.
+TEST_F(SecurityFilesTest, AParticipantIsSecuredOnceTheIdentityIsApplied) {
+    eprosima::fastdds::dds::DomainParticipantQos qos;
+    EXPECT_FALSE(has_dds_security(qos));
+    apply_dds_security(qos, SecurityFiles::load(identity("basecamp").string(), "--security"));
+    EXPECT_TRUE(has_dds_security(qos));
 }
 
 TEST_F(SecurityFilesTest, GivesEachFileAsAnAbsolutePath) {

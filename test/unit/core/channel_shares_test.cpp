@@ -167,6 +167,42 @@ TEST_F(ChannelSharesTest, AForgottenRobotLeavesItsShareAtOnce) {
     EXPECT_DOUBLE_EQ(grants.at("other"), 30'000);
 }
 
+// rover1's base camp sends it 12,000 bit/s of commands on the same channel: they take the air whatever the grants
+// say, so rover1's grant carries them on top of its floor, before any robot's telemetry.
+TEST_F(ChannelSharesTest, WhatTheCampSendsARobotIsInItsGrantBeforeAnyTelemetry) {
+    shares_.set_capacity(30'000);
+    shares_.report("rover1", {{A_TTL, 10'000}});
+    shares_.report("rover2", {{D_TTL, 40'000}});
+    shares_.set_camp_traffic("rover1", {200ms, 12'000});
+    ChannelGrants grants = shares_.grants();
+    // Floors 13,000 (1,000 and the commands) and 1,000; then rover1's A, 9,000 more; rover2 the 7,000 left.
+    EXPECT_DOUBLE_EQ(grants.at("rover1"), 12'000 + 10'000);
+    EXPECT_DOUBLE_EQ(grants.at("rover2"), 8'000);
+    // Even where the telemetry's demand alone would fill the channel.
+    shares_.report("rover2", {{A_TTL, 40'000}});
+    grants = shares_.grants();
+    EXPECT_GE(grants.at("rover1"), 12'000 + 1'000);
+    EXPECT_LE(grants.at("rover1") + grants.at("rover2"), 30'000 * (1 + 1e-9));
+    // The commands stopped.
+    shares_.set_camp_traffic("rover1", {200ms, 0});
+    shares_.report("rover2", {{D_TTL, 40'000}});
+    EXPECT_DOUBLE_EQ(shares_.grants().at("rover1"), 10'000);
+}
+
+TEST_F(ChannelSharesTest, WhatTheCampSendsKeepsNoShareForARobotNotHeardFrom) {
+    shares_.set_capacity(30'000);
+    shares_.set_camp_traffic("unknown", {200ms, 12'000});
+    shares_.report("rover2", {{D_TTL, 40'000}});
+    EXPECT_EQ(shares_.grants().count("unknown"), 0u);
+    shares_.report("rover1", {{A_TTL, 10'000}});
+    shares_.set_camp_traffic("rover1", {200ms, 12'000});
+    clock_.advance(6s);
+    shares_.report("rover2", {{D_TTL, 40'000}});
+    const ChannelGrants grants = shares_.grants();
+    EXPECT_EQ(grants.count("rover1"), 0u);
+    EXPECT_DOUBLE_EQ(grants.at("rover2"), 30'000);
+}
+
 TEST_F(ChannelSharesTest, NothingIsGrantedBeforeTheChannelIsMeasured) {
     shares_.report("rover1", {{A_TTL, 10'000}});
     EXPECT_TRUE(shares_.grants().empty());

@@ -1,5 +1,6 @@
 #include "basecamp/channel_grantor.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -192,11 +193,25 @@ void ChannelGrantor::commands_sent(const std::vector<dds::UplinkCount>& counts) 
         Sent& sent = sent_[up.from_topic];
         sent.rate.update(now, up.wire_bytes);
         sent.ttl = up.ttl ? std::optional<base::Duration>(up.ttl->ttl) : std::nullopt;
+        if (meter_ != nullptr && up.wire_bytes > sent.wire_bytes && charged(up.from_topic))
+            meter_->camp_sent(up.wire_bytes - sent.wire_bytes);
+        sent.wire_bytes = up.wire_bytes;
     }
 }
 
-void ChannelGrantor::count_commands() {
+bool ChannelGrantor::charged(const std::string& topic) const {
+    return std::any_of(statuses_.begin(), statuses_.end(), [&](const auto& gateway) {
+        const std::deque<Heard>& heard = gateway.second;
+        return !heard.empty() && heard.back().uplink_charged &&
+               std::find(heard.back().uplink_topics.begin(), heard.back().uplink_topics.end(), topic) !=
+                   heard.back().uplink_topics.end();
+    });
+}
+
+bool ChannelGrantor::count_commands() {
     const base::SteadyTime now = clock_.now();
+    bool moved = false;
+    camp_now_.clear();
     for (const auto& [key, heard] : statuses_) {
         if (heard.empty())
             continue;
@@ -212,7 +227,14 @@ void ChannelGrantor::count_commands() {
         }
         camp.bps /= last.budget_fraction;
         shares_.set_camp_traffic(key, camp);
+        camp_now_[key] = camp;
+        std::vector<core::UrgencyDemand> granted;
+        if (const auto it = camp_granted_.find(key); it != camp_granted_.end())
+            granted.push_back(it->second);
+        const core::DemandWatch::Config watch;  // as a gateway tells its own demand's moves
+        moved = moved || core::demand_changed(granted, {camp}, watch.fraction, watch.floor_bps);
     }
+    return moved;
 }
 
 void ChannelGrantor::arrived(const ParticipantPrefix& sender, base::Duration one_way, std::size_t payload_bytes) {
@@ -245,13 +267,14 @@ std::optional<ChannelReading> ChannelGrantor::measure_channel() {
 
 void ChannelGrantor::poll() {
     const bool heard = status_heard_.exchange(false);
-    if (!heard && clock_.now() < next_grant_)
+    std::lock_guard<std::mutex> lock(mutex_);
+    const bool commands_moved = count_commands();
+    if (!heard && !commands_moved && clock_.now() < next_grant_)
         return;
     next_grant_ = clock_.now() + GRANT_PERIOD;
-    std::lock_guard<std::mutex> lock(mutex_);
     const std::optional<ChannelReading> reading = measure_channel();
-    count_commands();
     last_grants_ = shares_.grants();
+    camp_granted_ = camp_now_;
     const auto sent_ns = static_cast<std::uint64_t>(base::to_ns(clock_.wall_now()));
     ChannelRecord round = channel_record(sent_ns, reading);
     for (const auto& [key, bps] : last_grants_) {

@@ -101,10 +101,15 @@ class ChannelGrantor {
     struct Sent {
         core::SentRate rate;
         std::optional<base::Duration> ttl;
+        std::uint64_t wire_bytes = 0;  ///< so far
     };
 
-    /// Each gateway's commands, as the camp sends them now, into shares_; under mutex_.
-    void count_commands();
+    /// Whether a gateway heard from pays for the camp's commands on `topic`; under mutex_.
+    bool charged(const std::string& topic) const;
+    /// Each gateway's commands, as the camp sends them now, into shares_. True when a gateway's moved by more than
+    /// a quarter (and 1,000 bit/s) since the last grants: commands that begin must not wait for the next round,
+    /// for they take the air at once. Under mutex_.
+    bool count_commands();
 
     void write_grant(const Prefix& prefix, double bps, std::uint64_t sent_ns);
     /// This round's channel as the recording keeps it, its grants to be added; under mutex_.
@@ -130,6 +135,9 @@ class ChannelGrantor {
     std::map<std::string, std::deque<Heard>> statuses_;
     core::ChannelGrants last_grants_;   // under mutex_
     std::map<std::string, Sent> sent_;  // by the uplink topic's name; under mutex_
+    /// By gateway: the camp's commands now, and as the last grants counted them; under mutex_.
+    std::map<std::string, core::UrgencyDemand> camp_now_;
+    std::map<std::string, core::UrgencyDemand> camp_granted_;
     base::SteadyTime next_grant_{};
     std::atomic<bool> status_heard_{false};  ///< a status came since the grants were last written
 };

@@ -67,6 +67,11 @@ void ChannelMeter::stamped_sample(const ParticipantPrefix& sender, base::Duratio
     estimate_.arrived(key_of(sender), one_way, wire_bytes);
 }
 
+void ChannelMeter::camp_sent(std::uint64_t wire_bytes) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    delivered_wire_bytes_ += wire_bytes;
+}
+
 ChannelReading ChannelMeter::measure(std::uint64_t lost_samples, double granted_bps) {
     std::lock_guard<std::mutex> lock(mutex_);
     estimate_.update(delivered_wire_bytes_, lost_datagrams_ + lost_samples, granted_bps);

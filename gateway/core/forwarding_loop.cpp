@@ -74,10 +74,10 @@ void ForwardingLoop::submit(Sample&& sample) {
     write_outbox(lock);
 }
 
-void ForwardingLoop::set_rate(double rate_bps) {
+void ForwardingLoop::set_rate(double rate_bps, double steady_outside_bps) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        scheduler_.set_rate(rate_bps);
+        scheduler_.set_rate(rate_bps, steady_outside_bps);
         kick_nts();
     }
 }

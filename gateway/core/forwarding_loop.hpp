@@ -41,7 +41,8 @@ class ForwardingLoop {
     std::optional<TopicCounters> retire_topic(TopicId topic, bool reusable);
     void set_ttl(TopicId topic, base::Duration ttl);
     void submit(Sample&& sample);
-    void set_rate(double rate_bps);
+    /// See Scheduler::set_rate.
+    void set_rate(double rate_bps, double steady_outside_bps = 0.0);
     /// See Scheduler::set_reachable.
     void set_reachable(TopicId topic, bool reachable);
     /// See Scheduler::charge_link.

@@ -57,9 +57,10 @@ Scheduler::Scheduler(const SchedulerConfig& config)
       sensed_rate_bps_(config.initial_rate_bps),
       budget_(config.initial_rate_bps * config.budget_fraction, config.lead) {}
 
-void Scheduler::set_rate(double sensed_rate_bps) {
+void Scheduler::set_rate(double sensed_rate_bps, double steady_outside_bps) {
     sensed_rate_bps_ = sensed_rate_bps;
-    const double budget_rate_bps = sensed_rate_bps * config_.budget_fraction;
+    const double budget_rate_bps = std::max(sensed_rate_bps * config_.budget_fraction - steady_outside_bps,
+                                            sensed_rate_bps * config_.budget_fraction * MIN_SCHEDULED_SHARE);
     if (budget_rate_bps != budget_.rate_bps()) {
         budget_.set_rate(budget_rate_bps);
         protect_valid_ = false;  // the limits are in wire time at the rate

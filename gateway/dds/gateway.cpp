@@ -309,7 +309,10 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
             if (config_.uplink_shares_link) {
                 // Outside the schedule, as discovery is: so the status tells the base camp's grantor, and a robot's
                 // grant leaves room for the commands the camp sends it on the shared channel.
-                charge = [this](std::uint64_t frame_bytes) { charge_unscheduled(frame_bytes); };
+                charge = [this](std::uint64_t frame_bytes) {
+                    commands_charged_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
+                    charge_unscheduled(frame_bytes);
+                };
             }
             uplink_ = std::make_unique<Uplink>(wan_->participant(), robot_->participant(), clock_, camp_wire_,
                                                std::move(charge));
@@ -415,7 +418,14 @@ void Gateway::apply_rate() {
     // Logged here, not where a reading comes: under grants the rate the gateway goes by moves with each grant.
     const double sensed = sensed_rate_bps_.load();
     const double rate = grants_ ? core::granted_rate_bps(sensed, grants_->view(), least_share_bps_.load()) : sensed;
-    loop_->set_rate(rate);
+    double commands_bps = 0;
+    {
+        // The camp's commands take their part of the rate steadily, as long as they come (half duplex).
+        std::lock_guard<std::mutex> lock(commands_mutex_);
+        commands_rate_.update(clock_.now(), commands_charged_bytes_.load(std::memory_order_relaxed));
+        commands_bps = commands_rate_.bps(clock_.now());
+    }
+    loop_->set_rate(rate, commands_bps);
     log_rate(sensed, rate);
 }
 

@@ -19,6 +19,7 @@
 #include "gateway/core/forwarding_loop.hpp"
 #include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/scheduler.hpp"
+#include "gateway/core/sent_rate.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
@@ -315,6 +316,10 @@ class Gateway {
     std::unique_ptr<RobotParticipant> robot_;
     std::unique_ptr<Uplink> uplink_;  ///< with --uplink; closed by stop(), before robot_ goes
     std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};
+    /// Of them, the camp's commands (--duplex half), and their rate lately: the schedule leaves it to them.
+    std::atomic<std::uint64_t> commands_charged_bytes_{0};
+    std::mutex commands_mutex_;
+    core::SentRate commands_rate_;               // under commands_mutex_
     std::atomic<double> sensed_rate_bps_{0};     ///< the sensor's last rate; 0 before the first
     std::shared_ptr<WanWriter> status_writer_;   ///< standard WAN mode
     std::optional<core::TopicId> status_topic_;  ///< with a status period

@@ -79,6 +79,18 @@ TEST_F(ChannelMeterTest, CountsEveryDatagramAndReadsTheStampsOfThoseThatHaveOne)
     EXPECT_TRUE(meter_.reading().queueing.has_value()) << "the stamped datagram's delay";
 }
 
+// Commands the camp sends on a half-duplex channel took its air as the robots' datagrams did.
+TEST_F(ChannelMeterTest, WhatTheCampSentOnTheChannelCountsAsDelivered) {
+    meter_.measure(0, 0);
+    clock_.advance(1s);
+    const Bytes stamped = datagram(1, 1, clock_.wall_now());
+    receive(stamped);
+    meter_.camp_sent(2'420);
+    meter_.measure(0, 0);
+    EXPECT_NEAR(*meter_.reading().delivered_bps, 8.0 * (stamped.size() + 42 + 2'420), 1);
+    EXPECT_EQ(meter_.reading().datagrams, 1u) << "no datagram of its own received";
+}
+
 TEST_F(ChannelMeterTest, GapsInASendersSequenceToOneDestinationAreLostDatagrams) {
     const base::WallTime now = clock_.wall_now();
     for (std::uint64_t sequence : {1, 2, 5, 6}) {

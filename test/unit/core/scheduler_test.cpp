@@ -408,6 +408,35 @@ TEST_F(SchedulerTest, TheUnspentRestOfTheRateCoversOutsideTrafficThatFitsInIt) {
     EXPECT_EQ(sink.forwarded().size(), 2u);
 }
 
+// The base camp's commands at 10 Hz (1,936 bits on the wire each) on a half-duplex 30,000 bit/s link, told as
+// 20,000 bit/s of steady traffic from outside: the budget spends the rest, and the commands, charged as they come,
+// fall to what it leaves them. A hazard every 200 ms leaves the moment it comes, every time.
+TEST_F(SchedulerTest, SteadyTrafficFromOutsideIsLeftItsRateAndHoldsNoSample) {
+    make_sut(PolicyKind::ttl, 30'000);
+    sut->set_rate(30'000, 20'000);
+    EXPECT_DOUBLE_EQ(sut->budget_rate_bps(), 10'000);
+    sut->charge_link(clock.now(), 0);  // the reserve starts filling now
+    for (int i = 1; i <= 50; ++i) {
+        clock.advance(milliseconds(100));
+        sut->charge_link(clock.now(), 1'936);
+        if (i % 2 == 0) {
+            push(a, 41);
+            release();
+            EXPECT_EQ(sink.forwarded().size(), static_cast<std::size_t>(i / 2)) << "held at " << i * 100 << " ms";
+        }
+    }
+    // The same commands charged against the whole budget hold the hazards back.
+    make_sut(PolicyKind::ttl, 10'000);
+    const std::size_t before = sink.forwarded().size();
+    sut->charge_link(clock.now(), 1'936);
+    push(a, 41);
+    release();
+    EXPECT_EQ(sink.forwarded().size(), before);
+    // Whatever comes from outside, the samples keep a part of the budget.
+    sut->set_rate(30'000, 50'000);
+    EXPECT_DOUBLE_EQ(sut->budget_rate_bps(), 30'000 * Scheduler::MIN_SCHEDULED_SHARE);
+}
+
 TEST_F(SchedulerTest, WaitsForABacklogSeenInTheLinkToDrain) {
     make_sut(PolicyKind::ttl, 10'000);
     sut->observe_link_backlog(clock.now(), 3'000);  // 300 ms of someone else's traffic in the shaper

@@ -99,6 +99,9 @@ int main(int argc, char** argv) {
     topic.matched_readers(1);
     topic.active_ms(60'000);
     status.topics().push_back(topic);
+    status.uplink_topics({"rt/rover1/cmd_vel"});
+    status.uplink_charged(true);
+    status.uplink_wire_bytes(9680);
     add("tgw/status", "tgw::idl::GatewayStatus",
         tgw::test::fastcdr_payload(status, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS));
 
@@ -127,7 +130,8 @@ int main(int argc, char** argv) {
                              "expired": "2",
                              "doomed": "0", "evicted": "0", "oversize": "0", "shutdown": "0", "write_failed": "0",
                              "no_reader": "0",
-                             "matched_readers": 1, "active_ms": 60000}]}
+                             "matched_readers": 1, "active_ms": 60000}],
+                 "uplink_topics": ["rt/rover1/cmd_vel"], "uplink_charged": true, "uplink_wire_bytes": "9680"}
 }
 )";
     return out ? 0 : 1;

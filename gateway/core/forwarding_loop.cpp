@@ -74,6 +74,22 @@ void ForwardingLoop::submit(Sample&& sample) {
     write_outbox(lock);
 }
 
+void ForwardingLoop::submit_repair(const Repair& repair) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (stopped_) {
+        lock.unlock();                    // the sink is never called with the lock held
+        sink_.discard_repair(repair.id);  // never sent after shutdown
+        return;
+    }
+    scheduler_.push_repair(repair, clock_.now(), decisions());
+    kick_nts();
+}
+
+RepairCounters ForwardingLoop::repair_counters() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return scheduler_.repair_counters();
+}
+
 void ForwardingLoop::set_rate(double rate_bps, double steady_outside_bps) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -156,6 +172,12 @@ void ForwardingLoop::write_decisions() {
             }
             case WriteOutbox::Decision::Kind::bundle:
                 write_bundle(*d.bundle);
+                break;
+            case WriteOutbox::Decision::Kind::send_repair:
+                sink_.send_repair(d.repair_id);
+                break;
+            case WriteOutbox::Decision::Kind::discard_repair:
+                sink_.discard_repair(d.repair_id);
                 break;
         }
     }

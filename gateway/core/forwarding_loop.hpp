@@ -41,6 +41,10 @@ class ForwardingLoop {
     std::optional<TopicCounters> retire_topic(TopicId topic, bool reusable);
     void set_ttl(TopicId topic, base::Duration ttl);
     void submit(Sample&& sample);
+    /// See Scheduler::push_repair. Decides nothing in the calling thread (Fast DDS's, holding its writer's lock):
+    /// the loop's thread sends or discards it.
+    void submit_repair(const Repair& repair);
+    RepairCounters repair_counters() const;
     /// See Scheduler::set_rate.
     void set_rate(double rate_bps, double steady_outside_bps = 0.0);
     /// See Scheduler::set_reachable.

@@ -51,6 +51,10 @@ class SampleSink {
     /// A chunked sample's last chunk went in the bundle just forwarded: here is the sample whole. A sink that
     /// writes later keeps it until that bundle is written, to log it whole should any of its chunks fail.
     virtual void chunked_sample_left(Sample&& /*whole*/) {}
+    /// The budget admitted the repair of this id (Scheduler::push_repair): send its bytes now.
+    virtual void send_repair(std::uint64_t /*id*/) {}
+    /// The repair of this id will not be sent: forget its bytes.
+    virtual void discard_repair(std::uint64_t /*id*/) {}
 };
 
 }  // namespace tgw::core

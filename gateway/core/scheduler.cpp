@@ -229,6 +229,75 @@ std::uint64_t Scheduler::alone_wire_bits(const Sample& sample) const {
             BundleBuilder::Entry::of(sample.topic, sample.route, sample.source_time, sample.payload, sample.key.valid));
 }
 
+void Scheduler::push_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink) {
+    ++repair_counters_.received;
+    switch (config_.policy) {
+        case PolicyKind::fifo:
+            send_repair_now(repair, sink);
+            return;
+        case PolicyKind::paper:
+            charge_link(now, repair.wire_bits);
+            send_repair_now(repair, sink);
+            return;
+        case PolicyKind::ttl:
+        case PolicyKind::edf:
+            break;
+    }
+    if (repair.deadline <= now + config_.link_latency) {
+        discard_repair(repair, true, sink);
+        return;
+    }
+    repairs_.push(repair, rank_of(repair.topic));
+    ++repair_counters_.queued;
+    if (repairs_.size() > MAX_QUEUED_REPAIRS) {
+        --repair_counters_.queued;
+        discard_repair(repairs_.take(repairs_.least_urgent()), false, sink);
+    }
+}
+
+bool Scheduler::send_repair_before(const std::optional<UrgencyKey>& bound, base::SteadyTime now, base::SteadyTime start,
+                                   SampleSink& sink) {
+    for (auto it = repairs_.begin(); it != repairs_.end();) {
+        const RepairQueue::Entry& entry = *it;
+        if (bound &&
+            (entry.rank > bound->rank || (entry.rank == bound->rank && entry.repair.deadline >= bound->deadline))) {
+            return false;
+        }
+        const base::Duration tx = budget_.transmit_time(entry.repair.wire_bits);
+        const auto next = std::next(it);
+        if (start + tx + config_.link_latency > entry.repair.deadline) {
+            --repair_counters_.queued;
+            discard_repair(repairs_.take(it), true, sink);
+            it = next;
+            continue;
+        }
+        if (tx > protect_limit_for(entry.repair.topic)) {
+            // As a sample held back by the non-preemptive rule: looked at again when it must go or give up.
+            const base::SteadyTime give_up = entry.repair.deadline - tx - config_.link_latency + base::Duration(1);
+            blocked_wakeup_ = blocked_wakeup_ ? std::min(*blocked_wakeup_, give_up) : give_up;
+            it = next;
+            continue;
+        }
+        --repair_counters_.queued;
+        const Repair repair = repairs_.take(it);
+        budget_.charge(now, repair.wire_bits);
+        send_repair_now(repair, sink);
+        return true;
+    }
+    return false;
+}
+
+void Scheduler::send_repair_now(const Repair& repair, SampleSink& sink) {
+    ++repair_counters_.sent;
+    repair_counters_.sent_wire_bytes += repair.wire_bits / 8;
+    sink.send_repair(repair.id);
+}
+
+void Scheduler::discard_repair(const Repair& repair, bool late, SampleSink& sink) {
+    ++(late ? repair_counters_.late : repair_counters_.discarded);
+    sink.discard_repair(repair.id);
+}
+
 void Scheduler::release(base::SteadyTime now, SampleSink& sink) {
     expire(now, sink);
     switch (config_.policy) {
@@ -298,6 +367,14 @@ void Scheduler::expire(base::SteadyTime now, SampleSink& sink) {
         const TopicId topic = queue_.at(queue_.earliest_deadline()).topic;
         drop(take(queue_.earliest_deadline()), topics_[topic].reachable ? DropReason::expired : DropReason::no_reader,
              sink);
+    }
+    for (auto it = repairs_.begin(); it != repairs_.end();) {
+        const auto next = std::next(it);
+        if (it->repair.deadline <= now) {
+            --repair_counters_.queued;
+            discard_repair(repairs_.take(it), true, sink);
+        }
+        it = next;
     }
 }
 
@@ -375,7 +452,7 @@ bool Scheduler::may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std:
 
 void Scheduler::release_by_deadline(base::SteadyTime now, SampleSink& sink) {
     blocked_wakeup_.reset();
-    if ((queue_.empty() && !chunked_) || !budget_.can_send(now)) {
+    if ((queue_.empty() && !chunked_ && repairs_.empty()) || !budget_.can_send(now)) {
         return;
     }
     // The link is non-preemptive: a sample on the wire holds it for its whole wire time. Protect the most
@@ -386,15 +463,21 @@ void Scheduler::release_by_deadline(base::SteadyTime now, SampleSink& sink) {
         return;
     }
 
-    while (!queue_.empty() && budget_.can_send(now)) {
+    while ((!queue_.empty() || !repairs_.empty()) && budget_.can_send(now)) {
         const base::SteadyTime start = std::max(now, budget_.busy_until());
         const bool first_waits = first_yields(start).has_value();
         bool sent = false;
         queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
-            if (first_waits && topics_[queue_.at(slot).topic].config.first) {
+            const DeadlineQueue::Peek peek = queue_.at(slot);
+            if (!repairs_.empty() &&
+                send_repair_before(UrgencyKey{rank_of(peek.topic), peek.deadline}, now, start, sink)) {
+                sent = true;
+                return false;
+            }
+            if (first_waits && topics_[peek.topic].config.first) {
                 return true;
             }
-            const std::uint64_t bits = wire_bits(queue_.at(slot).payload_bytes);
+            const std::uint64_t bits = wire_bits(peek.payload_bytes);
             if (!may_start(slot, start, bits, sink)) {
                 return true;
             }
@@ -403,6 +486,9 @@ void Scheduler::release_by_deadline(base::SteadyTime now, SampleSink& sink) {
             sent = true;
             return false;
         });
+        if (!sent && !repairs_.empty()) {
+            sent = send_repair_before(std::nullopt, now, start, sink);
+        }
         if (!sent) {
             break;
         }
@@ -411,11 +497,25 @@ void Scheduler::release_by_deadline(base::SteadyTime now, SampleSink& sink) {
 
 void Scheduler::release_bundles(base::SteadyTime now, SampleSink& sink) {
     BundleBuilder bundle(config_.wire);
-    while ((!queue_.empty() || chunked_) && budget_.can_send(now)) {
+    while ((!queue_.empty() || chunked_ || !repairs_.empty()) && budget_.can_send(now)) {
         const base::SteadyTime start = std::max(now, budget_.busy_until());
+        if (!repairs_.empty()) {
+            std::optional<UrgencyKey> most_urgent;
+            queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
+                const DeadlineQueue::Peek peek = queue_.at(slot);
+                most_urgent = UrgencyKey{rank_of(peek.topic), peek.deadline};
+                return false;
+            });
+            if (send_repair_before(most_urgent, now, start, sink)) {
+                continue;
+            }
+        }
         bundle.clear();
         std::vector<Sample> samples = fill_bundle(start, bundle, sink);
         if (samples.empty()) {
+            if (!repairs_.empty() && send_repair_before(std::nullopt, now, start, sink)) {
+                continue;
+            }
             break;
         }
         const std::uint64_t most_bits = bundle.wire_bits(bundle.encoded_bytes());
@@ -763,12 +863,15 @@ void Scheduler::release_paper_period(base::SteadyTime now, SampleSink& sink) {
 }
 
 std::optional<base::SteadyTime> Scheduler::next_wakeup(base::SteadyTime now) const {
-    if (queue_.empty() && !chunked_) {
+    if (queue_.empty() && !chunked_ && repairs_.empty()) {
         return std::nullopt;
     }
     base::SteadyTime next = base::SteadyTime::max();
     if (!queue_.empty()) {
         next = queue_.at(queue_.earliest_deadline()).deadline;
+    }
+    if (const auto repair_due = repairs_.earliest_deadline()) {
+        next = std::min(next, *repair_due);
     }
     if (chunked_) {
         next = std::min(next, chunked_->sample.deadline);
@@ -829,6 +932,10 @@ void Scheduler::drain(SampleSink& sink, DropReason reason) {
     }
     while (!queue_.empty()) {
         drop(take(queue_.earliest_deadline()), reason, sink);  // parked ones too
+    }
+    while (!repairs_.empty()) {
+        --repair_counters_.queued;
+        discard_repair(repairs_.take(repairs_.begin()), false, sink);
     }
 }
 

@@ -10,6 +10,7 @@
 #include "gateway/core/decaying_rate.hpp"
 #include "gateway/core/link_budget.hpp"
 #include "gateway/core/policy_kind.hpp"
+#include "gateway/core/repair_queue.hpp"
 #include "gateway/core/sample_sink.hpp"
 #include "gateway/core/topic_counters.hpp"
 #include "gateway/core/wire_model.hpp"
@@ -103,6 +104,15 @@ class Scheduler {
 
     /// One scheduling step at `now`.
     void release(base::SteadyTime now, SampleSink& sink);
+
+    /// Take a repair in (see Repair): it goes in the order of urgency of the sample it repairs, when the budget
+    /// admits its wire bits, and only while it can still arrive before that sample's deadline; else it goes to
+    /// `sink.discard_repair`. Under `fifo` and `paper`, which keep no order on the link, it is sent at once (`paper`
+    /// charges it as traffic from outside). Repairs never count as samples received or forwarded.
+    void push_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink);
+    const RepairCounters& repair_counters() const { return repair_counters_; }
+    /// At most this many repairs wait; past it, the least urgent is discarded.
+    static constexpr std::size_t MAX_QUEUED_REPAIRS = 4096;
 
     /// When release() has something to do next, absent new samples or rate changes; nullopt if nothing.
     std::optional<base::SteadyTime> next_wakeup(base::SteadyTime now) const;
@@ -266,6 +276,17 @@ class Scheduler {
     /// holds it back when its wire time would cost the most urgent topic its deadline. True if it may go.
     bool may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std::uint64_t bits, SampleSink& sink);
     void release_paper_period(base::SteadyTime now, SampleSink& sink);
+    /// Where a queued sample stands in the order of urgency, for repairs to be compared with.
+    struct UrgencyKey {
+        std::int64_t rank;
+        base::SteadyTime deadline;
+    };
+    /// Sends the most urgent repair that is more urgent than `bound` (any, for nullopt) and may start at `start`;
+    /// discards on the way those that can no longer arrive in time. True when one was sent.
+    bool send_repair_before(const std::optional<UrgencyKey>& bound, base::SteadyTime now, base::SteadyTime start,
+                            SampleSink& sink);
+    void send_repair_now(const Repair& repair, SampleSink& sink);
+    void discard_repair(const Repair& repair, bool late, SampleSink& sink);
 
     SchedulerConfig config_;
     std::vector<TopicState> topics_;
@@ -298,6 +319,9 @@ class Scheduler {
     };
     std::optional<ChunkedSample> chunked_;
     std::uint32_t next_chunk_id_ = 0;
+
+    RepairQueue repairs_;
+    RepairCounters repair_counters_;
 };
 
 }  // namespace tgw::core

@@ -26,10 +26,11 @@ class WriteOutbox final : public SampleSink {
         std::optional<Sample> completed;
     };
     struct Decision {
-        enum class Kind : std::uint8_t { forward, drop, bundle };
+        enum class Kind : std::uint8_t { forward, drop, bundle, send_repair, discard_repair };
         Kind kind = Kind::drop;
         Sample sample;  ///< forward, drop
         DropReason reason = DropReason::shutdown;
+        std::uint64_t repair_id = 0;  ///< send_repair, discard_repair
         /// bundle. Apart, so that the decision standard mode makes per sample stays the size of a sample.
         std::unique_ptr<BundleWrite> bundle;
     };
@@ -67,6 +68,8 @@ class WriteOutbox final : public SampleSink {
             decisions_.back().bundle->completed = std::move(whole);
         }
     }
+    void send_repair(std::uint64_t id) override { push(Decision::Kind::send_repair).repair_id = id; }
+    void discard_repair(std::uint64_t id) override { push(Decision::Kind::discard_repair).repair_id = id; }
     void drop(Sample&& sample, DropReason reason) override {
         Decision& d = push(Decision::Kind::drop);
         d.sample = std::move(sample);

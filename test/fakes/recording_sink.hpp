@@ -31,10 +31,30 @@ class RecordingSink final : public core::SampleSink {
         if (refused) {
             dropped_.push_back(Dropped{std::move(sample), core::DropReason::write_failed});
         } else {
+            departures_.push_back("sample " + std::to_string(sample.topic));
             forwarded_.push_back(std::move(sample));
         }
         changed_.notify_all();
         return !refused;
+    }
+    void send_repair(std::uint64_t id) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        departures_.push_back("repair " + std::to_string(id));
+        changed_.notify_all();
+    }
+    void discard_repair(std::uint64_t id) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        discarded_repairs_.push_back(id);
+        changed_.notify_all();
+    }
+    /// What left for the link, in order: "sample TOPIC_ID" for a sample sent alone, "bundle", "repair ID".
+    std::vector<std::string> departures() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return departures_;
+    }
+    std::vector<std::uint64_t> discarded_repairs() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return discarded_repairs_;
     }
     /// Keeps the samples as forwarded (or refused) one by one, and the bundle's topics and wire size.
     std::size_t forward_bundle(std::vector<core::Sample>&& samples, std::size_t wire_bytes) override {
@@ -50,6 +70,8 @@ class RecordingSink final : public core::SampleSink {
                 forwarded_.push_back(std::move(sample));
             }
         }
+        if (!refused)
+            departures_.push_back("bundle");
         bundles_.push_back(std::move(bundle));
         changed_.notify_all();
         return refused ? 0 : wire_bytes;
@@ -119,6 +141,8 @@ class RecordingSink final : public core::SampleSink {
     std::vector<core::Sample> forwarded_;
     std::vector<Dropped> dropped_;
     std::vector<Bundle> bundles_;
+    std::vector<std::string> departures_;
+    std::vector<std::uint64_t> discarded_repairs_;
     std::size_t passes_left_ = 0;
     std::size_t refusals_left_ = 0;
 };

@@ -1,0 +1,155 @@
+// Repairs for reliable readers in the schedule: in the urgency of the sample they repair, charged when they leave,
+// never sent once they cannot arrive in time.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "test/unit/core/scheduler_fixture.hpp"
+
+namespace tgw::core {
+namespace {
+
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+using Departures = std::vector<std::string>;
+
+class RepairSchedulingTest : public SchedulerFixture {
+  protected:
+    /// A repair of a sample of `topic` due `due_in` from now, of `wire_bytes` on the link.
+    void push_repair(std::uint64_t id, TopicId topic, base::Duration due_in, std::uint64_t wire_bytes = 200) {
+        sut->push_repair(Repair{id, topic, clock.now() + due_in, 8 * wire_bytes}, clock.now(), sink);
+    }
+    static std::string sample_of(TopicId topic) { return "sample " + std::to_string(topic); }
+    static std::string repair(std::uint64_t id) { return "repair " + std::to_string(id); }
+};
+
+TEST_F(RepairSchedulingTest, ARepairOfALessUrgentTopicWaitsBehindAMoreUrgentSample) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(c);
+    release();  // on the link
+    push_repair(1, d, seconds(10));
+    push(a);
+    run_for(seconds(2));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(c), sample_of(a), repair(1)}));
+}
+
+TEST_F(RepairSchedulingTest, ARepairOfAMoreUrgentTopicGoesBeforeALessUrgentSample) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(c);
+    release();
+    push(d);
+    push_repair(1, a, milliseconds(900));
+    run_for(seconds(2));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(c), repair(1), sample_of(d)}));
+}
+
+TEST_F(RepairSchedulingTest, ARepairOfAnOlderSampleGoesBeforeANewerSampleOfItsTopic) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(c);
+    release();
+    push(a);  // due in 1 s
+    push_repair(1, a, milliseconds(600));
+    run_for(seconds(2));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(c), repair(1), sample_of(a)}));
+}
+
+TEST_F(RepairSchedulingTest, ARepairThatCannotArriveInTimeIsDiscardedNotSent) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push_repair(1, b, milliseconds(500), 1'000);  // 0.8 s of wire
+    run_for(seconds(2));
+    EXPECT_TRUE(sink.departures().empty());
+    EXPECT_EQ(sink.discarded_repairs(), (std::vector<std::uint64_t>{1}));
+    EXPECT_EQ(sut->repair_counters().late, 1u);
+    EXPECT_EQ(sut->repair_counters().sent, 0u);
+    EXPECT_EQ(sut->repair_counters().queued, 0u);
+}
+
+TEST_F(RepairSchedulingTest, ARepairWhoseSampleIsPastItsDeadlineBehindTheLinkIsDiscarded) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(d, 1'000);  // about 0.9 s on the link
+    release();
+    push_repair(1, a, milliseconds(500));
+    run_for(seconds(2));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(d)}));
+    EXPECT_EQ(sink.discarded_repairs(), (std::vector<std::uint64_t>{1}));
+    EXPECT_EQ(sut->repair_counters().late, 1u);
+}
+
+TEST_F(RepairSchedulingTest, ARepairIsChargedToTheBudgetWhenItLeaves) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push_repair(1, d, seconds(10), 1'000);  // 0.8 s of wire
+    release();
+    ASSERT_EQ(sink.departures(), (Departures{repair(1)}));
+    push(a);
+    release();
+    EXPECT_EQ(sink.departures().size(), 1u) << "the repair holds the link";
+    run_for(milliseconds(790));
+    EXPECT_EQ(sink.departures().size(), 1u);
+    run_for(milliseconds(20));
+    EXPECT_EQ(sink.departures(), (Departures{repair(1), sample_of(a)}));
+    EXPECT_EQ(sut->repair_counters().sent_wire_bytes, 1'000u);
+}
+
+TEST_F(RepairSchedulingTest, RepairsNeverCountAsSamples) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push_repair(1, a, milliseconds(900));
+    push_repair(2, a, milliseconds(10));
+    run_for(seconds(2));
+    const TopicCounters& counters = sut->counters(a);
+    EXPECT_EQ(counters.received, 0u);
+    EXPECT_EQ(counters.forwarded, 0u);
+    EXPECT_EQ(counters.queued, 0u);
+    EXPECT_EQ(sut->queued_samples(), 0u);
+    EXPECT_TRUE(sink.dropped().empty()) << "a repair never goes to the on-robot log";
+    EXPECT_EQ(sut->repair_counters().received, 2u);
+    EXPECT_EQ(sut->repair_counters().sent, 1u);
+    EXPECT_EQ(sut->repair_counters().late, 1u);
+}
+
+TEST_F(RepairSchedulingTest, ARepairLongerThanTheUrgentTopicsRoomWaitsForAFasterLink) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(a);
+    release();                              // A is active: nothing may hold the link longer than its room (about 0.8 s)
+    push_repair(1, d, seconds(15), 1'500);  // 1.2 s of wire
+    run_for(milliseconds(500));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(a)}));
+    sut->set_rate(100'000);
+    run_for(milliseconds(100));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(a), repair(1)}));
+}
+
+TEST_F(RepairSchedulingTest, FifoSendsARepairAtOnce) {
+    make_sut(PolicyKind::fifo, 10'000);
+    push(d, 1'000);
+    push_repair(1, a, milliseconds(10), 1'000);
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(d), repair(1)}));
+}
+
+TEST_F(RepairSchedulingTest, DrainDiscardsTheQueuedRepairs) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(d, 1'000);
+    release();
+    push_repair(1, c, seconds(4));
+    push_repair(2, d, seconds(10));
+    sut->drain(sink);
+    EXPECT_EQ(sink.discarded_repairs(), (std::vector<std::uint64_t>{1, 2}));
+    EXPECT_EQ(sut->repair_counters().discarded, 2u);
+    EXPECT_EQ(sut->repair_counters().queued, 0u);
+}
+
+TEST_F(RepairSchedulingTest, InCompactModeAMoreUrgentRepairGoesBeforeTheNextBundle) {
+    config.bundles = BundleLimits{};
+    make_sut(PolicyKind::ttl, 10'000);
+    push(c);
+    release();  // the first bundle, on the link
+    push(d);
+    push_repair(1, a, milliseconds(900));
+    run_for(seconds(2));
+    EXPECT_EQ(sink.departures(), (Departures{"bundle", repair(1), "bundle"}));
+    ASSERT_EQ(sink.bundles().size(), 2u);
+    EXPECT_EQ(sink.bundles()[1].topics, (std::vector<TopicId>{d}));
+}
+
+}  // namespace
+}  // namespace tgw::core

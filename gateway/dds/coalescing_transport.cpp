@@ -9,6 +9,7 @@
 #include <fastdds/rtps/common/LocatorsIterator.hpp>
 
 #include "gateway/core/wire_model.hpp"
+#include "gateway/dds/early_heartbeats.hpp"
 #include "gateway/dds/unstamped_write.hpp"
 
 namespace tgw::dds {
@@ -100,19 +101,33 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
             send_buffer_size -= static_cast<std::uint32_t>(cut);
         }
     }
+    if (descriptor_.strip_early_heartbeats) {
+        thread_local std::vector<rtps::octet> without_heartbeats;
+        if (without_early_heartbeats(send_buffer, send_buffer_size, without_heartbeats)) {
+            send_buffer = without_heartbeats.data();
+            send_buffer_size = static_cast<std::uint32_t>(without_heartbeats.size());
+        }
+    }
     const bool scheduled_write = DatagramCoalescer::DeferScope::current() != 0;
+    // Only locators this transport sends to count (a remote reader may also announce shared memory ones).
+    const auto copies = static_cast<std::size_t>(
+        std::count_if(destination.locators.begin(), destination.locators.end(),
+                      [this](const rtps::Locator_t& locator) { return IsLocatorSupported(locator); }));
+    if (descriptor_.repair_desk) {
+        if (scheduled_write) {
+            descriptor_.repair_desk->note_scheduled(send_buffer, send_buffer_size);
+        } else if (descriptor_.repair_desk->hold(*this, destination, send_buffer, send_buffer_size, copies)) {
+            return true;  // the schedule sends it, or finds it too late
+        }
+    }
     if (!scheduled_write && descriptor_.repeat_throttle &&
         !descriptor_.repeat_throttle->admit(destination, send_buffer, send_buffer_size, base::SteadyClock::now())) {
         return true;  // the same HEARTBEAT or ACKNACK went there a moment ago
     }
     // A scheduled write was charged for one copy of its message, without the HEARTBEAT a reliable writer may
-    // have put in it; everything else is reported. Only locators this transport sends to count (a remote
-    // reader may also announce shared memory ones).
+    // have put in it; everything else is reported.
     if (descriptor_.on_unscheduled) {
         const std::size_t scheduled = scheduled_write ? 1 : 0;
-        const auto copies = static_cast<std::size_t>(
-            std::count_if(destination.locators.begin(), destination.locators.end(),
-                          [this](const rtps::Locator_t& locator) { return IsLocatorSupported(locator); }));
         std::uint64_t unscheduled = 0;
         if (copies > scheduled) {
             unscheduled += (copies - scheduled) * (send_buffer_size + core::WireModel::FRAME_HEADER_BYTES);

@@ -9,6 +9,7 @@
 #include <fastdds/rtps/transport/ChainingTransportDescriptor.h>
 
 #include "gateway/dds/datagram_coalescer.hpp"
+#include "gateway/dds/repair_desk.hpp"
 #include "gateway/dds/repeat_throttle.hpp"
 
 namespace tgw::dds {
@@ -46,10 +47,14 @@ struct CoalescingTransportDescriptor : public eprosima::fastdds::rtps::ChainingT
     /// Leave out the INFO_TS of a message that carries one sample written inside an UnstampedWrite
     /// (RtpsDatagram::Strippable::timestamp_bytes).
     bool strip_timestamp = false;
+    /// Leave out the HEARTBEAT of a message whose fragment does not end its sample (without_early_heartbeats).
+    bool strip_early_heartbeats = false;
     std::shared_ptr<DatagramCoalescer> coalescer;
     UnscheduledTrafficCallback on_unscheduled;
     /// Holds back repeated HEARTBEATs and ACKNACKs; none: every message goes.
     std::shared_ptr<RepeatThrottle> repeat_throttle;
+    /// Takes the repairs of scheduled samples for the schedule; none: they go at once, charged as unscheduled.
+    std::shared_ptr<RepairDesk> repair_desk;
 };
 
 /// Receives as the low-level transport does; hands every outgoing RTPS message to the coalescer, but a repeat

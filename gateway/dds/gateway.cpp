@@ -207,6 +207,9 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         };
         wan.discovery_role = base::DiscoveryRole::super_client;
     }
+    // Standard mode: a reliable reader's repair of a sample waits for the schedule, in that sample's urgency
+    // (RepairDesk). Compact mode's bundles are charged as they are repaired, as before.
+    wan.schedule_repairs = !config_.compact_wan;
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
 
     if (config_.compact_wan) {
@@ -221,7 +224,11 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     topics_ = std::make_unique<TopicTable>();
     sink_ = std::make_unique<GatewaySink>(*topics_, log_.get(), clock_);
     sink_->set_compact(compact_.get());
+    sink_->set_repair_desk(wan_->repair_desk());
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
+    if (RepairDesk* desk = wan_->repair_desk()) {
+        desk->set_submit([loop = loop_.get()](const core::Repair& repair) { loop->submit_repair(repair); });
+    }
     if (config_.status_period > base::Duration::zero()) {
         // The status is scheduled like a sample of a topic with a TTL of STATUS_TTL, so its bytes leave only when
         // the budget has room for them. Under grants it goes first, and its deadline is its Lifespan: a robot
@@ -355,6 +362,9 @@ void Gateway::stop() {
         uplink_->close();  // its writers are the robot participant's
     }
     robot_.reset();
+    if (RepairDesk* desk = wan_->repair_desk()) {
+        desk->stop();  // before the loop: nothing more is submitted to it
+    }
     loop_->stop();
     if (log_) {
         log_->flush();
@@ -1005,6 +1015,17 @@ std::uint64_t Gateway::suppressed_repeats() const {
 
 std::uint64_t Gateway::introductions() const {
     return wan_->introductions();
+}
+
+core::RepairCounters Gateway::repair_counters() const {
+    return loop_->repair_counters();
+}
+
+std::optional<RepairDesk::Counts> Gateway::repair_desk_counts() const {
+    if (RepairDesk* desk = wan_->repair_desk()) {
+        return desk->counts();
+    }
+    return std::nullopt;
 }
 
 std::uint64_t Gateway::unscheduled_wire_bytes() const {

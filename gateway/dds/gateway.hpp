@@ -208,6 +208,10 @@ class Gateway {
     /// What the WAN participant sent beyond the scheduled writes, in Ethernet frame bytes: discovery,
     /// heartbeats, repairs, further copies (CoalescingTransport). Each byte is charged to the link budget.
     std::uint64_t unscheduled_wire_bytes() const;
+    /// What became of the repairs reliable readers asked for (standard WAN mode): the scheduler's account, and the
+    /// desk's that held them for it (nullopt in compact mode, where they go at once).
+    core::RepairCounters repair_counters() const;
+    std::optional<RepairDesk::Counts> repair_desk_counts() const;
     /// Repeated HEARTBEATs and ACKNACKs the WAN transport held back (RepeatThrottle), never sent nor charged.
     std::uint64_t suppressed_repeats() const;
     /// Announcements the WAN participant sent again to base camps that had not answered (IntroductionSchedule).

@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "gateway/dds/compact_wan.hpp"
+#include "gateway/dds/repair_desk.hpp"
 
 namespace tgw::dds {
 
@@ -84,6 +85,18 @@ void GatewaySink::note_forwarded(const core::Sample& sample, const TopicBridge* 
         record.deadline = wall(sample.deadline);
         record.forwarded_at = written_wall;
         log_->append_forwarded(record);
+    }
+}
+
+void GatewaySink::send_repair(std::uint64_t id) {
+    if (repairs_ != nullptr) {
+        repairs_->send(id);
+    }
+}
+
+void GatewaySink::discard_repair(std::uint64_t id) {
+    if (repairs_ != nullptr) {
+        repairs_->discard(id);
     }
 }
 

@@ -14,6 +14,7 @@
 namespace tgw::dds {
 
 class CompactWan;
+class RepairDesk;
 
 /// Where the scheduler's decisions land in the gateway: released samples are written to the WAN by their topic's
 /// bridge, the others
@@ -37,6 +38,11 @@ class GatewaySink final : public core::SampleSink {
                               core::EncodedBundle& out) override;
     bool write_bundle(std::vector<core::Sample>&& samples, core::EncodedBundle&& bundle) override;
     void drop(core::Sample&& sample, core::DropReason reason) override;
+    void send_repair(std::uint64_t id) override;
+    void discard_repair(std::uint64_t id) override;
+
+    /// Repairs the scheduler decides on are `desk`'s, which must outlive the sink. Call before the loop starts.
+    void set_repair_desk(RepairDesk* desk) { repairs_ = desk; }
 
     std::uint64_t wan_write_failures() const { return wan_write_failures_.load(); }
     std::uint64_t logged() const { return logged_.load(); }
@@ -54,6 +60,7 @@ class GatewaySink final : public core::SampleSink {
     std::optional<core::TopicId> status_topic_;
     std::shared_ptr<WanWriter> status_writer_;
     CompactWan* compact_ = nullptr;
+    RepairDesk* repairs_ = nullptr;
     log::RobotLog* log_;
     const base::Clock& clock_;
     std::atomic<std::uint64_t> wan_write_failures_{0};

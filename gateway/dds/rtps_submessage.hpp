@@ -17,6 +17,7 @@ constexpr std::uint8_t ACKNACK = 0x06;
 constexpr std::uint8_t HEARTBEAT = 0x07;
 constexpr std::uint8_t INFO_TS = 0x09;
 constexpr std::uint8_t DATA = 0x15;
+constexpr std::uint8_t DATA_FRAG = 0x16;
 constexpr std::uint8_t INFO_SRC = 0x0c;
 constexpr std::uint8_t INFO_REPLY_IP4 = 0x0d;
 constexpr std::uint8_t INFO_DST = 0x0e;
@@ -33,6 +34,26 @@ constexpr std::uint8_t SRTPS_PREFIX = 0x33;
 constexpr std::uint8_t EPROSIMA_STATISTICS = 0x80;
 
 constexpr std::uint8_t FLAG_LITTLE_ENDIAN = 0x01;
+
+// The fields DATA and DATA_FRAG start with (DDSI-RTPS 9.4.5.3, 9.4.5.4), as offsets into the body: extraFlags (2),
+// octetsToInlineQos (2), readerId (4), writerId (4), writerSN (8: high, then low); then for DATA_FRAG
+// fragmentStartingNum (4), fragmentsInSubmessage (2), fragmentSize (2), sampleSize (4).
+constexpr std::size_t SAMPLE_WRITER_ID_OFFSET = 8;
+constexpr std::size_t SAMPLE_SEQUENCE_OFFSET = 12;
+constexpr std::size_t FRAGMENT_START_OFFSET = 20;
+constexpr std::size_t DATA_FIELDS_BYTES = 20;
+constexpr std::size_t DATA_FRAG_FIELDS_BYTES = 32;
+
+/// A 32-bit and a 16-bit field of a submessage, in the endianness its E flag gives.
+inline std::uint32_t read_u32(const std::uint8_t* p, bool little_endian) {
+    return little_endian ? (static_cast<std::uint32_t>(p[0]) | static_cast<std::uint32_t>(p[1]) << 8 |
+                            static_cast<std::uint32_t>(p[2]) << 16 | static_cast<std::uint32_t>(p[3]) << 24)
+                         : (static_cast<std::uint32_t>(p[3]) | static_cast<std::uint32_t>(p[2]) << 8 |
+                            static_cast<std::uint32_t>(p[1]) << 16 | static_cast<std::uint32_t>(p[0]) << 24);
+}
+inline std::uint16_t read_u16(const std::uint8_t* p, bool little_endian) {
+    return static_cast<std::uint16_t>(little_endian ? (p[0] | p[1] << 8) : (p[1] | p[0] << 8));
+}
 
 /// A submessage's octetsToNextHeader, in the endianness its E flag gives.
 inline std::size_t octets_to_next_header(const std::uint8_t* submessage) {

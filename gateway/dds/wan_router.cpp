@@ -252,6 +252,11 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     coalescing->strip_statistics = config.strip_statistics;
     coalescing->strip_destination = config.strip_destination;
     coalescing->strip_timestamp = config.strip_timestamp;
+    coalescing->strip_early_heartbeats = config.strip_early_heartbeats;
+    if (config.schedule_repairs) {
+        repair_desk_ = std::make_shared<RepairDesk>(coalescer_, clock_);
+        coalescing->repair_desk = repair_desk_;
+    }
     qos.transport().user_transports.push_back(coalescing);
 
     // An explicit metatraffic unicast locator and no multicast one: Fast DDS then opens no multicast
@@ -305,6 +310,9 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
 
 WanRouter::~WanRouter() {
     introducer_->stop();
+    if (repair_desk_) {
+        repair_desk_->stop();  // what it holds refers to the transport's channels
+    }
     // Sends what waits while the transport's channels still exist.
     coalescer_->stop();
     if (participant_ != nullptr) {

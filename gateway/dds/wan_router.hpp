@@ -87,6 +87,11 @@ struct WanConfig {
     /// What the participant sends beyond the scheduled writes (see CoalescingTransport), so the caller can
     /// charge it to the link budget.
     UnscheduledTrafficCallback on_unscheduled;
+    /// A reliable reader's repairs of a sample the gateway wrote wait for the schedule (RepairDesk) instead of
+    /// leaving at once; the caller must give the desk somewhere to submit them.
+    bool schedule_repairs = false;
+    /// A reliable writer's HEARTBEAT leaves only with a sample's last fragment (without_early_heartbeats).
+    bool strip_early_heartbeats = true;
     /// Every base-camp writer the participant discovers (the uplink's commands), from Fast DDS's discovery thread:
     /// it must return quickly and create no entities. None: they are not reported.
     std::function<void(DiscoveredPublisher&&)> on_remote_publisher;
@@ -138,6 +143,9 @@ class WanRouter {
     eprosima::fastdds::dds::DomainParticipant* participant() const { return participant_; }
     /// How the samples' datagrams were packed.
     const DatagramCoalescer& coalescer() const { return *coalescer_; }
+    /// Where the participant's repairs of scheduled samples wait for the schedule (WanConfig::schedule_repairs);
+    /// null when they go at once.
+    RepairDesk* repair_desk() const { return repair_desk_.get(); }
     /// Announcements sent again to participants that had not answered (IntroductionSchedule).
     std::uint64_t introductions() const;
     /// Repeated HEARTBEATs and ACKNACKs the transport held back (RepeatThrottle).
@@ -164,6 +172,7 @@ class WanRouter {
     base::SystemClock clock_;  // datagrams wait in real time, whatever clock the scheduler runs on
     std::shared_ptr<DatagramCoalescer> coalescer_;
     std::shared_ptr<RepeatThrottle> repeat_throttle_ = std::make_shared<RepeatThrottle>();
+    std::shared_ptr<RepairDesk> repair_desk_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Publisher* publisher_ = nullptr;  ///< the default partition's
     mutable std::mutex mutex_;

@@ -9,6 +9,7 @@
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_type.hpp"
+#include "gateway/dds/repair_desk.hpp"
 
 namespace tgw::dds {
 
@@ -43,6 +44,7 @@ WriteResult WanWriter::write(core::Sample& sample) {
     const auto stamp = to_dds_time(sample.source_time);
     const ReturnCode_t rc = [&] {
         const DatagramCoalescer::DeferScope may_wait;
+        const RepairDesk::WriteScope repairs_belong_to(sample.topic, sample.deadline);
         switch (sample.kind) {
             case core::SampleKind::dispose:
                 return writer_->dispose_w_timestamp(&data, handle, stamp);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <initializer_list>
 #include <vector>
@@ -42,6 +43,46 @@ inline Bytes info_src() {
 /// A DATA submessage with `body_bytes` of body (a multiple of 4, as Fast DDS pads it).
 inline Bytes data(std::size_t body_bytes) {
     return submessage(0x15, 0x05, Bytes(body_bytes, 0x5a));
+}
+
+/// Little-endian bytes of `value`, `bytes` of them.
+inline void put_le(Bytes& out, std::uint64_t value, std::size_t bytes) {
+    for (std::size_t i = 0; i < bytes; ++i) {
+        out.push_back(static_cast<std::uint8_t>(value >> (8 * i)));
+    }
+}
+
+/// The fields a DATA and a DATA_FRAG start with (little endian): extraFlags, octetsToInlineQos (`inline_qos_at`),
+/// readerId 0, writerId `writer`, writerSN `sequence`.
+inline Bytes sample_fields(const std::array<std::uint8_t, 4>& writer, std::int64_t sequence,
+                           std::uint16_t inline_qos_at) {
+    Bytes body{0, 0};
+    put_le(body, inline_qos_at, 2);
+    body.insert(body.end(), 4, 0);
+    body.insert(body.end(), writer.begin(), writer.end());
+    put_le(body, static_cast<std::uint64_t>(sequence) >> 32, 4);
+    put_le(body, static_cast<std::uint64_t>(sequence) & 0xffffffffu, 4);
+    return body;
+}
+
+/// A DATA of sample `sequence` of the writer `writer`, with 8 bytes of payload.
+inline Bytes data_of(const std::array<std::uint8_t, 4>& writer, std::int64_t sequence) {
+    Bytes body = sample_fields(writer, sequence, 16);
+    body.insert(body.end(), 8, 0x55);
+    return submessage(0x15, 0x05, body);
+}
+
+/// A DATA_FRAG of sample `sequence` of `writer`: `count` fragments of `fragment_size` from fragment `first` (from 1)
+/// of a sample of `sample_size` bytes, with 8 bytes of payload (the test does not read them).
+inline Bytes data_frag(const std::array<std::uint8_t, 4>& writer, std::int64_t sequence, std::uint32_t first,
+                       std::uint16_t count = 1, std::uint16_t fragment_size = 1024, std::uint32_t sample_size = 6000) {
+    Bytes body = sample_fields(writer, sequence, 28);
+    put_le(body, first, 4);
+    put_le(body, count, 2);
+    put_le(body, fragment_size, 2);
+    put_le(body, sample_size, 4);
+    body.insert(body.end(), 8, 0x66);
+    return submessage(0x16, 0x01, body);
 }
 
 /// A HEARTBEAT submessage (28 bytes of body: reader and writer ids, first and last sequence numbers, count)

@@ -1,0 +1,165 @@
+#include "gateway/dds/repair_desk.hpp"
+
+#include <algorithm>
+#include <array>
+#include <utility>
+
+#include "gateway/core/wire_model.hpp"
+
+namespace tgw::dds {
+
+namespace {
+
+thread_local const RepairDesk::WriteScope* current_scope = nullptr;
+
+/// Samples looked at per message: a repair message holds a few (a burst of small samples, or fragments).
+constexpr std::size_t MAX_REFS = 32;
+/// How often what is past its deadline is forgotten.
+constexpr std::chrono::seconds PRUNE_PERIOD{1};
+
+}  // namespace
+
+RepairDesk::WriteScope::WriteScope(core::TopicId topic, base::SteadyTime deadline)
+    : topic_(topic), deadline_(deadline), outer_(current_scope) {
+    current_scope = this;
+}
+
+RepairDesk::WriteScope::~WriteScope() {
+    current_scope = outer_;
+}
+
+std::size_t RepairDesk::SampleKeyHash::operator()(const SampleKey& key) const {
+    std::uint64_t h = static_cast<std::uint64_t>(key.sequence) * 0x9E3779B97F4A7C15ull;
+    for (std::uint8_t b : key.writer) {
+        h = (h ^ b) * 0x100000001B3ull;
+    }
+    return static_cast<std::size_t>(h);
+}
+
+RepairDesk::RepairDesk(std::shared_ptr<DatagramCoalescer> coalescer, const base::Clock& clock)
+    : coalescer_(std::move(coalescer)), clock_(clock) {}
+
+void RepairDesk::set_submit(std::function<void(const core::Repair&)> submit) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    submit_ = std::move(submit);
+}
+
+void RepairDesk::stop() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopped_ = true;
+    submit_ = nullptr;
+    counts_.discarded += held_.size();
+    held_.clear();
+    written_.clear();
+}
+
+void RepairDesk::note_scheduled(const std::uint8_t* message, std::size_t size) {
+    const WriteScope* scope = current_scope;
+    if (scope == nullptr) {
+        return;
+    }
+    std::array<RtpsSampleRef, MAX_REFS> refs;
+    const std::size_t n = rtps_sample_refs(message, size, refs.data(), refs.size());
+    if (n == 0) {
+        return;
+    }
+    const base::SteadyTime now = clock_.now();
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stopped_ || !submit_) {
+        return;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        written_[SampleKey{refs[i].writer, refs[i].sequence}] = Written{scope->topic_, scope->deadline_};
+    }
+    prune_nts(now);
+}
+
+bool RepairDesk::hold(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
+                      std::size_t size, std::size_t copies) {
+    std::array<RtpsSampleRef, MAX_REFS> refs;
+    const std::size_t n = rtps_sample_refs(message, size, refs.data(), refs.size());
+    if (n == 0 || copies == 0) {
+        return false;
+    }
+    const base::SteadyTime now = clock_.now();
+    core::Repair repair;
+    // Submitted under the lock, so that stop() returns only once no repair is on its way to the scheduler. The
+    // scheduler's loop never calls the desk with its own lock held.
+    std::lock_guard<std::mutex> lock(mutex_);
+    {
+        if (stopped_ || !submit_) {
+            return false;
+        }
+        // The message goes with its most urgent sample: the others ride along.
+        const Written* owner = nullptr;
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto it = written_.find(SampleKey{refs[i].writer, refs[i].sequence});
+            if (it != written_.end() && it->second.deadline > now &&
+                (owner == nullptr || it->second.deadline < owner->deadline)) {
+                owner = &it->second;
+            }
+        }
+        if (owner == nullptr) {
+            return false;  // not a sample of a scheduled write, or past its deadline: as before, sent and charged
+        }
+        const bool repeat = std::any_of(held_.begin(), held_.end(), [&](const auto& entry) {
+            return entry.second.first == refs[0] && entry.second.destination == destination;
+        });
+        if (repeat) {
+            ++counts_.repeats;
+            return true;
+        }
+        repair.id = next_id_++;
+        repair.topic = owner->topic;
+        repair.deadline = owner->deadline;
+        repair.wire_bits = 8u * copies * (size + core::WireModel::FRAME_HEADER_BYTES);
+        Held& held = held_[repair.id];
+        held.sender = &sender;
+        held.destination = destination;
+        held.bytes.assign(message, message + size);
+        held.first = refs[0];
+        ++counts_.held;
+    }
+    submit_(repair);
+    return true;
+}
+
+void RepairDesk::send(std::uint64_t id) {
+    Held held;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        const auto it = held_.find(id);
+        if (it == held_.end()) {
+            return;  // stopped meanwhile
+        }
+        held = std::move(it->second);
+        held_.erase(it);
+    }
+    const bool ok = coalescer_->send(*held.sender, held.destination, held.bytes.data(), held.bytes.size());
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++(ok ? counts_.sent : counts_.send_failures);
+}
+
+void RepairDesk::discard(std::uint64_t id) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (held_.erase(id) > 0) {
+        ++counts_.discarded;
+    }
+}
+
+RepairDesk::Counts RepairDesk::counts() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return counts_;
+}
+
+void RepairDesk::prune_nts(base::SteadyTime now) {
+    if (now < next_prune_) {
+        return;
+    }
+    next_prune_ = now + PRUNE_PERIOD;
+    for (auto it = written_.begin(); it != written_.end();) {
+        it = it->second.deadline <= now ? written_.erase(it) : std::next(it);
+    }
+}
+
+}  // namespace tgw::dds

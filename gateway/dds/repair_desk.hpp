@@ -1,0 +1,107 @@
+// Holds the WAN participant's repairs for reliable readers, so that the schedule sends them (core::Repair).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
+#include <vector>
+
+#include "base/clock.hpp"
+#include "gateway/core/repair.hpp"
+#include "gateway/dds/datagram_coalescer.hpp"
+#include "gateway/dds/rtps_sample_refs.hpp"
+
+namespace tgw::dds {
+
+/// Fast DDS 2.9 sends a reliable reader's repairs (and a late joiner's history) from its own threads, at once:
+/// on a slow link they went ahead of more urgent samples, and after their sample's deadline. The WAN transport
+/// hands each message that carries a sample a scheduled write sent before to this desk instead. The desk keeps
+/// its bytes and gives the scheduler a core::Repair with that sample's topic and deadline; the scheduler then sends
+/// it (send()) or discards it (discard()). Fast DDS takes the message as sent either way: a reader that still
+/// misses the sample asks again at the next HEARTBEAT, and once the sample is past its Lifespan (= TTL) the writer
+/// answers with a GAP.
+///
+/// Thread-safe: scheduled writes and Fast DDS's threads note and hold, the gateway's loop sends and discards.
+class RepairDesk {
+  public:
+    /// Marks one scheduled write on its thread: the samples its messages carry belong to `topic`, due `deadline`.
+    class WriteScope {
+      public:
+        WriteScope(core::TopicId topic, base::SteadyTime deadline);
+        ~WriteScope();
+        WriteScope(const WriteScope&) = delete;
+        WriteScope& operator=(const WriteScope&) = delete;
+
+      private:
+        friend class RepairDesk;
+        core::TopicId topic_;
+        base::SteadyTime deadline_;
+        const WriteScope* outer_;
+    };
+
+    /// Sends held messages through `coalescer` (the transport's), in order with everything else it sends.
+    RepairDesk(std::shared_ptr<DatagramCoalescer> coalescer, const base::Clock& clock);
+
+    /// Where repairs go (ForwardingLoop::submit_repair); until it is set, and after stop(), nothing is held.
+    void set_submit(std::function<void(const core::Repair&)> submit);
+    /// No more holding; what is held is forgotten. Call before the participant's transports go.
+    void stop();
+
+    /// A scheduled write's message: remembers the samples it carries, when a WriteScope is active on this thread.
+    void note_scheduled(const std::uint8_t* message, std::size_t size);
+    /// A message sent outside any scheduled write, to `copies` of the transport's locators: true when it carries a
+    /// sample a scheduled write sent whose deadline has not passed; the desk then keeps it for the schedule (a
+    /// repeat of one it already keeps is forgotten), and it must not be sent now.
+    bool hold(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
+              std::size_t size, std::size_t copies);
+
+    /// The schedule's decisions on a held repair.
+    void send(std::uint64_t id);
+    void discard(std::uint64_t id);
+
+    struct Counts {
+        std::uint64_t held = 0;
+        std::uint64_t repeats = 0;  ///< asked again while held: forgotten
+        std::uint64_t sent = 0;
+        std::uint64_t send_failures = 0;
+        std::uint64_t discarded = 0;
+    };
+    Counts counts() const;
+
+  private:
+    struct SampleKey {
+        std::array<std::uint8_t, 4> writer{};
+        std::int64_t sequence = 0;
+        bool operator==(const SampleKey& other) const { return writer == other.writer && sequence == other.sequence; }
+    };
+    struct SampleKeyHash {
+        std::size_t operator()(const SampleKey& key) const;
+    };
+    struct Written {
+        core::TopicId topic;
+        base::SteadyTime deadline;
+    };
+    struct Held {
+        DatagramSender* sender = nullptr;
+        DatagramDestination destination;
+        std::vector<std::uint8_t> bytes;
+        RtpsSampleRef first;  ///< what it repairs first: a repeat has the same, to the same destination
+    };
+    /// Forgets what is past its deadline; the lock is held.
+    void prune_nts(base::SteadyTime now);
+
+    const std::shared_ptr<DatagramCoalescer> coalescer_;
+    const base::Clock& clock_;
+    mutable std::mutex mutex_;
+    std::function<void(const core::Repair&)> submit_;
+    bool stopped_ = false;
+    std::unordered_map<SampleKey, Written, SampleKeyHash> written_;
+    base::SteadyTime next_prune_{};
+    std::unordered_map<std::uint64_t, Held> held_;
+    std::uint64_t next_id_ = 1;
+    Counts counts_;
+};
+
+}  // namespace tgw::dds

@@ -1,0 +1,123 @@
+// RepairDesk: which of the WAN participant's messages wait for the schedule as repairs, and what becomes of them.
+#include "gateway/dds/repair_desk.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "gateway/core/wire_model.hpp"
+#include "test/fakes/fake_clock.hpp"
+#include "test/unit/dds/rtps_bytes.hpp"
+
+namespace tgw::dds {
+namespace {
+
+using namespace std::chrono_literals;
+namespace rtps = test::rtps;
+
+constexpr std::array<std::uint8_t, 4> WRITER{0x00, 0x00, 0x07, 0x03};
+
+class CountingSender final : public DatagramSender {
+  public:
+    bool send_datagram(const DatagramDestination&, const std::uint8_t* bytes, std::size_t size) override {
+        sent.emplace_back(bytes, bytes + size);
+        return true;
+    }
+    std::vector<rtps::Bytes> sent;
+};
+
+DatagramDestination reader_at(std::uint32_t port) {
+    static const int channel = 0;
+    eprosima::fastrtps::rtps::Locator_t locator;
+    locator.kind = LOCATOR_KIND_UDPv4;
+    locator.port = port;
+    return {&channel, {locator}};
+}
+
+class RepairDeskTest : public ::testing::Test {
+  protected:
+    RepairDeskTest() {
+        sut.set_submit([this](const core::Repair& repair) { submitted.push_back(repair); });
+    }
+
+    /// A scheduled write of sample `sequence` of topic 5, due in `due_in`: its message, as the transport sees it.
+    void write(std::int64_t sequence, base::Duration due_in = 2s) {
+        const RepairDesk::WriteScope scope(5, clock.now() + due_in);
+        const rtps::Bytes message = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, sequence, 1)});
+        sut.note_scheduled(message.data(), message.size());
+    }
+    /// Fast DDS sends fragment `fragment` of sample `sequence` again, outside any write.
+    bool resend(std::int64_t sequence, std::uint32_t fragment = 2, std::uint32_t port = 7411) {
+        const rtps::Bytes message = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, sequence, fragment)});
+        return sut.hold(sender, reader_at(port), message.data(), message.size(), 1);
+    }
+
+    test::FakeClock clock;
+    std::shared_ptr<DatagramCoalescer> coalescer =
+        std::make_shared<DatagramCoalescer>(std::chrono::microseconds(0), 1472, clock);
+    RepairDesk sut{coalescer, clock};
+    CountingSender sender;
+    std::vector<core::Repair> submitted;
+};
+
+TEST_F(RepairDeskTest, HoldsARepairOfAScheduledSampleWithItsTopicAndDeadline) {
+    write(3, 2s);
+    ASSERT_TRUE(resend(3));
+    ASSERT_EQ(submitted.size(), 1u);
+    EXPECT_EQ(submitted[0].topic, 5u);
+    EXPECT_EQ(submitted[0].deadline, clock.now() + 2s);
+    const std::size_t message_bytes = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, 3, 2)}).size();
+    EXPECT_EQ(submitted[0].wire_bits, 8u * (message_bytes + core::WireModel::FRAME_HEADER_BYTES));
+    EXPECT_TRUE(sender.sent.empty()) << "held, not sent";
+}
+
+TEST_F(RepairDeskTest, SendsAHeldRepairWhenTheScheduleSaysSo) {
+    write(3);
+    ASSERT_TRUE(resend(3));
+    sut.send(submitted[0].id);
+    ASSERT_EQ(sender.sent.size(), 1u);
+    EXPECT_EQ(sender.sent[0], rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, 3, 2)}));
+    EXPECT_EQ(sut.counts().sent, 1u);
+}
+
+TEST_F(RepairDeskTest, ForgetsADiscardedRepair) {
+    write(3);
+    ASSERT_TRUE(resend(3));
+    sut.discard(submitted[0].id);
+    sut.send(submitted[0].id);
+    EXPECT_TRUE(sender.sent.empty());
+    EXPECT_EQ(sut.counts().discarded, 1u);
+}
+
+TEST_F(RepairDeskTest, LetsGoWhatNoScheduledWriteSentAndWhatIsPastItsDeadline) {
+    EXPECT_FALSE(resend(9)) << "not a sample the gateway wrote (discovery, another writer)";
+    write(3, 1s);
+    clock.advance(1s);
+    EXPECT_FALSE(resend(3)) << "past its deadline: Fast DDS sends it, charged as before";
+    EXPECT_TRUE(submitted.empty());
+}
+
+TEST_F(RepairDeskTest, ForgetsARepeatOfARepairItHolds) {
+    write(3);
+    ASSERT_TRUE(resend(3));
+    EXPECT_TRUE(resend(3)) << "asked again at the next HEARTBEAT while the first still waits";
+    EXPECT_TRUE(resend(3, 3)) << "another fragment is another repair";
+    EXPECT_TRUE(resend(3, 2, 7413)) << "so is the same fragment to another reader";
+    EXPECT_EQ(submitted.size(), 3u);
+    EXPECT_EQ(sut.counts().repeats, 1u);
+}
+
+TEST_F(RepairDeskTest, HoldsNothingOnceStopped) {
+    write(3);
+    ASSERT_TRUE(resend(3));
+    sut.stop();
+    EXPECT_FALSE(resend(3, 3));
+    sut.send(submitted[0].id);
+    EXPECT_TRUE(sender.sent.empty()) << "what it held went with it";
+}
+
+}  // namespace
+}  // namespace tgw::dds

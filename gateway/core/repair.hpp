@@ -28,7 +28,7 @@ struct RepairCounters {
     std::uint64_t late = 0;
     /// Not sent: the queue of repairs was full, or the gateway stopped.
     std::uint64_t discarded = 0;
-    std::uint64_t queued = 0;
+    std::uint64_t queued = 0;  ///< waiting now
 };
 
 }  // namespace tgw::core

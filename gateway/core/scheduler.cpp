@@ -248,9 +248,7 @@ void Scheduler::push_repair(const Repair& repair, base::SteadyTime now, SampleSi
         return;
     }
     repairs_.push(repair, rank_of(repair.topic));
-    ++repair_counters_.queued;
     if (repairs_.size() > MAX_QUEUED_REPAIRS) {
-        --repair_counters_.queued;
         discard_repair(repairs_.take(repairs_.least_urgent()), false, sink);
     }
 }
@@ -266,7 +264,6 @@ bool Scheduler::send_repair_before(const std::optional<UrgencyKey>& bound, base:
         const base::Duration tx = budget_.transmit_time(entry.repair.wire_bits);
         const auto next = std::next(it);
         if (start + tx + config_.link_latency > entry.repair.deadline) {
-            --repair_counters_.queued;
             discard_repair(repairs_.take(it), true, sink);
             it = next;
             continue;
@@ -278,13 +275,18 @@ bool Scheduler::send_repair_before(const std::optional<UrgencyKey>& bound, base:
             it = next;
             continue;
         }
-        --repair_counters_.queued;
         const Repair repair = repairs_.take(it);
         budget_.charge(now, repair.wire_bits);
         send_repair_now(repair, sink);
         return true;
     }
     return false;
+}
+
+RepairCounters Scheduler::repair_counters() const {
+    RepairCounters counters = repair_counters_;
+    counters.queued = repairs_.size();
+    return counters;
 }
 
 void Scheduler::send_repair_now(const Repair& repair, SampleSink& sink) {
@@ -371,7 +373,6 @@ void Scheduler::expire(base::SteadyTime now, SampleSink& sink) {
     for (auto it = repairs_.begin(); it != repairs_.end();) {
         const auto next = std::next(it);
         if (it->repair.deadline <= now) {
-            --repair_counters_.queued;
             discard_repair(repairs_.take(it), true, sink);
         }
         it = next;
@@ -934,7 +935,6 @@ void Scheduler::drain(SampleSink& sink, DropReason reason) {
         drop(take(queue_.earliest_deadline()), reason, sink);  // parked ones too
     }
     while (!repairs_.empty()) {
-        --repair_counters_.queued;
         discard_repair(repairs_.take(repairs_.begin()), false, sink);
     }
 }

@@ -110,7 +110,7 @@ class Scheduler {
     /// `sink.discard_repair`. Under `fifo` and `paper`, which keep no order on the link, it is sent at once (`paper`
     /// charges it as traffic from outside). Repairs never count as samples received or forwarded.
     void push_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink);
-    const RepairCounters& repair_counters() const { return repair_counters_; }
+    RepairCounters repair_counters() const;
     /// At most this many repairs wait; past it, the least urgent is discarded.
     static constexpr std::size_t MAX_QUEUED_REPAIRS = 4096;
 

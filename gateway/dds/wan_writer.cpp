@@ -22,7 +22,8 @@ WanWriter::WanWriter(fdds::DataWriter* writer, std::unique_ptr<WriterMatchCounte
       matches_(std::move(matches)),
       deleter_(std::move(deleter)),
       topic_(std::move(topic)),
-      keyed_(keyed) {}
+      keyed_(keyed),
+      reliable_(writer->get_qos().reliability().kind == fdds::RELIABLE_RELIABILITY_QOS) {}
 
 WanWriter::~WanWriter() {
     deleter_(writer_);
@@ -44,7 +45,11 @@ WriteResult WanWriter::write(core::Sample& sample) {
     const auto stamp = to_dds_time(sample.source_time);
     const ReturnCode_t rc = [&] {
         const DatagramCoalescer::DeferScope may_wait;
-        const RepairDesk::WriteScope repairs_belong_to(sample.topic, sample.deadline);
+        // Only a reliable writer repairs: a best-effort lane's samples need not be remembered.
+        std::optional<RepairDesk::WriteScope> repairs_belong_to;
+        if (reliable_) {
+            repairs_belong_to.emplace(sample.topic, sample.deadline);
+        }
         switch (sample.kind) {
             case core::SampleKind::dispose:
                 return writer_->dispose_w_timestamp(&data, handle, stamp);

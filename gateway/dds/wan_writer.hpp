@@ -51,6 +51,7 @@ class WanWriter {
     Deleter deleter_;
     const std::string topic_;
     const bool keyed_;
+    const bool reliable_;
     std::atomic<bool> failure_reported_{false};
 };
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -40,6 +41,7 @@ class RecordingSink final : public core::SampleSink {
     void send_repair(std::uint64_t id) override {
         std::lock_guard<std::mutex> lock(mutex_);
         departures_.push_back("repair " + std::to_string(id));
+        repair_threads_.push_back(std::this_thread::get_id());
         changed_.notify_all();
     }
     void discard_repair(std::uint64_t id) override {
@@ -51,6 +53,16 @@ class RecordingSink final : public core::SampleSink {
     std::vector<std::string> departures() const {
         std::lock_guard<std::mutex> lock(mutex_);
         return departures_;
+    }
+    /// Waits until at least `n` departures (departures()) or `timeout` passed; true if they came.
+    bool wait_for_departures(std::size_t n, std::chrono::milliseconds timeout) const {
+        std::unique_lock<std::mutex> lock(mutex_);
+        return changed_.wait_for(lock, timeout, [&] { return departures_.size() >= n; });
+    }
+    /// The thread that sent each repair, in order.
+    std::vector<std::thread::id> repair_threads() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return repair_threads_;
     }
     std::vector<std::uint64_t> discarded_repairs() const {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -143,6 +155,7 @@ class RecordingSink final : public core::SampleSink {
     std::vector<Bundle> bundles_;
     std::vector<std::string> departures_;
     std::vector<std::uint64_t> discarded_repairs_;
+    std::vector<std::thread::id> repair_threads_;
     std::size_t passes_left_ = 0;
     std::size_t refusals_left_ = 0;
 };

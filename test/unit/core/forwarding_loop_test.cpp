@@ -57,6 +57,25 @@ TEST_F(ForwardingLoopTest, ForwardsInTheSubmittingThreadWhenTheLinkIsFree) {
     EXPECT_EQ(sink.forwarded().size(), 1u);
 }
 
+TEST_F(ForwardingLoopTest, SendsARepairFromItsOwnThreadNotTheSubmittingOne) {
+    make_sut(1e9);
+    const std::thread::id submitter = std::this_thread::get_id();
+    sut->submit_repair(Repair{7, topic, clock.now() + seconds(5), 8 * 200});
+    ASSERT_TRUE(sink.wait_for_departures(1, milliseconds(5000)));
+    EXPECT_EQ(sink.departures(), (std::vector<std::string>{"repair 7"}));
+    EXPECT_NE(sink.repair_threads().front(), submitter)
+        << "Fast DDS's thread submits it holding its writer's lock; the loop's thread writes";
+    EXPECT_EQ(sut->repair_counters().sent, 1u);
+}
+
+TEST_F(ForwardingLoopTest, DiscardsARepairSubmittedAfterStop) {
+    make_sut(1e9);
+    sut->stop();
+    sut->submit_repair(Repair{7, topic, clock.now() + seconds(5), 8 * 200});
+    EXPECT_TRUE(sink.departures().empty());
+    EXPECT_EQ(sink.discarded_repairs(), (std::vector<std::uint64_t>{7}));
+}
+
 TEST_F(ForwardingLoopTest, ReleasesQueuedSamplesAsTheLinkDrains) {
     make_sut(2'000'000);  // 1,600 wire bits each: 0.8 ms apiece
     for (int i = 0; i < 50; ++i)

@@ -86,40 +86,38 @@ bool RepairDesk::hold(DatagramSender& sender, const DatagramDestination& destina
     // Submitted under the lock, so that stop() returns only once no repair is on its way to the scheduler. The
     // scheduler's loop never calls the desk with its own lock held.
     std::lock_guard<std::mutex> lock(mutex_);
-    {
-        if (stopped_ || !submit_) {
-            return false;
-        }
-        // The message goes with its most urgent sample: the others ride along.
-        const Written* owner = nullptr;
-        for (std::size_t i = 0; i < n; ++i) {
-            const auto it = written_.find(SampleKey{refs[i].writer, refs[i].sequence});
-            if (it != written_.end() && it->second.deadline > now &&
-                (owner == nullptr || it->second.deadline < owner->deadline)) {
-                owner = &it->second;
-            }
-        }
-        if (owner == nullptr) {
-            return false;  // not a sample of a scheduled write, or past its deadline: as before, sent and charged
-        }
-        const bool repeat = std::any_of(held_.begin(), held_.end(), [&](const auto& entry) {
-            return entry.second.first == refs[0] && entry.second.destination == destination;
-        });
-        if (repeat) {
-            ++counts_.repeats;
-            return true;
-        }
-        repair.id = next_id_++;
-        repair.topic = owner->topic;
-        repair.deadline = owner->deadline;
-        repair.wire_bits = 8u * copies * (size + core::WireModel::FRAME_HEADER_BYTES);
-        Held& held = held_[repair.id];
-        held.sender = &sender;
-        held.destination = destination;
-        held.bytes.assign(message, message + size);
-        held.first = refs[0];
-        ++counts_.held;
+    if (stopped_ || !submit_) {
+        return false;
     }
+    // The message goes with its most urgent sample: the others ride along.
+    const Written* owner = nullptr;
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto it = written_.find(SampleKey{refs[i].writer, refs[i].sequence});
+        if (it != written_.end() && it->second.deadline > now &&
+            (owner == nullptr || it->second.deadline < owner->deadline)) {
+            owner = &it->second;
+        }
+    }
+    if (owner == nullptr) {
+        return false;  // not a sample of a scheduled write, or past its deadline: as before, sent and charged
+    }
+    const bool repeat = std::any_of(held_.begin(), held_.end(), [&](const auto& entry) {
+        return entry.second.first == refs[0] && entry.second.destination == destination;
+    });
+    if (repeat) {
+        ++counts_.repeats;
+        return true;
+    }
+    repair.id = next_id_++;
+    repair.topic = owner->topic;
+    repair.deadline = owner->deadline;
+    repair.wire_bits = 8u * copies * (size + core::WireModel::FRAME_HEADER_BYTES);
+    Held& held = held_[repair.id];
+    held.sender = &sender;
+    held.destination = destination;
+    held.bytes.assign(message, message + size);
+    held.first = refs[0];
+    ++counts_.held;
     submit_(repair);
     return true;
 }

@@ -63,12 +63,6 @@ std::optional<std::vector<InterfaceAddress>> interface_addresses() {
     return found;
 }
 
-// RTPS 2.x port mapping defaults (PB, DG, PG, d1).
-constexpr int PORT_BASE = 7400;
-constexpr int DOMAIN_GAIN = 250;
-constexpr int PARTICIPANT_GAIN = 2;
-constexpr int OFFSET_METATRAFFIC_UNICAST = 10;
-
 Locator_t udp_locator(const std::string& address, std::uint16_t port = 0) {
     Locator_t locator;
     locator.kind = LOCATOR_KIND_UDPv4;
@@ -78,11 +72,6 @@ Locator_t udp_locator(const std::string& address, std::uint16_t port = 0) {
 }
 
 }  // namespace
-
-std::uint16_t metatraffic_unicast_port(int domain, int participant_id) {
-    return static_cast<std::uint16_t>(PORT_BASE + DOMAIN_GAIN * domain + OFFSET_METATRAFFIC_UNICAST +
-                                      PARTICIPANT_GAIN * participant_id);
-}
 
 std::string resolve_ipv4(const std::string& name_or_addr, const std::string& flag) {
     if (is_ipv4(name_or_addr))

@@ -7,6 +7,7 @@
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
 #include "base/discovery_server.hpp"
+#include "base/rtps_ports.hpp"
 
 namespace tgw::base {
 
@@ -31,9 +32,6 @@ std::string resolve_ipv4(const std::string& name_or_addr, const std::string& fla
 /// True if `ipv4` is a loopback address or an address of one of this host's interfaces (of this network
 /// namespace): Fast DDS reaches a participant there through 127.0.0.1.
 bool is_this_hosts_address(const std::string& ipv4);
-
-/// The RTPS well-known metatraffic unicast port of participant `participant_id` in `domain` (RTPS 9.6.1.1).
-std::uint16_t metatraffic_unicast_port(int domain, int participant_id);
 
 /// A peer on this host (a loopback address) gets the announcements at the ports of this many participants of
 /// the domain: the gateway, a relay and the tools run beside them share the host, and take participant ids in

@@ -211,6 +211,11 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     // (RepairDesk). Compact mode's bundles are charged as they are repaired, as before.
     wan.schedule_repairs = !config_.compact_wan;
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
+    if (base::QuietDiscoveryPorts::worth_it(wan.interface_address)) {
+        // Once the WAN participant has its own port: a base camp announcing itself to the others (Cyclone's
+        // peers by address) draws no ICMP from this host over the radio.
+        quiet_ports_ = base::QuietDiscoveryPorts(wan.interface_address, config_.wan_domain);
+    }
 
     if (config_.compact_wan) {
         compact_ = std::make_unique<CompactWan>(

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "base/clock.hpp"
+#include "base/quiet_discovery_ports.hpp"
 #include "gateway/core/demand_watch.hpp"
 #include "gateway/core/forwarding_loop.hpp"
 #include "gateway/core/latency_histogram.hpp"
@@ -191,6 +192,8 @@ class Gateway {
     eprosima::fastrtps::rtps::GuidPrefix_t wan_guid_prefix() const;
     /// Base-camp participants the WAN participant knows now.
     std::size_t wan_participants() const;
+    /// The WAN domain's discovery ports held quiet on the WAN interface's address (base::QuietDiscoveryPorts).
+    const std::vector<std::uint16_t>& quiet_discovery_ports() const { return quiet_ports_.ports(); }
     std::optional<base::Duration> wan_writer_lifespan(core::TopicId id, std::uint16_t lane = 0) const;
     std::uint64_t wan_write_failures() const;
     /// The wire model the scheduler budgets with (without the statistics submessage in compact mode).
@@ -304,6 +307,8 @@ class Gateway {
     std::unique_ptr<ReceiverReportReader> reports_;  ///< before wan_: its reader's listener outlives it
     std::unique_ptr<GrantReader> grants_;            ///< before wan_, likewise; with --channel-grants
     std::unique_ptr<WanRouter> wan_;
+    /// The WAN domain's discovery ports the WAN participant did not take, on a radio's address (see there).
+    base::QuietDiscoveryPorts quiet_ports_;
     std::unique_ptr<CompactWan> compact_;  ///< after wan_: it holds WAN writers; compact WAN mode only
     std::unique_ptr<TopicTable> topics_;   ///< after wan_: its bridges hold WAN writers
     std::unique_ptr<GatewaySink> sink_;

@@ -4,9 +4,9 @@
 # at the base camp by reliable readers as ROS 2 makes them: Cyclone's and Fast DDS's. The link: 80,000 bit/s for 20 s,
 # then 40,000 for 12 s, whose first 2 s (what the shaper still holds from 80,000) are not asserted. With reliable
 # readers, repairs and heartbeats go in the schedule: the urgent topics keep their deadlines as with best-effort
-# readers. Cyclone names the gateway's port in its peer, as the README tells for a slow radio: by address alone it
-# announces itself to ten ports of the robot, whose ICMP port unreachables cost hazards now and then (README, "A
-# robot's mix"). Needs root; skipped (77) otherwise.
+# readers. Cyclone knows the robot by its address alone (its documented unicast set-up), so it announces itself to
+# ten discovery ports there: the gateway holds those it does not use, else the robot's ICMP port unreachables cost
+# hazards now and then (README, "A robot's mix"). Needs root; skipped (77) otherwise.
 #   robot_mix_reliable_test.sh BIN_DIR
 set -euo pipefail
 BIN="${1:?usage: robot_mix_reliable_test.sh BIN_DIR}"
@@ -17,8 +17,7 @@ require_netns
 
 OUT="$(mktemp -d "${TMPDIR:-/tmp}/tgw-robot-mix.XXXXXX")"
 trap 'rm -rf "$OUT"' EXIT
-TGW_BIN="$BIN" scripts/robot-mix-experiment --readers cyclone,fastdds --phases 80000:20,40000:2,40000:10 \
-    --camp-peer-port 7660 --out "$OUT"
+TGW_BIN="$BIN" scripts/robot-mix-experiment --readers cyclone,fastdds --phases 80000:20,40000:2,40000:10 --out "$OUT"
 
 # on_time READER TOPIC PHASE: "published on_time" of TOPIC in PHASE (1 to 3) as the experiment counted them.
 on_time() {
@@ -40,6 +39,8 @@ for reader in cyclone fastdds; do
         check "$reader: $topic >= 99 % on time at 40,000 bit/s ($received of $published)" \
             "a >= 0.99 * b && b > 0" "${received:-0}" "${published:-0}"
     done
+    held="$(grep -c "^telemetry-gateway: WAN discovery ports .* held" "$OUT/$reader/gateway.out" || true)"
+    check "$reader: the gateway holds the WAN domain's unused discovery ports" "a == 1" "$held" 1
     grep -h "^repairs for reliable readers" "$OUT/$reader/gateway.out" || true
 done
 exit "$fail"

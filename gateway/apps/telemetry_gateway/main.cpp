@@ -441,6 +441,11 @@ int main(int argc, char** argv) {
                       << tgw::base::namespaced_topic(config.robot_name, "TOPIC")
                       << " on the WAN and in the on-robot log; below, by their robot names\n";
         }
+        if (const auto& quiet = gateway.quiet_discovery_ports(); !quiet.empty()) {
+            std::cerr << "telemetry-gateway: WAN discovery ports " << quiet.front() << " to " << quiet.back()
+                      << " held (" << quiet.size() << ", not this gateway's): a base camp's announcements to them "
+                      << "draw no ICMP over the radio\n";
+        }
 
         wait_for_end(signals, duration_s);
 

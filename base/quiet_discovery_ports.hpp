@@ -1,7 +1,6 @@
 // Keeps a host's kernel from answering discovery sent to participants that are not there.
 #pragma once
 
-#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>

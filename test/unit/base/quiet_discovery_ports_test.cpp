@@ -26,7 +26,6 @@ class Socket {
     ~Socket() { close(fd_); }
     Socket(const Socket&) = delete;
     Socket& operator=(const Socket&) = delete;
-    int fd() const { return fd_; }
 
     bool bind_to(std::uint16_t port) const {
         const sockaddr_in local = loopback(port);

@@ -7,7 +7,6 @@
 #include <fastrtps/utils/IPLocator.h>
 
 #include "base/config_error.hpp"
-#include "base/peer_transport.hpp"
 
 namespace tgw::base {
 
@@ -63,14 +62,6 @@ void apply_discovery_client(eprosima::fastdds::dds::DomainParticipantQos& qos, c
     discovery.m_DiscoveryServers.clear();
     discovery.m_DiscoveryServers.push_back(remote);
     qos.wire_protocol().builtin.initialPeersList.clear();
-}
-
-void listen_for_a_same_host_server(eprosima::fastdds::rtps::UDPv4TransportDescriptor& udp, const std::string& bound,
-                                   const DiscoveryServerAddress& server) {
-    constexpr const char* SAME_HOST_ADDRESS = "127.0.0.1";
-    if (bound != SAME_HOST_ADDRESS && is_this_hosts_address(server.address)) {
-        udp.interfaceWhiteList.push_back(SAME_HOST_ADDRESS);
-    }
 }
 
 }  // namespace tgw::base

@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <string>
 
-#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
 namespace tgw::base {
@@ -17,17 +16,6 @@ struct DiscoveryServerAddress {
     std::string address;  ///< dotted IPv4
     std::uint16_t port = 0;
 };
-
-/// Adds to `udp`, a client's transport bound to the interface address `bound`, the address where a server on its
-/// own host reaches it: Fast DDS sends to a participant on its own host at 127.0.0.1 whatever address it announced,
-/// so a server beside a bound base-camp program (or gateway) would otherwise never reach it (seen on the testbed:
-/// 913 datagrams from the server to 127.0.0.1, none taken). Only when `server` is on this host: a whitelisted
-/// address is also a socket that Fast DDS sends every message from, and from 127.0.0.1 nothing reaches another
-/// host. A robot's gateway with the server at its base camp sent each message twice, once into its own loopback,
-/// and charged its budget for both (a fleet on the testbed: 2,500 bytes charged at another robot's return for
-/// 1,250 on the link).
-void listen_for_a_same_host_server(eprosima::fastdds::rtps::UDPv4TransportDescriptor& udp, const std::string& bound,
-                                   const DiscoveryServerAddress& server);
 
 /// Parses "ADDR:PORT" (IPv4, port 1 to 65535). Throws ConfigError naming `flag` and the value.
 DiscoveryServerAddress parse_discovery_server(const std::string& text, const std::string& flag);

@@ -89,18 +89,6 @@ std::string resolve_ipv4(const std::string& name_or_addr, const std::string& fla
     throw ConfigError(flag + ": '" + name_or_addr + "' is neither an IPv4 address nor an interface with one");
 }
 
-bool is_this_hosts_address(const std::string& ipv4) {
-    const auto wanted = parse_ipv4(ipv4);
-    if (!wanted)
-        return false;
-    if (is_loopback(*wanted))
-        return true;
-    const auto addresses = interface_addresses();
-    return addresses && std::any_of(addresses->begin(), addresses->end(), [&](const InterfaceAddress& each) {
-               return each.address.s_addr == wanted->s_addr;
-           });
-}
-
 void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport,
                           int domain) {
     using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
@@ -120,9 +108,10 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
     std::string bound;
     if (!transport.interface.empty()) {
         bound = resolve_ipv4(transport.interface, transport.interface_flag);
-        udp->interfaceWhiteList.push_back(bound);
-        if (server)
-            listen_for_a_same_host_server(*udp, bound, *server);
+        // Over the link, the locators below bind it to the address. A whitelist would be checked against the
+        // interfaces up at start, once: a program started before its radio is up would keep none for its life.
+        if (!remote)
+            udp->interfaceWhiteList.push_back(bound);
     }
     qos.transport().use_builtin_transports = false;
     qos.transport().user_transports.push_back(udp);

@@ -29,10 +29,6 @@ struct PeerTransport {
 /// named. Throws ConfigError naming `flag` when it is neither.
 std::string resolve_ipv4(const std::string& name_or_addr, const std::string& flag);
 
-/// True if `ipv4` is a loopback address or an address of one of this host's interfaces (of this network
-/// namespace): Fast DDS reaches a participant there through 127.0.0.1.
-bool is_this_hosts_address(const std::string& ipv4);
-
 /// A peer on this host (a loopback address) gets the announcements at the ports of this many participants of
 /// the domain: the gateway, a relay and the tools run beside them share the host, and take participant ids in
 /// the order they start. A datagram to loopback costs the radio nothing.

@@ -59,6 +59,18 @@ eprosima::fastdds::rtps::TransportInterface* CoalescingTransportDescriptor::crea
 CoalescingTransport::CoalescingTransport(const CoalescingTransportDescriptor& descriptor)
     : ChainingTransport(descriptor), descriptor_(descriptor), coalescer_(descriptor.coalescer) {}
 
+bool CoalescingTransport::OpenOutputChannel(eprosima::fastdds::rtps::SendResourceList& sender_resource_list,
+                                            const rtps::Locator_t& locator) {
+    const std::size_t before = sender_resource_list.size();
+    const bool opened = ChainingTransport::OpenOutputChannel(sender_resource_list, locator);
+    if (opened && descriptor_.first_output_socket_only && sender_resource_list.size() > before + 1) {
+        // The multicast sockets close with their resources.
+        sender_resource_list.erase(sender_resource_list.begin() + static_cast<std::ptrdiff_t>(before + 1),
+                                   sender_resource_list.end());
+    }
+    return opened;
+}
+
 bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const rtps::octet* send_buffer,
                                std::uint32_t send_buffer_size, rtps::LocatorsIterator* destination_locators_begin,
                                rtps::LocatorsIterator* destination_locators_end,

@@ -49,6 +49,11 @@ struct CoalescingTransportDescriptor : public eprosima::fastdds::rtps::ChainingT
     bool strip_timestamp = false;
     /// Leave out the HEARTBEAT of a message whose fragment does not end its sample (without_early_heartbeats).
     bool strip_early_heartbeats = false;
+    /// Send through the low-level transport's first output socket alone. Fast DDS 2.9's UDPv4 transport without
+    /// an interface whitelist opens a socket on every address for unicast, then one more per interface for
+    /// multicast alone, and hands each message to each: the ones after the first send no unicast message and
+    /// report it failed, while every copy would be counted here. For a participant that sends no multicast.
+    bool first_output_socket_only = false;
     std::shared_ptr<DatagramCoalescer> coalescer;
     UnscheduledTrafficCallback on_unscheduled;
     /// Holds back repeated HEARTBEATs and ACKNACKs; none: every message goes.
@@ -70,6 +75,10 @@ class CoalescingTransport final : public eprosima::fastdds::rtps::ChainingTransp
               eprosima::fastrtps::rtps::LocatorsIterator* destination_locators_begin,
               eprosima::fastrtps::rtps::LocatorsIterator* destination_locators_end,
               const std::chrono::steady_clock::time_point& timeout) override;
+
+    /// As ChainingTransport's, keeping only the first new socket with first_output_socket_only.
+    bool OpenOutputChannel(eprosima::fastdds::rtps::SendResourceList& sender_resource_list,
+                           const eprosima::fastrtps::rtps::Locator_t& locator) override;
 
     void receive(eprosima::fastdds::rtps::TransportReceiverInterface* next_receiver,
                  const eprosima::fastrtps::rtps::octet* receive_buffer, std::uint32_t receive_buffer_size,

@@ -270,9 +270,10 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
             throw base::ConfigError("--receiver-reports: cannot subscribe to the base camp's reports");
         }
     }
+    // Until the sensor's first reading: what a grant, or the WAN link coming up, applies again.
+    sensed_rate_bps_.store(config_.scheduler.initial_rate_bps);
     if (config_.channel_grants) {
         // A grant applies as it comes; the sensor's next reading applies it again, or without it once it ran out.
-        sensed_rate_bps_.store(config_.scheduler.initial_rate_bps);
         grants_ = std::make_unique<GrantReader>(wan_->guid_prefix(), clock_, [this] { apply_rate(); });
         if (!wan_->subscribe_grants(grants_.get())) {
             throw base::ConfigError("--channel-grants: cannot subscribe to the base camp's grants");
@@ -429,10 +430,21 @@ void Gateway::set_rate(double rate_bps) {
     apply_rate();
 }
 
+void Gateway::set_wan_link_up(bool up) {
+    const bool was_up = wan_link_up_.exchange(up);
+    apply_rate();
+    if (up && !was_up) {
+        wan_->announce_again();
+    }
+}
+
 void Gateway::apply_rate() {
     // Logged here, not where a reading comes: under grants the rate the gateway goes by moves with each grant.
     const double sensed = sensed_rate_bps_.load();
-    const double rate = grants_ ? core::granted_rate_bps(sensed, grants_->view(), least_share_bps_.load()) : sensed;
+    double rate = grants_ ? core::granted_rate_bps(sensed, grants_->view(), least_share_bps_.load()) : sensed;
+    if (!wan_link_up_.load()) {
+        rate = 0;  // a sensor may still read the shaper's or the radio's last rate
+    }
     double commands_bps = 0;
     {
         // The camp's commands take their part of the rate steadily, as long as they come (half duplex).

@@ -146,6 +146,11 @@ class Gateway {
 
     /// The link rate the scheduler budgets for, from the rate sensor.
     void set_rate(double rate_bps);
+    /// Whether the WAN interface can carry anything (sensor::LinkStateWatch). While it cannot, the budget is 0
+    /// whatever the sensor says: samples wait for the link, or go to the on-robot log as their TTL passes, and
+    /// none is written into a dead interface and counted as forwarded. Up by default.
+    void set_wan_link_up(bool up);
+    bool wan_link_up() const { return wan_link_up_.load(); }
     /// What the rate sensor sees queued in the link now, in bytes.
     void observe_link_backlog(std::uint64_t bytes);
     /// A good reading of the rate sensor: its rate, and its view of the link's queue where it has one.
@@ -328,8 +333,9 @@ class Gateway {
     /// Of them, the camp's commands (--duplex half), and their rate lately: the schedule leaves it to them.
     std::atomic<std::uint64_t> commands_charged_bytes_{0};
     std::mutex commands_mutex_;
-    core::SentRate commands_rate_;               // under commands_mutex_
-    std::atomic<double> sensed_rate_bps_{0};     ///< the sensor's last rate; 0 before the first
+    core::SentRate commands_rate_;            // under commands_mutex_
+    std::atomic<double> sensed_rate_bps_{0};  ///< the sensor's last rate; the initial rate before the first
+    std::atomic<bool> wan_link_up_{true};
     std::shared_ptr<WanWriter> status_writer_;   ///< standard WAN mode
     std::optional<core::TopicId> status_topic_;  ///< with a status period
     std::vector<signed char> reachable_;         ///< per topic, as last told to the loop; -1: not yet

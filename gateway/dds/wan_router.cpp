@@ -59,6 +59,14 @@ class WanRouter::Introducer {
         std::lock_guard<std::mutex> lock(mutex_);
         schedule_.removed(participant);
     }
+    /// Once, as soon as the thread can: the link is back, and what was announced while it was down was lost.
+    void announce_now() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            announce_now_ = true;
+        }
+        wake_.notify_one();
+    }
 
     /// Starts announcing through `participant`, which must outlive stop().
     void start(fdds::DomainParticipant* participant) {
@@ -86,15 +94,18 @@ class WanRouter::Introducer {
     void run() {
         std::unique_lock<std::mutex> lock(mutex_);
         while (!stopping_) {
-            const std::optional<base::SteadyTime> next = schedule_.next_due();
-            if (!next) {
-                wake_.wait(lock);
-                continue;
+            if (!announce_now_) {
+                const std::optional<base::SteadyTime> next = schedule_.next_due();
+                if (!next) {
+                    wake_.wait(lock);
+                    continue;
+                }
+                wake_.wait_until(lock, *next);
+                if (stopping_ || (!announce_now_ && !schedule_.take_due(base::SteadyClock::now()))) {
+                    continue;
+                }
             }
-            wake_.wait_until(lock, *next);
-            if (stopping_ || !schedule_.take_due(base::SteadyClock::now())) {
-                continue;
-            }
+            announce_now_ = false;
             ++announcements_;
             const std::uint64_t count = announcements_;
             lock.unlock();
@@ -121,6 +132,7 @@ class WanRouter::Introducer {
     std::condition_variable wake_;
     IntroductionSchedule schedule_;    // under mutex_
     bool stopping_ = false;            // under mutex_
+    bool announce_now_ = false;        // under mutex_
     std::uint64_t announcements_ = 0;  // under mutex_
     std::thread thread_;
 };
@@ -240,12 +252,11 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     // By default one RTPS message per Ethernet frame: larger samples go as DATA_FRAG, which the wire model
     // counts and a reliable writer can repair one by one, instead of IP fragments of one 64 kB datagram.
     udp->maxMessageSize = static_cast<std::uint32_t>(config.max_datagram_bytes);
-    if (!config.interface_address.empty()) {
-        udp->interfaceWhiteList.push_back(config.interface_address);
-        if (config.discovery_server) {
-            base::listen_for_a_same_host_server(*udp, config.interface_address, *config.discovery_server);
-        }
-    }
+    // No interface whitelist: Fast DDS filters it against the interfaces that are up when the participant is
+    // made, once, so a gateway started before its radio kept no interface for its life (192.0.2.0, "All whitelist
+    // interfaces were filtered out"). The locators below bind what it listens on and announces to the interface's
+    // address, which stays assigned while the link is down; it sends from a socket on every address, and the
+    // routing table takes the datagrams to the radio once it is up.
     auto coalescing =
         std::make_shared<CoalescingTransportDescriptor>(udp, coalescer_, config.on_unscheduled, repeat_throttle_);
     coalescing->heartbeat_spacing_bytes = config.heartbeat_spacing_bytes;
@@ -253,6 +264,7 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     coalescing->strip_destination = config.strip_destination;
     coalescing->strip_timestamp = config.strip_timestamp;
     coalescing->strip_early_heartbeats = config.strip_early_heartbeats;
+    coalescing->first_output_socket_only = true;  // no whitelist, no multicast
     if (config.schedule_repairs) {
         repair_desk_ = std::make_shared<RepairDesk>(coalescer_, clock_);
         coalescing->repair_desk = repair_desk_;
@@ -266,9 +278,9 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     builtin.metatrafficUnicastLocatorList.clear();
     builtin.metatrafficUnicastLocatorList.push_back(udp_locator(config.interface_address, config.listen_port));
     qos.wire_protocol().default_multicast_locator_list.clear();
-    if (config.discovery_server && !config.interface_address.empty()) {
-        // Its readers (the receiver reports) announce the interface's address alone, not the loopback it also
-        // listens on for a server on its own host.
+    if (!config.interface_address.empty()) {
+        // Its readers (the receiver reports, the commands) announce the interface's address alone, not every
+        // address of the robot.
         qos.wire_protocol().default_unicast_locator_list.clear();
         qos.wire_protocol().default_unicast_locator_list.push_back(udp_locator(config.interface_address, 0));
     }
@@ -396,6 +408,10 @@ std::size_t WanRouter::remote_participants() const {
 
 std::uint64_t WanRouter::introductions() const {
     return introducer_->announcements();
+}
+
+void WanRouter::announce_again() {
+    introducer_->announce_now();
 }
 
 bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {

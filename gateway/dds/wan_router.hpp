@@ -146,8 +146,13 @@ class WanRouter {
     /// Where the participant's repairs of scheduled samples wait for the schedule (WanConfig::schedule_repairs);
     /// null when they go at once.
     RepairDesk* repair_desk() const { return repair_desk_.get(); }
-    /// Announcements sent again to participants that had not answered (IntroductionSchedule).
+    /// Announcements sent again to participants that had not answered (IntroductionSchedule), and when the link
+    /// came back (announce_again).
     std::uint64_t introductions() const;
+    /// Announces the participant to its peers at once, from the introducer's thread: the link is up again, and
+    /// the announcements made while it was down were lost (a base camp would hear of us at its next periodic
+    /// one, or ours, many seconds later).
+    void announce_again();
     /// Repeated HEARTBEATs and ACKNACKs the transport held back (RepeatThrottle).
     std::uint64_t suppressed_repeats() const { return repeat_throttle_->suppressed(); }
 

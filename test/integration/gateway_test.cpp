@@ -67,6 +67,37 @@ TEST_F(GatewayIntegrationTest, ForwardsPaperMessagesWithPayloadAndSourceTimestam
     expect_balanced();
 }
 
+/// While the WAN interface is down (sensor::LinkStateWatch says so), the budget is 0 whatever the rate: samples
+/// wait, and go to the on-robot log as their TTL passes; none is written and counted as forwarded. Once it is up,
+/// what still has time goes first.
+TEST_F(GatewayIntegrationTest, WhileTheWanLinkIsDownSamplesWaitOrExpireAndNoneIsWritten) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "link_down";
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, 1s), wan);
+    ASSERT_NE(writer, nullptr);
+    const core::TopicId id = gateway_->find_topic(topic)->id;
+
+    gateway_->set_wan_link_up(false);
+    EXPECT_FALSE(gateway_->wan_link_up());
+    EXPECT_EQ(gateway_->rate_bps(), 0.0);
+    idl::PaperMessage msg;
+    msg.data(std::vector<std::uint8_t>(41, 1));
+    ASSERT_TRUE(writer->write(&msg));
+    ASSERT_TRUE(wait_until([&] { return gateway_->counters(id).dropped_for(core::DropReason::expired) == 1; }))
+        << "the sample neither expired nor left";
+    EXPECT_EQ(gateway_->counters(id).forwarded, 0u);
+    EXPECT_EQ(wan.count(), 0u);
+
+    ASSERT_TRUE(writer->write(&msg));  // waits for the link, which comes back within its TTL
+    ASSERT_TRUE(wait_until([&] { return gateway_->queued_samples() == 1; }));
+    gateway_->set_wan_link_up(true);
+    EXPECT_GT(gateway_->rate_bps(), 0.0);
+    ASSERT_TRUE(wait_until([&] { return wan.count() == 1; })) << "the waiting sample did not leave";
+    EXPECT_EQ(gateway_->counters(id).forwarded, 1u);
+    expect_balanced();
+}
+
 /// Large samples cross intact whatever the WAN's datagram limit: as DATA_FRAGs of one Ethernet frame each by
 /// default, or in one datagram with --wan-max-datagram 65500.
 class LargeSampleTest : public GatewayIntegrationTest, public ::testing::WithParamInterface<std::size_t> {};

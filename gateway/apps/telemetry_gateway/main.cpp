@@ -23,6 +23,7 @@
 #include "gateway/log/default_log_path.hpp"
 #include "sensor/delivered_rate_check.hpp"
 #include "sensor/guarded_sensor.hpp"
+#include "sensor/link_state_watch.hpp"
 #include "sensor/rate_sensor.hpp"
 #include "sensor/receiver_report_ledger.hpp"
 #include "sensor/receiver_report_source.hpp"
@@ -447,8 +448,34 @@ int main(int argc, char** argv) {
                       << "draw no ICMP over the radio\n";
         }
 
+        // A radio that is down (or not up yet) is a rate of 0, not a dead program: the WAN participant works once
+        // it is up.
+        std::unique_ptr<tgw::sensor::LinkStateWatch> link_watch;
+        if (!config.wan_interface.empty()) {
+            const std::string wan_name = tgw::dds::resolve_interface_name(config.wan_interface);
+            link_watch = std::make_unique<tgw::sensor::LinkStateWatch>(
+                wan_name, [&gateway, wan_name](const tgw::sensor::LinkState& state) {
+                    if (state.up == gateway.wan_link_up()) {
+                        return;
+                    }
+                    gateway.set_wan_link_up(state.up);
+                    if (state.up) {
+                        std::cerr << "telemetry-gateway: WAN interface " << wan_name << " up: sending again\n";
+                    } else {
+                        std::cerr << "telemetry-gateway: WAN interface " << wan_name << " "
+                                  << tgw::sensor::describe(state)
+                                  << ": nothing is sent until it is up; samples wait for it, or go to the on-robot "
+                                     "log as their TTL passes\n";
+                    }
+                });
+            link_watch->start();
+        }
+
         wait_for_end(signals, duration_s);
 
+        if (link_watch) {
+            link_watch->stop();
+        }
         poller.stop();
         gateway.stop();
         print_summary(gateway, config.uplink_shares_link);

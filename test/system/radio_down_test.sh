@@ -1,0 +1,128 @@
+#!/usr/bin/env bash
+# System test (issue 44, "The radio's life", part 1): an interface that is down is a rate of 0, not a dead program.
+# On the testbed at 40,000 bit/s, the robot's veth is down when both ends start (a robot booting before its radio
+# has associated; with a veth the camp's side has no carrier either): the gateway (--wan-interface VETH, --sensor
+# qdisc:VETH) and the camp's `tm-basecamp relay --out` start anyway. tm-robot-sim publishes the paper's workload;
+# UP_AT_S seconds in, the link comes up; later it goes down for DOWN_S seconds mid-run and comes back.
+# It proves:
+#   (a) both ends work once the radio is up, although it was down when they started (Fast DDS's interface
+#       whitelist kept none, for the programs' whole life, before): the gateway said the interface was down, and
+#       of the A published from 2 s after the link came up (time for discovery, about 1.3 s at 40,000 bit/s),
+#       >= 99 % reached the camp within their 1 s TTL.
+#   (b) while the link is down mid-run nothing is written into the dead interface and counted as forwarded: the
+#       gateway forwarded no sample between the link going down and coming back (its on-robot log's
+#       forwarded_samples), and per topic what the gateway counts as forwarded is what the camp recorded.
+#   (c) when it comes back, the most urgent go first, within a second: the first A the camp records after the
+#       link is back arrives within 1 s of it, and of the A published from 1 s after it, >= 99 % are on time.
+#   (d) nothing unaccounted: per topic, published = the gateway's received = forwarded + dropped, each drop in the
+#       on-robot log.
+# Needs root; skipped (77) otherwise. About 55 s.
+#   radio_down_test.sh BIN_DIR
+set -euo pipefail
+BIN="${1:?usage: radio_down_test.sh BIN_DIR}"
+BIN="$(cd "$BIN" && pwd)"
+cd "$(dirname "$0")/../.."
+# shellcheck source=test/system/system_test_lib.sh
+source test/system/system_test_lib.sh
+require_netns
+require_tools sqlite3
+
+RATE=40000
+UP_AT_S=4
+DOWN_AT_S=18
+DOWN_S=5
+PUBLISH_S=32
+BOUND_S=$((PUBLISH_S + 30))  # upper bound only, should this script be killed hard
+start_testbed "$RATE" radio-down
+[ -z "${TGW_TEST_KEEP:-}" ] || trap 'mkdir -p "$TGW_TEST_KEEP" && cp -r "$WORK"/. "$TGW_TEST_KEEP"/; stop_testbed' EXIT
+link() { "${tb[@]}" robot ip link set "$veth" "$1"; }
+
+link down
+"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --peer "$robot_addr" --interface "$basecamp_addr" \
+    --local-domain 7 --local-interface 127.0.0.1 --out "$WORK/basecamp.db" --duration "$BOUND_S" \
+    >"$WORK/record.out" 2>&1 &
+record_pid=$!
+PIDS+=("$record_pid")
+"${tb[@]}" robot "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-peer "$basecamp_addr" \
+    --wan-interface "$veth" --sensor "qdisc:$veth" --qos qos/paper_workload.xml --wan-peer-participants 1 \
+    --log "$WORK/robot-log.db" --duration "$BOUND_S" >"$WORK/gateway.out" 2>&1 &
+gateway_pid=$!
+PIDS+=("$gateway_pid")
+
+sleep 2
+start_paper_publisher "$PUBLISH_S"
+sleep "$UP_AT_S"
+link up
+up_ns=$(date +%s%N)
+echo "link up ${UP_AT_S} s after tm-robot-sim started"
+sleep $((DOWN_AT_S - UP_AT_S))
+down_ns=$(date +%s%N)
+link down
+sleep "$DOWN_S"
+link up
+back_ns=$(date +%s%N)
+echo "link down for $(((back_ns - down_ns) / 1000000)) ms from ${DOWN_AT_S} s"
+
+finish_run "$sim_pid" "$gateway_pid" "$record_pid"
+show_outputs "$WORK/record.out"
+
+LOG="$WORK/robot-log.db" REC="$WORK/basecamp.db"
+q() { sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log; $1"; }
+# on_time_between FROM_NS TO_NS: "ON_TIME PUBLISHED" for A whose source time is in [FROM_NS, TO_NS) (published:
+# forwarded or logged).
+on_time_between() {
+    local published on_time
+    published="$(q "SELECT COUNT(*) FROM (SELECT source_time_ns FROM log.forwarded_samples WHERE topic = 'telemetry/A'
+        UNION ALL SELECT source_time_ns FROM log.dropped_samples WHERE topic = 'telemetry/A')
+        WHERE source_time_ns >= $1 AND source_time_ns < $2")"
+    on_time="$(q "SELECT COUNT(*) FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM samples
+        WHERE topic = 'telemetry/A' AND source_ns >= $1 AND source_ns < $2 GROUP BY source_ns)
+        WHERE receive_ns - source_ns <= 1000000000")"
+    echo "$on_time $published"
+}
+END_NS=9000000000000000000
+
+echo
+echo "== (a) started with the link down"
+said_down="$(grep -c "WAN interface $veth down: nothing is sent until it is up" "$WORK/gateway.out" || true)"
+read -r a_on a_all <<<"$(on_time_between $((up_ns + 2000000000)) "$down_ns")"
+first_a_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $up_ns) / 1e6) FROM samples WHERE topic = 'telemetry/A'")"
+echo "A from 2 s after the link came up until it went down: $a_on of $a_all on time; the first A at the camp ${first_a_ms:-never} ms after it"
+check "the gateway said its WAN interface was down, twice (at start and mid-run)" "a == 2" "$said_down"
+check "A from 2 s after the link came up until it went down: >= 99 % on time" "b >= 50 && a >= 0.99 * b" "$a_on" "$a_all"
+
+echo
+echo "== (b) down mid-run"
+forwarded_while_down="$(q "SELECT COUNT(*) FROM log.forwarded_samples WHERE forwarded_ns > $down_ns + 200000000
+    AND forwarded_ns < $back_ns - 200000000")"
+echo "samples the gateway forwarded while the link was down (200 ms in from either edge): $forwarded_while_down"
+check "nothing forwarded into the dead interface" "a == 0" "$forwarded_while_down"
+for topic in telemetry/A telemetry/B telemetry/C telemetry/D; do
+    forwarded="$(awk -v t="$topic" '$1 == t && NF >= 11 { print $3 }' "$WORK/gateway.out")"
+    recorded="$(q "SELECT COUNT(DISTINCT source_ns) FROM samples WHERE topic = '$topic'")"
+    check "$topic: the gateway's forwarded = the camp's recorded" "a == b" "${forwarded:-0}" "$recorded"
+done
+
+echo
+echo "== (c) back up"
+first_back_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $back_ns) / 1e6) FROM samples
+    WHERE topic = 'telemetry/A' AND receive_ns >= $back_ns")"
+read -r c_on c_all <<<"$(on_time_between $((back_ns + 1000000000)) "$END_NS")"
+echo "the first A after the link came back: ${first_back_ms:-never} ms after it; A from 1 s after it: $c_on of $c_all on time"
+check "the first A after the link came back within 1 s" "a != \"\" && a <= 1000" "${first_back_ms:-}"
+check "A from 1 s after the link came back: >= 99 % on time" "b >= 30 && a >= 0.99 * b" "$c_on" "$c_all"
+
+echo
+echo "== (d) accounting"
+for topic in telemetry/A telemetry/B telemetry/C telemetry/D; do
+    read -r received forwarded queued dropped <<<"$(awk -v t="$topic" '$1 == t && NF >= 11 {
+        print $2, $3, $4, $5 + $6 + $7 + $8 + $9 + $10 + $11 }' "$WORK/gateway.out")"
+    logged="$(q "SELECT COUNT(*) FROM log.dropped_samples WHERE topic = '$topic'")"
+    check "$topic: received $received = forwarded $forwarded + dropped $dropped, 0 queued" \
+        "a == $forwarded + $dropped && $queued == 0" "$received"
+    check "$topic: every drop in the on-robot log" "a == b" "$logged" "$dropped"
+done
+published="$(awk '$2 == "telemetry/A" { print $5 }' "$WORK/robot.out")"
+received_a="$(awk '$1 == "telemetry/A" && NF >= 11 { print $2 }' "$WORK/gateway.out")"
+check "telemetry/A: tm-robot-sim's written = the gateway's received" "a == b && a > 0" "${published:-0}" "${received_a:-0}"
+exit "$fail"

@@ -23,14 +23,10 @@ KernelCountersReading failure(std::string error) {
 
 }  // namespace
 
-LinkCounterReader::LinkCounterReader(std::string interface)
-    : interface_(std::move(interface)), socket_(nl_socket_alloc()) {
+LinkCounterReader::LinkCounterReader(std::string interface) : interface_(std::move(interface)) {
     if (interface_.empty())
         throw base::ConfigError("no interface given for the delivered-rate check");
-    if (!socket_)
-        throw base::ConfigError("cannot allocate a netlink socket");
-    if (const int err = nl_connect(socket_.get(), NETLINK_ROUTE); err < 0)
-        throw base::ConfigError(std::string("cannot open rtnetlink: ") + nl_geterror(err));
+    socket_ = connect_rtnetlink();
     if (const KernelCountersReading first = read(); !first.ok)
         throw base::ConfigError(first.error);
 }

@@ -14,19 +14,6 @@
 
 namespace tgw::sensor {
 
-namespace {
-
-NlSocketPtr connected_route_socket() {
-    NlSocketPtr socket(nl_socket_alloc());
-    if (!socket)
-        throw base::ConfigError("cannot allocate a netlink socket");
-    if (const int err = nl_connect(socket.get(), NETLINK_ROUTE); err < 0)
-        throw base::ConfigError(std::string("cannot open rtnetlink: ") + nl_geterror(err));
-    return socket;
-}
-
-}  // namespace
-
 const char* describe(const LinkState& state) {
     if (!state.exists)
         return "absent";
@@ -38,8 +25,8 @@ LinkStateWatch::LinkStateWatch(std::string interface, std::function<void(const L
     : interface_(std::move(interface)),
       on_change_(std::move(on_change)),
       recheck_(recheck),
-      events_(connected_route_socket()),
-      queries_(connected_route_socket()) {
+      events_(connect_rtnetlink()),
+      queries_(connect_rtnetlink()) {
     // Notifications carry no sequence numbers of ours; their content is not needed, only that something changed.
     nl_socket_disable_seq_check(events_.get());
     if (const int err = nl_socket_add_membership(events_.get(), RTNLGRP_LINK); err < 0)

@@ -4,6 +4,10 @@
 #include <netlink/route/link.h>
 #include <netlink/route/qdisc.h>
 
+#include <string>
+
+#include "base/config_error.hpp"
+
 namespace tgw::sensor {
 
 void NlSocketFree::operator()(nl_sock* socket) const {
@@ -20,6 +24,15 @@ void RtnlLinkPut::operator()(rtnl_link* link) const {
 
 void RtnlQdiscPut::operator()(rtnl_qdisc* qdisc) const {
     rtnl_qdisc_put(qdisc);
+}
+
+NlSocketPtr connect_rtnetlink() {
+    NlSocketPtr socket(nl_socket_alloc());
+    if (!socket)
+        throw base::ConfigError("cannot allocate a netlink socket");
+    if (const int err = nl_connect(socket.get(), NETLINK_ROUTE); err < 0)
+        throw base::ConfigError(std::string("cannot open rtnetlink: ") + nl_geterror(err));
+    return socket;
 }
 
 }  // namespace tgw::sensor

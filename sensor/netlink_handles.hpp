@@ -30,4 +30,8 @@ using NlCachePtr = std::unique_ptr<nl_cache, NlCacheFree>;
 using RtnlLinkPtr = std::unique_ptr<rtnl_link, RtnlLinkPut>;
 using RtnlQdiscPtr = std::unique_ptr<rtnl_qdisc, RtnlQdiscPut>;
 
+/// A socket connected to rtnetlink, in the network namespace of the calling thread. Throws base::ConfigError
+/// saying which step failed.
+NlSocketPtr connect_rtnetlink();
+
 }  // namespace tgw::sensor

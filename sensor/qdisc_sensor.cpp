@@ -95,13 +95,10 @@ RateReading read_root_shaper(nl_sock* socket, const std::string& interface) {
 
 }  // namespace
 
-QdiscSensor::QdiscSensor(std::string interface) : interface_(std::move(interface)), socket_(nl_socket_alloc()) {
+QdiscSensor::QdiscSensor(std::string interface) : interface_(std::move(interface)) {
     if (interface_.empty())
         throw base::ConfigError("no interface given (qdisc:IFACE)");
-    if (!socket_)
-        throw base::ConfigError("cannot allocate a netlink socket");
-    if (const int err = nl_connect(socket_.get(), NETLINK_ROUTE); err < 0)
-        throw base::ConfigError(std::string("cannot open rtnetlink: ") + nl_geterror(err));
+    socket_ = connect_rtnetlink();
     const RateReading first = read();
     if (!first.ok)
         throw base::ConfigError(first.error);

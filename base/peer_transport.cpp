@@ -1,10 +1,5 @@
 #include "base/peer_transport.hpp"
 
-#include <arpa/inet.h>
-#include <ifaddrs.h>
-#include <netinet/in.h>
-
-#include <algorithm>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -15,6 +10,7 @@
 
 #include "base/config_error.hpp"
 #include "base/discovery_server.hpp"
+#include "base/interface_addresses.hpp"
 
 namespace tgw::base {
 
@@ -22,46 +18,6 @@ namespace {
 
 using eprosima::fastrtps::rtps::IPLocator;
 using eprosima::fastrtps::rtps::Locator_t;
-
-std::optional<in_addr> parse_ipv4(const std::string& text) {
-    in_addr addr{};
-    if (inet_pton(AF_INET, text.c_str(), &addr) != 1)
-        return std::nullopt;
-    return addr;
-}
-
-bool is_ipv4(const std::string& text) {
-    return parse_ipv4(text).has_value();
-}
-
-bool is_loopback(in_addr addr) {
-    return (ntohl(addr.s_addr) >> 24) == 127;
-}
-
-bool is_loopback(const std::string& ipv4) {
-    const auto addr = parse_ipv4(ipv4);
-    return addr && is_loopback(*addr);
-}
-
-struct InterfaceAddress {
-    std::string interface;
-    in_addr address;
-};
-
-/// The IPv4 addresses of this host's interfaces (of this network namespace); nullopt when the kernel will not
-/// list them.
-std::optional<std::vector<InterfaceAddress>> interface_addresses() {
-    ifaddrs* list = nullptr;
-    if (getifaddrs(&list) != 0)
-        return std::nullopt;
-    std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> guard(list, freeifaddrs);
-    std::vector<InterfaceAddress> found;
-    for (const ifaddrs* it = list; it != nullptr; it = it->ifa_next) {
-        if (it->ifa_addr != nullptr && it->ifa_addr->sa_family == AF_INET)
-            found.push_back({it->ifa_name, reinterpret_cast<const sockaddr_in*>(it->ifa_addr)->sin_addr});
-    }
-    return found;
-}
 
 Locator_t udp_locator(const std::string& address, std::uint16_t port = 0) {
     Locator_t locator;
@@ -80,11 +36,8 @@ std::string resolve_ipv4(const std::string& name_or_addr, const std::string& fla
     if (!addresses)
         throw ConfigError(flag + ": cannot list network interfaces");
     for (const InterfaceAddress& each : *addresses) {
-        if (each.interface != name_or_addr)
-            continue;
-        char text[INET_ADDRSTRLEN] = {};
-        inet_ntop(AF_INET, &each.address, text, sizeof(text));
-        return text;
+        if (each.interface == name_or_addr)
+            return each.address;
     }
     throw ConfigError(flag + ": '" + name_or_addr + "' is neither an IPv4 address nor an interface with one");
 }
@@ -131,7 +84,7 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
     for (const std::string& peer : transport.peers) {
         if (!is_ipv4(peer))
             throw ConfigError(transport.peers_flag + ": '" + peer + "' is not an IPv4 address");
-        if (!is_loopback(peer)) {
+        if (!is_loopback_ipv4(peer)) {
             builtin.initialPeersList.push_back(udp_locator(peer));
             continue;
         }

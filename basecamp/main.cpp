@@ -12,7 +12,9 @@
 
 #include "base/config_error.hpp"
 #include "base/dds_security.hpp"
+#include "base/fastdds_log_reporter.hpp"
 #include "base/peer_transport.hpp"
+#include "basecamp/camp_domain_transport.hpp"
 #include "basecamp/compact_unpacker.hpp"
 #include "basecamp/consumer_fan_out.hpp"
 #include "basecamp/echo_command.hpp"
@@ -69,6 +71,7 @@ std::map<std::string, T> parse_assignments(const std::vector<std::string>& items
 }  // namespace
 
 int main(int argc, char** argv) {
+    tgw::base::report_fastdds_log_as("tm-basecamp");
     CLI::App app{"tm-basecamp: records every topic of the WAN domain and reports on-time delivery per topic"};
     app.set_version_flag("--version", std::string("tm-basecamp ") + TGW_VERSION);
     app.require_subcommand(1);
@@ -120,7 +123,8 @@ int main(int argc, char** argv) {
     tgw::base::PeerTransport local_transport;
     local_transport.interface_flag = "--local-interface";
     relay->add_option("--local-interface", local_transport.interface,
-                      "interface name or IPv4 address the camp's domain uses (default: every interface)");
+                      "interface name or IPv4 address the camp's domain uses (default: every interface but the WAN's, "
+                      "loopback included, as they are at start)");
     std::vector<std::string> relay_uplink;
     relay->add_option("--uplink", relay_uplink,
                       "a topic the camp's programs may publish to the robots (commands: rt/NAME/cmd_vel, for a gateway "
@@ -216,7 +220,8 @@ int main(int argc, char** argv) {
             if (security)
                 tgw::base::apply_dds_security(wan_qos, *security);
             auto local_qos = factory->get_default_participant_qos();
-            tgw::base::apply_peer_transport(local_qos, local_transport, local_domain);
+            const std::vector<std::string> camp_addresses =
+                tgw::basecamp::apply_camp_domain_transport(local_qos, local_transport, relay_transport, local_domain);
             std::vector<tgw::basecamp::SampleConsumer*> consumers;
             std::unique_ptr<tgw::basecamp::SampleStore> store;
             if (!relay_out.empty()) {
@@ -234,7 +239,8 @@ int main(int argc, char** argv) {
                 domain, wan_qos, local_domain, local_qos, consumers.empty() ? nullptr : &taken_off_the_wan,
                 tgw::base::from_seconds(relay_report_period_s), relay_uplink, channel_bps, measure_channel);
             tgw::basecamp::stop_on_signals();
-            std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain;
+            std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain << "; "
+                      << tgw::basecamp::describe_camp_domain(camp_addresses, local_transport, relay_transport);
             if (foxglove_server)
                 std::cout << ", Foxglove on ws://0.0.0.0:" << foxglove_server->port();
             std::cout << std::endl;

@@ -47,11 +47,7 @@ record() {  # record N: a base camp recording into $WORK/basecampN.db
 }
 record 1
 first_record_pid=$!
-"${tb[@]}" robot "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-peer "$basecamp_addr" \
-    --wan-interface "$veth" --sensor "qdisc:$veth" --qos qos/paper_workload.xml --wan-peer-participants 1 \
-    --log "$WORK/robot-log.db" --duration "$BOUND_S" >"$WORK/gateway.out" 2>&1 &
-gateway_pid=$!
-PIDS+=("$gateway_pid")
+start_paper_gateway "$BOUND_S"
 
 sleep 2
 start_paper_publisher "$PUBLISH_S"

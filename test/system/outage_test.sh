@@ -60,11 +60,7 @@ start_testbed "$RATE" outage
     --out "$WORK/basecamp.db" --duration "$BOUND_S" >"$WORK/record.out" 2>&1 &
 record_pid=$!
 PIDS+=("$record_pid")
-"${tb[@]}" robot "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-peer "$basecamp_addr" \
-    --wan-interface "$veth" --sensor "qdisc:$veth" --qos qos/paper_workload.xml --wan-peer-participants 1 \
-    --queue-memory "$CAP_MIB" --log "$WORK/robot-log.db" --duration "$BOUND_S" >"$WORK/gateway.out" 2>&1 &
-gateway_pid=$!
-PIDS+=("$gateway_pid")
+start_paper_gateway "$BOUND_S" --queue-memory "$CAP_MIB"
 
 # The gateway's resident memory every 0.5 s: "ns kib" lines (the PID is the program: testbed exec execs).
 sample_rss() {

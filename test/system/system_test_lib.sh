@@ -92,6 +92,17 @@ start_paper_publisher() {
     PIDS+=("$sim_pid")
 }
 
+# start_paper_gateway SECONDS [FLAG...]: telemetry-gateway on the robot, as the paper's experiments run it (the
+# TTLs of qos/paper_workload.xml, the qdisc sensor on the robot's veth, the camp's participant 0 as its peer), with
+# FLAGs added, for at most SECONDS, into $WORK/gateway.out with its log in $WORK/robot-log.db; sets gateway_pid.
+start_paper_gateway() {
+    "${tb[@]}" robot "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-peer "$basecamp_addr" \
+        --wan-interface "$veth" --sensor "qdisc:$veth" --qos qos/paper_workload.xml --wan-peer-participants 1 \
+        --log "$WORK/robot-log.db" --duration "$1" "${@:2}" >"$WORK/gateway.out" 2>&1 &
+    gateway_pid=$!
+    PIDS+=("$gateway_pid")
+}
+
 # finish_run SIM_PID GATEWAY_PID RECORD_PID: waits for tm-robot-sim (sets sim_status); lets the gateway drain for
 # 2 s, then stops it (sets gateway_status; it logs what is still queued as 'shutdown'); gives the recorder 2 s for
 # what is in flight (the shaper's queue is at most 1 s deep), then stops it; the shaper's counters go to

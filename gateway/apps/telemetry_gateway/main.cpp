@@ -14,6 +14,7 @@
 
 #include "base/cli_checks.hpp"
 #include "base/config_error.hpp"
+#include "base/fastdds_log_reporter.hpp"
 #include "base/robot_namespace.hpp"
 #include "gateway/core/policy_kind.hpp"
 #include "gateway/dds/gateway.hpp"
@@ -167,6 +168,7 @@ void wait_for_end(const sigset_t& signals, double duration_s) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    tgw::base::report_fastdds_log_as("telemetry-gateway");
     CLI::App app{"telemetry-gateway: bridge robot-domain DDS topics to the WAN domain within the link's rate"};
     app.set_version_flag("--version", std::string("telemetry-gateway ") + TGW_VERSION);
     tgw::dds::GatewayConfig config;

@@ -11,6 +11,7 @@
 
 #include "base/cli_checks.hpp"
 #include "base/config_error.hpp"
+#include "base/fastdds_log_reporter.hpp"
 #include "gateway/apps/tm_robot_sim/paper_publisher.hpp"
 #include "gateway/apps/tm_robot_sim/pose_publisher.hpp"
 #include "gateway/apps/tm_robot_sim/survey_route.hpp"
@@ -28,6 +29,7 @@ void on_signal(int) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    tgw::base::report_fastdds_log_as("tm-robot-sim");
     CLI::App app{"tm-robot-sim: publishes the paper's telemetry workload (topics telemetry/A ... D) on a DDS domain"};
     app.set_version_flag("--version", std::string("tm-robot-sim ") + TGW_VERSION);
     int domain = 0;

@@ -1,0 +1,30 @@
+// This host's IPv4 interfaces as the kernel lists them now (of this network namespace): what a participant may
+// be bound to, and which of them carries the traffic to a given peer.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tgw::base {
+
+struct InterfaceAddress {
+    std::string interface;  ///< its name, "lo", "wlan0"
+    std::string address;    ///< dotted IPv4
+};
+
+/// Every IPv4 address of this host's interfaces, loopback included, in the kernel's order; nullopt when the
+/// kernel will not list them.
+std::optional<std::vector<InterfaceAddress>> interface_addresses();
+
+/// The address this host would send from to reach the IPv4 `peer`, by its routing table (a UDP socket is
+/// connected, nothing is sent); nullopt when `peer` is not an IPv4 address or no route leads there.
+std::optional<std::string> route_source_address(const std::string& peer);
+
+/// Whether `text` is a dotted IPv4 address.
+bool is_ipv4(const std::string& text);
+
+/// Whether `text` is an IPv4 address in 127.0.0.0/8.
+bool is_loopback_ipv4(const std::string& text);
+
+}  // namespace tgw::base

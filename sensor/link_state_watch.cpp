@@ -11,13 +11,16 @@
 #include <utility>
 
 #include "base/config_error.hpp"
+#include "base/interface_addresses.hpp"
 
 namespace tgw::sensor {
 
 const char* describe(const LinkState& state) {
     if (!state.exists)
         return "absent";
-    return state.up ? "up" : "down";
+    if (!state.up)
+        return "down";
+    return state.addresses.empty() ? "up without an IPv4 address" : "up";
 }
 
 LinkStateWatch::LinkStateWatch(std::string interface, std::function<void(const LinkState&)> on_change,
@@ -29,7 +32,7 @@ LinkStateWatch::LinkStateWatch(std::string interface, std::function<void(const L
       queries_(connect_rtnetlink()) {
     // Notifications carry no sequence numbers of ours; their content is not needed, only that something changed.
     nl_socket_disable_seq_check(events_.get());
-    if (const int err = nl_socket_add_membership(events_.get(), RTNLGRP_LINK); err < 0)
+    if (const int err = nl_socket_add_memberships(events_.get(), RTNLGRP_LINK, RTNLGRP_IPV4_IFADDR, 0); err < 0)
         throw base::ConfigError(std::string("cannot follow the links' state through rtnetlink: ") + nl_geterror(err));
     nl_socket_set_nonblocking(events_.get());
     stop_fd_ = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
@@ -44,8 +47,10 @@ LinkStateWatch::~LinkStateWatch() {
 
 void LinkStateWatch::start() {
     const LinkState first = read_state();
-    exists_.store(first.exists);
-    up_.store(first.up);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        state_ = first;
+    }
     if (on_change_)
         on_change_(first);
     thread_ = std::thread([this] { run(); });
@@ -60,7 +65,8 @@ void LinkStateWatch::stop() {
 }
 
 LinkState LinkStateWatch::state() const {
-    return LinkState{exists_.load(), up_.load()};
+    std::lock_guard<std::mutex> lock(mutex_);
+    return state_;
 }
 
 LinkState LinkStateWatch::read_state() {
@@ -69,7 +75,14 @@ LinkState LinkStateWatch::read_state() {
         return LinkState{};
     const RtnlLinkPtr link(raw_link);
     const unsigned int flags = rtnl_link_get_flags(link.get());
-    return LinkState{true, (flags & IFF_UP) != 0 && (flags & IFF_RUNNING) != 0};
+    LinkState state{true, (flags & IFF_UP) != 0 && (flags & IFF_RUNNING) != 0, {}};
+    if (const auto addresses = base::interface_addresses()) {
+        for (const base::InterfaceAddress& each : *addresses) {
+            if (each.interface == interface_)
+                state.addresses.push_back(each.address);
+        }
+    }
+    return state;
 }
 
 void LinkStateWatch::run() {
@@ -85,8 +98,10 @@ void LinkStateWatch::run() {
         }
         const LinkState now = read_state();
         if (now != state()) {
-            exists_.store(now.exists);
-            up_.store(now.up);
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                state_ = now;
+            }
             if (on_change_)
                 on_change_(now);
         }

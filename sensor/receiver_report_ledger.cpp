@@ -26,6 +26,13 @@ bool ReceiverReportLedger::silent() const {
     return clock_.now() - last_report_ >= silence_;
 }
 
+void ReceiverReportLedger::reset() {
+    receiver_.reset();
+    last_report_ = {};
+    latest_.reset();
+    never_accounted_.reset();
+}
+
 bool ReceiverReportLedger::take(const ReceiverId& from, const ReceiverReportCounts& counts,
                                 std::uint64_t forwarded_samples) {
     if (!receiver_ || (*receiver_ != from && silent())) {

@@ -50,6 +50,9 @@ class ReceiverReportLedger {
     /// `silence`.
     std::optional<ReceiverReportTotals> latest() const;
 
+    /// Follows no receiver any more, as when made (the gateway's WAN participant was made anew).
+    void reset();
+
   private:
     bool silent() const;
 

@@ -59,6 +59,13 @@ eprosima::fastdds::rtps::TransportInterface* CoalescingTransportDescriptor::crea
 CoalescingTransport::CoalescingTransport(const CoalescingTransportDescriptor& descriptor)
     : ChainingTransport(descriptor), descriptor_(descriptor), coalescer_(descriptor.coalescer) {}
 
+CoalescingTransport::~CoalescingTransport() {
+    if (coalescer_)
+        coalescer_->forget(*this);
+    if (descriptor_.repair_desk)
+        descriptor_.repair_desk->forget(*this);
+}
+
 bool CoalescingTransport::OpenOutputChannel(eprosima::fastdds::rtps::SendResourceList& sender_resource_list,
                                             const rtps::Locator_t& locator) {
     const std::size_t before = sender_resource_list.size();

@@ -69,6 +69,8 @@ struct CoalescingTransportDescriptor : public eprosima::fastdds::rtps::ChainingT
 class CoalescingTransport final : public eprosima::fastdds::rtps::ChainingTransport, public DatagramSender {
   public:
     explicit CoalescingTransport(const CoalescingTransportDescriptor& descriptor);
+    /// Sends what the coalescer keeps for it and drops the repairs held for it, while its channels still exist.
+    ~CoalescingTransport() override;
 
     bool send(eprosima::fastrtps::rtps::SenderResource* low_sender_resource,
               const eprosima::fastrtps::rtps::octet* send_buffer, std::uint32_t send_buffer_size,

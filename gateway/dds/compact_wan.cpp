@@ -84,11 +84,23 @@ bool CompactWan::announce(const CatalogLane& lane) {
         entry.lanes().resize(lane.lane + 1u);
     }
     entry.lanes()[lane.lane] = lane_offer(lane);
+    return write_entry_nts(entry);
+}
 
+bool CompactWan::announce_again() {
+    std::lock_guard<std::mutex> lock(catalog_mutex_);
+    bool all = true;
+    for (auto& [id, entry] : catalog_) {
+        all = write_entry_nts(entry) && all;
+    }
+    return all;
+}
+
+bool CompactWan::write_entry_nts(wan::CatalogEntry& entry) {
     wan::CatalogEntryPubSubType type;
     core::Sample sample;
     if (!keyed_sample(type, entry, sample)) {
-        std::cerr << "telemetry-gateway: cannot serialize the catalog entry of " << lane.topic << "\n";
+        std::cerr << "telemetry-gateway: cannot serialize the catalog entry of " << entry.topic() << "\n";
         return false;
     }
     sample.source_time = base::WallClock::now();

@@ -53,6 +53,10 @@ class CompactWan {
     /// write failed. Any thread.
     bool announce(const CatalogLane& lane);
 
+    /// Writes every catalog entry again: the catalog's writer was made anew, its history empty
+    /// (WanRouter::rebind). False (after logging it) when a write failed.
+    bool announce_again();
+
     /// Encodes `samples` as the next bundle into `out` (the bundle's DDS sample) and returns the bytes it will put
     /// on the link (the wire model of its encoded size); the samples keep their payloads. No I/O: the forwarding
     /// loop calls it under its lock, one thread at a time, and sends the bundles after it, in the same order. A
@@ -76,6 +80,9 @@ class CompactWan {
     Stats stats() const;
 
   private:
+    /// Under catalog_mutex_.
+    bool write_entry_nts(wan::CatalogEntry& entry);
+
     core::WireModel wire_;
     compact::BundleCompression compression_;
     std::shared_ptr<WanWriter> bundle_writer_;

@@ -1,5 +1,7 @@
 #include "gateway/dds/datagram_coalescer.hpp"
 
+#include <algorithm>
+
 #include <atomic>
 #include <optional>
 
@@ -37,6 +39,18 @@ void DatagramCoalescer::start() {
     if (!thread_.joinable() && !stopping_) {
         thread_ = std::thread([this] { run(); });
     }
+}
+
+void DatagramCoalescer::forget(const DatagramSender& sender) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const base::SteadyTime now = clock_.now();
+    for (auto& batch : batches_) {
+        if (batch->sender == &sender)
+            flush_nts(*batch, now);
+    }
+    batches_.erase(std::remove_if(batches_.begin(), batches_.end(),
+                                  [&](const std::unique_ptr<Batch>& batch) { return batch->sender == &sender; }),
+                   batches_.end());
 }
 
 void DatagramCoalescer::stop() {

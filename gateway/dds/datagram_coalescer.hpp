@@ -76,6 +76,9 @@ class DatagramCoalescer {
     /// low-level channels go away.
     void stop();
 
+    /// Sends what waits for `sender` and forgets it: its transport is going (the WAN participant made anew).
+    void forget(const DatagramSender& sender);
+
     /// Sends `message` now or keeps a copy to send with the next ones. False only when a send now failed.
     bool send(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
               std::size_t size);

@@ -160,7 +160,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     }
 
     if (!config_.wan_interface.empty()) {
-        wan.interface_address = resolve_interface_address(config_.wan_interface);
+        wan.interface_address = initial_wan_address(config_.wan_interface);
     }
     wan.listen_port = config_.wan_port;
     if (!config_.wan_discovery_server.empty()) {
@@ -317,19 +317,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         robot_ = std::make_unique<RobotParticipant>(config_.robot_domain, discovery_.get(), transport,
                                                     participant_profile(ROBOT_PARTICIPANT_PROFILE));
         discovery_->ignore_participant(robot_->guid_prefix());
-        if (!uplink_topics_.empty()) {
-            Uplink::Charge charge;
-            if (config_.uplink_shares_link) {
-                // Outside the schedule, as discovery is: so the status tells the base camp's grantor, and a robot's
-                // grant leaves room for the commands the camp sends it on the shared channel.
-                charge = [this](std::uint64_t frame_bytes) {
-                    commands_charged_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
-                    charge_unscheduled(frame_bytes);
-                };
-            }
-            uplink_ = std::make_unique<Uplink>(wan_->participant(), robot_->participant(), clock_, camp_wire_,
-                                               std::move(charge));
-        }
+        make_uplink();
         worker_ = std::thread([this] { run_worker(); });
     } catch (...) {
         stop();
@@ -430,6 +418,73 @@ void Gateway::set_rate(double rate_bps) {
     apply_rate();
 }
 
+void Gateway::make_uplink() {
+    if (uplink_topics_.empty()) {
+        return;
+    }
+    Uplink::Charge charge;
+    if (config_.uplink_shares_link) {
+        // Outside the schedule, as discovery is: so the status tells the base camp's grantor, and a robot's
+        // grant leaves room for the commands the camp sends it on the shared channel.
+        charge = [this](std::uint64_t frame_bytes) {
+            commands_charged_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
+            charge_unscheduled(frame_bytes);
+        };
+    }
+    uplink_ =
+        std::make_unique<Uplink>(wan_->participant(), robot_->participant(), clock_, camp_wire_, std::move(charge));
+}
+
+void Gateway::rebind_wan(const std::string& address) {
+    // At once: a link that comes up with the new address must not be given a rate before the participant is
+    // bound to it (what was written meanwhile would be counted forwarded and never arrive).
+    rebinding_wan_.store(true);
+    apply_rate();
+    post([this, address] { rebind_wan_nts(address); });
+}
+
+void Gateway::rebind_wan_nts(const std::string& address) {
+    if (address.empty() || address == wan_->interface_address()) {
+        rebinding_wan_.store(false);
+        apply_rate();
+        return;
+    }
+    if (uplink_) {
+        uplink_->close();  // its readers are the old participant's
+        uplink_.reset();
+    }
+    // Released first: the new participant must get its own well-known port, which they may hold on no address.
+    quiet_ports_ = base::QuietDiscoveryPorts();
+    if (wan_->rebind(address)) {
+        const auto prefix = wan_->guid_prefix();
+        if (reports_) {
+            reports_->set_own(prefix);
+        }
+        if (grants_) {
+            grants_->set_own(prefix);
+        }
+        discovery_->ignore_participant(prefix);
+        try {
+            if (base::QuietDiscoveryPorts::worth_it(address)) {
+                quiet_ports_ = base::QuietDiscoveryPorts(address, config_.wan_domain);
+            }
+        } catch (const base::ConfigError& error) {
+            std::cerr << "telemetry-gateway: " << error.what() << '\n';
+        }
+        make_uplink();
+        if (compact_) {
+            compact_->announce_again();  // the catalog's writer starts with no history to give the camp
+        }
+        wan_rebinds_.fetch_add(1);
+    }
+    rebinding_wan_.store(false);
+    apply_rate();
+}
+
+std::string Gateway::wan_interface_address() const {
+    return wan_->interface_address();
+}
+
 void Gateway::set_wan_link_up(bool up) {
     const bool was_up = wan_link_up_.exchange(up);
     apply_rate();
@@ -442,7 +497,7 @@ void Gateway::apply_rate() {
     // Logged here, not where a reading comes: under grants the rate the gateway goes by moves with each grant.
     const double sensed = sensed_rate_bps_.load();
     double rate = grants_ ? core::granted_rate_bps(sensed, grants_->view(), least_share_bps_.load()) : sensed;
-    if (!wan_link_up_.load()) {
+    if (!wan_link_up_.load() || rebinding_wan_.load()) {
         rate = 0;  // a sensor may still read the shaper's or the radio's last rate
     }
     double commands_bps = 0;

@@ -151,6 +151,14 @@ class Gateway {
     /// none is written into a dead interface and counted as forwarded. Up by default.
     void set_wan_link_up(bool up);
     bool wan_link_up() const { return wan_link_up_.load(); }
+    /// The WAN interface has `address` now, another than the WAN participant's (a DHCP lease, a mesh radio): the
+    /// participant is made anew on it (WanRouter::rebind), nothing scheduled meanwhile, and the uplink and the
+    /// readers of reports and grants follow it. From any thread; done in the gateway's own, soon after.
+    void rebind_wan(const std::string& address);
+    /// The address the WAN participant is bound to; empty: every interface.
+    std::string wan_interface_address() const;
+    /// Times the WAN participant was made anew on another address.
+    std::uint64_t wan_rebinds() const { return wan_rebinds_.load(); }
     /// What the rate sensor sees queued in the link now, in bytes.
     void observe_link_backlog(std::uint64_t bytes);
     /// A good reading of the rate sensor: its rate, and its view of the link's queue where it has one.
@@ -297,6 +305,9 @@ class Gateway {
     void remote_publisher_discovered(DiscoveredPublisher&& pub);  // Fast DDS's discovery thread
     /// Routes a listed topic's base-camp publisher into the robot domain. The worker thread only.
     void route_uplink_nts(const DiscoveredPublisher& pub, const std::string& robot_topic);
+    /// The uplink's readers on the WAN participant and writers on the robot's, with --uplink.
+    void make_uplink();
+    void rebind_wan_nts(const std::string& address);
 
     GatewayConfig config_;
     const base::Clock& clock_;
@@ -336,6 +347,8 @@ class Gateway {
     core::SentRate commands_rate_;            // under commands_mutex_
     std::atomic<double> sensed_rate_bps_{0};  ///< the sensor's last rate; the initial rate before the first
     std::atomic<bool> wan_link_up_{true};
+    std::atomic<bool> rebinding_wan_{false};
+    std::atomic<std::uint64_t> wan_rebinds_{0};
     std::shared_ptr<WanWriter> status_writer_;   ///< standard WAN mode
     std::optional<core::TopicId> status_topic_;  ///< with a status period
     std::vector<signed char> reachable_;         ///< per topic, as last told to the loop; -1: not yet

@@ -12,7 +12,13 @@ namespace tgw::dds {
 
 GrantReader::GrantReader(const eprosima::fastrtps::rtps::GuidPrefix_t& own, const base::Clock& clock,
                          std::function<void()> changed)
-    : own_(own), clock_(clock), changed_(std::move(changed)), join_until_(clock.now() + core::JOIN_WAIT) {}
+    : clock_(clock), changed_(std::move(changed)), own_(own), join_until_(clock.now() + core::JOIN_WAIT) {}
+
+void GrantReader::set_own(const eprosima::fastrtps::rtps::GuidPrefix_t& own) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    own_ = own;
+    own_grant_ = Heard{};
+}
 
 void GrantReader::on_data_available(eprosima::fastdds::dds::DataReader* reader) {
     idl::ChannelGrant grant;
@@ -22,6 +28,7 @@ void GrantReader::on_data_available(eprosima::fastdds::dds::DataReader* reader) 
         if (!info.valid_data)
             continue;
         const auto& prefix = grant.gateway_prefix();
+        std::lock_guard<std::mutex> lock(mutex_);
         Heard* heard = nullptr;
         if (std::equal(prefix.begin(), prefix.end(), std::begin(own_.value))) {
             heard = &own_grant_;
@@ -30,7 +37,6 @@ void GrantReader::on_data_available(eprosima::fastdds::dds::DataReader* reader) 
         } else {
             continue;  // another gateway's
         }
-        std::lock_guard<std::mutex> lock(mutex_);
         heard->rate_bps = std::max(0.0, grant.rate_bps());
         heard->valid_until = clock_.now() + std::chrono::milliseconds(grant.valid_ms());
         ours = true;

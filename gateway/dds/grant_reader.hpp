@@ -29,14 +29,17 @@ class GrantReader final : public eprosima::fastdds::dds::DataReaderListener {
     /// of either kind heard yet, within core::JOIN_WAIT.
     core::GrantView view() const;
 
+    /// The gateway's WAN participant was made anew (WanRouter::rebind): grants for `own` are its own from here.
+    void set_own(const eprosima::fastrtps::rtps::GuidPrefix_t& own);
+
     /// Calls `changed` no more: once it returns, what `changed` uses may go while the reader still exists.
     void close();
 
   private:
-    const eprosima::fastrtps::rtps::GuidPrefix_t own_;
     const base::Clock& clock_;
     const std::function<void()> changed_;
     mutable std::mutex mutex_;
+    eprosima::fastrtps::rtps::GuidPrefix_t own_;  // under mutex_
     struct Heard {
         std::optional<double> rate_bps;
         base::SteadyTime valid_until{};

@@ -16,7 +16,13 @@ using eprosima::fastrtps::types::ReturnCode_t;
 
 ReceiverReportReader::ReceiverReportReader(const eprosima::fastrtps::rtps::GuidPrefix_t& own,
                                            std::function<std::uint64_t()> forwarded_samples, const base::Clock& clock)
-    : own_(own), forwarded_samples_(std::move(forwarded_samples)), ledger_(clock, RECEIVER_SILENCE) {}
+    : forwarded_samples_(std::move(forwarded_samples)), own_(own), ledger_(clock, RECEIVER_SILENCE) {}
+
+void ReceiverReportReader::set_own(const eprosima::fastrtps::rtps::GuidPrefix_t& own) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    own_ = own;
+    ledger_.reset();
+}
 
 void ReceiverReportReader::on_data_available(fdds::DataReader* reader) {
     idl::ReceiverReport report;

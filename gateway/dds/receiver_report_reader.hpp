@@ -33,16 +33,20 @@ class ReceiverReportReader final : public eprosima::fastdds::dds::DataReaderList
     /// The followed receiver's latest report; nullopt before the first and while no receiver reports.
     std::optional<ReceiverReportTotals> latest() const;
 
+    /// The gateway's WAN participant was made anew (WanRouter::rebind): reports about `own` count from here, with
+    /// no receiver followed yet.
+    void set_own(const eprosima::fastrtps::rtps::GuidPrefix_t& own);
+
     /// Takes no further report: once it returns, `forwarded_samples` is neither running nor called again, so
     /// what it reads may go while the reader still exists.
     void close();
 
   private:
-    eprosima::fastrtps::rtps::GuidPrefix_t own_;
     std::function<std::uint64_t()> forwarded_samples_;
     mutable std::mutex mutex_;
-    sensor::ReceiverReportLedger ledger_;  ///< guarded by mutex_
-    bool closed_ = false;                  ///< guarded by mutex_
+    eprosima::fastrtps::rtps::GuidPrefix_t own_;  ///< guarded by mutex_
+    sensor::ReceiverReportLedger ledger_;         ///< guarded by mutex_
+    bool closed_ = false;                         ///< guarded by mutex_
 };
 
 }  // namespace tgw::dds

@@ -53,6 +53,19 @@ void RepairDesk::stop() {
     written_.clear();
 }
 
+void RepairDesk::forget(const DatagramSender& sender) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto it = held_.begin(); it != held_.end();) {
+        if (it->second.sender == &sender) {
+            ++counts_.discarded;
+            it = held_.erase(it);
+        } else {
+            ++it;
+        }
+    }
+    written_.clear();  // the new participant's writers number their samples afresh
+}
+
 void RepairDesk::note_scheduled(const std::uint8_t* message, std::size_t size) {
     const WriteScope* scope = current_scope;
     if (scope == nullptr) {

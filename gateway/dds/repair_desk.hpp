@@ -49,6 +49,10 @@ class RepairDesk {
     /// No more holding; what is held is forgotten. Call before the participant's transports go.
     void stop();
 
+    /// Forgets the repairs held for `sender`: its transport is going (the WAN participant made anew). The
+    /// schedule's later send() or discard() of them does nothing.
+    void forget(const DatagramSender& sender);
+
     /// A scheduled write's message: remembers the samples it carries, when a WriteScope is active on this thread.
     void note_scheduled(const std::uint8_t* message, std::size_t size);
     /// A message sent outside any scheduled write, to `copies` of the transport's locators: true when it carries a

@@ -1,5 +1,7 @@
 #include "gateway/dds/wan_address.hpp"
 
+#include <net/if.h>
+
 #include <arpa/inet.h>
 #include <ifaddrs.h>
 #include <netinet/in.h>
@@ -94,6 +96,23 @@ std::string resolve_interface_address(const std::string& name_or_address, const 
     }
     throw base::ConfigError(flag + " '" + name_or_address + "': " +
                             (exists ? "the interface has no IPv4 address" : "no such interface or IPv4 address"));
+}
+
+std::string initial_wan_address(const std::string& name_or_address) {
+    if (is_ipv4(name_or_address)) {
+        return name_or_address;
+    }
+    if (name_or_address.empty() || name_or_address.size() >= IFNAMSIZ ||
+        name_or_address.find_first_of("/ \t") != std::string::npos) {
+        throw base::ConfigError("--wan-interface '" + name_or_address + "': not an interface name or IPv4 address");
+    }
+    const IfaddrsPtr list = list_interfaces(name_or_address, "--wan-interface");
+    for (const ifaddrs* it = list.get(); it != nullptr; it = it->ifa_next) {
+        if (it->ifa_name != nullptr && name_or_address == it->ifa_name && has_ipv4(it)) {
+            return ipv4_text(it->ifa_addr);
+        }
+    }
+    return ADDRESS_TO_COME;
 }
 
 std::string resolve_interface_name(const std::string& name_or_address) {

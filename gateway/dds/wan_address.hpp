@@ -33,6 +33,16 @@ std::vector<std::uint16_t> peer_ports(const WanPeer& peer, int domain, int parti
 /// works.
 std::string resolve_interface_address(const std::string& name_or_address, const std::string& flag = "--wan-interface");
 
+/// Where the WAN participant waits for an interface with no IPv4 address yet (a radio not associated, DHCP not
+/// done): it is bound to loopback, announcing nothing anyone far away can use, until the interface has an address
+/// and the participant is made anew on it (Gateway::rebind_wan).
+inline const std::string ADDRESS_TO_COME = "127.0.0.1";
+
+/// The IPv4 address the WAN participant starts on for --wan-interface: an address as given (after checking its
+/// syntax); an interface's first one, or ADDRESS_TO_COME while it has none (or is not there yet). Throws
+/// base::ConfigError naming the flag when the text is no valid name.
+std::string initial_wan_address(const std::string& name_or_address);
+
 /// --wan-interface as an interface name: a name is returned as is, an address is looked up. Throws
 /// base::ConfigError naming the flag when no interface has the address.
 std::string resolve_interface_name(const std::string& name_or_address);

@@ -68,8 +68,13 @@ class WanRouter::Introducer {
         wake_.notify_one();
     }
 
-    /// Starts announcing through `participant`, which must outlive stop().
+    /// Starts announcing through `participant`, which must outlive stop(); again after stop(), for a new one.
     void start(fdds::DomainParticipant* participant) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stopping_ = false;
+            schedule_ = IntroductionSchedule();
+        }
         participant_ = participant;
         user_data_ = participant->get_qos().user_data().data_vec();
         thread_ = std::thread([this] { run(); });
@@ -197,6 +202,13 @@ class WanRouter::ParticipantCounter final : public TypeObjectGuard {
     }
 #endif
 
+    /// The participant these were discovered by is gone.
+    void forget_all() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        discovered_.clear();
+        authenticated_.clear();
+    }
+
     std::size_t count() const {
         std::lock_guard<std::mutex> lock(mutex_);
         if (!secured_) {
@@ -238,11 +250,13 @@ Locator_t udp_locator(const std::string& address, std::uint16_t port) {
 
 WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainParticipantQos>& base)
     : coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_)),
+      domain_(config.domain),
+      listen_port_(config.listen_port),
       introducer_(std::make_unique<Introducer>()),
       participants_(
           std::make_unique<ParticipantCounter>(config.security.has_value(), *introducer_, config.on_remote_publisher)) {
-    fdds::DomainParticipantQos qos =
-        base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
+    fdds::DomainParticipantQos& qos = qos_;
+    qos = base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
     qos.name("telemetry-gateway/wan");
 
     // UDPv4 only: no shared memory (the base camp is elsewhere), bound to the WAN interface.
@@ -271,19 +285,9 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     }
     qos.transport().user_transports.push_back(coalescing);
 
-    // An explicit metatraffic unicast locator and no multicast one: Fast DDS then opens no multicast
-    // listener and announces only to the initial peers. Port 0 means the participant id's well-known port.
     auto& builtin = qos.wire_protocol().builtin;
     builtin.metatrafficMulticastLocatorList.clear();
-    builtin.metatrafficUnicastLocatorList.clear();
-    builtin.metatrafficUnicastLocatorList.push_back(udp_locator(config.interface_address, config.listen_port));
     qos.wire_protocol().default_multicast_locator_list.clear();
-    if (!config.interface_address.empty()) {
-        // Its readers (the receiver reports, the commands) announce the interface's address alone, not every
-        // address of the robot.
-        qos.wire_protocol().default_unicast_locator_list.clear();
-        qos.wire_protocol().default_unicast_locator_list.push_back(udp_locator(config.interface_address, 0));
-    }
     builtin.initialPeersList.clear();
     for (const WanPeer& peer : config.peers) {
         builtin.initialPeersList.push_back(udp_locator(peer.address, peer.port));
@@ -303,21 +307,112 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
         base::apply_dds_security(qos, *config.security);
     }
 
-    fdds::StatusMask discovery_only = fdds::StatusMask::none();
-    participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
-        static_cast<fdds::DomainId_t>(config.domain), qos, participants_.get(), discovery_only);
-    if (participant_ == nullptr) {
-        throw base::ConfigError("--wan-domain " + std::to_string(config.domain) +
-                                ": cannot create the WAN participant (check --wan-interface and --wan-peer" +
-                                (config.security ? ", and Fast DDS's log about --wan-security" : "") + ")");
-    }
-    publisher_ = publishers_.get(participant_, OfferedQos{});
-    if (publisher_ == nullptr) {
-        fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
-        throw base::ConfigError("--wan-domain " + std::to_string(config.domain) + ": cannot create a publisher");
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!create_participant_nts(config.interface_address)) {
+            throw base::ConfigError("--wan-domain " + std::to_string(config.domain) +
+                                    ": cannot create the WAN participant (check --wan-interface and --wan-peer" +
+                                    (config.security ? ", and Fast DDS's log about --wan-security" : "") + ")");
+        }
     }
     coalescer_->start();
     introducer_->start(participant_);
+}
+
+bool WanRouter::create_participant_nts(const std::string& interface_address) {
+    fdds::DomainParticipantQos qos = qos_;
+    // An explicit metatraffic unicast locator and no multicast one: Fast DDS then opens no multicast
+    // listener and announces only to the initial peers. Port 0 means the participant id's well-known port.
+    auto& builtin = qos.wire_protocol().builtin;
+    builtin.metatrafficUnicastLocatorList.clear();
+    builtin.metatrafficUnicastLocatorList.push_back(udp_locator(interface_address, listen_port_));
+    if (!interface_address.empty()) {
+        // Its readers (the receiver reports, the commands) announce the interface's address alone, not every
+        // address of the robot.
+        qos.wire_protocol().default_unicast_locator_list.clear();
+        qos.wire_protocol().default_unicast_locator_list.push_back(udp_locator(interface_address, 0));
+    }
+    const fdds::StatusMask discovery_only = fdds::StatusMask::none();
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
+    participant_ =
+        factory->create_participant(static_cast<fdds::DomainId_t>(domain_), qos, participants_.get(), discovery_only);
+    if (participant_ == nullptr) {
+        return false;
+    }
+    publishers_ = PartitionGroups<fdds::Publisher>();
+    publisher_ = publishers_.get(participant_, OfferedQos{});
+    if (publisher_ == nullptr) {
+        factory->delete_participant(participant_);
+        participant_ = nullptr;
+        return false;
+    }
+    interface_address_ = interface_address;
+    return true;
+}
+
+void WanRouter::delete_participant_nts() {
+    if (participant_ == nullptr) {
+        return;
+    }
+    participant_->set_listener(nullptr);
+    participant_->delete_contained_entities();
+    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+    participant_ = nullptr;
+    publisher_ = nullptr;
+    live_writers_.clear();
+    writers_of_topic_.clear();
+}
+
+bool WanRouter::rebind(const std::string& interface_address) {
+    introducer_->stop();
+    // Held until the lock is released: a WanWriter whose last holder lets go here deletes its writer through
+    // delete_writer(), which takes the lock.
+    std::vector<std::shared_ptr<WanWriter>> kept;
+    bool made = false;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (const WriterRecipe& recipe : recipes_) {
+            if (auto writer = recipe.writer.lock()) {
+                writer->detach();  // waits for a write in progress
+                kept.push_back(std::move(writer));
+            }
+        }
+        // The transport's destructor sends what the coalescer keeps for it and drops the repairs held for it.
+        delete_participant_nts();
+        participants_->forget_all();
+        made = create_participant_nts(interface_address);
+        if (made) {
+            std::vector<WriterRecipe> alive;
+            for (WriterRecipe& recipe : recipes_) {
+                const auto writer = recipe.writer.lock();
+                if (!writer) {
+                    continue;
+                }
+                if (fdds::DataWriter* successor = create_datawriter_nts(recipe, writer->match_listener())) {
+                    writer->replace(successor);
+                }
+                alive.push_back(std::move(recipe));
+            }
+            recipes_ = std::move(alive);
+        }
+    }
+    kept.clear();
+    if (!made) {
+        std::cerr << "telemetry-gateway: cannot make the WAN participant anew on " << interface_address
+                  << "; nothing is sent until it can be\n";
+        return false;
+    }
+    for (const auto& subscribe : subscriptions_) {
+        subscribe();
+    }
+    introducer_->start(participant_);
+    introducer_->announce_now();
+    return true;
+}
+
+std::string WanRouter::interface_address() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return interface_address_;
 }
 
 WanRouter::~WanRouter() {
@@ -327,16 +422,18 @@ WanRouter::~WanRouter() {
     }
     // Sends what waits while the transport's channels still exist.
     coalescer_->stop();
-    if (participant_ != nullptr) {
-        participant_->set_listener(nullptr);
-        participant_->delete_contained_entities();
-        fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
-    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    delete_participant_nts();
 }
 
 std::optional<fdds::DataWriterQos> WanRouter::writer_profile(const std::string& topic) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return writer_profile_nts(topic);
+}
+
+std::optional<fdds::DataWriterQos> WanRouter::writer_profile_nts(const std::string& topic) const {
     fdds::DataWriterQos qos;
-    if (publisher_->get_datawriter_qos_from_profile(topic, qos) != ReturnCode_t::RETCODE_OK) {
+    if (publisher_ == nullptr || publisher_->get_datawriter_qos_from_profile(topic, qos) != ReturnCode_t::RETCODE_OK) {
         return std::nullopt;
     }
     return qos;
@@ -347,41 +444,65 @@ std::shared_ptr<WanWriter> WanRouter::create_writer(
     std::optional<base::Duration> lifespan, const OfferedQos& offer,
     const std::shared_ptr<const eprosima::fastrtps::types::TypeObject>& announced) {
     auto matches = std::make_unique<WriterMatchCounter>();
+    WriterRecipe recipe{{}, topic, wan_topic, type_name, keyed, lifespan, offer, announced};
 
     std::lock_guard<std::mutex> lock(mutex_);
-    fdds::Topic* dds_topic = passthrough_topic(participant_, wan_topic, type_name, keyed, announced);
-    fdds::Publisher* publisher = publishers_.get(participant_, offer);
+    fdds::DataWriter* writer = create_datawriter_nts(recipe, matches.get());
+    if (writer == nullptr) {
+        return nullptr;
+    }
+    auto made = std::make_shared<WanWriter>(writer, std::move(matches), wan_topic, keyed,
+                                            [this](fdds::DataWriter* w) { delete_writer(w); });
+    recipe.writer = made;
+    recipes_.push_back(std::move(recipe));
+    return made;
+}
+
+fdds::DataWriter* WanRouter::create_datawriter_nts(const WriterRecipe& recipe, fdds::DataWriterListener* listener) {
+    if (participant_ == nullptr) {
+        return nullptr;
+    }
+    fdds::Topic* dds_topic =
+        passthrough_topic(participant_, recipe.wan_topic, recipe.type_name, recipe.keyed, recipe.announced);
+    fdds::Publisher* publisher = publishers_.get(participant_, recipe.offer);
     if (dds_topic == nullptr || publisher == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create WAN topic " << wan_topic << " (type " << type_name << ")\n";
+        std::cerr << "telemetry-gateway: cannot create WAN topic " << recipe.wan_topic << " (type " << recipe.type_name
+                  << ")\n";
         drop_unused_topic_nts(dds_topic);
         return nullptr;
     }
 
     // A data_writer profile named after the topic is the starting point (its Lifespan already made the TTL);
     // what decides matching is the publishers' offer, except that a profile may ask for best effort.
-    const std::optional<fdds::DataWriterQos> profile = writer_profile(topic);
-    fdds::DataWriterQos qos =
-        passthrough_writer_qos(profile.value_or(publisher->get_default_datawriter_qos()), offer, keyed, lifespan);
+    const std::optional<fdds::DataWriterQos> profile = writer_profile_nts(recipe.topic);
+    fdds::DataWriterQos qos = passthrough_writer_qos(profile.value_or(publisher->get_default_datawriter_qos()),
+                                                     recipe.offer, recipe.keyed, recipe.lifespan);
     if (profile && profile->reliability().kind == fdds::BEST_EFFORT_RELIABILITY_QOS) {
         // The operator's word (a writer's default is reliable, so this was asked for): no HEARTBEAT or
         // ACKNACK on the link for this topic, at the price of reliable base-camp readers not matching.
         qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
     }
 
-    fdds::DataWriter* writer = publisher->create_datawriter(dds_topic, qos, matches.get(), fdds::StatusMask::all());
+    fdds::DataWriter* writer = publisher->create_datawriter(dds_topic, qos, listener, fdds::StatusMask::all());
     if (writer == nullptr) {
-        std::cerr << "telemetry-gateway: cannot create the WAN writer for " << wan_topic << " (" << offer.describe()
-                  << ")\n";
+        std::cerr << "telemetry-gateway: cannot create the WAN writer for " << recipe.wan_topic << " ("
+                  << recipe.offer.describe() << ")\n";
         drop_unused_topic_nts(dds_topic);
         return nullptr;
     }
-    ++writers_of_topic_[wan_topic];
-    return std::make_shared<WanWriter>(writer, std::move(matches), wan_topic, keyed,
-                                       [this](fdds::DataWriter* w) { delete_writer(w); });
+    ++writers_of_topic_[recipe.wan_topic];
+    live_writers_.insert(writer);
+    return writer;
 }
 
 void WanRouter::delete_writer(fdds::DataWriter* writer) {
     std::lock_guard<std::mutex> lock(mutex_);
+    recipes_.erase(std::remove_if(recipes_.begin(), recipes_.end(),
+                                  [](const WriterRecipe& recipe) { return recipe.writer.expired(); }),
+                   recipes_.end());
+    if (live_writers_.erase(writer) == 0) {
+        return;  // it went with a participant made anew since
+    }
     fdds::Topic* topic = writer->get_topic();
     const_cast<fdds::Publisher*>(writer->get_publisher())->delete_datawriter(writer);
     const auto it = writers_of_topic_.find(topic->get_name());
@@ -415,16 +536,25 @@ void WanRouter::announce_again() {
 }
 
 bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {
-    return subscribe_latest(RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new GuardedType<idl::ReceiverReportPubSubType>()),
-                            listener);
+    subscriptions_.push_back([this, listener] {
+        return subscribe_latest(RECEIVER_REPORT_TOPIC,
+                                fdds::TypeSupport(new GuardedType<idl::ReceiverReportPubSubType>()), listener);
+    });
+    return subscriptions_.back()();
 }
 
 bool WanRouter::subscribe_grants(fdds::DataReaderListener* listener) {
-    return subscribe_latest(CHANNEL_GRANT_TOPIC, fdds::TypeSupport(new GuardedType<idl::ChannelGrantPubSubType>()),
-                            listener);
+    subscriptions_.push_back([this, listener] {
+        return subscribe_latest(CHANNEL_GRANT_TOPIC, fdds::TypeSupport(new GuardedType<idl::ChannelGrantPubSubType>()),
+                                listener);
+    });
+    return subscriptions_.back()();
 }
 
 bool WanRouter::subscribe_latest(const char* topic_name, fdds::TypeSupport type, fdds::DataReaderListener* listener) {
+    if (participant_ == nullptr) {
+        return false;
+    }
     if (participant_->register_type(type) != ReturnCode_t::RETCODE_OK) {
         std::cerr << "telemetry-gateway: cannot register the type of " << topic_name << '\n';
         return false;
@@ -451,7 +581,8 @@ bool WanRouter::subscribe_latest(const char* topic_name, fdds::TypeSupport type,
 }
 
 eprosima::fastrtps::rtps::GuidPrefix_t WanRouter::guid_prefix() const {
-    return participant_->guid().guidPrefix;
+    std::lock_guard<std::mutex> lock(mutex_);
+    return participant_ != nullptr ? participant_->guid().guidPrefix : eprosima::fastrtps::rtps::GuidPrefix_t();
 }
 
 }  // namespace tgw::dds

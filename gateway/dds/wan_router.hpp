@@ -7,6 +7,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -153,6 +154,17 @@ class WanRouter {
     /// the announcements made while it was down were lost (a base camp would hear of us at its next periodic
     /// one, or ours, many seconds later).
     void announce_again();
+    /// Makes the participant anew, bound to `interface_address` (the WAN interface came back with another, a
+    /// DHCP lease or a mesh radio's): the old one announced an address nobody can reach. Every writer made here
+    /// gets its successor on the new participant (the same WanWriter, its history gone: a transient-local lane
+    /// starts empty), the receiver reports and grants are read again, and the new participant announces itself
+    /// to the peers. Its GUID is new: the base camp sees a new participant, and lets the old one's lease run
+    /// out. Call while nothing is scheduled (the link is down, the budget 0): writes in between fail. False
+    /// (after logging it) when Fast DDS refuses; writes fail until a later rebind succeeds.
+    bool rebind(const std::string& interface_address);
+    /// The address the participant is bound to now; empty: every interface.
+    std::string interface_address() const;
+
     /// Repeated HEARTBEATs and ACKNACKs the transport held back (RepeatThrottle).
     std::uint64_t suppressed_repeats() const { return repeat_throttle_->suppressed(); }
 
@@ -166,6 +178,29 @@ class WanRouter {
     class Introducer;
     class ParticipantCounter;
 
+    /// What create_writer was asked, to make a writer's successor on a new participant.
+    struct WriterRecipe {
+        std::weak_ptr<WanWriter> writer;
+        std::string topic;
+        std::string wan_topic;
+        std::string type_name;
+        bool keyed = false;
+        std::optional<base::Duration> lifespan;
+        OfferedQos offer;
+        std::shared_ptr<const eprosima::fastrtps::types::TypeObject> announced;
+    };
+
+    std::optional<eprosima::fastdds::dds::DataWriterQos> writer_profile_nts(const std::string& topic) const;
+    /// Creates participant_ and publisher_ from qos_, bound to `interface_address`; false when Fast DDS refuses.
+    /// Under mutex_.
+    bool create_participant_nts(const std::string& interface_address);
+    /// Deletes participant_ and everything on it. Under mutex_.
+    void delete_participant_nts();
+    /// A DataWriter as `recipe` says, with `listener`; nullptr (after logging it) when Fast DDS refuses. Under
+    /// mutex_.
+    eprosima::fastdds::dds::DataWriter* create_datawriter_nts(const WriterRecipe& recipe,
+                                                              eprosima::fastdds::dds::DataWriterListener* listener);
+
     /// A best-effort reader of the latest sample per instance of `topic_name` for `listener`.
     bool subscribe_latest(const char* topic_name, eprosima::fastdds::dds::TypeSupport type,
                           eprosima::fastdds::dds::DataReaderListener* listener);
@@ -178,11 +213,18 @@ class WanRouter {
     std::shared_ptr<DatagramCoalescer> coalescer_;
     std::shared_ptr<RepeatThrottle> repeat_throttle_ = std::make_shared<RepeatThrottle>();
     std::shared_ptr<RepairDesk> repair_desk_;
-    eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
-    eprosima::fastdds::dds::Publisher* publisher_ = nullptr;  ///< the default partition's
+    const int domain_;
+    eprosima::fastdds::dds::DomainParticipantQos qos_;  ///< all but the locators, which the address sets
+    std::uint16_t listen_port_ = 0;
     mutable std::mutex mutex_;
+    std::string interface_address_;  // under mutex_
+    eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+    eprosima::fastdds::dds::Publisher* publisher_ = nullptr;         ///< the default partition's
     PartitionGroups<eprosima::fastdds::dds::Publisher> publishers_;  // under mutex_
     std::map<std::string, int> writers_of_topic_;                    // under mutex_
+    std::vector<WriterRecipe> recipes_;                              // under mutex_; of the writers alive
+    std::set<eprosima::fastdds::dds::DataWriter*> live_writers_;     // under mutex_: of participant_
+    std::vector<std::function<bool()>> subscriptions_;               ///< subscribe_latest's calls, to make again
     std::unique_ptr<Introducer> introducer_;                         ///< stopped before participant_'s deletion
     std::unique_ptr<ParticipantCounter> participants_;               ///< before participant_'s deletion
 };

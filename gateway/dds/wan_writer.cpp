@@ -23,10 +23,30 @@ WanWriter::WanWriter(fdds::DataWriter* writer, std::unique_ptr<WriterMatchCounte
       deleter_(std::move(deleter)),
       topic_(std::move(topic)),
       keyed_(keyed),
-      reliable_(writer->get_qos().reliability().kind == fdds::RELIABLE_RELIABILITY_QOS) {}
+      reliable_(writer->get_qos().reliability().kind == fdds::RELIABLE_RELIABILITY_QOS),
+      lifespan_(to_duration(writer->get_qos().lifespan().duration)) {}
 
 WanWriter::~WanWriter() {
-    deleter_(writer_);
+    fdds::DataWriter* writer = nullptr;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        writer = writer_;
+    }
+    // Outside the lock: the router's deleter takes its own, which it holds while it detaches and replaces.
+    if (writer != nullptr)
+        deleter_(writer);
+}
+
+void WanWriter::detach() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    writer_ = nullptr;
+    matches_->matched.store(0);
+}
+
+void WanWriter::replace(fdds::DataWriter* writer) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    writer_ = writer;
+    failure_reported_.store(false);
 }
 
 WriteResult WanWriter::write(core::Sample& sample) {
@@ -43,7 +63,10 @@ WriteResult WanWriter::write(core::Sample& sample) {
         handle = data.key.isDefined() ? data.key : PassthroughType::UNKNOWN_INSTANCE;
     }
     const auto stamp = to_dds_time(sample.source_time);
+    std::lock_guard<std::mutex> lock(mutex_);
     const ReturnCode_t rc = [&] {
+        if (writer_ == nullptr)
+            return ReturnCode_t(ReturnCode_t::RETCODE_NOT_ENABLED);
         const DatagramCoalescer::DeferScope may_wait;
         // Only a reliable writer repairs: a best-effort lane's samples need not be remembered.
         std::optional<RepairDesk::WriteScope> repairs_belong_to;
@@ -68,10 +91,6 @@ WriteResult WanWriter::write(core::Sample& sample) {
         return WriteResult::failed;
     }
     return WriteResult::ok;
-}
-
-std::optional<base::Duration> WanWriter::lifespan() const {
-    return to_duration(writer_->get_qos().lifespan().duration);
 }
 
 }  // namespace tgw::dds

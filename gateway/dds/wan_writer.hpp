@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -23,7 +24,8 @@ enum class WriteResult { ok, unknown_topic, failed };
 /// One lane's DataWriter on the WAN domain (made by WanRouter::create_writer): writes, disposes and unregisters
 /// with the sample's source timestamp and instance, and counts the base-camp readers it matches. It deletes the
 /// writer when the last holder lets go of it, so a write in progress finishes first; every holder must let go
-/// before the WAN participant goes.
+/// before the WAN router goes. When the router makes its participant anew (an address change), it detaches the
+/// writer and gives it its successor on the new participant: holders keep the same WanWriter.
 class WanWriter {
   public:
     /// Deletes a writer when its WanWriter goes (WanRouter's, which deletes the topic with its last writer).
@@ -40,18 +42,27 @@ class WanWriter {
     /// The sample keeps its payload, so that a refused write can still be logged. Never throws.
     WriteResult write(core::Sample& sample);
 
+    /// No writer until replace(): the participant is going. Waits for a write in progress; later writes fail.
+    void detach();
+    /// The successor of the detached writer, made with match_listener() as its listener.
+    void replace(eprosima::fastdds::dds::DataWriter* writer);
+    /// The listener a successor must be made with.
+    WriterMatchCounter* match_listener() const { return matches_.get(); }
+
     /// Base-camp readers matched now.
     std::int32_t matched_readers() const { return matches_->matched.load(); }
     /// The writer's Lifespan QoS; nullopt when it is infinite.
-    std::optional<base::Duration> lifespan() const;
+    std::optional<base::Duration> lifespan() const { return lifespan_; }
 
   private:
-    eprosima::fastdds::dds::DataWriter* writer_;
+    mutable std::mutex mutex_;                    // a write against detach() and replace()
+    eprosima::fastdds::dds::DataWriter* writer_;  // under mutex_; null while detached
     std::unique_ptr<WriterMatchCounter> matches_;
     Deleter deleter_;
     const std::string topic_;
     const bool keyed_;
     const bool reliable_;
+    const std::optional<base::Duration> lifespan_;
     std::atomic<bool> failure_reported_{false};
 };
 

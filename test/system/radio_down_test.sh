@@ -63,25 +63,13 @@ finish_run "$sim_pid" "$gateway_pid" "$record_pid"
 show_outputs "$WORK/record.out"
 
 LOG="$WORK/robot-log.db" REC="$WORK/basecamp.db"
-q() { sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log; $1"; }
-# on_time_between FROM_NS TO_NS: "ON_TIME PUBLISHED" for A whose source time is in [FROM_NS, TO_NS) (published:
-# forwarded or logged).
-on_time_between() {
-    local published on_time
-    published="$(q "SELECT COUNT(*) FROM (SELECT source_time_ns FROM log.forwarded_samples WHERE topic = 'telemetry/A'
-        UNION ALL SELECT source_time_ns FROM log.dropped_samples WHERE topic = 'telemetry/A')
-        WHERE source_time_ns >= $1 AND source_time_ns < $2")"
-    on_time="$(q "SELECT COUNT(*) FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM samples
-        WHERE topic = 'telemetry/A' AND source_ns >= $1 AND source_ns < $2 GROUP BY source_ns)
-        WHERE receive_ns - source_ns <= 1000000000")"
-    echo "$on_time $published"
-}
+q() { camp_query "$1"; }
 END_NS=9000000000000000000
 
 echo
 echo "== (a) started with the link down"
 said_down="$(grep -c "WAN interface $veth down: nothing is sent until it is up" "$WORK/gateway.out" || true)"
-read -r a_on a_all <<<"$(on_time_between $((up_ns + 2000000000)) "$down_ns")"
+read -r a_on a_all <<<"$(a_on_time_between $((up_ns + 2000000000)) "$down_ns")"
 first_a_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $up_ns) / 1e6) FROM samples WHERE topic = 'telemetry/A'")"
 echo "A from 2 s after the link came up until it went down: $a_on of $a_all on time; the first A at the camp ${first_a_ms:-never} ms after it"
 check "the gateway said its WAN interface was down, twice (at start and mid-run)" "a == 2" "$said_down"
@@ -106,7 +94,7 @@ echo
 echo "== (c) back up"
 first_back_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $back_ns) / 1e6) FROM samples
     WHERE topic = 'telemetry/A' AND receive_ns >= $back_ns")"
-read -r c_on c_all <<<"$(on_time_between $((back_ns + 1000000000)) "$END_NS")"
+read -r c_on c_all <<<"$(a_on_time_between $((back_ns + 1000000000)) "$END_NS")"
 echo "the first A after the link came back: ${first_back_ms:-never} ms after it; A from 1 s after it: $c_on of $c_all on time"
 check "the first A after the link came back within 1 s" "a != \"\" && a <= 1000" "${first_back_ms:-}"
 check "A from 1 s after the link came back: >= 99 % on time" "b >= 30 && a >= 0.99 * b" "$c_on" "$c_all"

@@ -120,6 +120,22 @@ finish_run() {
     TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed stats >"$WORK/tc.txt" 2>&1 || true
 }
 
+# camp_query SQL: runs SQL on the camp's recording $REC with the on-robot log $LOG attached as "log".
+camp_query() { sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log; $1"; }
+
+# a_on_time_between FROM_NS TO_NS: "ON_TIME PUBLISHED" for telemetry/A (TTL 1 s) published in [FROM_NS, TO_NS):
+# published as the on-robot log has them (forwarded or dropped), on time as the camp's recording has them.
+a_on_time_between() {
+    local published on_time
+    published="$(camp_query "SELECT COUNT(*) FROM (SELECT source_time_ns FROM log.forwarded_samples
+        WHERE topic = 'telemetry/A' UNION ALL SELECT source_time_ns FROM log.dropped_samples
+        WHERE topic = 'telemetry/A') WHERE source_time_ns >= $1 AND source_time_ns < $2")"
+    on_time="$(camp_query "SELECT COUNT(*) FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM samples
+        WHERE topic = 'telemetry/A' AND source_ns >= $1 AND source_ns < $2 GROUP BY source_ns)
+        WHERE receive_ns - source_ns <= 1000000000")"
+    echo "$on_time $published"
+}
+
 # finish_fleet RELAY_PID GATEWAY_PID...: once the publishers are done, lets the gateways drain for 2 s and stops
 # them, gives the base camp's relay 2 s for what is in flight and stops it; the shaper's counters go to $WORK/tc.txt.
 finish_fleet() {

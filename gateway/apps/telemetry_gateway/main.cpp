@@ -2,6 +2,7 @@
 // budget the rate sensor measures; log what is not sent.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -197,7 +198,9 @@ int main(int argc, char** argv) {
                    "base-camp programs (DDS participants) per --wan-peer host that find the gateway without "
                    "announcing themselves to the robot; each costs an announcement on the link")
         ->capture_default_str();
-    app.add_option("--wan-interface", config.wan_interface, "interface name or IPv4 address to bind the WAN to");
+    app.add_option("--wan-interface", config.wan_interface,
+                   "interface name or IPv4 address to bind the WAN to; a name is followed: while it is down or has no "
+                   "IPv4 address nothing is sent, and when its address changes the WAN participant is made anew");
     app.add_option("--wan-port", config.wan_port, "own WAN metatraffic port (default: Fast DDS's well-known port)");
     std::size_t max_datagram = config.scheduler.wire.max_datagram_bytes;
     CLI::Option* max_datagram_option =
@@ -457,17 +460,28 @@ int main(int argc, char** argv) {
             const std::string wan_name = tgw::dds::resolve_interface_name(config.wan_interface);
             link_watch = std::make_unique<tgw::sensor::LinkStateWatch>(
                 wan_name, [&gateway, wan_name](const tgw::sensor::LinkState& state) {
-                    if (state.up == gateway.wan_link_up()) {
+                    // An address that went (a new DHCP lease, a mesh radio's), or the first one (an interface with
+                    // none at start): the participant announces one that nobody can reach. First, so that the
+                    // rate stays 0 until the participant is bound to the new one.
+                    const std::string bound = gateway.wan_interface_address();
+                    if (!state.addresses.empty() && !bound.empty() &&
+                        std::find(state.addresses.begin(), state.addresses.end(), bound) == state.addresses.end()) {
+                        std::cerr << "telemetry-gateway: WAN interface " << wan_name << " has "
+                                  << state.addresses.front() << " now, not " << bound
+                                  << ": the WAN participant is made anew on it\n";
+                        gateway.rebind_wan(state.addresses.front());
+                    }
+                    if (state.usable() == gateway.wan_link_up()) {
                         return;
                     }
-                    gateway.set_wan_link_up(state.up);
-                    if (state.up) {
+                    gateway.set_wan_link_up(state.usable());
+                    if (state.usable()) {
                         std::cerr << "telemetry-gateway: WAN interface " << wan_name << " up: sending again\n";
                     } else {
                         std::cerr << "telemetry-gateway: WAN interface " << wan_name << " "
-                                  << tgw::sensor::describe(state)
-                                  << ": nothing is sent until it is up; samples wait for it, or go to the on-robot "
-                                     "log as their TTL passes\n";
+                                  << tgw::sensor::describe(state) << ": nothing is sent until it is up"
+                                  << (state.up ? " with one" : "")
+                                  << "; samples wait for it, or go to the on-robot log as their TTL passes\n";
                     }
                 });
             link_watch->start();

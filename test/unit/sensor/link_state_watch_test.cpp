@@ -43,9 +43,9 @@ class LinkStateWatchTest : public ::testing::Test {
         return seen_;
     }
 
-    static constexpr LinkState UP{true, true};
-    static constexpr LinkState DOWN{true, false};
-    static constexpr LinkState ABSENT{false, false};
+    static inline const LinkState UP{true, true, {}};
+    static inline const LinkState DOWN{true, false, {}};
+    static inline const LinkState ABSENT{false, false, {}};
 
     test::TestNetns netns_;
     std::mutex mutex_;
@@ -93,6 +93,21 @@ TEST_F(LinkStateWatchTest, AnInterfaceThatIsNotThereYetIsAbsentUntilItComes) {
     EXPECT_TRUE(saw(ABSENT));
 }
 
+// A DHCP lease or a mesh radio gives the interface another address while it stays up.
+TEST_F(LinkStateWatchTest, FollowsTheInterfacesAddressesAsTheyComeAndGo) {
+    LinkStateWatch sut("tgwa", recorder());
+    sut.start();
+    ASSERT_TRUE(in_netns("ip addr add 10.99.0.1/24 dev tgwa"));
+    EXPECT_TRUE(saw(LinkState{true, true, {"10.99.0.1"}}));
+    ASSERT_TRUE(in_netns("ip addr add 10.98.0.7/24 dev tgwa"));
+    ASSERT_TRUE(in_netns("ip addr del 10.99.0.1/24 dev tgwa"));
+    EXPECT_TRUE(saw(LinkState{true, true, {"10.98.0.7"}}));
+    EXPECT_TRUE(sut.state().usable());
+    ASSERT_TRUE(in_netns("ip addr flush dev tgwa"));
+    EXPECT_TRUE(saw(UP));
+    EXPECT_FALSE(sut.state().usable());  // up, but nothing IPv4 can leave by it
+}
+
 TEST_F(LinkStateWatchTest, StopsPromptlyAndTwice) {
     LinkStateWatch sut("tgwa", recorder(), std::chrono::milliseconds(60'000));
     sut.start();
@@ -102,9 +117,10 @@ TEST_F(LinkStateWatchTest, StopsPromptlyAndTwice) {
 }
 
 TEST(LinkStateDescribeTest, NamesEachState) {
-    EXPECT_STREQ(describe(LinkState{true, true}), "up");
-    EXPECT_STREQ(describe(LinkState{true, false}), "down");
-    EXPECT_STREQ(describe(LinkState{false, false}), "absent");
+    EXPECT_STREQ(describe(LinkState{true, true, {"10.77.0.1"}}), "up");
+    EXPECT_STREQ(describe(LinkState{true, true, {}}), "up without an IPv4 address");
+    EXPECT_STREQ(describe(LinkState{true, false, {}}), "down");
+    EXPECT_STREQ(describe(LinkState{false, false, {}}), "absent");
 }
 
 }  // namespace

@@ -14,7 +14,9 @@
 # (--channel-rate 60000). WAY=measured: the same, the relay measuring the channel with twice its rate as the bound
 # (--channel-rate 120000 --measure-channel).
 # RESTART=0 (not in ctest; the baseline of issue 21's restart target) leaves rover3's gateway running, and checks
-# rover3's A and B as the others'. DISCOVERY=server (not in ctest): the WAN's discovery through Debian's
+# rover3's A and B as the others'. RESTART=drop (not in ctest; issue 44's fleet target, with WAY=grants): rover3's
+# radio (its veth) goes down for 5 s instead; checks that rover3's A is >= 99 % on time from 1 s after it is back
+# and that its gateway has a share of the channel again (its on-robot log's link_rates) within 3 s. DISCOVERY=server (not in ctest): the WAN's discovery through Debian's
 # fast-discovery-server at the base camp instead of the peers, with 15 s to settle (fleet_test.sh).
 # COMMANDS=1 (not in ctest; issue 21's commands target): a camp program publishes 10 Hz commands (48 bytes, Lifespan
 # 200 ms) on rt/rover1/cmd_vel on the camp's domain, the relay carries them (--uplink), rover1's gateway delivers
@@ -117,6 +119,21 @@ printf 'P camera/image 6000 5 1\n' >"$WORK/camera.workload"
 camera=$!
 PIDS+=("$camera")
 RESTART=${RESTART:-1}
+if [ "$RESTART" = drop ]; then
+    sleep $((RESTART_AT - CAMERA_AT))
+    rover3_veth=$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info robot3-veth)
+    # The kernel drops the routes through a link that goes down; a robot's network manager puts its own back
+    # when the link returns, as this does.
+    mapfile -t rover3_routes < <("${tb[@]}" robot3 ip -4 route show dev "$rover3_veth" | grep ' via ')
+    "${tb[@]}" robot3 ip link set "$rover3_veth" down
+    sleep 5
+    "${tb[@]}" robot3 ip link set "$rover3_veth" up
+    for route in "${rover3_routes[@]}"; do
+        # shellcheck disable=SC2086
+        "${tb[@]}" robot3 ip route replace $route dev "$rover3_veth"
+    done
+    back_ns=$(date +%s%N)
+fi
 if [ "$RESTART" = 1 ]; then
     sleep $((RESTART_AT - CAMERA_AT))
     kill -TERM "${gateways[2]}"
@@ -146,7 +163,7 @@ row() {  # TOPIC: report's row, topic ttl_s offered received on_time %on_time me
     awk -v t="$1" '$1 == t && (NF == 9 || NF == 10) { print; exit }' "$WORK/report.txt"
 }
 checked_robots="1 2"
-[ "$RESTART" = 1 ] || checked_robots="1 2 3"
+[ "$RESTART" != 0 ] || checked_robots="1 2 3"
 for k in $checked_robots; do
     for type in A B; do
         read -r _ _ offered_n _ on_time _ <<<"$(row "rover$k/telemetry/$type")" || true
@@ -165,6 +182,17 @@ if [ "$RESTART" = 1 ]; then
     check "rover3's gateway, started again, forwarded telemetry/A ($forwarded_after)" "a >= 30" "${forwarded_after:-0}"
     read -r _ _ _ received3 _ <<<"$(row "rover3/telemetry/A")" || true
     check "rover3/telemetry/A reached the base camp (${received3:-0})" "a >= 100" "${received3:-0}"
+fi
+if [ "$RESTART" = drop ]; then
+    LOG="$WORK/gateway3.db" REC="$WORK/camp.db"
+    read -r a_on a_all <<<"$(a_on_time_between $((back_ns + 1000000000)) 9000000000000000000 rover3/telemetry/A)"
+    share_bps=$(camp_query "SELECT printf('%.0f', MIN(budget_bps)) FROM log.link_rates
+        WHERE time_ns >= $back_ns + 3000000000 AND time_ns < $back_ns + 15000000000")
+    echo "rover3 after its radio came back: A $a_on of $a_all on time from 1 s after; its least budget from 3 s" \
+        "after: ${share_bps:-none} bit/s"
+    check "rover3/telemetry/A from 1 s after its radio came back: >= 99 % on time" "b >= 50 && a >= 0.99 * b" \
+        "$a_on" "$a_all"
+    check "rover3's gateway had a share of the channel again within 3 s" "a != \"\" && a > 0" "${share_bps:-}"
 fi
 if [ "$COMMANDS" = 1 ]; then
     written=$(awk '$2 == "rt/rover1/cmd_vel" { print $5 }' "$WORK/commands.out")

@@ -16,11 +16,13 @@
 #       link is back arrives within 1 s of it, and of the A published from 1 s after it, >= 99 % are on time.
 #   (d) nothing unaccounted: per topic, published = the gateway's received = forwarded + dropped, each drop in the
 #       on-robot log.
+# MODE compact runs the gateway in compact WAN mode (--wan-mode compact; the relay unpacks), where the same must hold.
 # Needs root; skipped (77) otherwise. About 55 s.
-#   radio_down_test.sh BIN_DIR
+#   radio_down_test.sh BIN_DIR [standard|compact]
 set -euo pipefail
 BIN="${1:?usage: radio_down_test.sh BIN_DIR}"
 BIN="$(cd "$BIN" && pwd)"
+MODE="${2:-standard}"
 cd "$(dirname "$0")/../.."
 # shellcheck source=test/system/system_test_lib.sh
 source test/system/system_test_lib.sh
@@ -43,7 +45,7 @@ link down
     >"$WORK/record.out" 2>&1 &
 record_pid=$!
 PIDS+=("$record_pid")
-start_paper_gateway "$BOUND_S"
+start_paper_gateway "$BOUND_S" --wan-mode "$MODE"
 
 sleep 2
 start_paper_publisher "$PUBLISH_S"

@@ -123,15 +123,16 @@ finish_run() {
 # camp_query SQL: runs SQL on the camp's recording $REC with the on-robot log $LOG attached as "log".
 camp_query() { sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log; $1"; }
 
-# a_on_time_between FROM_NS TO_NS: "ON_TIME PUBLISHED" for telemetry/A (TTL 1 s) published in [FROM_NS, TO_NS):
-# published as the on-robot log has them (forwarded or dropped), on time as the camp's recording has them.
+# a_on_time_between FROM_NS TO_NS [TOPIC]: "ON_TIME PUBLISHED" for A (TOPIC: telemetry/A, or a robot's
+# rover1/telemetry/A; TTL 1 s) published in [FROM_NS, TO_NS): published as the on-robot log has them (forwarded or
+# dropped), on time as the camp's recording has them.
 a_on_time_between() {
-    local published on_time
+    local published on_time topic="${3:-telemetry/A}"
     published="$(camp_query "SELECT COUNT(*) FROM (SELECT source_time_ns FROM log.forwarded_samples
-        WHERE topic = 'telemetry/A' UNION ALL SELECT source_time_ns FROM log.dropped_samples
-        WHERE topic = 'telemetry/A') WHERE source_time_ns >= $1 AND source_time_ns < $2")"
+        WHERE topic = '$topic' UNION ALL SELECT source_time_ns FROM log.dropped_samples
+        WHERE topic = '$topic') WHERE source_time_ns >= $1 AND source_time_ns < $2")"
     on_time="$(camp_query "SELECT COUNT(*) FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM samples
-        WHERE topic = 'telemetry/A' AND source_ns >= $1 AND source_ns < $2 GROUP BY source_ns)
+        WHERE topic = '$topic' AND source_ns >= $1 AND source_ns < $2 GROUP BY source_ns)
         WHERE receive_ns - source_ns <= 1000000000")"
     echo "$on_time $published"
 }

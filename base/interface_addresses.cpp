@@ -2,10 +2,12 @@
 
 #include <arpa/inet.h>
 #include <ifaddrs.h>
+#include <netdb.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <memory>
 
 namespace tgw::base {
@@ -47,6 +49,29 @@ std::optional<std::vector<InterfaceAddress>> interface_addresses() {
             found.push_back({it->ifa_name, dotted(reinterpret_cast<const sockaddr_in*>(it->ifa_addr)->sin_addr)});
     }
     return found;
+}
+
+std::optional<std::string> lookup_ipv4(const std::string& host) {
+    if (is_ipv4(host))
+        return host;
+    addrinfo hints{};
+    hints.ai_family = AF_INET;
+    hints.ai_socktype = SOCK_DGRAM;
+    addrinfo* found = nullptr;
+    if (getaddrinfo(host.c_str(), nullptr, &hints, &found) != 0 || found == nullptr)
+        return std::nullopt;
+    std::unique_ptr<addrinfo, void (*)(addrinfo*)> guard(found, freeaddrinfo);
+    return dotted(reinterpret_cast<const sockaddr_in*>(found->ai_addr)->sin_addr);
+}
+
+bool is_host_name(const std::string& text) {
+    if (text.empty() || text.size() > 253 || text.front() == '-' || text.front() == '.' || text.back() == '-')
+        return false;
+    for (const char c : text) {
+        if (std::isalnum(static_cast<unsigned char>(c)) == 0 && c != '-' && c != '.')
+            return false;
+    }
+    return true;
 }
 
 std::optional<std::string> route_source_address(const std::string& peer) {

@@ -21,6 +21,13 @@ std::optional<std::vector<InterfaceAddress>> interface_addresses();
 /// connected, nothing is sent); nullopt when `peer` is not an IPv4 address or no route leads there.
 std::optional<std::string> route_source_address(const std::string& peer);
 
+/// The first IPv4 address the resolver (/etc/hosts, DNS, mDNS as nsswitch.conf says) has for `host` now; nullopt
+/// when it has none. An IPv4 address is its own. May block for as long as the resolver takes.
+std::optional<std::string> lookup_ipv4(const std::string& host);
+
+/// Whether `text` could be a host name (RFC 1123: letters, digits, '-' and '.', up to 253 characters).
+bool is_host_name(const std::string& text);
+
 /// Whether `text` is a dotted IPv4 address.
 bool is_ipv4(const std::string& text);
 

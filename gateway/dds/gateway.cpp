@@ -152,12 +152,20 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     WanConfig wan;
     wan.domain = config_.wan_domain;
     wan.security = std::move(security);
+    bool named_peers = false;
     for (const std::string& text : config_.wan_peers) {
-        const WanPeer peer = parse_wan_peer(text, config_.wan_domain);
-        for (const std::uint16_t port : peer_ports(peer, config_.wan_domain, config_.wan_peer_participants)) {
-            wan.peers.push_back(WanPeer{peer.address, port, true});
+        peer_specs_.push_back(parse_wan_peer(text, config_.wan_domain));
+        named_peers = named_peers || !peer_specs_.back().host.empty();
+    }
+    peer_specs_ = resolve_peer_names(std::move(peer_specs_));
+    for (const WanPeer& peer : peer_specs_) {
+        if (!peer.host.empty()) {
+            std::cerr << "telemetry-gateway: --wan-peer " << peer.host << ": "
+                      << (peer.address.empty() ? "does not resolve yet" : peer.address) << "; looked up again every "
+                      << std::chrono::duration_cast<std::chrono::seconds>(PEER_LOOKUP_PERIOD).count() << " s\n";
         }
     }
+    wan.peers = announcement_peers(peer_specs_, config_.wan_domain, config_.wan_peer_participants);
 
     if (!config_.wan_interface.empty()) {
         wan.interface_address = initial_wan_address(config_.wan_interface);
@@ -319,6 +327,9 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         discovery_->ignore_participant(robot_->guid_prefix());
         make_uplink();
         worker_ = std::thread([this] { run_worker(); });
+        if (named_peers) {
+            peer_lookup_ = std::thread([this] { run_peer_lookup(); });
+        }
     } catch (...) {
         stop();
         throw;
@@ -338,6 +349,14 @@ void Gateway::stop() {
         return;
     }
     stopped_ = true;
+    if (peer_lookup_.joinable()) {
+        {
+            std::lock_guard<std::mutex> lookup_lock(peer_lookup_mutex_);
+            peer_lookup_stopping_ = true;
+        }
+        peer_lookup_wake_.notify_all();
+        peer_lookup_.join();
+    }
     if (reports_) {
         // Reports keep coming until the WAN participant goes, after the loop and the topics they are counted
         // against.
@@ -449,13 +468,46 @@ void Gateway::rebind_wan_nts(const std::string& address) {
         apply_rate();
         return;
     }
+    remake_wan_nts(address, wan_->peers());
+}
+
+void Gateway::run_peer_lookup() {
+    std::vector<WanPeer> known = peer_specs_;
+    std::unique_lock<std::mutex> lock(peer_lookup_mutex_);
+    while (!peer_lookup_wake_.wait_for(lock, PEER_LOOKUP_PERIOD, [this] { return peer_lookup_stopping_; })) {
+        lock.unlock();
+        std::vector<WanPeer> now = resolve_peer_names(peer_specs_);  // the resolver may take seconds
+        lock.lock();
+        for (std::size_t i = 0; i < now.size(); ++i) {
+            if (now[i].address.empty()) {
+                now[i].address = known[i].address;  // a resolver that fails for a while changes nothing
+            }
+        }
+        if (now == known) {
+            continue;
+        }
+        for (std::size_t i = 0; i < now.size(); ++i) {
+            if (now[i] != known[i]) {
+                std::cerr << "telemetry-gateway: --wan-peer " << now[i].host << " is " << now[i].address
+                          << " now: the WAN participant is made anew to announce to it\n";
+            }
+        }
+        known = now;
+        const std::vector<WanPeer> peers = announcement_peers(now, config_.wan_domain, config_.wan_peer_participants);
+        rebinding_wan_.store(true);
+        apply_rate();
+        post([this, peers] { remake_wan_nts(wan_->interface_address(), peers); });
+    }
+}
+
+void Gateway::remake_wan_nts(const std::string& address, const std::vector<WanPeer>& peers) {
     if (uplink_) {
         uplink_->close();  // its readers are the old participant's
         uplink_.reset();
     }
     // Released first: the new participant must get its own well-known port, which they may hold on no address.
     quiet_ports_ = base::QuietDiscoveryPorts();
-    if (wan_->rebind(address)) {
+    if (wan_->rebind(address, peers)) {
         const auto prefix = wan_->guid_prefix();
         if (reports_) {
             reports_->set_own(prefix);

@@ -34,6 +34,7 @@
 #include "gateway/dds/ttl_resolver.hpp"
 #include "gateway/dds/uplink.hpp"
 #include "gateway/dds/uplink_topics.hpp"
+#include "gateway/dds/wan_address.hpp"
 #include "sensor/rate_sensor.hpp"
 
 namespace tgw::log {
@@ -308,6 +309,10 @@ class Gateway {
     /// The uplink's readers on the WAN participant and writers on the robot's, with --uplink.
     void make_uplink();
     void rebind_wan_nts(const std::string& address);
+    /// The WAN participant made anew on `address`, announcing to `peers`; in the gateway's own thread.
+    void remake_wan_nts(const std::string& address, const std::vector<WanPeer>& peers);
+    /// Looks the --wan-peer host names up every PEER_LOOKUP_PERIOD; a change makes the participant anew.
+    void run_peer_lookup();
 
     GatewayConfig config_;
     const base::Clock& clock_;
@@ -348,6 +353,13 @@ class Gateway {
     std::atomic<double> sensed_rate_bps_{0};  ///< the sensor's last rate; the initial rate before the first
     std::atomic<bool> wan_link_up_{true};
     std::atomic<bool> rebinding_wan_{false};
+    /// How often --wan-peer host names are looked up again: a camp laptop on DHCP, a name that resolves late.
+    static constexpr std::chrono::seconds PEER_LOOKUP_PERIOD{5};
+    std::vector<WanPeer> peer_specs_;  ///< --wan-peer as given, names resolved at start
+    std::thread peer_lookup_;
+    std::mutex peer_lookup_mutex_;
+    std::condition_variable peer_lookup_wake_;
+    bool peer_lookup_stopping_ = false;  // under peer_lookup_mutex_
     std::atomic<std::uint64_t> wan_rebinds_{0};
     std::shared_ptr<WanWriter> status_writer_;   ///< standard WAN mode
     std::optional<core::TopicId> status_topic_;  ///< with a status period

@@ -9,15 +9,13 @@
 #include <memory>
 
 #include "base/config_error.hpp"
+#include "base/interface_addresses.hpp"
 
 namespace tgw::dds {
 
 namespace {
 
-bool is_ipv4(const std::string& text) {
-    in_addr addr{};
-    return inet_pton(AF_INET, text.c_str(), &addr) == 1;
-}
+using base::is_ipv4;
 
 using IfaddrsPtr = std::unique_ptr<ifaddrs, void (*)(ifaddrs*)>;
 
@@ -46,7 +44,12 @@ WanPeer parse_wan_peer(const std::string& text, int domain) {
     const auto colon = text.rfind(':');
     peer.address = colon == std::string::npos ? text : text.substr(0, colon);
     if (!is_ipv4(peer.address)) {
-        throw base::ConfigError("--wan-peer '" + text + "': expected an IPv4 address, optionally with :PORT");
+        if (!base::is_host_name(peer.address)) {
+            throw base::ConfigError("--wan-peer '" + text +
+                                    "': expected an IPv4 address or a host name, optionally with :PORT");
+        }
+        peer.host = peer.address;
+        peer.address.clear();
     }
     if (colon == std::string::npos) {
         peer.port = metatraffic_unicast_port(domain, 0);
@@ -66,6 +69,28 @@ WanPeer parse_wan_peer(const std::string& text, int domain) {
     peer.port = static_cast<std::uint16_t>(port);
     peer.exact_port = true;
     return peer;
+}
+
+std::vector<WanPeer> resolve_peer_names(std::vector<WanPeer> given) {
+    for (WanPeer& peer : given) {
+        if (!peer.host.empty()) {
+            peer.address = base::lookup_ipv4(peer.host).value_or("");
+        }
+    }
+    return given;
+}
+
+std::vector<WanPeer> announcement_peers(const std::vector<WanPeer>& peers, int domain, int participants) {
+    std::vector<WanPeer> out;
+    for (const WanPeer& peer : peers) {
+        if (peer.address.empty()) {
+            continue;
+        }
+        for (const std::uint16_t port : peer_ports(peer, domain, participants)) {
+            out.push_back(WanPeer{peer.address, peer.host, port, true});
+        }
+    }
+    return out;
 }
 
 std::vector<std::uint16_t> peer_ports(const WanPeer& peer, int domain, int participants) {

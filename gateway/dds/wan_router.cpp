@@ -288,10 +288,7 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     auto& builtin = qos.wire_protocol().builtin;
     builtin.metatrafficMulticastLocatorList.clear();
     qos.wire_protocol().default_multicast_locator_list.clear();
-    builtin.initialPeersList.clear();
-    for (const WanPeer& peer : config.peers) {
-        builtin.initialPeersList.push_back(udp_locator(peer.address, peer.port));
-    }
+    peers_ = config.peers;
     if (config.discovery_server) {
         // The gateway reads the receiver reports and, with --uplink, the commands (WanConfig::discovery_role).
         base::apply_discovery_client(qos, *config.discovery_server, config.discovery_role);
@@ -326,6 +323,10 @@ bool WanRouter::create_participant_nts(const std::string& interface_address) {
     auto& builtin = qos.wire_protocol().builtin;
     builtin.metatrafficUnicastLocatorList.clear();
     builtin.metatrafficUnicastLocatorList.push_back(udp_locator(interface_address, listen_port_));
+    builtin.initialPeersList.clear();
+    for (const WanPeer& peer : peers_) {
+        builtin.initialPeersList.push_back(udp_locator(peer.address, peer.port));
+    }
     if (!interface_address.empty()) {
         // Its readers (the receiver reports, the commands) announce the interface's address alone, not every
         // address of the robot.
@@ -364,6 +365,15 @@ void WanRouter::delete_participant_nts() {
 }
 
 bool WanRouter::rebind(const std::string& interface_address) {
+    return rebind(interface_address, peers());
+}
+
+std::vector<WanPeer> WanRouter::peers() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return peers_;
+}
+
+bool WanRouter::rebind(const std::string& interface_address, const std::vector<WanPeer>& peers) {
     introducer_->stop();
     // Held until the lock is released: a WanWriter whose last holder lets go here deletes its writer through
     // delete_writer(), which takes the lock.
@@ -380,6 +390,7 @@ bool WanRouter::rebind(const std::string& interface_address) {
         // The transport's destructor sends what the coalescer keeps for it and drops the repairs held for it.
         delete_participant_nts();
         participants_->forget_all();
+        peers_ = peers;
         made = create_participant_nts(interface_address);
         if (made) {
             std::vector<WriterRecipe> alive;

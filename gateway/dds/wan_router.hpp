@@ -162,6 +162,10 @@ class WanRouter {
     /// out. Call while nothing is scheduled (the link is down, the budget 0): writes in between fail. False
     /// (after logging it) when Fast DDS refuses; writes fail until a later rebind succeeds.
     bool rebind(const std::string& interface_address);
+    /// The same, announcing to `peers` from now on (a peer given by name whose address came or changed).
+    bool rebind(const std::string& interface_address, const std::vector<WanPeer>& peers);
+    /// The peers the participant announces itself to.
+    std::vector<WanPeer> peers() const;
     /// The address the participant is bound to now; empty: every interface.
     std::string interface_address() const;
 
@@ -218,6 +222,7 @@ class WanRouter {
     std::uint16_t listen_port_ = 0;
     mutable std::mutex mutex_;
     std::string interface_address_;  // under mutex_
+    std::vector<WanPeer> peers_;     // under mutex_
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Publisher* publisher_ = nullptr;         ///< the default partition's
     PartitionGroups<eprosima::fastdds::dds::Publisher> publishers_;  // under mutex_

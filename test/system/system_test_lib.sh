@@ -93,10 +93,11 @@ start_paper_publisher() {
 }
 
 # start_paper_gateway SECONDS [FLAG...]: telemetry-gateway on the robot, as the paper's experiments run it (the
-# TTLs of qos/paper_workload.xml, the qdisc sensor on the robot's veth, the camp's participant 0 as its peer), with
-# FLAGs added, for at most SECONDS, into $WORK/gateway.out with its log in $WORK/robot-log.db; sets gateway_pid.
+# TTLs of qos/paper_workload.xml, the qdisc sensor on the robot's veth, the camp's participant 0 as its peer: by
+# address, or as WAN_PEER names it), with FLAGs added, for at most SECONDS, into $WORK/gateway.out with its log in
+# $WORK/robot-log.db; sets gateway_pid.
 start_paper_gateway() {
-    "${tb[@]}" robot "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-peer "$basecamp_addr" \
+    "${tb[@]}" robot "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-peer "${WAN_PEER:-$basecamp_addr}" \
         --wan-interface "$veth" --sensor "qdisc:$veth" --qos qos/paper_workload.xml --wan-peer-participants 1 \
         --log "$WORK/robot-log.db" --duration "$1" "${@:2}" >"$WORK/gateway.out" 2>&1 &
     gateway_pid=$!

@@ -188,9 +188,10 @@ int main(int argc, char** argv) {
     app.add_option("--robot-domain", config.robot_domain, "DDS domain of the robot's processes")->capture_default_str();
     app.add_option("--wan-domain", config.wan_domain, "DDS domain towards the base camp")->capture_default_str();
     app.add_option("--wan-peer", config.wan_peers,
-                   "base-camp host, IPv4[:PORT], required without --wan-discovery-server: the gateway announces "
-                   "itself to its peers only; without a port, to the ports of its first --wan-peer-participants "
-                   "participants; repeatable");
+                   "base-camp host, IPv4 or host name [:PORT], required without --wan-discovery-server: the gateway "
+                   "announces itself to its peers only; without a port, to the ports of its first "
+                   "--wan-peer-participants participants; a name is looked up every 5 s (one that resolves late, "
+                   "or changes, makes the WAN participant anew); repeatable");
     app.add_option("--wan-discovery-server", config.wan_discovery_server,
                    "ADDR:PORT of a Fast DDS Discovery Server on the WAN (fastdds discovery -i 0 -l ADDR -p PORT): "
                    "discovery through it instead of announcements to --wan-peer");

@@ -25,6 +25,21 @@ TEST(InterfaceAddressesTest, ANameIsNoPeerToRouteTo) {
     EXPECT_EQ(route_source_address(""), std::nullopt);
 }
 
+TEST(InterfaceAddressesTest, LooksHostNamesUpAndAnAddressIsItsOwn) {
+    EXPECT_EQ(lookup_ipv4("localhost"), "127.0.0.1");
+    EXPECT_EQ(lookup_ipv4("10.77.0.2"), "10.77.0.2");
+    EXPECT_EQ(lookup_ipv4("tgw-no-such-host.invalid"), std::nullopt);  // RFC 6761: never resolves
+}
+
+TEST(InterfaceAddressesTest, TellsHostNamesFromOtherText) {
+    EXPECT_TRUE(is_host_name("basecamp"));
+    EXPECT_TRUE(is_host_name("basecamp-2.local"));
+    EXPECT_FALSE(is_host_name(""));
+    EXPECT_FALSE(is_host_name("-basecamp"));
+    EXPECT_FALSE(is_host_name("base camp"));
+    EXPECT_FALSE(is_host_name("camp/1"));
+}
+
 TEST(InterfaceAddressesTest, TellsLoopbackAddresses) {
     EXPECT_TRUE(is_loopback_ipv4("127.0.0.1"));
     EXPECT_TRUE(is_loopback_ipv4("127.255.0.9"));

@@ -67,7 +67,7 @@ TEST(WanAddressTest, PeerWithPortKeepsIt) {
 }
 
 TEST(WanAddressTest, BadPeersAreConfigErrorsNamingTheFlag) {
-    for (const char* bad : {"", "base-camp", "10.0.0.1:", "10.0.0.1:70000", "10.0.0.1:x"}) {
+    for (const char* bad : {"", "base camp", "-camp", "camp/1", "10.0.0.1:", "10.0.0.1:70000", "10.0.0.1:x"}) {
         try {
             parse_wan_peer(bad, 1);
             ADD_FAILURE() << bad;
@@ -75,6 +75,24 @@ TEST(WanAddressTest, BadPeersAreConfigErrorsNamingTheFlag) {
             EXPECT_NE(std::string(e.what()).find("--wan-peer"), std::string::npos);
         }
     }
+}
+
+TEST(WanAddressTest, APeerMayBeAHostNameLookedUpLater) {
+    const WanPeer named = parse_wan_peer("basecamp.local:7412", 0);
+    EXPECT_EQ(named.host, "basecamp.local");
+    EXPECT_EQ(named.address, "");
+    EXPECT_EQ(named.port, 7412);
+    const auto resolved =
+        resolve_peer_names({parse_wan_peer("localhost", 1), parse_wan_peer("tgw-no-such-host.invalid", 1)});
+    EXPECT_EQ(resolved[0].address, "127.0.0.1");
+    EXPECT_EQ(resolved[1].address, "");  // not yet: it is looked up again later
+    // Only what resolved is announced to, at the first participants' ports.
+    const auto announced = announcement_peers(resolved, 1, 2);
+    ASSERT_EQ(announced.size(), 2u);
+    EXPECT_EQ(announced[0].address, "127.0.0.1");
+    EXPECT_EQ(announced[0].port, 7660);
+    EXPECT_EQ(announced[1].port, 7662);
+    EXPECT_TRUE(announced[1].exact_port);
 }
 
 TEST(WanAddressTest, InterfaceNameResolvesToItsAddress) {

@@ -32,9 +32,11 @@ camp_veth="$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info basecamp-veth)"
 robot_etc="/etc/netns/$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info robot-ns)"
 mkdir -p "$robot_etc"
 printf '127.0.0.1 localhost\n' >"$robot_etc/hosts"
-trap 'rm -rf "$robot_etc"; stop_testbed' EXIT
+# shellcheck disable=SC2317  # called by the EXIT trap
+forget_hosts() { rm -rf "$robot_etc"; rmdir --ignore-fail-on-non-empty /etc/netns 2>/dev/null || true; }
+trap 'forget_hosts; stop_testbed' EXIT
 [ -z "${TGW_TEST_KEEP:-}" ] ||
-    trap 'rm -rf "$robot_etc"; mkdir -p "$TGW_TEST_KEEP" && cp -r "$WORK"/. "$TGW_TEST_KEEP"/; stop_testbed' EXIT
+    trap 'forget_hosts; mkdir -p "$TGW_TEST_KEEP" && cp -r "$WORK"/. "$TGW_TEST_KEEP"/; stop_testbed' EXIT
 
 "${tb[@]}" robot ip addr flush dev "$veth"
 "${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --peer "$robot_addr" --interface "$basecamp_addr" \

@@ -455,11 +455,15 @@ void Gateway::make_uplink() {
 }
 
 void Gateway::rebind_wan(const std::string& address) {
+    post_wan_remake([this, address] { rebind_wan_nts(address); });
+}
+
+void Gateway::post_wan_remake(std::function<void()> remake) {
     // At once: a link that comes up with the new address must not be given a rate before the participant is
     // bound to it (what was written meanwhile would be counted forwarded and never arrive).
     rebinding_wan_.store(true);
     apply_rate();
-    post([this, address] { rebind_wan_nts(address); });
+    post(std::move(remake));
 }
 
 void Gateway::rebind_wan_nts(const std::string& address) {
@@ -494,9 +498,7 @@ void Gateway::run_peer_lookup() {
         }
         known = now;
         const std::vector<WanPeer> peers = announcement_peers(now, config_.wan_domain, config_.wan_peer_participants);
-        rebinding_wan_.store(true);
-        apply_rate();
-        post([this, peers] { remake_wan_nts(wan_->interface_address(), peers); });
+        post_wan_remake([this, peers] { remake_wan_nts(wan_->interface_address(), peers); });
     }
 }
 

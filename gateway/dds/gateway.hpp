@@ -309,6 +309,8 @@ class Gateway {
     /// The uplink's readers on the WAN participant and writers on the robot's, with --uplink.
     void make_uplink();
     void rebind_wan_nts(const std::string& address);
+    /// Holds the rate at 0 from now until `remake` (which ends with remake_wan_nts) has run in the gateway's thread.
+    void post_wan_remake(std::function<void()> remake);
     /// The WAN participant made anew on `address`, announcing to `peers`; in the gateway's own thread.
     void remake_wan_nts(const std::string& address, const std::vector<WanPeer>& peers);
     /// Looks the --wan-peer host names up every PEER_LOOKUP_PERIOD; a change makes the participant anew.

@@ -131,10 +131,13 @@ std::string initial_wan_address(const std::string& name_or_address) {
         name_or_address.find_first_of("/ \t") != std::string::npos) {
         throw base::ConfigError("--wan-interface '" + name_or_address + "': not an interface name or IPv4 address");
     }
-    const IfaddrsPtr list = list_interfaces(name_or_address, "--wan-interface");
-    for (const ifaddrs* it = list.get(); it != nullptr; it = it->ifa_next) {
-        if (it->ifa_name != nullptr && name_or_address == it->ifa_name && has_ipv4(it)) {
-            return ipv4_text(it->ifa_addr);
+    const auto addresses = base::interface_addresses();
+    if (!addresses) {
+        throw base::ConfigError("--wan-interface '" + name_or_address + "': cannot list network interfaces");
+    }
+    for (const base::InterfaceAddress& each : *addresses) {
+        if (each.interface == name_or_address) {
+            return each.address;
         }
     }
     return ADDRESS_TO_COME;

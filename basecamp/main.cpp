@@ -314,6 +314,7 @@ int main(int argc, char** argv) {
                     return "recording into " + (out.empty() ? record_mcap.path : out) + ": " +
                            topics_and_samples(recorder.received());
                 });
+            recorder.stop();  // before the files close: a sample arriving now would reach one of them only
             std::cout << "tm-basecamp record: domain " << domain << " -> "
                       << (out.empty() ? "" : out + (record_mcap.path.empty() ? "" : " and ")) << record_mcap.path
                       << "\n";

@@ -82,10 +82,15 @@ Recorder::Recorder(int domain, const base::PeerTransport& transport, SampleConsu
 }
 
 Recorder::~Recorder() {
+    stop();
+}
+
+void Recorder::stop() {
     if (participant_ != nullptr) {
         participant_->set_listener(nullptr);
         participant_->delete_contained_entities();
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+        participant_ = nullptr;
     }
 }
 

@@ -49,6 +49,10 @@ class Recorder {
     /// Creates readers for topics as they are discovered, until `duration` has passed or `stop` turns true.
     void run(base::Duration duration, const std::atomic<bool>& stop);
 
+    /// Takes no more samples: the participant goes, and with it every reader. What was received stays counted.
+    /// Call before the consumers are closed, or a sample that arrives meanwhile reaches some of them only.
+    void stop();
+
     /// Samples received so far, per topic.
     std::map<std::string, std::uint64_t> received() const;
     /// Writers the reader of `topic` has matched now; 0 before the topic has a reader. A writer's samples reach

@@ -72,7 +72,7 @@ class Echo::Lane final : public fdds::DataReaderListener {
     const std::uint16_t index_;
 };
 
-Echo::Echo(int domain, const base::PeerTransport& transport, std::string topic, TypeLibrary types,
+Echo::Echo(int domain, const base::PeerTransport& transport, std::string topic, types::TypeLibrary types,
            SamplePrinter::Format format, std::ostream& out, const std::optional<base::SecurityFiles>& security)
     : topic_(std::move(topic)), types_(std::move(types)), format_(format), out_(out) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
@@ -162,7 +162,7 @@ std::string Echo::learn_announced_type(const dds::DiscoveredPublisher& publisher
     const std::string source = "the TypeObject of " + publisher.type_name;
     try {
         std::istringstream idl(announced.text);
-        TypeLibrary with_announced = types_;
+        types::TypeLibrary with_announced = types_;
         with_announced.add_idl(idl, source);
         with_announced.check_references();
         types_ = std::move(with_announced);

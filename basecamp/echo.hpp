@@ -17,10 +17,10 @@
 #include "base/time.hpp"
 #include "basecamp/discovery_queue.hpp"
 #include "basecamp/sample_printer.hpp"
-#include "basecamp/type_library.hpp"
 #include "gateway/dds/discovery.hpp"
 #include "gateway/dds/lane_assignment.hpp"
 #include "gateway/dds/partition_groups.hpp"
+#include "types/type_library.hpp"
 
 namespace eprosima::fastdds::dds {
 class DomainParticipant;
@@ -38,7 +38,7 @@ class Echo {
   public:
     /// Creates the participant, with DDS Security when `security` is given. `out` must outlive the Echo. Throws
     /// base::ConfigError naming --domain, --peer or --interface when DDS refuses it.
-    Echo(int domain, const base::PeerTransport& transport, std::string topic, TypeLibrary types,
+    Echo(int domain, const base::PeerTransport& transport, std::string topic, types::TypeLibrary types,
          SamplePrinter::Format format, std::ostream& out,
          const std::optional<base::SecurityFiles>& security = std::nullopt);
     ~Echo();
@@ -65,7 +65,7 @@ class Echo {
     std::vector<ReceivedSample> take(std::chrono::milliseconds timeout);
 
     const std::string topic_;
-    TypeLibrary types_;
+    types::TypeLibrary types_;
     const SamplePrinter::Format format_;
     std::ostream& out_;
     std::string type_name_;

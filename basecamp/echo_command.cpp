@@ -12,7 +12,7 @@
 #include "base/config_error.hpp"
 #include "base/peer_transport.hpp"
 #include "basecamp/echo.hpp"
-#include "basecamp/type_library.hpp"
+#include "types/type_library.hpp"
 
 namespace tgw::basecamp {
 
@@ -53,7 +53,7 @@ CLI::Validator positive_seconds() {
 }
 
 int run_echo(const EchoArguments& args) {
-    Echo echo(args.domain, args.transport, args.topic, TypeLibrary::project_and(args.idl_dirs, "--idl"),
+    Echo echo(args.domain, args.transport, args.topic, types::TypeLibrary::project_and(args.idl_dirs, "--idl"),
               args.json ? SamplePrinter::Format::json : SamplePrinter::Format::text, std::cout,
               security_files(args.security_dir));
     stop_on_signals();

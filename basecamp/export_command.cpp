@@ -17,7 +17,7 @@ struct ExportOptions {
 
 int run_export(const ExportOptions& options) {
     RecordingReader recording(options.recording, "FILE");
-    McapRecording mcap(options.mcap.path, "--mcap", TypeLibrary::project_and(options.mcap.idl_dirs, "--idl"),
+    McapRecording mcap(options.mcap.path, "--mcap", types::TypeLibrary::project_and(options.mcap.idl_dirs, "--idl"),
                        parse_mcap_compression(options.mcap.compression, "--compression"), options.mcap.chunk_bytes);
     const std::uint64_t samples = recording.read(mcap);
     if (!mcap.close()) {

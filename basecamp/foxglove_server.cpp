@@ -57,7 +57,7 @@ void append_le(std::string& out, std::uint64_t value, int bytes) {
 
 class FoxgloveServer::Impl {
   public:
-    Impl(std::uint16_t port, TypeLibrary types, const std::string& flag) : types_(std::move(types)) {
+    Impl(std::uint16_t port, types::TypeLibrary types, const std::string& flag) : types_(std::move(types)) {
         server_.clear_access_channels(websocketpp::log::alevel::all);
         server_.clear_error_channels(websocketpp::log::elevel::all);
         server_.init_asio();
@@ -258,7 +258,7 @@ class FoxgloveServer::Impl {
     Server server_;
     std::thread thread_;
     std::uint16_t port_ = 0;
-    const TypeLibrary types_;
+    const types::TypeLibrary types_;
     mutable std::mutex mutex_;
     std::map<std::string, Channel> channels_;  ///< by topic
     std::uint32_t next_channel_ = 1;
@@ -266,7 +266,7 @@ class FoxgloveServer::Impl {
     std::atomic<std::uint64_t> sent_{0};
 };
 
-FoxgloveServer::FoxgloveServer(std::uint16_t port, TypeLibrary types, const std::string& flag)
+FoxgloveServer::FoxgloveServer(std::uint16_t port, types::TypeLibrary types, const std::string& flag)
     : impl_(std::make_unique<Impl>(port, std::move(types), flag)) {}
 
 FoxgloveServer::~FoxgloveServer() = default;

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "basecamp/sample_consumer.hpp"
-#include "basecamp/type_library.hpp"
+#include "types/type_library.hpp"
 
 namespace tgw::basecamp {
 
@@ -20,7 +20,7 @@ class FoxgloveServer final : public SampleConsumer {
   public:
     /// Listens on `port` of every IPv4 interface (0: a free port, see port()). Throws base::ConfigError naming
     /// `flag` when it cannot.
-    FoxgloveServer(std::uint16_t port, TypeLibrary types, const std::string& flag);
+    FoxgloveServer(std::uint16_t port, types::TypeLibrary types, const std::string& flag);
     /// Closes every connection and stops the thread.
     ~FoxgloveServer();
     FoxgloveServer(const FoxgloveServer&) = delete;

@@ -5,9 +5,9 @@
 #include <map>
 
 #include "base/config_error.hpp"
-#include "basecamp/cdr_decoder.hpp"
 #include "basecamp/gateway_status.hpp"
 #include "gateway/dds/status_topic.hpp"
+#include "types/cdr_decoder.hpp"
 
 namespace tgw::basecamp {
 
@@ -17,15 +17,15 @@ constexpr char DROPPED_PREFIX[] = "dropped/";  // RecordingReader's channels of 
 constexpr double DROP_CELLS = 40;
 
 /// The number at `path` ("pose.position.x") in a decoded struct; nullopt when there is none.
-std::optional<double> number_at(const DecodedValue& value, const std::string& path) {
-    const DecodedValue* at = &value;
+std::optional<double> number_at(const types::DecodedValue& value, const std::string& path) {
+    const types::DecodedValue* at = &value;
     std::size_t start = 0;
     while (start <= path.size()) {
         const std::size_t dot = path.find('.', start);
         const std::string name = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
         const auto field = std::find_if(at->fields.begin(), at->fields.end(),
                                         [&](const auto& member) { return member.first == name; });
-        if (at->kind != DecodedValue::Kind::record || field == at->fields.end())
+        if (at->kind != types::DecodedValue::Kind::record || field == at->fields.end())
             return std::nullopt;
         at = &field->second;
         if (dot == std::string::npos)
@@ -33,11 +33,11 @@ std::optional<double> number_at(const DecodedValue& value, const std::string& pa
         start = dot + 1;
     }
     switch (at->kind) {
-        case DecodedValue::Kind::real:
+        case types::DecodedValue::Kind::real:
             return at->real;
-        case DecodedValue::Kind::signed_integer:
+        case types::DecodedValue::Kind::signed_integer:
             return static_cast<double>(at->signed_integer);
-        case DecodedValue::Kind::unsigned_integer:
+        case types::DecodedValue::Kind::unsigned_integer:
             return static_cast<double>(at->unsigned_integer);
         default:
             return std::nullopt;
@@ -80,7 +80,8 @@ PoseSource PoseSource::parse(const std::string& text, const std::string& flag) {
     return source;
 }
 
-LinkMapBuilder::LinkMapBuilder(PoseSource pose, TypeLibrary types) : pose_(std::move(pose)), types_(std::move(types)) {}
+LinkMapBuilder::LinkMapBuilder(PoseSource pose, types::TypeLibrary types)
+    : pose_(std::move(pose)), types_(std::move(types)) {}
 
 void LinkMapBuilder::add_topic(TopicRecord /*topic*/) {}
 
@@ -91,8 +92,8 @@ void LinkMapBuilder::add_logged_rate(std::int64_t time_ns, double rate_bps) {
 
 void LinkMapBuilder::add(SampleRecord sample) {
     if (sample.topic == pose_.topic) {
-        const CdrDecodeResult decoded =
-            decode_cdr(sample.payload.data(), sample.payload.size(), sample.type_name, types_);
+        const types::CdrDecodeResult decoded =
+            types::decode_cdr(sample.payload.data(), sample.payload.size(), sample.type_name, types_);
         std::optional<double> x, y;
         if (decoded.value) {
             x = number_at(*decoded.value, pose_.field_x);

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "basecamp/sample_consumer.hpp"
-#include "basecamp/type_library.hpp"
+#include "types/type_library.hpp"
 
 namespace tgw::basecamp {
 
@@ -55,7 +55,7 @@ struct LinkMap {
 /// Collects poses, the gateway's statuses and the samples dropped on the robot, then makes the map.
 class LinkMapBuilder final : public SampleConsumer {
   public:
-    LinkMapBuilder(PoseSource pose, TypeLibrary types);
+    LinkMapBuilder(PoseSource pose, types::TypeLibrary types);
 
     void add_topic(TopicRecord topic) override;
     void add(SampleRecord sample) override;
@@ -78,7 +78,7 @@ class LinkMapBuilder final : public SampleConsumer {
     };
 
     const PoseSource pose_;
-    const TypeLibrary types_;
+    const types::TypeLibrary types_;
     mutable std::mutex mutex_;
     std::vector<MapPoint> poses_;
     std::vector<Status> statuses_;

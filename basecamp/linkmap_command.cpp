@@ -27,7 +27,7 @@ int run_linkmap(const LinkmapOptions& options) {
         recordings.push_back(std::make_unique<RecordingReader>(file, "FILE"));
         names += (names.empty() ? "" : " + ") + std::filesystem::path(file).filename().string();
     }
-    LinkMapBuilder builder(pose, TypeLibrary::project_and(options.idl_dirs, "--idl"));
+    LinkMapBuilder builder(pose, types::TypeLibrary::project_and(options.idl_dirs, "--idl"));
     for (const auto& recording : recordings) {
         recording->read(builder);
         for (const auto& [time_ns, rate_bps] : recording->link_rates())

@@ -231,7 +231,7 @@ int main(int argc, char** argv) {
             std::unique_ptr<tgw::basecamp::FoxgloveServer> foxglove_server;
             if (foxglove->count() > 0) {
                 foxglove_server = std::make_unique<tgw::basecamp::FoxgloveServer>(
-                    foxglove_port, tgw::basecamp::TypeLibrary::project_and(relay_idl_dirs, "--idl"), "--foxglove-port");
+                    foxglove_port, tgw::types::TypeLibrary::project_and(relay_idl_dirs, "--idl"), "--foxglove-port");
                 consumers.push_back(foxglove_server.get());
             }
             tgw::basecamp::ConsumerFanOut taken_off_the_wan(consumers);
@@ -294,7 +294,7 @@ int main(int argc, char** argv) {
             std::unique_ptr<tgw::basecamp::McapRecording> mcap;
             if (!record_mcap.path.empty()) {
                 mcap = std::make_unique<tgw::basecamp::McapRecording>(
-                    record_mcap.path, "--mcap", tgw::basecamp::TypeLibrary::project_and(record_mcap.idl_dirs, "--idl"),
+                    record_mcap.path, "--mcap", tgw::types::TypeLibrary::project_and(record_mcap.idl_dirs, "--idl"),
                     tgw::basecamp::parse_mcap_compression(record_mcap.compression, "--compression"),
                     record_mcap.chunk_bytes);
                 files.push_back(mcap.get());

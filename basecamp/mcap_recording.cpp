@@ -11,7 +11,7 @@ constexpr char MESSAGE_ENCODING[] = "cdr";
 
 }  // namespace
 
-McapRecording::McapRecording(const std::string& path, const std::string& flag, TypeLibrary types,
+McapRecording::McapRecording(const std::string& path, const std::string& flag, types::TypeLibrary types,
                              McapCompression compression, std::size_t chunk_bytes)
     : types_(std::move(types)), writer_(path, flag, compression, chunk_bytes) {}
 

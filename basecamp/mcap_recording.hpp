@@ -9,7 +9,7 @@
 
 #include "basecamp/mcap_writer.hpp"
 #include "basecamp/sample_consumer.hpp"
-#include "basecamp/type_library.hpp"
+#include "types/type_library.hpp"
 
 namespace tgw::basecamp {
 
@@ -18,7 +18,7 @@ class McapRecording final : public SampleConsumer {
     /// Creates `path` (see McapWriter). A type's schema is its IDL from `types` (the project's, --idl), else the
     /// IDL its publisher's TypeObject gave (TopicRecord::announced_idl); a type with neither has a channel
     /// without schema.
-    McapRecording(const std::string& path, const std::string& flag, TypeLibrary types,
+    McapRecording(const std::string& path, const std::string& flag, types::TypeLibrary types,
                   McapCompression compression = McapCompression::none, std::size_t chunk_bytes = 1 << 20);
 
     void add_topic(TopicRecord topic) override;
@@ -36,7 +36,7 @@ class McapRecording final : public SampleConsumer {
     std::uint16_t channel_nts(const TopicRecord& topic);
     std::uint16_t schema_nts(const TopicRecord& topic);
 
-    const TypeLibrary types_;
+    const types::TypeLibrary types_;
     mutable std::mutex mutex_;
     McapWriter writer_;
     std::map<std::string, std::uint16_t> channels_;  ///< by topic

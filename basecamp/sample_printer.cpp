@@ -5,9 +5,9 @@
 #include <ctime>
 
 #include "base/utc_text.hpp"
-#include "basecamp/cdr_decoder.hpp"
 #include "basecamp/value_json.hpp"
 #include "basecamp/value_text.hpp"
+#include "types/cdr_decoder.hpp"
 
 namespace tgw::basecamp {
 
@@ -29,11 +29,12 @@ std::string hex_text(const std::uint8_t* bytes, std::size_t size) {
     return text;
 }
 
-SamplePrinter::SamplePrinter(const TypeLibrary& types, std::string type_name, Format format)
+SamplePrinter::SamplePrinter(const types::TypeLibrary& types, std::string type_name, Format format)
     : types_(types), type_name_(std::move(type_name)), format_(format) {}
 
 void SamplePrinter::print(std::ostream& out, const ReceivedSample& sample) const {
-    const CdrDecodeResult decoded = decode_cdr(sample.payload.data(), sample.payload.size(), type_name_, types_);
+    const types::CdrDecodeResult decoded =
+        types::decode_cdr(sample.payload.data(), sample.payload.size(), type_name_, types_);
     const std::size_t size = sample.payload.size();
     if (format_ == Format::json) {
         out << '{';

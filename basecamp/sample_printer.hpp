@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "base/time.hpp"
-#include "basecamp/type_library.hpp"
+#include "types/type_library.hpp"
 
 namespace tgw::basecamp {
 
@@ -30,13 +30,13 @@ class SamplePrinter {
     };
 
     /// `types` must outlive the printer.
-    SamplePrinter(const TypeLibrary& types, std::string type_name, Format format);
+    SamplePrinter(const types::TypeLibrary& types, std::string type_name, Format format);
 
     /// Writes `sample`; never throws on any payload.
     void print(std::ostream& out, const ReceivedSample& sample) const;
 
   private:
-    const TypeLibrary& types_;
+    const types::TypeLibrary& types_;
     const std::string type_name_;
     const Format format_;
 };

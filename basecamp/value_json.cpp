@@ -38,7 +38,7 @@ std::size_t utf8_length(const unsigned char* s, std::size_t n) {
     return length;
 }
 
-std::string real_text(const DecodedValue& value) {
+std::string real_text(const types::DecodedValue& value) {
     if (std::isnan(value.real))
         return "\"nan\"";
     if (std::isinf(value.real))
@@ -88,30 +88,30 @@ std::string json_string(const std::string& text) {
     return out;
 }
 
-std::string json_scalar(const DecodedValue& value) {
+std::string json_scalar(const types::DecodedValue& value) {
     switch (value.kind) {
-        case DecodedValue::Kind::boolean:
+        case types::DecodedValue::Kind::boolean:
             return value.boolean ? "true" : "false";
-        case DecodedValue::Kind::signed_integer:
+        case types::DecodedValue::Kind::signed_integer:
             return std::to_string(value.signed_integer);
-        case DecodedValue::Kind::unsigned_integer:
+        case types::DecodedValue::Kind::unsigned_integer:
             return std::to_string(value.unsigned_integer);
-        case DecodedValue::Kind::real:
+        case types::DecodedValue::Kind::real:
             return real_text(value);
-        case DecodedValue::Kind::character:
-        case DecodedValue::Kind::string:
+        case types::DecodedValue::Kind::character:
+        case types::DecodedValue::Kind::string:
             return json_string(value.text);
-        case DecodedValue::Kind::enumerator:
+        case types::DecodedValue::Kind::enumerator:
             return value.text.empty() ? std::to_string(value.signed_integer) : json_string(value.text);
-        case DecodedValue::Kind::list:
-        case DecodedValue::Kind::record:
+        case types::DecodedValue::Kind::list:
+        case types::DecodedValue::Kind::record:
             break;
     }
     return "null";
 }
 
-void write_json(std::ostream& out, const DecodedValue& value) {
-    if (value.kind == DecodedValue::Kind::list) {
+void write_json(std::ostream& out, const types::DecodedValue& value) {
+    if (value.kind == types::DecodedValue::Kind::list) {
         out << '[';
         for (std::size_t i = 0; i < value.items.size(); ++i) {
             if (i > 0)
@@ -119,7 +119,7 @@ void write_json(std::ostream& out, const DecodedValue& value) {
             write_json(out, value.items[i]);
         }
         out << ']';
-    } else if (value.kind == DecodedValue::Kind::record) {
+    } else if (value.kind == types::DecodedValue::Kind::record) {
         out << '{';
         for (std::size_t i = 0; i < value.fields.size(); ++i) {
             if (i > 0)

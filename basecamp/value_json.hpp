@@ -4,7 +4,7 @@
 #include <ostream>
 #include <string>
 
-#include "basecamp/decoded_value.hpp"
+#include "types/decoded_value.hpp"
 
 namespace tgw::basecamp {
 
@@ -12,10 +12,10 @@ namespace tgw::basecamp {
 /// number when the enum declares no such value), characters as one-character strings, integers (64-bit too)
 /// as numbers, reals with the shortest digits that read back the same; NaN and the infinities, which JSON
 /// lacks, as the strings "nan", "inf" and "-inf".
-void write_json(std::ostream& out, const DecodedValue& value);
+void write_json(std::ostream& out, const types::DecodedValue& value);
 
 /// A scalar of `value` (not a list or record) as a JSON token.
-std::string json_scalar(const DecodedValue& value);
+std::string json_scalar(const types::DecodedValue& value);
 
 /// `text` as a JSON string literal, quotes included. Bytes that are not UTF-8 (a CDR string may hold any) are
 /// written as \u00XX, so that the line stays valid JSON.

@@ -9,8 +9,9 @@ namespace tgw::basecamp {
 
 namespace {
 
-bool all_scalars(const DecodedValue& list) {
-    return std::all_of(list.items.begin(), list.items.end(), [](const DecodedValue& v) { return v.is_scalar(); });
+bool all_scalars(const types::DecodedValue& list) {
+    return std::all_of(list.items.begin(), list.items.end(),
+                       [](const types::DecodedValue& v) { return v.is_scalar(); });
 }
 
 class TextWriter {
@@ -19,7 +20,7 @@ class TextWriter {
 
     /// The fields of `record` at column `indent`; the first line begins with `first_prefix` (a list item's
     /// "- ") instead of spaces when it is not empty.
-    void record(const DecodedValue& record, std::size_t indent, const std::string& first_prefix = "") {
+    void record(const types::DecodedValue& record, std::size_t indent, const std::string& first_prefix = "") {
         for (std::size_t i = 0; i < record.fields.size(); ++i) {
             const std::string prefix = i == 0 && !first_prefix.empty() ? first_prefix : std::string(indent, ' ');
             field(prefix, indent, record.fields[i].first, record.fields[i].second);
@@ -27,46 +28,47 @@ class TextWriter {
     }
 
   private:
-    void field(const std::string& prefix, std::size_t indent, const std::string& name, const DecodedValue& value) {
+    void field(const std::string& prefix, std::size_t indent, const std::string& name,
+               const types::DecodedValue& value) {
         out_ << prefix << name << ':';
         if (inline_value(value)) {
             out_ << ' ';
             flow(value);
             out_ << '\n';
-        } else if (value.kind == DecodedValue::Kind::record) {
+        } else if (value.kind == types::DecodedValue::Kind::record) {
             out_ << '\n';
             record(value, indent + 2);
         } else {
             out_ << '\n';
-            for (const DecodedValue& item : value.items)
+            for (const types::DecodedValue& item : value.items)
                 list_item(item, indent);
         }
     }
 
     /// An element of a list of lists or of records, in block style at column `indent`.
-    void list_item(const DecodedValue& item, std::size_t indent) {
+    void list_item(const types::DecodedValue& item, std::size_t indent) {
         const std::string dash = std::string(indent, ' ') + "- ";
         if (inline_value(item)) {
             out_ << dash;
             flow(item);
             out_ << '\n';
-        } else if (item.kind == DecodedValue::Kind::record) {
+        } else if (item.kind == types::DecodedValue::Kind::record) {
             record(item, indent + 2, dash);
         } else {
             out_ << std::string(indent, ' ') << "-\n";
-            for (const DecodedValue& inner : item.items)
+            for (const types::DecodedValue& inner : item.items)
                 list_item(inner, indent + 2);
         }
     }
 
-    static bool inline_value(const DecodedValue& value) {
-        if (value.kind == DecodedValue::Kind::record)
+    static bool inline_value(const types::DecodedValue& value) {
+        if (value.kind == types::DecodedValue::Kind::record)
             return value.fields.empty();
         return value.is_scalar() || all_scalars(value);
     }
 
-    void flow(const DecodedValue& value) {
-        if (value.kind == DecodedValue::Kind::record) {
+    void flow(const types::DecodedValue& value) {
+        if (value.kind == types::DecodedValue::Kind::record) {
             out_ << "{}";
             return;
         }
@@ -89,12 +91,12 @@ class TextWriter {
 
 }  // namespace
 
-void write_text(std::ostream& out, const DecodedValue& value, std::size_t max_list_items) {
+void write_text(std::ostream& out, const types::DecodedValue& value, std::size_t max_list_items) {
     TextWriter writer(out, max_list_items);
-    if (value.kind == DecodedValue::Kind::record) {
+    if (value.kind == types::DecodedValue::Kind::record) {
         writer.record(value, 0);
     } else {
-        DecodedValue wrapper;
+        types::DecodedValue wrapper;
         wrapper.fields.emplace_back("value", value);
         writer.record(wrapper, 0);
     }

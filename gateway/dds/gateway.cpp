@@ -133,6 +133,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     : config_(std::move(config)),
       clock_(clock),
       filter_(config_.allow, config_.deny),
+      types_(types::TypeLibrary::project_and(config_.idl_dirs, "--idl")),
       wan_callbacks_(std::make_shared<WanCallbackLink>()),
       uplink_topics_(config_.uplink, config_.robot_name) {
     config_.validate();
@@ -740,9 +741,9 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     }
     const ResolvedTtl ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
     const core::TopicId id = add_topic_nts(core::TopicConfig{pub.topic, ttl.ttl, false});
-    auto bridge = std::make_shared<TopicBridge>(id, pub.topic, base::namespaced_topic(config_.robot_name, pub.topic),
-                                                pub.type_name, pub.keyed, ttl,
-                                                TopicBridge::Ends{*robot_, *wan_, *loop_, clock_, compact_.get()});
+    auto bridge = std::make_shared<TopicBridge>(
+        id, pub.topic, base::namespaced_topic(config_.robot_name, pub.topic), pub.type_name, pub.keyed, ttl,
+        TopicBridge::Ends{*robot_, *wan_, *loop_, clock_, compact_.get()}, key_hasher_for(pub));
     if (bridge->admit(pub, declared)) {
         topics_->add(std::move(bridge));
         return;
@@ -755,6 +756,20 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     if (compact_) {
         compact_slots_[pub.topic] = id;  // its catalog entry may have been written
     }
+}
+
+std::shared_ptr<const types::KeyHasher> Gateway::key_hasher_for(const DiscoveredPublisher& pub) const {
+    if (!pub.keyed || types_.find(pub.type_name) == nullptr) {
+        return nullptr;
+    }
+    std::string why;
+    std::optional<types::KeyHasher> hasher = types::KeyHasher::for_type(types_, pub.type_name, why);
+    if (!hasher) {
+        std::cerr << "telemetry-gateway: " << pub.topic << ": its IDL gives no key hash (" << why
+                  << "); a publisher that sends none has its samples kept as one instance\n";
+        return nullptr;
+    }
+    return std::make_shared<const types::KeyHasher>(std::move(*hasher));
 }
 
 void Gateway::remote_publisher_discovered(DiscoveredPublisher&& pub) {

@@ -36,6 +36,7 @@
 #include "gateway/dds/uplink_topics.hpp"
 #include "gateway/dds/wan_address.hpp"
 #include "sensor/rate_sensor.hpp"
+#include "types/type_library.hpp"
 
 namespace tgw::log {
 class RobotLog;
@@ -66,7 +67,10 @@ struct GatewayConfig {
     std::string wan_interface;   ///< interface name or IPv4 address; empty: every interface
     std::uint16_t wan_port = 0;  ///< own metatraffic port on the WAN; 0: Fast DDS's well-known port
     RobotTransport robot;
-    std::string qos_file;             ///< Fast DDS XML; empty: none
+    std::string qos_file;  ///< Fast DDS XML; empty: none
+    /// --idl: directories of IDL files; a keyed type found there gets its key hash computed from the payload
+    /// when its publisher sends none (types::KeyHasher).
+    std::vector<std::string> idl_dirs;
     std::string log_file;             ///< on-robot SQLite log; empty: none
     std::uint64_t log_max_bytes = 0;  ///< the log's cap (RobotLog); 0: none
     std::vector<std::string> allow;   ///< topic globs; empty: all
@@ -306,6 +310,8 @@ class Gateway {
     void remote_publisher_discovered(DiscoveredPublisher&& pub);  // Fast DDS's discovery thread
     /// Routes a listed topic's base-camp publisher into the robot domain. The worker thread only.
     void route_uplink_nts(const DiscoveredPublisher& pub, const std::string& robot_topic);
+    /// For a keyed topic whose type types_ declares: what computes the key hashes its publishers do not send.
+    std::shared_ptr<const types::KeyHasher> key_hasher_for(const DiscoveredPublisher& pub) const;
     /// The uplink's readers on the WAN participant and writers on the robot's, with --uplink.
     void make_uplink();
     void rebind_wan_nts(const std::string& address);
@@ -319,6 +325,8 @@ class Gateway {
     GatewayConfig config_;
     const base::Clock& clock_;
     TopicFilter filter_;
+    /// The project's types and those of --idl; the bridges' key hashers point into it.
+    const types::TypeLibrary types_;
     /// How the WAN participant's callbacks (unscheduled traffic, base-camp writers) reach this object while it lives.
     std::shared_ptr<WanCallbackLink> wan_callbacks_;
     UplinkTopics uplink_topics_;

@@ -2,14 +2,17 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <string>
 
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include "base/clock.hpp"
 #include "gateway/core/forwarding_loop.hpp"
 #include "gateway/dds/lane_assignment.hpp"
+#include "types/key_hash.hpp"
 
 namespace tgw::dds {
 
@@ -20,9 +23,11 @@ namespace tgw::dds {
 /// buffer, and moved from there on.
 class LaneListener final : public eprosima::fastdds::dds::DataReaderListener {
   public:
-    /// `lanes` must outlive the listener. `name`: the topic's, for the warning about samples without a key hash.
+    /// `lanes` must outlive the listener. `name`: the topic's, for the warnings about key hashes. `key_hasher`: the
+    /// keyed topic's type from IDL (--idl), to compute the key hash a publisher did not send; null: none known.
     LaneListener(core::TopicId topic, std::string name, std::uint16_t lane, bool keyed, const LaneAssignment& lanes,
-                 core::ForwardingLoop& loop, const base::Clock& clock);
+                 core::ForwardingLoop& loop, const base::Clock& clock,
+                 std::shared_ptr<const types::KeyHasher> key_hasher = nullptr);
 
     void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
     void on_subscription_matched(eprosima::fastdds::dds::DataReader* reader,
@@ -33,12 +38,18 @@ class LaneListener final : public eprosima::fastdds::dds::DataReaderListener {
     std::int32_t matched_writers() const { return matched_.load(); }
     /// Samples that carried no source timestamp and were stamped on arrival.
     std::uint64_t stamped_on_arrival() const { return stamped_on_arrival_.load(); }
-    /// Samples of a keyed topic whose instance the publisher did not send (no key hash): the gateway, which
-    /// does not know the type, writes them all as one instance, so its per-instance history cannot keep them
-    /// apart (base-camp readers still can: they compute the key from the payload).
+    /// Samples of a keyed topic whose instance the publisher did not send (no key hash) and the gateway could not
+    /// compute (no IDL of the type, or a payload that does not decode as it): written all as one instance, so the
+    /// gateway's per-instance history cannot keep them apart (base-camp readers still can: they compute the key
+    /// from the payload).
     std::uint64_t without_key_hash() const { return without_key_hash_.load(); }
+    /// Samples whose key hash the gateway computed from the payload and the type's IDL.
+    std::uint64_t key_hash_computed() const { return key_hash_computed_.load(); }
 
   private:
+    /// The sample's instance: the publisher's key hash, else the one computed from its payload.
+    void set_key(const eprosima::fastdds::dds::SampleInfo& info, core::Sample& sample);
+
     const core::TopicId topic_;
     const std::string name_;
     const std::uint16_t lane_;
@@ -49,6 +60,9 @@ class LaneListener final : public eprosima::fastdds::dds::DataReaderListener {
     std::atomic<std::int32_t> matched_{0};
     std::atomic<std::uint64_t> stamped_on_arrival_{0};
     std::atomic<std::uint64_t> without_key_hash_{0};
+    std::atomic<std::uint64_t> key_hash_computed_{0};
+    const std::shared_ptr<const types::KeyHasher> key_hasher_;
+    bool publisher_hash_checked_ = false;  ///< under take_order_
     /// Held from take to submit: the SHM and UDP receive threads both call on_data_available, and without it
     /// one could submit a later sample before the other submits the earlier one it took.
     std::mutex take_order_;

@@ -20,14 +20,15 @@ struct TopicBridge::Lane {
 };
 
 TopicBridge::TopicBridge(core::TopicId id, std::string name, std::string wan_name, std::string type_name, bool keyed,
-                         ResolvedTtl ttl, Ends ends)
+                         ResolvedTtl ttl, Ends ends, std::shared_ptr<const types::KeyHasher> key_hasher)
     : id_(id),
       name_(std::move(name)),
       wan_name_(std::move(wan_name)),
       type_name_(std::move(type_name)),
       keyed_(keyed),
       ttl_(ttl),
-      ends_(ends) {}
+      ends_(ends),
+      key_hasher_(std::move(key_hasher)) {}
 
 TopicBridge::~TopicBridge() = default;
 
@@ -77,7 +78,8 @@ bool TopicBridge::admit(const DiscoveredPublisher& pub, bool declared) {
             return false;
         }
     }
-    lane.listener = std::make_unique<LaneListener>(id_, name_, index, keyed_, writers_, ends_.loop, ends_.clock);
+    lane.listener =
+        std::make_unique<LaneListener>(id_, name_, index, keyed_, writers_, ends_.loop, ends_.clock, key_hasher_);
     lane.reader = ends_.robot.create_reader(name_, type_name_, keyed_, pub.qos, lane.listener.get());
     if (lane.reader == nullptr) {
         return false;

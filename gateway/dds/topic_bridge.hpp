@@ -15,6 +15,7 @@
 #include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/ttl_resolver.hpp"
 #include "gateway/dds/wan_writer.hpp"
+#include "types/key_hash.hpp"
 
 namespace eprosima::fastdds::dds {
 class DataReader;
@@ -63,8 +64,9 @@ class TopicBridge {
     };
 
     /// `name` on the robot domain, `wan_name` on the WAN (GatewayConfig::robot_name).
+    /// `key_hasher`: see LaneListener; null when the type's IDL is not known.
     TopicBridge(core::TopicId id, std::string name, std::string wan_name, std::string type_name, bool keyed,
-                ResolvedTtl ttl, Ends ends);
+                ResolvedTtl ttl, Ends ends, std::shared_ptr<const types::KeyHasher> key_hasher = nullptr);
     /// Lets go of the WAN writers; close_readers() must have run.
     ~TopicBridge();
 
@@ -119,6 +121,7 @@ class TopicBridge {
     const bool keyed_;
     const ResolvedTtl ttl_;
     Ends ends_;
+    const std::shared_ptr<const types::KeyHasher> key_hasher_;
     LaneAssignment writers_;  ///< before lanes_: their listeners read it
     mutable std::mutex mutex_;
     std::vector<Lane> lanes_;  // by lane index; only the worker thread adds or retires

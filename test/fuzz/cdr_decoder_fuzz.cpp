@@ -9,11 +9,11 @@
 #include "PaperWorkload.h"
 #include "RosString.h"
 
-#include "basecamp/cdr_decoder.hpp"
 #include "basecamp/sample_printer.hpp"
 #include "basecamp/value_json.hpp"
 #include "test/fuzz/fuzz_target.hpp"
-#include "test/unit/basecamp/cdr_test_payloads.hpp"
+#include "test/unit/types/cdr_test_payloads.hpp"
+#include "types/cdr_decoder.hpp"
 
 namespace tgw::fuzz {
 
@@ -38,9 +38,9 @@ module fz {
 };
 )";
 
-const basecamp::TypeLibrary& library() {
-    static const basecamp::TypeLibrary types = [] {
-        basecamp::TypeLibrary t;
+const types::TypeLibrary& library() {
+    static const types::TypeLibrary types = [] {
+        types::TypeLibrary t;
         t.add_project_types();
         std::istringstream in(XCDR2_IDL);
         t.add_idl(in, "fuzz.idl");
@@ -119,8 +119,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string& type = fuzz::type_names()[data[0] % fuzz::type_names().size()];
     // A buffer of exactly the payload's size, so that AddressSanitizer sees any read past it.
     const std::vector<std::uint8_t> payload(data + 1, data + size);
-    const basecamp::CdrDecodeResult result =
-        basecamp::decode_cdr(payload.data(), payload.size(), type, fuzz::library());
+    const types::CdrDecodeResult result = types::decode_cdr(payload.data(), payload.size(), type, fuzz::library());
     TGW_FUZZ_CHECK(result.value.has_value() == result.error.empty());
     if (!result.value)
         return 0;
@@ -136,7 +135,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
     std::vector<std::uint8_t> longer = payload;
     longer.insert(longer.end(), {0xde, 0xad, 0xbe});
-    const basecamp::CdrDecodeResult again = basecamp::decode_cdr(longer.data(), longer.size(), type, fuzz::library());
+    const types::CdrDecodeResult again = types::decode_cdr(longer.data(), longer.size(), type, fuzz::library());
     TGW_FUZZ_CHECK(again.value.has_value());
     std::ostringstream json_again;
     basecamp::write_json(json_again, *again.value);

@@ -4,16 +4,16 @@
 #include <sstream>
 
 #include "base/config_error.hpp"
-#include "basecamp/cdr_decoder.hpp"
-#include "basecamp/embedded_idl.hpp"
-#include "basecamp/type_library.hpp"
 #include "test/fuzz/fuzz_target.hpp"
+#include "types/cdr_decoder.hpp"
+#include "types/embedded_idl.hpp"
+#include "types/type_library.hpp"
 
 namespace tgw::fuzz {
 
 std::vector<std::string> seeds() {
     std::vector<std::string> texts;
-    for (const basecamp::EmbeddedIdl& file : basecamp::embedded_idl_files())
+    for (const types::EmbeddedIdl& file : types::embedded_idl_files())
         texts.emplace_back(file.text);
     // What ROS 2 generates from a .msg, with the rest of the subset.
     texts.emplace_back(R"idl(#include "std_msgs/msg/Header.idl"
@@ -47,7 +47,7 @@ module sensor_msgs {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace tgw;
     const std::string text(reinterpret_cast<const char*>(data), size);
-    basecamp::TypeLibrary types;
+    types::TypeLibrary types;
     try {
         std::istringstream in(text);
         types.add_idl(in, "fuzz.idl");
@@ -65,8 +65,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (std::size_t i = 0; i < names.size() && i < 16; ++i) {
         TGW_FUZZ_CHECK(types.idl_text(names[i]).rfind(text, 0) == 0);
         for (const auto& payload : PAYLOADS) {
-            const basecamp::CdrDecodeResult result =
-                basecamp::decode_cdr(payload.data(), payload.size(), names[i], types);
+            const types::CdrDecodeResult result = types::decode_cdr(payload.data(), payload.size(), names[i], types);
             TGW_FUZZ_CHECK(result.value.has_value() == result.error.empty());
         }
     }

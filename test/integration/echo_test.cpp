@@ -245,7 +245,7 @@ TEST_F(EchoTest, EchoSaysWhichMemberTheAnnouncedTypeObjectCannotDescribe) {
 TEST_F(EchoTest, EchoPrintsSizeAndHexOfATypeItHasNoIdlFor) {
     fdds::DataWriter* writer = reliable_writer(new OpaqueBlobType());
     ASSERT_NE(writer, nullptr);
-    basecamp::TypeLibrary types;
+    types::TypeLibrary types;
     types.add_project_types();
     base::PeerTransport loopback;
     loopback.peers = {"127.0.0.1"};

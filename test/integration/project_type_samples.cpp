@@ -16,7 +16,7 @@
 #include "RosString.h"
 
 #include "basecamp/sample_store.hpp"
-#include "test/unit/basecamp/cdr_test_payloads.hpp"
+#include "test/unit/types/cdr_test_payloads.hpp"
 
 namespace {
 

@@ -287,6 +287,10 @@ int main(int argc, char** argv) {
         ->check(tgw::base::positive())
         ->capture_default_str();
     app.add_option("--qos", config.qos_file, "Fast DDS XML profiles (data_writer profiles named after topics)");
+    app.add_option("--idl", config.idl_dirs,
+                   "directory of IDL files (repeatable): a keyed type declared there gets its key hash computed "
+                   "from the payload when its publisher sends none (Cyclone DDS's default), so the gateway's "
+                   "history keeps each instance");
     CLI::Option* log_option = app.add_option(
         "--log", config.log_file,
         "on-robot SQLite log: every sample not sent, with its payload and why, and a row per sample sent (no "

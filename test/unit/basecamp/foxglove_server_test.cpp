@@ -9,7 +9,7 @@ namespace tgw::test {
 namespace {
 
 TEST(FoxgloveServerTest, PortZeroListensOnAFreePortAndATakenPortIsAConfigError) {
-    basecamp::FoxgloveServer first(0, basecamp::TypeLibrary{}, "--foxglove-port");
+    basecamp::FoxgloveServer first(0, types::TypeLibrary{}, "--foxglove-port");
     ASSERT_GT(first.port(), 0);
     EXPECT_EQ(first.clients(), 0u);
     const std::string taken = std::to_string(first.port());
@@ -20,7 +20,7 @@ TEST(FoxgloveServerTest, PortZeroListensOnAFreePortAndATakenPortIsAConfigError) 
 }
 
 TEST(FoxgloveServerTest, SamplesWithNoClientCostNothingAndStopIsClean) {
-    basecamp::FoxgloveServer server(0, basecamp::TypeLibrary{}, "--foxglove-port");
+    basecamp::FoxgloveServer server(0, types::TypeLibrary{}, "--foxglove-port");
     basecamp::SampleRecord sample;
     sample.topic = "telemetry/A";
     sample.type_name = "tgw::idl::PaperMessage";

@@ -15,8 +15,8 @@
 #include "basecamp/link_map_render.hpp"
 #include "basecamp/recording_reader.hpp"
 #include "test/fakes/config_error_of.hpp"
-#include "test/unit/basecamp/cdr_test_payloads.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
+#include "test/unit/types/cdr_test_payloads.hpp"
 
 namespace tgw::test {
 namespace {
@@ -78,7 +78,7 @@ class LinkMapTest : public ::testing::Test {
 
     basecamp::LinkMap build(const std::string& pose = "robot/pose") {
         basecamp::LinkMapBuilder builder(basecamp::PoseSource::parse(pose, "--pose"),
-                                         basecamp::TypeLibrary::project_and({}, "--idl"));
+                                         types::TypeLibrary::project_and({}, "--idl"));
         basecamp::RecordingReader(recording_, "FILE").read(builder);
         return builder.build("--pose", recording_);
     }
@@ -135,7 +135,7 @@ TEST_F(LinkMapTest, AMissionArchiveGivesEachDroppedSampleItsPlace) {
     write_recording(recording_, {}, samples);
     // As RecordingReader hands a mission archive's drops: on their own topics, at their source time.
     basecamp::LinkMapBuilder builder(basecamp::PoseSource::parse("robot/pose:x,y", "--pose"),
-                                     basecamp::TypeLibrary::project_and({}, "--idl"));
+                                     types::TypeLibrary::project_and({}, "--idl"));
     for (basecamp::SampleRecord& s : samples)
         builder.add(s);
     for (int i : {10, 11, 40}) {  // at x = 20, 22 and 80 m: the first two in one square of the map
@@ -155,7 +155,7 @@ TEST_F(LinkMapTest, AMissionArchiveGivesEachDroppedSampleItsPlace) {
 // The statuses a weak link delays or drops; the gateway's log has the rate all along, and colours the path.
 TEST_F(LinkMapTest, TheGatewaysLoggedRatesColourThePathInsteadOfItsStatuses) {
     basecamp::LinkMapBuilder builder(basecamp::PoseSource::parse("robot/pose", "--pose"),
-                                     basecamp::TypeLibrary::project_and({}, "--idl"));
+                                     types::TypeLibrary::project_and({}, "--idl"));
     for (basecamp::SampleRecord& s : mission())
         builder.add(s);
     builder.add_logged_rate(START, 64'000);

@@ -11,15 +11,15 @@
 #include "basecamp/sample_printer.hpp"
 #include "basecamp/value_json.hpp"
 #include "basecamp/value_text.hpp"
-#include "test/unit/basecamp/cdr_test_payloads.hpp"
+#include "test/unit/types/cdr_test_payloads.hpp"
 
 namespace tgw::test {
 namespace {
 
-using basecamp::DecodedValue;
 using basecamp::ReceivedSample;
 using basecamp::SamplePrinter;
 using eprosima::fastcdr::Cdr;
+using types::DecodedValue;
 
 constexpr std::int64_t STAMP_NS = 1'795'550'482'000'000'123;
 const std::string INSTANCE = "00000007000000000000000000000000";
@@ -47,7 +47,7 @@ class SamplePrinterTest : public ::testing::Test {
         return sample;
     }
 
-    basecamp::TypeLibrary types_;
+    types::TypeLibrary types_;
 };
 
 TEST_F(SamplePrinterTest, PrintsASampleAsTextFieldByFieldAfterItsTimestampAndInstance) {
@@ -109,15 +109,15 @@ TEST_F(SamplePrinterTest, IndentsNestedStructsAndListsOfStructsAsRos2TopicEchoDo
 }
 
 TEST(ValueTextTest, CutsLongListsOfScalarsButJsonKeepsThemWhole) {
-    DecodedValue list;
-    list.kind = DecodedValue::Kind::list;
+    types::DecodedValue list;
+    list.kind = types::DecodedValue::Kind::list;
     for (int i = 0; i < 5; ++i) {
-        DecodedValue item;
-        item.kind = DecodedValue::Kind::unsigned_integer;
+        types::DecodedValue item;
+        item.kind = types::DecodedValue::Kind::unsigned_integer;
         item.unsigned_integer = static_cast<std::uint64_t>(i);
         list.items.push_back(item);
     }
-    DecodedValue record;
+    types::DecodedValue record;
     record.fields.emplace_back("data", list);
     std::ostringstream text;
     basecamp::write_text(text, record, 3);
@@ -129,8 +129,8 @@ TEST(ValueTextTest, CutsLongListsOfScalarsButJsonKeepsThemWhole) {
 
 TEST(ValueJsonTest, WritesRealsWithTheirShortestDigitsAndNanAndInfinityAsStrings) {
     const auto real = [](double value, bool single) {
-        DecodedValue v;
-        v.kind = DecodedValue::Kind::real;
+        types::DecodedValue v;
+        v.kind = types::DecodedValue::Kind::real;
         v.real = value;
         v.single_precision = single;
         return basecamp::json_scalar(v);

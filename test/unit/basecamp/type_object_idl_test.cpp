@@ -10,11 +10,11 @@
 #include "AnnouncedTypes.h"
 #include "AnnouncedTypesTypeObject.h"
 
-#include "basecamp/cdr_decoder.hpp"
-#include "basecamp/type_library.hpp"
 #include "basecamp/value_json.hpp"
 #include "gateway/dds/type_object_idl.hpp"
-#include "test/unit/basecamp/cdr_test_payloads.hpp"
+#include "test/unit/types/cdr_test_payloads.hpp"
+#include "types/cdr_decoder.hpp"
+#include "types/type_library.hpp"
 
 namespace tgw::test {
 namespace {
@@ -55,8 +55,8 @@ tgw_test::FlatReading example_reading(std::uint32_t id) {
 
 /// The sample as JSON, decoded with `types`; the decoder's error when it cannot.
 std::string decoded_json(const std::vector<std::uint8_t>& payload, const std::string& type,
-                         const basecamp::TypeLibrary& types) {
-    const basecamp::CdrDecodeResult result = basecamp::decode_cdr(payload.data(), payload.size(), type, types);
+                         const types::TypeLibrary& types) {
+    const types::CdrDecodeResult result = types::decode_cdr(payload.data(), payload.size(), type, types);
     if (!result.value)
         return "error: " + result.error;
     std::ostringstream out;
@@ -64,8 +64,8 @@ std::string decoded_json(const std::vector<std::uint8_t>& payload, const std::st
     return out.str();
 }
 
-basecamp::TypeLibrary library_of(const std::string& idl, const std::string& file) {
-    basecamp::TypeLibrary types;
+types::TypeLibrary library_of(const std::string& idl, const std::string& file) {
+    types::TypeLibrary types;
     std::istringstream in(idl);
     types.add_idl(in, file);
     types.check_references();
@@ -83,7 +83,7 @@ class TypeObjectIdlTest : public ::testing::Test {
                                 "AnnouncedTypes.idl");
     }
 
-    basecamp::TypeLibrary from_file_;
+    types::TypeLibrary from_file_;
 };
 
 TEST_F(TypeObjectIdlTest, AFlatStructNeedsNothingButItsOwnTypeObject) {

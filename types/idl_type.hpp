@@ -1,4 +1,4 @@
-// The types an IDL file declares, as tm-basecamp needs them to decode samples of types it was never compiled
+// The types an IDL file declares, as the programs need them to handle samples of types they were never compiled
 // with: structs, enums, typedefs and the type expressions of their members. Names in member types stay as
 // written, with the scope they were written in, and are resolved when a sample is decoded (TypeLibrary::resolve),
 // so that files may come in any order.
@@ -11,7 +11,7 @@
 #include <variant>
 #include <vector>
 
-namespace tgw::basecamp {
+namespace tgw::types {
 
 /// Where a declaration or a type reference was written: for error messages.
 struct IdlLocation {
@@ -115,4 +115,4 @@ const std::string& declaration_name(const IdlDeclaration& declaration);
 /// Where a declaration was written.
 const IdlLocation& declaration_location(const IdlDeclaration& declaration);
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::types

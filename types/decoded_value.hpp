@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-namespace tgw::basecamp {
+namespace tgw::types {
 
 /// A value of any IDL type: a scalar, a list (sequence, array) or a record (struct).
 struct DecodedValue {
@@ -25,4 +25,4 @@ struct DecodedValue {
     bool is_scalar() const { return kind != Kind::list && kind != Kind::record; }
 };
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::types

@@ -1,13 +1,13 @@
-#include "basecamp/idl_parser.hpp"
+#include "types/idl_parser.hpp"
 
 #include <charconv>
 #include <limits>
 #include <optional>
 
 #include "base/config_error.hpp"
-#include "basecamp/type_library.hpp"
+#include "types/type_library.hpp"
 
-namespace tgw::basecamp {
+namespace tgw::types {
 
 namespace {
 
@@ -671,4 +671,4 @@ void parse_idl(const std::string& text, const std::string& file, TypeLibrary& li
     Parser(std::move(tokens), file, library, source).run();
 }
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::types

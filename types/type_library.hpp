@@ -1,4 +1,4 @@
-// Every IDL type tm-basecamp knows, by the fully scoped name DDS type names use ("tgw::idl::GatewayStatus",
+// Every IDL type a program knows, by the fully scoped name DDS type names use ("tgw::idl::GatewayStatus",
 // "std_msgs::msg::dds_::String_"), with the IDL text each came from (an MCAP recording's omgidl schema).
 #pragma once
 
@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "basecamp/idl_type.hpp"
+#include "types/idl_type.hpp"
 
-namespace tgw::basecamp {
+namespace tgw::types {
 
 class TypeLibrary {
   public:
@@ -93,4 +93,4 @@ class TypeLibrary {
     bool loading_project_types_ = false;
 };
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::types

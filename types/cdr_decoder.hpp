@@ -1,4 +1,4 @@
-// Decodes a serialized sample of a type tm-basecamp was never compiled with, from its IDL (TypeLibrary). Payloads
+// Decodes a serialized sample of a type the program was never compiled with, from its IDL (TypeLibrary). Payloads
 // come from the network: any bytes give a value or an error, never a read past the end.
 #pragma once
 
@@ -7,10 +7,10 @@
 #include <optional>
 #include <string>
 
-#include "basecamp/decoded_value.hpp"
-#include "basecamp/type_library.hpp"
+#include "types/decoded_value.hpp"
+#include "types/type_library.hpp"
 
-namespace tgw::basecamp {
+namespace tgw::types {
 
 /// A decoded sample, or why it could not be decoded.
 struct CdrDecodeResult {
@@ -27,4 +27,4 @@ struct CdrDecodeResult {
 CdrDecodeResult decode_cdr(const std::uint8_t* data, std::size_t size, const std::string& type_name,
                            const TypeLibrary& types);
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::types

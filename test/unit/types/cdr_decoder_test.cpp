@@ -8,15 +8,15 @@
 #include "ReceiverReport.h"
 #include "RosString.h"
 
-#include "basecamp/cdr_decoder.hpp"
-#include "test/unit/basecamp/cdr_test_payloads.hpp"
+#include "test/unit/types/cdr_test_payloads.hpp"
+#include "types/cdr_decoder.hpp"
 
 namespace tgw::test {
 namespace {
 
-using basecamp::CdrDecodeResult;
-using basecamp::DecodedValue;
 using eprosima::fastcdr::Cdr;
+using types::CdrDecodeResult;
+using types::DecodedValue;
 
 constexpr std::uint16_t CDR_LE = 0x0001;
 constexpr std::uint16_t CDR2_BE = 0x0006;
@@ -34,7 +34,7 @@ class CdrDecoderTest : public ::testing::Test {
     }
 
     CdrDecodeResult decode(const std::vector<std::uint8_t>& payload, const std::string& type) const {
-        return basecamp::decode_cdr(payload.data(), payload.size(), type, types_);
+        return types::decode_cdr(payload.data(), payload.size(), type, types_);
     }
 
     /// Decodes and fails the test with the decoder's error when there is no value.
@@ -44,7 +44,7 @@ class CdrDecoderTest : public ::testing::Test {
         return result.value.value_or(DecodedValue{});
     }
 
-    basecamp::TypeLibrary types_;
+    types::TypeLibrary types_;
 };
 
 idl::GatewayStatus example_status() {

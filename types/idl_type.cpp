@@ -1,6 +1,6 @@
-#include "basecamp/idl_type.hpp"
+#include "types/idl_type.hpp"
 
-namespace tgw::basecamp {
+namespace tgw::types {
 
 std::size_t IdlType::primitive_size() const {
     switch (kind) {
@@ -39,4 +39,4 @@ const IdlLocation& declaration_location(const IdlDeclaration& declaration) {
     return std::visit([](const auto& d) -> const IdlLocation& { return d.where; }, declaration);
 }
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::types

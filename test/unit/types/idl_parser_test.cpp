@@ -3,18 +3,18 @@
 #include <sstream>
 
 #include "base/config_error.hpp"
-#include "basecamp/type_library.hpp"
 #include "test/fakes/config_error_of.hpp"
+#include "types/type_library.hpp"
 
 namespace tgw::test {
 namespace {
 
-using basecamp::IdlEnum;
-using basecamp::IdlExtensibility;
-using basecamp::IdlStruct;
-using basecamp::IdlType;
-using basecamp::IdlTypedef;
-using Kind = basecamp::IdlType::Kind;
+using types::IdlEnum;
+using types::IdlExtensibility;
+using types::IdlStruct;
+using types::IdlType;
+using types::IdlTypedef;
+using Kind = types::IdlType::Kind;
 
 class IdlParserTest : public ::testing::Test {
   protected:
@@ -26,7 +26,7 @@ class IdlParserTest : public ::testing::Test {
     /// The message of the ConfigError parsing `text` throws; empty when it parses.
     std::string error_of(const std::string& text) {
         return config_error_of([&] {
-            basecamp::TypeLibrary fresh;
+            types::TypeLibrary fresh;
             std::istringstream in(text);
             fresh.add_idl(in, "bad.idl");
             fresh.check_references();
@@ -41,7 +41,7 @@ class IdlParserTest : public ::testing::Test {
                                                                                    : none;
     }
 
-    basecamp::TypeLibrary sut_;
+    types::TypeLibrary sut_;
 };
 
 TEST_F(IdlParserTest, ReadsTheSubsetRoboticsIdlUses) {
@@ -137,7 +137,7 @@ TEST_F(IdlParserTest, FindsTypesByTheFullyScopedNameDdsAnnouncesAndResolvesNames
     EXPECT_NE(sut_.find("::std_msgs::msg::dds_::String_"), nullptr);
     EXPECT_EQ(sut_.find("String_"), nullptr);
     EXPECT_NE(sut_.resolve("Inner", "a::b"), nullptr);
-    EXPECT_EQ(basecamp::declaration_name(*sut_.resolve("b::Deeper", "a::b")), "a::b::Deeper");
+    EXPECT_EQ(types::declaration_name(*sut_.resolve("b::Deeper", "a::b")), "a::b::Deeper");
     EXPECT_EQ(sut_.resolve("Inner", ""), nullptr);
     EXPECT_NO_THROW(sut_.check_references());
 }
@@ -175,7 +175,7 @@ TEST_F(IdlParserTest, SkipsUnionsAndKeepsUnsupportedMemberTypesForTheDecoderToRe
     EXPECT_EQ(s.members[2].type.name, "long double");
     EXPECT_EQ(s.members[3].type.name, "map");
     ASSERT_NE(sut_.find("Choice"), nullptr);
-    EXPECT_EQ(std::get<basecamp::IdlUnsupported>(*sut_.find("Choice")).what, "union");
+    EXPECT_EQ(std::get<types::IdlUnsupported>(*sut_.find("Choice")).what, "union");
     EXPECT_NO_THROW(sut_.check_references());
 }
 

@@ -9,9 +9,9 @@
 #include <functional>
 #include <string>
 
-#include "basecamp/idl_lexer.hpp"
+#include "types/idl_lexer.hpp"
 
-namespace tgw::basecamp {
+namespace tgw::types {
 
 class TypeLibrary;
 
@@ -24,4 +24,4 @@ using IdlIncludeHandler = std::function<void(const IdlInclude&)>;
 void parse_idl(const std::string& text, const std::string& file, TypeLibrary& library,
                const IdlIncludeHandler& on_include = {});
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::types

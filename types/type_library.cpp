@@ -1,4 +1,4 @@
-#include "basecamp/type_library.hpp"
+#include "types/type_library.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -8,10 +8,10 @@
 #include <sstream>
 
 #include "base/config_error.hpp"
-#include "basecamp/embedded_idl.hpp"
-#include "basecamp/idl_parser.hpp"
+#include "types/embedded_idl.hpp"
+#include "types/idl_parser.hpp"
 
-namespace tgw::basecamp {
+namespace tgw::types {
 
 namespace fs = std::filesystem;
 
@@ -222,4 +222,4 @@ void TypeLibrary::declare_constant(const std::string& scoped_name, std::int64_t 
     constants_[scoped_name] = value;
 }
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::types

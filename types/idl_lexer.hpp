@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace tgw::basecamp {
+namespace tgw::types {
 
 /// A word, literal or punctuation of IDL text, with its line.
 struct IdlToken {
@@ -33,4 +33,4 @@ struct IdlTokens {
 /// unterminated comment or literal, or a character IDL does not use.
 IdlTokens tokenize_idl(const std::string& text, const std::string& file);
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::types

@@ -11,17 +11,17 @@
 #include <fastcdr/Cdr.h>
 #include <fastcdr/FastBuffer.h>
 
-#include "basecamp/decoded_value.hpp"
+#include "types/decoded_value.hpp"
 
 namespace tgw::test {
 
 /// The member `name` of a decoded record; a static empty record when it has none (the test then fails on it).
-inline const basecamp::DecodedValue& member(const basecamp::DecodedValue& record, const std::string& name) {
+inline const types::DecodedValue& member(const types::DecodedValue& record, const std::string& name) {
     for (const auto& [field, value] : record.fields) {
         if (field == name)
             return value;
     }
-    static const basecamp::DecodedValue missing;
+    static const types::DecodedValue missing;
     return missing;
 }
 

@@ -8,9 +8,9 @@
 #include <set>
 #include <sstream>
 
-#include "basecamp/embedded_idl.hpp"
-#include "basecamp/type_library.hpp"
 #include "test/fakes/config_error_of.hpp"
+#include "types/embedded_idl.hpp"
+#include "types/type_library.hpp"
 
 namespace tgw::test {
 namespace {
@@ -46,7 +46,7 @@ class TypeLibraryTest : public ::testing::Test {
         sut_.add_idl(in, file);
     }
 
-    basecamp::TypeLibrary sut_;
+    types::TypeLibrary sut_;
     fs::path dir_;
 };
 
@@ -56,14 +56,14 @@ TEST_F(TypeLibraryTest, ParsesEveryIdlFileOfTheProjectAndEmbedsEachOfThemAsItIs)
         if (entry.path().extension() != ".idl")
             continue;
         on_disk.insert("idl/" + entry.path().filename().string());
-        basecamp::TypeLibrary alone;
+        types::TypeLibrary alone;
         std::ifstream in(entry.path());
         EXPECT_NO_THROW(alone.add_idl(in, entry.path().string())) << entry.path();
         EXPECT_NO_THROW(alone.check_references()) << entry.path();
         EXPECT_FALSE(alone.struct_names().empty()) << entry.path();
     }
     std::set<std::string> embedded;
-    for (const basecamp::EmbeddedIdl& file : basecamp::embedded_idl_files()) {
+    for (const types::EmbeddedIdl& file : types::embedded_idl_files()) {
         embedded.insert(file.file);
         EXPECT_EQ(file.text, read_file(fs::path(TGW_IDL_DIR) / fs::path(file.file).filename())) << file.file;
     }
@@ -81,7 +81,7 @@ TEST_F(TypeLibraryTest, KnowsTheProjectTypesWithNoFlag) {
 TEST_F(TypeLibraryTest, LetsAnIdlFileDeclareAProjectTypeAgain) {
     sut_.add_project_types();
     parse("module tgw { module idl { struct KeyedReading { long other; }; }; };", "newer.idl");
-    const auto& reading = std::get<basecamp::IdlStruct>(*sut_.find("tgw::idl::KeyedReading"));
+    const auto& reading = std::get<types::IdlStruct>(*sut_.find("tgw::idl::KeyedReading"));
     ASSERT_EQ(reading.members.size(), 1u);
     EXPECT_EQ(reading.members[0].name, "other");
 }
@@ -95,7 +95,7 @@ TEST_F(TypeLibraryTest, ReadsSubdirectoriesAndAnIncludedFileBeforeTheFileThatInc
     sut_.add_idl_dir((dir_ / "pkg").string(), "--idl");  // the same files again: nothing declared twice
     EXPECT_NO_THROW(sut_.check_references());
     ASSERT_NE(sut_.find("pkg::Alpha"), nullptr);
-    EXPECT_EQ(std::get<basecamp::IdlStruct>(*sut_.find("pkg::Alpha")).members[0].type.bound, 4u);
+    EXPECT_EQ(std::get<types::IdlStruct>(*sut_.find("pkg::Alpha")).members[0].type.bound, 4u);
     EXPECT_NE(sut_.find("pkg::Zeta"), nullptr);
 }
 

@@ -1,4 +1,4 @@
-#include "basecamp/cdr_decoder.hpp"
+#include "types/cdr_decoder.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -6,7 +6,7 @@
 
 #include "base/byte_order.hpp"
 
-namespace tgw::basecamp {
+namespace tgw::types {
 
 namespace {
 
@@ -441,4 +441,4 @@ CdrDecodeResult decode_cdr(const std::uint8_t* data, std::size_t size, const std
     return result;
 }
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::types

@@ -1,11 +1,11 @@
-#include "basecamp/idl_lexer.hpp"
+#include "types/idl_lexer.hpp"
 
 #include <cctype>
 #include <cstring>
 
 #include "base/config_error.hpp"
 
-namespace tgw::basecamp {
+namespace tgw::types {
 
 namespace {
 
@@ -208,4 +208,4 @@ IdlTokens tokenize_idl(const std::string& text, const std::string& file) {
     return Lexer(text, file).run();
 }
 
-}  // namespace tgw::basecamp
+}  // namespace tgw::types

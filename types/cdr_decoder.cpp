@@ -36,7 +36,12 @@ class Decoder {
           // empty: more values than this means a crafted count of empty structs.
           max_values_(2 * size + 4096) {}
 
-    bool run(const IdlStruct& type, DecodedValue& out) { return structure(type, out); }
+    /// Decodes the struct's first `member_limit` members (its base's counted first), the rest left unread.
+    bool run(const IdlStruct& type, DecodedValue& out, std::size_t member_limit) {
+        top_record_ = &out;
+        member_limit_ = member_limit;
+        return structure(type, out);
+    }
 
     /// The error and where it happened, once run() returned false.
     std::string error() const {
@@ -145,6 +150,8 @@ class Decoder {
                 return false;
         }
         for (const IdlMember& member : type.members) {
+            if (&out == top_record_ && out.fields.size() >= member_limit_)
+                break;
             if (member.optional) {
                 fail("cannot decode " + type.name + ": @optional members are not supported");
                 return failed_in(member.name);
@@ -393,6 +400,8 @@ class Decoder {
     const std::size_t max_values_;
     std::size_t values_ = 0;
     int depth_ = 0;
+    const DecodedValue* top_record_ = nullptr;
+    std::size_t member_limit_ = 0;
     std::string error_;
     std::vector<std::string> path_;
 };
@@ -408,7 +417,7 @@ std::string hex16(std::uint16_t value) {
 }  // namespace
 
 CdrDecodeResult decode_cdr(const std::uint8_t* data, std::size_t size, const std::string& type_name,
-                           const TypeLibrary& types) {
+                           const TypeLibrary& types, std::size_t member_limit) {
     CdrDecodeResult result;
     const IdlDeclaration* declared = types.find(type_name);
     const IdlStruct* type = declared ? std::get_if<IdlStruct>(declared) : nullptr;
@@ -434,7 +443,7 @@ CdrDecodeResult decode_cdr(const std::uint8_t* data, std::size_t size, const std
         (encapsulation & ~1) == 0x0008 ? IdlExtensibility::appendable : IdlExtensibility::final;
     Decoder decoder(data, size, types, little_endian, xcdr2, unannotated);
     DecodedValue value;
-    if (decoder.run(*type, value))
+    if (decoder.run(*type, value, member_limit))
         result.value = std::move(value);
     else
         result.error = decoder.error();

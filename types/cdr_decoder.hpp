@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -24,7 +25,10 @@ struct CdrDecodeResult {
 /// before a sequence or array of non-primitive elements). A struct without @final/@appendable is taken as final
 /// in CDR2 and as appendable in D_CDR2, as the encapsulation says. Mutable structs, parameter-list encodings and
 /// @optional members give an error saying they cannot be decoded. Trailing bytes are ignored (padding).
+/// `member_limit`: only the struct's first members are decoded (its base's counted first), the rest left unread;
+/// what a key needs (KeyHasher), when the key members come first.
 CdrDecodeResult decode_cdr(const std::uint8_t* data, std::size_t size, const std::string& type_name,
-                           const TypeLibrary& types);
+                           const TypeLibrary& types,
+                           std::size_t member_limit = std::numeric_limits<std::size_t>::max());
 
 }  // namespace tgw::types

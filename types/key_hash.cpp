@@ -284,11 +284,13 @@ std::optional<KeyHasher> KeyHasher::for_type(const TypeLibrary& types, const std
         why = type_name + ": a key member's type cannot be serialized (unknown, or not supported)";
         return std::nullopt;
     }
-    return KeyHasher(types, type_name, !xcdr1_size || *xcdr1_size > 16, !xcdr2_size || *xcdr2_size > 16);
+    const std::vector<std::size_t> keys = key_positions(members);
+    return KeyHasher(types, type_name, keys.back() + 1, !xcdr1_size || *xcdr1_size > 16,
+                     !xcdr2_size || *xcdr2_size > 16);
 }
 
 std::optional<KeyHash> KeyHasher::hash(const std::uint8_t* data, std::size_t size, std::string& why) const {
-    const CdrDecodeResult decoded = decode_cdr(data, size, type_name_, *types_);
+    const CdrDecodeResult decoded = decode_cdr(data, size, type_name_, *types_, decoded_members_);
     if (!decoded.value) {
         why = decoded.error;
         return std::nullopt;

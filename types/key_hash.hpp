@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "types/type_library.hpp"
 
@@ -32,13 +33,19 @@ class KeyHasher {
     std::optional<KeyHash> hash(const std::uint8_t* data, std::size_t size, std::string& why) const;
 
   private:
-    KeyHasher(const TypeLibrary& types, std::string type_name, bool hashed_xcdr1, bool hashed_xcdr2)
-        : types_(&types), type_name_(std::move(type_name)), md5_xcdr1_(hashed_xcdr1), md5_xcdr2_(hashed_xcdr2) {}
+    KeyHasher(const TypeLibrary& types, std::string type_name, std::size_t decoded_members, bool md5_xcdr1,
+              bool md5_xcdr2)
+        : types_(&types),
+          type_name_(std::move(type_name)),
+          decoded_members_(decoded_members),
+          md5_xcdr1_(md5_xcdr1),
+          md5_xcdr2_(md5_xcdr2) {}
 
     const TypeLibrary* types_;
     std::string type_name_;
-    bool md5_xcdr1_;  ///< the XCDR1 key may take more than 16 bytes
-    bool md5_xcdr2_;  ///< the XCDR2 key may
+    std::size_t decoded_members_;  ///< the members up to the last key's: what follows is never read
+    bool md5_xcdr1_;               ///< the XCDR1 key may take more than 16 bytes
+    bool md5_xcdr2_;               ///< the XCDR2 key may
 };
 
 }  // namespace tgw::types

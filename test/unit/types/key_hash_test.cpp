@@ -142,6 +142,13 @@ TEST_F(KeyHashTest, NestedAndInheritedKeysFollowTheSpecification) {
     EXPECT_EQ(hash_of("nest::Leaf", payload), expected);
 }
 
+// The key needs the members up to the last key's only: what follows is never decoded (here it is missing).
+TEST_F(KeyHashTest, WhatFollowsTheLastKeyIsNotRead) {
+    const std::vector<std::uint8_t> without_value = CdrWriter(0x0001, true, false).u8(7).u64(9).bytes();
+    const KeyHash expected = {7, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 9};
+    EXPECT_EQ(hash_of("tgw_test::PaddedKey", without_value), expected);
+}
+
 TEST_F(KeyHashTest, SaysWhyItCannotHashAType) {
     std::string why;
     EXPECT_FALSE(KeyHasher::for_type(types_, "tgw::idl::RobotPose", why));

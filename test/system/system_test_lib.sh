@@ -16,13 +16,13 @@ require_tools() {
     done
 }
 
-# check DESCRIPTION CONDITION A [B]: prints ok or FAIL; CONDITION is awk over a and b. A failure sets fail=1.
+# check DESCRIPTION CONDITION A [B [C]]: prints ok or FAIL; CONDITION is awk over a, b and c. A failure sets fail=1.
 fail=0
 check() {
-    if awk -v a="$3" -v b="${4:-0}" "BEGIN { exit !($2) }"; then
+    if awk -v a="$3" -v b="${4:-0}" -v c="${5:-0}" "BEGIN { exit !($2) }"; then
         echo "ok: $1"
     else
-        echo "FAIL: $1 (a=$3 b=${4:-})"
+        echo "FAIL: $1 (a=$3 b=${4:-}${5:+ c=$5})"
         fail=1
     fi
 }

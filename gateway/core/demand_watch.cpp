@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 namespace tgw::core {
 
@@ -19,6 +20,22 @@ bool demand_changed(const std::vector<UrgencyDemand>& told, const std::vector<Ur
     });
 }
 
+bool more_urgent_than_told(const std::vector<UrgencyDemand>& told, const std::vector<UrgencyDemand>& now,
+                           double floor_bps) {
+    const auto above_floor = [floor_bps](const UrgencyDemand& d) { return d.bps > floor_bps; };
+    const auto most_urgent = [&](const std::vector<UrgencyDemand>& demand) -> std::optional<base::Duration> {
+        std::optional<base::Duration> ttl;
+        for (const UrgencyDemand& d : demand) {
+            if (above_floor(d) && (!ttl || d.ttl < *ttl))
+                ttl = d.ttl;
+        }
+        return ttl;
+    };
+    const std::optional<base::Duration> is = most_urgent(now);
+    const std::optional<base::Duration> was = most_urgent(told);
+    return is && (!was || *is < *was);
+}
+
 DemandWatch::DemandWatch(Config config, WireModel wire) : config_(config), wire_(wire) {}
 
 bool DemandWatch::changed(base::SteadyTime now, const std::vector<TopicLoad>& loads, double rate_bps) {
@@ -28,15 +45,19 @@ bool DemandWatch::changed(base::SteadyTime now, const std::vector<TopicLoad>& lo
         recent_.pop_front();
     if (pending_)
         return false;
-    if (last_left_ && rate_bps > 0 &&
-        now - last_left_->first < base::from_seconds(last_left_->second / (config_.rate_share * rate_bps)))
-        return false;
     if (!last_sent_)
         return true;
     if (recent_.size() < 2)
         return false;
     const std::vector<UrgencyDemand> demand =
         urgency_demand(recent_.front().second, loads, now - recent_.front().first, wire_);
+    // The one status the statuses' share must not hold back: without it the grant stays too small for the very
+    // samples it is about, and they expire while the next status waits for its spacing.
+    if (more_urgent_than_told(told_, demand, config_.floor_bps))
+        return true;
+    if (last_left_ && rate_bps > 0 &&
+        now - last_left_->first < base::from_seconds(last_left_->second / (config_.rate_share * rate_bps)))
+        return false;
     return demand_changed(told_, demand, config_.fraction, config_.floor_bps);
 }
 

@@ -21,6 +21,11 @@ namespace tgw::core {
 bool demand_changed(const std::vector<UrgencyDemand>& told, const std::vector<UrgencyDemand>& now, double fraction,
                     double floor_bps);
 
+/// Whether `now` holds an urgency above `floor_bps` more urgent than every one `told` holds above it: a robot whose
+/// hazards start after it told the base camp of its pictures only, or of nothing.
+bool more_urgent_than_told(const std::vector<UrgencyDemand>& told, const std::vector<UrgencyDemand>& now,
+                           double floor_bps);
+
 /// The span a robot's demand is worked out over, by its gateway (DemandWatch) and by the base camp's grantor.
 inline constexpr base::Duration DEMAND_WINDOW = std::chrono::seconds(2);
 
@@ -44,7 +49,11 @@ class DemandWatch {
     /// grants the robot nothing of its own (a gateway that restarted made one status, which expired behind its
     /// discovery's traffic, and its next waited for the spacing: 50 s at 6,000 bit/s). Never while the last
     /// status's fate is unknown, nor sooner after the last status left than Config::rate_share of `rate_bps`
-    /// allows for its bits.
+    /// allows for its bits, unless the demand is more urgent than any the base camp was told
+    /// (more_urgent_than_told): a share granted for less urgent samples, or the floor of a robot that was quiet,
+    /// cannot carry them, and the status asking for more is what they wait for (three robots under grants, their
+    /// publishers' Lifespans as TTLs: rover1's A began 1.7 s after a status that told nothing, its floor of
+    /// 3,086 bit/s held its next status back 4 s, and 3 A and 9 B expired).
     bool changed(base::SteadyTime now, const std::vector<TopicLoad>& loads, double rate_bps);
     /// A status with `loads`, `wire_bits` on the wire, was made at `at`; it tells the base camp once delivered()
     /// says it left.

@@ -24,6 +24,9 @@
 # within their TTL. Under grants rover1's gateway runs --duplex half (its default): the commands' bytes are charged
 # to it and the relay grants them. With equal fixed shares, --duplex full: a fixed share has no room for them, and
 # the testbed's camp -> robot direction is not shaped.
+# QOS= (empty; ctest's fleet_three_robots_grants, with WAY=grants RESTART=0) runs the gateways without
+# qos/paper_workload.xml: the TTLs come from the publishers' Lifespans, and a topic is known once it publishes.
+# PEER_PARTICIPANTS=N announces each gateway to N participants at the camp (default 1; the gateway's own default 4).
 set -euo pipefail
 BIN=$1
 cd "$(dirname "$0")/../.."
@@ -43,7 +46,7 @@ for k in $(seq 1 "$ROBOTS"); do peers+=(--peer "$(robot_address "$k")"); done
 WAY=${WAY:-equal}
 DISCOVERY=${DISCOVERY:-peers}
 relay_discovery=("${peers[@]}")
-gateway_discovery=(--wan-peer "$basecamp_addr" --wan-peer-participants 1)
+gateway_discovery=(--wan-peer "$basecamp_addr" --wan-peer-participants "${PEER_PARTICIPANTS:-1}")
 if [ "$DISCOVERY" = server ]; then
     require_tools fast-discovery-server
     WARMUP=15
@@ -80,12 +83,15 @@ echo "fleet_three_robots: $WAY shares, discovery by $DISCOVERY, commands to rove
 relay=$!
 PIDS+=("$relay")
 
+QOS=${QOS-qos/paper_workload.xml}
+qos_flags=()
+[ -z "$QOS" ] || qos_flags=(--qos "$QOS")
 start_gateway() {  # K OUTPUT_NAME: rover K's gateway; sets gateway_pid
     local uplink=()
     [ "$1" != 1 ] || uplink=("${uplink_flags[@]}")
     "${tb[@]}" "robot$1" "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-interface "$(robot_address "$1")" \
         "${gateway_discovery[@]}" --robot-name "rover$1" --wan-mode compact "${uplink[@]}" \
-        --sensor "fixed:$SHARE" "${grant_flags[@]}" --qos qos/paper_workload.xml --log "$WORK/$2.db" \
+        --sensor "fixed:$SHARE" "${grant_flags[@]}" "${qos_flags[@]}" --log "$WORK/$2.db" \
         >"$WORK/$2.out" 2>&1 &
     gateway_pid=$!
     PIDS+=("$gateway_pid")

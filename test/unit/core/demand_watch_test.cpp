@@ -25,6 +25,16 @@ void tell(DemandWatch& watch, base::SteadyTime at, const std::vector<TopicLoad>&
     watch.delivered(true, at);
 }
 
+/// Statuses at T0 - 1 s and T0 that left for the base camp: it was told one sample a second of `loads` (called with
+/// the count received).
+template <typename Loads>
+void told_one_a_second(DemandWatch& watch, Loads loads, double rate) {
+    watch.changed(T0 - 1s, loads(0), rate);
+    tell(watch, T0 - 1s, loads(0));
+    watch.changed(T0, loads(1), rate);
+    tell(watch, T0, loads(1));
+}
+
 TEST(DemandChangedTest, OnlyAMoveBeyondBothTheFractionAndTheFloorCounts) {
     const std::vector<UrgencyDemand> told{{1s, 10'000}, {20s, 40'000}};
     EXPECT_FALSE(demand_changed(told, {{1s, 12'000}, {20s, 40'000}}, 0.25, 1000)) << "20 %";
@@ -111,8 +121,9 @@ TEST(DemandWatchTest, StatusesForTheDemandTakeAtMostTheirShareOfTheRate) {
     // 2.33 s, counted from when the last one left.
     constexpr double RATE = 12'000;
     DemandWatch watch({}, WIRE);
-    watch.changed(T0, hazards(0), RATE);
-    tell(watch, T0, hazards(0));
+    // Hazards told at one a second: what follows is more of them, not a more urgent kind.
+    told_one_a_second(watch, hazards, RATE);
+    ASSERT_DOUBLE_EQ(watch.told()[0].bps, 238 * 8);
     EXPECT_FALSE(watch.changed(T0 + 1s, hazards(10), RATE)) << "the demand moved, but a status left 1 s ago";
     EXPECT_FALSE(watch.changed(T0 + 2s, hazards(20), RATE)) << "2 s ago";
     ASSERT_TRUE(watch.changed(T0 + 2400ms, hazards(22), RATE)) << "2.4 s ago";
@@ -123,6 +134,57 @@ TEST(DemandWatchTest, StatusesForTheDemandTakeAtMostTheirShareOfTheRate) {
     watch.sent(T0 + 7400ms, hazards(150), STATUS_BITS);
     watch.delivered(false, T0 + 8s);
     EXPECT_TRUE(watch.changed(T0 + 9s, hazards(200), RATE)) << "a status dropped on the robot cost the link nothing";
+}
+
+TEST(MoreUrgentThanToldTest, OnlyAnUrgencyAboveTheFloorAheadOfEveryToldOneCounts) {
+    EXPECT_TRUE(more_urgent_than_told({}, {{1s, 2'000}}, 1000)) << "told nothing";
+    EXPECT_TRUE(more_urgent_than_told({{1s, 0}}, {{1s, 2'000}}, 1000)) << "told it idle";
+    EXPECT_TRUE(more_urgent_than_told({{20s, 40'000}}, {{1s, 2'000}, {20s, 40'000}}, 1000)) << "hazards begin";
+    EXPECT_FALSE(more_urgent_than_told({{1s, 2'000}}, {{1s, 20'000}}, 1000)) << "more of the same urgency";
+    EXPECT_FALSE(more_urgent_than_told({{1s, 2'000}}, {{1s, 2'000}, {20s, 40'000}}, 1000)) << "pictures begin";
+    EXPECT_FALSE(more_urgent_than_told({{20s, 40'000}}, {{1s, 900}, {20s, 40'000}}, 1000)) << "within the floor";
+    EXPECT_FALSE(more_urgent_than_told({{1s, 2'000}}, {}, 1000)) << "nothing now";
+}
+
+/// A picture topic (TTL 20 s) `received` samples in, all forwarded at 7,000 bytes each on the wire.
+std::vector<TopicLoad> pictures(std::uint64_t received) {
+    return {TopicLoad{"picture", 20s, received, received, received * 7000, 0, 0}};
+}
+
+std::vector<TopicLoad> pictures_and_hazards(std::uint64_t pictures_in, std::uint64_t hazards_in) {
+    std::vector<TopicLoad> loads = pictures(pictures_in);
+    loads.push_back(hazards(hazards_in).front());
+    return loads;
+}
+
+TEST(DemandWatchTest, HazardsThatBeginOnAShareToldForLessGoAtOnceOnce) {
+    // 12,000 bit/s allows a status every 2.33 s (StatusesForTheDemandTakeAtMostTheirShareOfTheRate); the one that
+    // tells of hazards, more urgent than anything the base camp knows of, does not wait for that.
+    constexpr double RATE = 12'000;
+    DemandWatch watch({}, WIRE);
+    told_one_a_second(watch, pictures, RATE);
+    ASSERT_TRUE(watch.changed(T0 + 1s, pictures_and_hazards(2, 5), RATE)) << "hazards, 1 s after a status left";
+    watch.sent(T0 + 1s, pictures_and_hazards(2, 5), STATUS_BITS);
+    EXPECT_FALSE(watch.changed(T0 + 1200ms, pictures_and_hazards(2, 6), RATE)) << "its fate unknown";
+    watch.delivered(true, T0 + 1500ms);
+    EXPECT_FALSE(watch.changed(T0 + 2s, pictures_and_hazards(3, 20), RATE)) << "told: more hazards wait their turn";
+    EXPECT_TRUE(watch.changed(T0 + 4s, pictures_and_hazards(5, 40), RATE)) << "2.5 s after it left";
+}
+
+TEST(DemandWatchTest, HazardsOfARobotThatToldNothingGoAtOnce) {
+    constexpr double RATE = 3'000;  // a quiet robot's floor
+    DemandWatch watch({}, WIRE);
+    watch.changed(T0, hazards(0), RATE);
+    tell(watch, T0, hazards(0));
+    ASSERT_TRUE(watch.changed(T0 + 1s, hazards(5), RATE)) << "the spacing would be 9 s";
+}
+
+TEST(DemandWatchTest, PicturesThatBeginAfterHazardsWaitForTheSpacing) {
+    constexpr double RATE = 12'000;
+    DemandWatch watch({}, WIRE);
+    told_one_a_second(watch, hazards, RATE);
+    EXPECT_FALSE(watch.changed(T0 + 1s, pictures_and_hazards(1, 2), RATE)) << "less urgent than the hazards";
+    EXPECT_TRUE(watch.changed(T0 + 2400ms, pictures_and_hazards(3, 3), RATE));
 }
 
 }  // namespace

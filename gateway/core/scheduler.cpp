@@ -156,6 +156,26 @@ std::int64_t Scheduler::rank_of(TopicId topic) const {
     return protect_rank_of(topic);
 }
 
+std::int64_t Scheduler::rank_of(const Repair& repair) const {
+    if (!repair.announcement) {
+        return rank_of(repair.topic);
+    }
+    switch (config_.policy) {
+        case PolicyKind::ttl:
+        case PolicyKind::paper:
+            return ANNOUNCEMENT_TTL.count();
+        case PolicyKind::edf:
+        case PolicyKind::fifo:
+            break;
+    }
+    return 0;
+}
+
+base::Duration Scheduler::protect_limit_for(const Repair& repair) const {
+    return repair.announcement ? protect_.limit_for(ProtectedTopics::NONE, rank_of(repair))
+                               : protect_limit_for(repair.topic);
+}
+
 std::int64_t Scheduler::protect_rank_of(TopicId topic) const {
     switch (config_.policy) {
         case PolicyKind::ttl:
@@ -230,7 +250,9 @@ std::uint64_t Scheduler::alone_wire_bits(const Sample& sample) const {
 }
 
 void Scheduler::push_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink) {
-    ++repair_counters_.received;
+    if (!repair.announcement) {
+        ++repair_counters_.received;
+    }
     switch (config_.policy) {
         case PolicyKind::fifo:
             send_repair_now(repair, sink);
@@ -244,10 +266,10 @@ void Scheduler::push_repair(const Repair& repair, base::SteadyTime now, SampleSi
             break;
     }
     if (repair.deadline <= now + config_.link_latency) {
-        discard_repair(repair, true, sink);
+        give_up_repair(repair, now, sink);
         return;
     }
-    repairs_.push(repair, rank_of(repair.topic));
+    repairs_.push(repair, rank_of(repair));
     if (repairs_.size() > MAX_QUEUED_REPAIRS) {
         discard_repair(repairs_.take(repairs_.least_urgent()), false, sink);
     }
@@ -264,11 +286,11 @@ bool Scheduler::send_repair_before(const std::optional<UrgencyKey>& bound, base:
         const base::Duration tx = budget_.transmit_time(entry.repair.wire_bits);
         const auto next = std::next(it);
         if (start + tx + config_.link_latency > entry.repair.deadline) {
-            discard_repair(repairs_.take(it), true, sink);
+            give_up_repair(repairs_.take(it), now, sink);
             it = next;
             continue;
         }
-        if (tx > protect_limit_for(entry.repair.topic)) {
+        if (tx > protect_limit_for(entry.repair)) {
             // As a sample held back by the non-preemptive rule: looked at again when it must go or give up.
             const base::SteadyTime give_up = entry.repair.deadline - tx - config_.link_latency + base::Duration(1);
             blocked_wakeup_ = blocked_wakeup_ ? std::min(*blocked_wakeup_, give_up) : give_up;
@@ -283,6 +305,44 @@ bool Scheduler::send_repair_before(const std::optional<UrgencyKey>& bound, base:
     return false;
 }
 
+bool Scheduler::send_announcement_in_slack(base::SteadyTime now, base::SteadyTime start, SampleSink& sink) {
+    const auto it = std::find_if(repairs_.begin(), repairs_.end(),
+                                 [](const RepairQueue::Entry& entry) { return entry.repair.announcement; });
+    if (it == repairs_.end()) {
+        return false;
+    }
+    const base::Duration tx = budget_.transmit_time(it->repair.wire_bits);
+    if (tx > protect_limit_for(it->repair)) {
+        return false;
+    }
+    const BundleBuilder alone(config_.wire);
+    const auto still_in_time = [&](DeadlineQueue::Slot slot) {
+        const DeadlineQueue::Peek peek = queue_.at(slot);
+        return start + tx + budget_.transmit_time(alone.alone_wire_bits(peeked_entry(peek))) + config_.link_latency <=
+               peek.deadline;
+    };
+    // Each sample more urgent than it, most urgent first (a few: what the link has not carried yet of the hazards
+    // and the state); the less urgent are no concern of the announcement's, as in its rank.
+    constexpr std::size_t MAX_LOOKED_AT = 16;
+    const std::int64_t rank = rank_of(it->repair);
+    bool in_time = true;
+    std::size_t looked_at = 0;
+    queue_.visit_by_urgency([&](DeadlineQueue::Slot slot) {
+        if (rank_of(queue_.at(slot).topic) >= rank || ++looked_at > MAX_LOOKED_AT) {
+            return false;
+        }
+        in_time = still_in_time(slot);
+        return in_time;
+    });
+    if (!in_time) {
+        return false;
+    }
+    const Repair announcement = repairs_.take(it);
+    budget_.charge(now, announcement.wire_bits);
+    send_repair_now(announcement, sink);
+    return true;
+}
+
 RepairCounters Scheduler::repair_counters() const {
     RepairCounters counters = repair_counters_;
     counters.queued = repairs_.size();
@@ -290,9 +350,24 @@ RepairCounters Scheduler::repair_counters() const {
 }
 
 void Scheduler::send_repair_now(const Repair& repair, SampleSink& sink) {
-    ++repair_counters_.sent;
-    repair_counters_.sent_wire_bytes += repair.wire_bits / 8;
+    if (repair.announcement) {
+        ++repair_counters_.announcements_sent;
+        repair_counters_.announcements_sent_wire_bytes += repair.wire_bits / 8;
+    } else {
+        ++repair_counters_.sent;
+        repair_counters_.sent_wire_bytes += repair.wire_bits / 8;
+    }
     sink.send_repair(repair.id);
+}
+
+void Scheduler::give_up_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink) {
+    if (!repair.announcement) {
+        discard_repair(repair, true, sink);
+        return;
+    }
+    ++repair_counters_.announcements_late;
+    charge_link(now, repair.wire_bits);
+    send_repair_now(repair, sink);
 }
 
 void Scheduler::discard_repair(const Repair& repair, bool late, SampleSink& sink) {
@@ -373,7 +448,7 @@ void Scheduler::expire(base::SteadyTime now, SampleSink& sink) {
     for (auto it = repairs_.begin(); it != repairs_.end();) {
         const auto next = std::next(it);
         if (it->repair.deadline <= now) {
-            discard_repair(repairs_.take(it), true, sink);
+            give_up_repair(repairs_.take(it), now, sink);
         }
         it = next;
     }
@@ -507,7 +582,7 @@ void Scheduler::release_bundles(base::SteadyTime now, SampleSink& sink) {
                 most_urgent = UrgencyKey{rank_of(peek.topic), peek.deadline};
                 return false;
             });
-            if (send_repair_before(most_urgent, now, start, sink)) {
+            if (send_repair_before(most_urgent, now, start, sink) || send_announcement_in_slack(now, start, sink)) {
                 continue;
             }
         }

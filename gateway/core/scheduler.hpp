@@ -235,6 +235,10 @@ class Scheduler {
     /// How long a sample of `topic` may hold the link (ProtectedTopics::limit_for).
     base::Duration protect_limit_for(TopicId topic) const { return protect_.limit_for(topic, protect_rank_of(topic)); }
     std::int64_t rank_of(TopicId topic) const;
+    /// A repair's rank: its sample's topic's, or for an announcement that of a sample of ANNOUNCEMENT_TTL.
+    std::int64_t rank_of(const Repair& repair) const;
+    /// How long a repair may hold the link: as a sample of its topic, or for an announcement of its rank.
+    base::Duration protect_limit_for(const Repair& repair) const;
     /// Its rank as the non-preemptive rule sees it: by its TTL under ttl, `first` or not. A status that goes first
     /// is still held to the room of the topics of its TTL and shorter (it leaves in chunks, or waits): the least
     /// share leaves room for it beside the most urgent topic (core::least_share_bps).
@@ -286,7 +290,15 @@ class Scheduler {
     bool send_repair_before(const std::optional<UrgencyKey>& bound, base::SteadyTime now, base::SteadyTime start,
                             SampleSink& sink);
     void send_repair_now(const Repair& repair, SampleSink& sink);
+    /// Compact mode: a bundle carries the most urgent samples with the rest, so a queue that always holds a hazard
+    /// would keep an announcement waiting for its whole wait. It steals the slack instead: the first one waiting
+    /// goes now, starting on the link at `start`, if every queued sample more urgent than it still arrives in time
+    /// behind it.
+    bool send_announcement_in_slack(base::SteadyTime now, base::SteadyTime start, SampleSink& sink);
     void discard_repair(const Repair& repair, bool late, SampleSink& sink);
+    /// A repair that can no longer arrive in time is discarded; an announcement is sent all the same, charged as
+    /// traffic from outside the schedule.
+    void give_up_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink);
 
     SchedulerConfig config_;
     std::vector<TopicState> topics_;

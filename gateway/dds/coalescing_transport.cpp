@@ -143,6 +143,12 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
         !descriptor_.repeat_throttle->admit(destination, send_buffer, send_buffer_size, base::SteadyClock::now())) {
         return true;  // the same HEARTBEAT or ACKNACK went there a moment ago
     }
+    if (!scheduled_write && descriptor_.repair_desk &&
+        descriptor_.repair_desk->hold_announcement(
+            *this, destination, send_buffer, send_buffer_size,
+            [this](const rtps::Locator_t& locator) { return IsLocatorSupported(locator); })) {
+        return true;  // the schedule sends its copies, and charges them as they leave
+    }
     // A scheduled write was charged for one copy of its message, without the HEARTBEAT a reliable writer may
     // have put in it; everything else is reported.
     if (descriptor_.on_unscheduled) {

@@ -219,6 +219,9 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     // Standard mode: a reliable reader's repair of a sample waits for the schedule, in that sample's urgency
     // (RepairDesk). Compact mode's bundles are charged as they are repaired, as before.
     wan.schedule_repairs = !config_.compact_wan;
+    // Both modes: the participant's periodic announcements, a copy to each base-camp port, one at a time in the
+    // schedule rather than all at once.
+    wan.schedule_announcements = true;
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
     if (base::QuietDiscoveryPorts::worth_it(wan.interface_address)) {
         // Once the WAN participant has its own port: a base camp announcing itself to the others (Cyclone's
@@ -1042,7 +1045,10 @@ void Gateway::publish_status_nts() {
         status.sensor_detail(sensor_detail_);
         status.delivered_cap_bps(delivered_cap_bps_);
     }
-    status.unscheduled_wire_bytes(unscheduled_wire_bytes_.load());
+    // The participant's announcements leave in the schedule but belong to no topic's demand: the grantor counts
+    // them with the traffic outside it.
+    status.unscheduled_wire_bytes(unscheduled_wire_bytes_.load() +
+                                  loop_->repair_counters().announcements_sent_wire_bytes);
     status.uplink_topics(uplink_topics_.wan_topics());
     status.uplink_charged(config_.uplink_shares_link);
     std::uint64_t uplink_bytes = 0;

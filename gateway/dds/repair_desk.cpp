@@ -14,6 +14,10 @@ thread_local const RepairDesk::WriteScope* current_scope = nullptr;
 
 /// Samples looked at per message: a repair message holds a few (a burst of small samples, or fragments).
 constexpr std::size_t MAX_REFS = 32;
+/// ENTITYID_SPDP_BUILTIN_RTPSParticipant_WRITER (DDSI-RTPS 9.3.1.5): its DATA announce the participant.
+constexpr std::array<std::uint8_t, 4> SPDP_WRITER = {0x00, 0x01, 0x00, 0xc2};
+/// Between the deadlines of an announcement's copies.
+constexpr std::chrono::milliseconds ANNOUNCEMENT_STAGGER{250};
 /// How often what is past its deadline is forgotten.
 constexpr std::chrono::seconds PRUNE_PERIOD{1};
 
@@ -36,8 +40,8 @@ std::size_t RepairDesk::SampleKeyHash::operator()(const SampleKey& key) const {
     return static_cast<std::size_t>(h);
 }
 
-RepairDesk::RepairDesk(std::shared_ptr<DatagramCoalescer> coalescer, const base::Clock& clock)
-    : coalescer_(std::move(coalescer)), clock_(clock) {}
+RepairDesk::RepairDesk(std::shared_ptr<DatagramCoalescer> coalescer, const base::Clock& clock, bool samples)
+    : coalescer_(std::move(coalescer)), clock_(clock), samples_(samples) {}
 
 void RepairDesk::set_submit(std::function<void(const core::Repair&)> submit) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -68,7 +72,7 @@ void RepairDesk::forget(const DatagramSender& sender) {
 
 void RepairDesk::note_scheduled(const std::uint8_t* message, std::size_t size) {
     const WriteScope* scope = current_scope;
-    if (scope == nullptr) {
+    if (scope == nullptr || !samples_) {
         return;
     }
     std::array<RtpsSampleRef, MAX_REFS> refs;
@@ -132,6 +136,57 @@ bool RepairDesk::hold(DatagramSender& sender, const DatagramDestination& destina
     held.first = refs[0];
     ++counts_.held;
     submit_(repair);
+    return true;
+}
+
+bool RepairDesk::hold_announcement(DatagramSender& sender, const DatagramDestination& destination,
+                                   const std::uint8_t* message, std::size_t size, const LocatorFilter& supported) {
+    std::array<RtpsSampleRef, MAX_REFS> refs;
+    const std::size_t n = rtps_sample_refs(message, size, refs.data(), refs.size());
+    const auto announces = [](const RtpsSampleRef& ref) { return ref.writer == SPDP_WRITER; };
+    if (std::none_of(refs.begin(), refs.begin() + static_cast<std::ptrdiff_t>(n), announces)) {
+        return false;
+    }
+    std::vector<DatagramDestination> copies;
+    for (const eprosima::fastrtps::rtps::Locator_t& locator : destination.locators) {
+        DatagramDestination copy{destination.channel, {locator}};
+        if (supported(locator) && std::find(copies.begin(), copies.end(), copy) == copies.end()) {
+            copies.push_back(std::move(copy));
+        }
+    }
+    if (copies.empty()) {
+        return false;
+    }
+    const base::SteadyTime now = clock_.now();
+    std::lock_guard<std::mutex> lock(mutex_);  // submitted under it, as in hold()
+    if (stopped_ || !submit_) {
+        return false;
+    }
+    base::Duration stagger{};
+    for (DatagramDestination& copy : copies) {
+        const auto held_for = std::find_if(held_.begin(), held_.end(), [&](const auto& entry) {
+            return entry.second.announcement && entry.second.sender == &sender && entry.second.destination == copy;
+        });
+        if (held_for != held_.end()) {
+            held_for->second.bytes.assign(message, message + size);  // the participant as it is now
+            ++counts_.announcements_replaced;
+            continue;
+        }
+        core::Repair repair;
+        repair.id = next_id_++;
+        // Copies the schedule found no room for leave at their deadlines: one at a time, not in a burst.
+        repair.deadline = now + core::ANNOUNCEMENT_WAIT + stagger;
+        stagger += ANNOUNCEMENT_STAGGER;
+        repair.wire_bits = 8u * (size + core::WireModel::FRAME_HEADER_BYTES);
+        repair.announcement = true;
+        Held& held = held_[repair.id];
+        held.sender = &sender;
+        held.destination = std::move(copy);
+        held.bytes.assign(message, message + size);
+        held.announcement = true;
+        ++counts_.announcements_held;
+        submit_(repair);
+    }
     return true;
 }
 

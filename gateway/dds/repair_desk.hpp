@@ -41,8 +41,10 @@ class RepairDesk {
         const WriteScope* outer_;
     };
 
-    /// Sends held messages through `coalescer` (the transport's), in order with everything else it sends.
-    RepairDesk(std::shared_ptr<DatagramCoalescer> coalescer, const base::Clock& clock);
+    /// Sends held messages through `coalescer` (the transport's), in order with everything else it sends. Without
+    /// `samples` it holds only the participant's announcements (hold_announcement): compact mode's bundles are
+    /// charged as they are repaired.
+    RepairDesk(std::shared_ptr<DatagramCoalescer> coalescer, const base::Clock& clock, bool samples = true);
 
     /// Where repairs go (ForwardingLoop::submit_repair); until it is set, and after stop(), nothing is held.
     void set_submit(std::function<void(const core::Repair&)> submit);
@@ -61,6 +63,16 @@ class RepairDesk {
     bool hold(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
               std::size_t size, std::size_t copies);
 
+    /// Which of a destination's locators the transport sends to.
+    using LocatorFilter = std::function<bool(const eprosima::fastrtps::rtps::Locator_t&)>;
+    /// A message sent outside any scheduled write: true when it is the participant's announcement (SPDP). Fast DDS
+    /// sends it every 20 s to every base-camp port it knows at once, and three robots' copies met in the channel
+    /// just as their hazards did. The desk keeps one copy per locator `supported` takes (a newer announcement to
+    /// a locator replaces the one held for it), each a core::Repair of its own, so the schedule sends them one at
+    /// a time in their urgency (core::ANNOUNCEMENT_TTL), or at the end of core::ANNOUNCEMENT_WAIT whatever waits.
+    bool hold_announcement(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
+                           std::size_t size, const LocatorFilter& supported);
+
     /// The schedule's decisions on a held repair.
     void send(std::uint64_t id);
     void discard(std::uint64_t id);
@@ -71,6 +83,8 @@ class RepairDesk {
         std::uint64_t sent = 0;
         std::uint64_t send_failures = 0;
         std::uint64_t discarded = 0;
+        std::uint64_t announcements_held = 0;      ///< copies, one per locator
+        std::uint64_t announcements_replaced = 0;  ///< by a newer one to the same locator while held
     };
     Counts counts() const;
 
@@ -92,12 +106,14 @@ class RepairDesk {
         DatagramDestination destination;
         std::vector<std::uint8_t> bytes;
         RtpsSampleRef first;  ///< what it repairs first: a repeat has the same, to the same destination
+        bool announcement = false;
     };
     /// Forgets what is past its deadline; the lock is held.
     void prune_nts(base::SteadyTime now);
 
     const std::shared_ptr<DatagramCoalescer> coalescer_;
     const base::Clock& clock_;
+    const bool samples_;
     mutable std::mutex mutex_;
     std::function<void(const core::Repair&)> submit_;
     bool stopped_ = false;

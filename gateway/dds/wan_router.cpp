@@ -279,8 +279,8 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     coalescing->strip_timestamp = config.strip_timestamp;
     coalescing->strip_early_heartbeats = config.strip_early_heartbeats;
     coalescing->first_output_socket_only = true;  // no whitelist, no multicast
-    if (config.schedule_repairs) {
-        repair_desk_ = std::make_shared<RepairDesk>(coalescer_, clock_);
+    if (config.schedule_repairs || config.schedule_announcements) {
+        repair_desk_ = std::make_shared<RepairDesk>(coalescer_, clock_, config.schedule_repairs);
         coalescing->repair_desk = repair_desk_;
     }
     qos.transport().user_transports.push_back(coalescing);

@@ -91,6 +91,9 @@ struct WanConfig {
     /// A reliable reader's repairs of a sample the gateway wrote wait for the schedule (RepairDesk) instead of
     /// leaving at once; the caller must give the desk somewhere to submit them.
     bool schedule_repairs = false;
+    /// The participant's announcements wait for the schedule too (RepairDesk::hold_announcement), in either mode;
+    /// the caller must give the desk somewhere to submit them.
+    bool schedule_announcements = false;
     /// A reliable writer's HEARTBEAT leaves only with a sample's last fragment (without_early_heartbeats).
     bool strip_early_heartbeats = true;
     /// Every base-camp writer the participant discovers (the uplink's commands), from Fast DDS's discovery thread:
@@ -144,8 +147,8 @@ class WanRouter {
     eprosima::fastdds::dds::DomainParticipant* participant() const { return participant_; }
     /// How the samples' datagrams were packed.
     const DatagramCoalescer& coalescer() const { return *coalescer_; }
-    /// Where the participant's repairs of scheduled samples wait for the schedule (WanConfig::schedule_repairs);
-    /// null when they go at once.
+    /// Where the participant's repairs of scheduled samples and its announcements wait for the schedule
+    /// (WanConfig::schedule_repairs, schedule_announcements); null when they go at once.
     RepairDesk* repair_desk() const { return repair_desk_.get(); }
     /// Announcements sent again to participants that had not answered (IntroductionSchedule), and when the link
     /// came back (announce_again).

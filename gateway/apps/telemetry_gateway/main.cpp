@@ -109,6 +109,17 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
             static_cast<unsigned long long>(desk->repeats),
             static_cast<unsigned long long>(repairs.discarded + desk->send_failures));
     }
+    if (const auto desk = gateway.repair_desk_counts(); desk && desk->announcements_held > 0) {
+        const tgw::core::RepairCounters repairs = gateway.repair_counters();
+        std::printf(
+            "announcements of the WAN participant, in the schedule: %llu copies held, %llu sent (%llu bytes), %llu of "
+            "them at the end of their wait, %llu replaced by a newer one while held\n",
+            static_cast<unsigned long long>(desk->announcements_held),
+            static_cast<unsigned long long>(repairs.announcements_sent),
+            static_cast<unsigned long long>(repairs.announcements_sent_wire_bytes),
+            static_cast<unsigned long long>(repairs.announcements_late),
+            static_cast<unsigned long long>(desk->announcements_replaced));
+    }
     if (gateway.statuses_published() > 0) {
         const tgw::core::TopicCounters status = gateway.status_counters();
         std::printf(

@@ -151,5 +151,96 @@ TEST_F(RepairSchedulingTest, InCompactModeAMoreUrgentRepairGoesBeforeTheNextBund
     EXPECT_EQ(sink.bundles()[1].topics, (std::vector<TopicId>{d}));
 }
 
+/// The WAN participant's own announcements (Repair::announcement): every 20 s, to each base-camp port it knows,
+/// Fast DDS sent them at once; three robots' at the same instant held the channel long enough for A to expire.
+class AnnouncementSchedulingTest : public RepairSchedulingTest {
+  protected:
+    void push_announcement(std::uint64_t id, std::uint64_t wire_bytes = 446) {
+        Repair announcement{id, 0, clock.now() + ANNOUNCEMENT_WAIT, 8 * wire_bytes};
+        announcement.announcement = true;
+        sut->push_repair(announcement, clock.now(), sink);
+    }
+};
+
+TEST_F(AnnouncementSchedulingTest, GoesAtOnceOnAnIdleLink) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push_announcement(1);
+    release();
+    EXPECT_EQ(sink.departures(), (Departures{repair(1)}));
+    EXPECT_EQ(sut->repair_counters().announcements_sent, 1u);
+    EXPECT_EQ(sut->repair_counters().sent, 0u) << "not a repair for a reader";
+}
+
+TEST_F(AnnouncementSchedulingTest, WaitsBehindUrgentSamplesAndGoesBeforeLessUrgentOnes) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(c);
+    release();  // on the link
+    push(d);
+    push_announcement(1);
+    push_announcement(2);
+    push(a);
+    push(b);
+    run_for(seconds(2));
+    EXPECT_EQ(sink.departures(),
+              (Departures{sample_of(c), sample_of(a), sample_of(b), repair(1), repair(2), sample_of(d)}));
+}
+
+TEST_F(AnnouncementSchedulingTest, CopiesGoOneAtATimeSoAHazardWaitsForOneAtMost) {
+    make_sut(PolicyKind::ttl, 10'000);
+    for (std::uint64_t id = 1; id <= 5; ++id)
+        push_announcement(id);  // 0.36 s of wire each
+    release();
+    ASSERT_EQ(sink.departures(), (Departures{repair(1)}));
+    push(a);
+    run_for(milliseconds(700));  // the second copy leaves behind the hazard, the third not yet
+    EXPECT_EQ(sink.departures(), (Departures{repair(1), sample_of(a), repair(2)}))
+        << "the hazard goes as soon as the copy on the link has left";
+}
+
+TEST_F(AnnouncementSchedulingTest, OneThatWaitedItsWholeWaitIsSentAllTheSameNeverDiscarded) {
+    make_sut(PolicyKind::ttl, 1'000);  // a link too slow for anything but the hazards
+    for (int i = 0; i < 10; ++i) {
+        push(a, 16);
+        if (i == 0)
+            push_announcement(1);
+        run_for(milliseconds(250));
+    }
+    EXPECT_TRUE(sink.discarded_repairs().empty()) << "the participant's lease depends on it";
+    EXPECT_EQ(sut->repair_counters().announcements_sent, 1u);
+    EXPECT_EQ(sut->repair_counters().announcements_late, 1u);
+}
+
+TEST_F(AnnouncementSchedulingTest, InCompactModeItGoesInTheSlackTheHazardsLeaveNotAtTheEndOfItsWait) {
+    // Hazards every 200 ms keep the queue's most urgent sample a hazard: by rank alone the announcement would wait
+    // its whole ANNOUNCEMENT_WAIT, then leave with its copies in a burst. It goes before a bundle whose most urgent
+    // sample still arrives in time behind it.
+    config.bundles = BundleLimits{};
+    make_sut(PolicyKind::ttl, 16'000);
+    for (std::uint64_t id = 1; id <= 4; ++id)
+        push_announcement(id);
+    for (int i = 0; i < 15; ++i) {
+        push(a);
+        push(d, 900);
+        run_for(milliseconds(200));
+    }
+    EXPECT_EQ(sut->repair_counters().announcements_sent, 4u);
+    EXPECT_EQ(sut->repair_counters().announcements_late, 0u) << "none waited for its deadline";
+    EXPECT_EQ(sut->counters(a).forwarded, 15u);
+    EXPECT_EQ(sut->counters(a).dropped_for(DropReason::expired) + sut->counters(a).dropped_for(DropReason::doomed), 0u);
+}
+
+TEST_F(AnnouncementSchedulingTest, InCompactModeALessUrgentSampleNearItsDeadlineDoesNotHoldItBack) {
+    config.bundles = BundleLimits{};
+    make_sut(PolicyKind::ttl, 16'000);
+    push(c);
+    release();                           // a bundle on the link
+    push(d, 900, milliseconds(19'500));  // due in 0.5 s: with the announcement first it would not make it
+    push(a);
+    push_announcement(1);
+    run_for(seconds(1));
+    ASSERT_GE(sink.departures().size(), 2u);
+    EXPECT_EQ(sink.departures()[1], repair(1)) << "a picture that may miss anyway is not the announcement's concern";
+}
+
 }  // namespace
 }  // namespace tgw::core

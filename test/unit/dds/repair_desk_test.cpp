@@ -119,5 +119,70 @@ TEST_F(RepairDeskTest, HoldsNothingOnceStopped) {
     EXPECT_TRUE(sender.sent.empty()) << "what it held went with it";
 }
 
+constexpr std::array<std::uint8_t, 4> SPDP_WRITER{0x00, 0x01, 0x00, 0xc2};
+
+/// Fast DDS's announcement (SPDP) `sequence`, to the base-camp ports `ports`, as the transport sees it.
+bool announce(
+    RepairDesk& desk, DatagramSender& sender, std::int64_t sequence, const std::vector<std::uint32_t>& ports,
+    const RepairDesk::LocatorFilter& supported = [](const auto&) { return true; }) {
+    DatagramDestination destination = reader_at(ports.front());
+    for (std::size_t i = 1; i < ports.size(); ++i) {
+        destination.locators.push_back(reader_at(ports[i]).locators.front());
+    }
+    const rtps::Bytes message = rtps::message({rtps::info_ts(1), rtps::data_of(SPDP_WRITER, sequence)});
+    return desk.hold_announcement(sender, destination, message.data(), message.size(), supported);
+}
+
+TEST_F(RepairDeskTest, HoldsAnAnnouncementAsOneCopyPerLocatorForTheSchedule) {
+    ASSERT_TRUE(announce(sut, sender, 1, {7400, 7400, 7402, 7404, 7406}));
+    ASSERT_EQ(submitted.size(), 4u) << "one copy per port; the port Fast DDS listed twice once";
+    const std::size_t message_bytes = rtps::message({rtps::info_ts(1), rtps::data_of(SPDP_WRITER, 1)}).size();
+    for (std::size_t i = 0; i < submitted.size(); ++i) {
+        EXPECT_TRUE(submitted[i].announcement);
+        EXPECT_EQ(submitted[i].deadline, clock.now() + core::ANNOUNCEMENT_WAIT + i * 250ms)
+            << "the copies the schedule found no room for leave one at a time";
+        EXPECT_EQ(submitted[i].wire_bits, 8u * (message_bytes + core::WireModel::FRAME_HEADER_BYTES));
+    }
+    EXPECT_TRUE(sender.sent.empty()) << "held, not sent";
+    sut.send(submitted[2].id);
+    ASSERT_EQ(sender.sent.size(), 1u);
+    EXPECT_EQ(sut.counts().announcements_held, 4u);
+}
+
+TEST_F(RepairDeskTest, ANewerAnnouncementReplacesTheCopyStillHeldForItsLocator) {
+    ASSERT_TRUE(announce(sut, sender, 1, {7400, 7402}));
+    ASSERT_TRUE(announce(sut, sender, 2, {7400, 7404}));
+    EXPECT_EQ(submitted.size(), 3u) << "7400 once";
+    EXPECT_EQ(sut.counts().announcements_replaced, 1u);
+    sut.send(submitted[0].id);
+    ASSERT_EQ(sender.sent.size(), 1u);
+    EXPECT_EQ(sender.sent[0], rtps::message({rtps::info_ts(1), rtps::data_of(SPDP_WRITER, 2)})) << "the newer";
+}
+
+TEST_F(RepairDeskTest, AnAnnouncementOnlyToLocatorsTheTransportDoesNotServeOrAnotherMessageIsNotHeld) {
+    EXPECT_FALSE(announce(sut, sender, 1, {7400}, [](const auto&) { return false; })) << "shared memory, say";
+    write(3);
+    const rtps::Bytes repair = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, 3, 2)});
+    EXPECT_FALSE(sut.hold_announcement(sender, reader_at(7411), repair.data(), repair.size(), [](const auto&) {
+        return true;
+    })) << "a repair is hold()'s";
+    EXPECT_TRUE(submitted.empty());
+}
+
+TEST(RepairDeskAnnouncementsOnlyTest, HoldsAnnouncementsButNoRepairs) {
+    test::FakeClock clock;
+    RepairDesk desk(std::make_shared<DatagramCoalescer>(std::chrono::microseconds(0), 1472, clock), clock, false);
+    std::vector<core::Repair> submitted;
+    desk.set_submit([&](const core::Repair& repair) { submitted.push_back(repair); });
+    CountingSender sender;
+    const RepairDesk::WriteScope scope(5, clock.now() + 2s);
+    const rtps::Bytes written = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, 3, 1)});
+    desk.note_scheduled(written.data(), written.size());
+    const rtps::Bytes repair = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, 3, 2)});
+    EXPECT_FALSE(desk.hold(sender, reader_at(7411), repair.data(), repair.size(), 1)) << "compact mode's";
+    EXPECT_TRUE(announce(desk, sender, 1, {7400}));
+    EXPECT_EQ(submitted.size(), 1u);
+}
+
 }  // namespace
 }  // namespace tgw::dds

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <utility>
 
 #include "gateway/core/wire_model.hpp"
+#include "gateway/dds/rtps_submessage.hpp"
 
 namespace tgw::dds {
 
@@ -14,8 +16,6 @@ thread_local const RepairDesk::WriteScope* current_scope = nullptr;
 
 /// Samples looked at per message: a repair message holds a few (a burst of small samples, or fragments).
 constexpr std::size_t MAX_REFS = 32;
-/// ENTITYID_SPDP_BUILTIN_RTPSParticipant_WRITER (DDSI-RTPS 9.3.1.5): its DATA announce the participant.
-constexpr std::array<std::uint8_t, 4> SPDP_WRITER = {0x00, 0x01, 0x00, 0xc2};
 /// Between the deadlines of an announcement's copies.
 constexpr std::chrono::milliseconds ANNOUNCEMENT_STAGGER{250};
 /// How often what is past its deadline is forgotten.
@@ -93,6 +93,9 @@ void RepairDesk::note_scheduled(const std::uint8_t* message, std::size_t size) {
 
 bool RepairDesk::hold(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
                       std::size_t size, std::size_t copies) {
+    if (!samples_) {
+        return false;  // compact mode: nothing was noted to repair, so no need to read the message
+    }
     std::array<RtpsSampleRef, MAX_REFS> refs;
     const std::size_t n = rtps_sample_refs(message, size, refs.data(), refs.size());
     if (n == 0 || copies == 0) {
@@ -143,7 +146,9 @@ bool RepairDesk::hold_announcement(DatagramSender& sender, const DatagramDestina
                                    const std::uint8_t* message, std::size_t size, const LocatorFilter& supported) {
     std::array<RtpsSampleRef, MAX_REFS> refs;
     const std::size_t n = rtps_sample_refs(message, size, refs.data(), refs.size());
-    const auto announces = [](const RtpsSampleRef& ref) { return ref.writer == SPDP_WRITER; };
+    const auto announces = [](const RtpsSampleRef& ref) {
+        return std::memcmp(ref.writer.data(), rtps_bytes::SPDP_WRITER_ID, sizeof(rtps_bytes::SPDP_WRITER_ID)) == 0;
+    };
     if (std::none_of(refs.begin(), refs.begin() + static_cast<std::ptrdiff_t>(n), announces)) {
         return false;
     }

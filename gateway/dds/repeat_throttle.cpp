@@ -17,8 +17,6 @@ constexpr std::size_t SWEEP_ABOVE = 1024;
 /// ENTITYID_P2P_BUILTIN_PARTICIPANT_STATELESS_WRITER (DDS Security 1.1, 7.4.3): its DATA carry the
 /// authentication handshake.
 constexpr std::uint8_t STATELESS_WRITER_ID[4] = {0x00, 0x02, 0x01, 0xc3};
-/// ENTITYID_SPDP_BUILTIN_RTPSParticipant_WRITER (DDSI-RTPS 9.3.1.5): its DATA announce the participant.
-constexpr std::uint8_t SPDP_WRITER_ID[4] = {0x00, 0x01, 0x00, 0xc2};
 /// A DATA's extraFlags, octetsToInlineQos, readerId, writerId and writerSN (DDSI-RTPS 9.4.5.3).
 constexpr std::size_t DATA_HEADER_BYTES = 2 + 2 + 4 + 4 + 8;
 

@@ -35,6 +35,9 @@ constexpr std::uint8_t EPROSIMA_STATISTICS = 0x80;
 
 constexpr std::uint8_t FLAG_LITTLE_ENDIAN = 0x01;
 
+/// ENTITYID_SPDP_BUILTIN_RTPSParticipant_WRITER (DDSI-RTPS 9.3.1.5): its DATA announce the participant.
+constexpr std::uint8_t SPDP_WRITER_ID[4] = {0x00, 0x01, 0x00, 0xc2};
+
 // The fields DATA and DATA_FRAG start with (DDSI-RTPS 9.4.5.3, 9.4.5.4), as offsets into the body: extraFlags (2),
 // octetsToInlineQos (2), readerId (4), writerId (4), writerSN (8: high, then low); then for DATA_FRAG
 // fragmentStartingNum (4), fragmentsInSubmessage (2), fragmentSize (2), sampleSize (4).

@@ -37,6 +37,8 @@ class LinkBudget {
     /// What was charged beyond `t` never reaches the link (a queue dropped it): free from `t` on.
     void release_to(base::SteadyTime t) { busy_until_ = std::min(busy_until_, t); }
 
+    /// Give back `bits` charged before that did not go to the link then (they will be charged when they do).
+    void refund(std::uint64_t bits) { busy_until_ -= std::min(transmit_time(bits), busy_until_.time_since_epoch()); }
     /// Charge `bits` sent at `now`; returns when they will have left the link.
     base::SteadyTime charge(base::SteadyTime now, std::uint64_t bits);
 

@@ -8,20 +8,38 @@
 
 namespace tgw::core {
 
-/// What the WAN participant would send again for a reliable reader (a lost sample or some of its fragments, or
-/// a late joiner's history). It belongs to the sample it repairs: that sample's topic gives its urgency and that
+/// Bytes the WAN participant would send outside the scheduler's own writes, held so that the schedule sends them.
+/// Most are repairs: what it would send again for a reliable reader (a lost sample or some of its fragments, or a
+/// late joiner's history). Each belongs to the sample it carries: that sample's topic gives its urgency and that
 /// sample's deadline its own, so it waits behind more urgent samples, is charged when it leaves, and is never sent
 /// once it cannot arrive in time. Its bytes stay with whoever made it, under `id`.
 struct Repair {
+    enum class Kind {
+        repair,
+        /// One copy of the WAN participant's own announcement (SPDP), held so that nothing periodic steals a
+        /// deadline. It has no topic: it ranks as a sample of ANNOUNCEMENT_TTL, and at its deadline
+        /// (ANNOUNCEMENT_WAIT after it was made, its copies 250 ms apart) it is sent all the same, never discarded:
+        /// the base camp drops a participant that stops announcing itself.
+        announcement,
+        /// A fragment after the first of a sample a scheduled write has just sent (standard mode, a sample larger
+        /// than a datagram). The write charged the whole sample: the scheduler gives `prepaid_bits` back when it
+        /// takes the fragment and charges it as it leaves, one fragment at a time in the sample's urgency. A more
+        /// urgent sample goes between two fragments, and a rate that falls finds one fragment in the link's queue,
+        /// not a whole picture.
+        continuation,
+    };
+
     std::uint64_t id = 0;
     TopicId topic = 0;
     base::SteadyTime deadline{};
     std::uint64_t wire_bits = 0;  ///< what it puts on the link, headers included
-    /// Not a repair: one copy of the WAN participant's own announcement (SPDP), held the same way so that nothing
-    /// periodic steals a deadline. It has no topic: it ranks as a sample of ANNOUNCEMENT_TTL, and at its deadline
-    /// (ANNOUNCEMENT_WAIT after it was made, its copies 250 ms apart) it is sent all the same, never discarded: the
-    /// base camp drops a participant that stops announcing itself.
-    bool announcement = false;
+    Kind kind = Kind::repair;
+    std::uint64_t prepaid_bits = 0;  ///< a continuation's share of what its write charged
+    /// An announcement that, at its deadline, is left out rather than sent when it would hold the link longer than
+    /// the non-preemptive rule allows (a dip to 4,000 bit/s, where a copy is a second of the link). The base camp
+    /// renews the participant's lease with every message it gets from it, and the next announcement comes 20 s
+    /// later; the RepairDesk leaves out at most MAX_SKIPPED_ANNOUNCEMENTS in a row to one port.
+    bool skippable = false;
 };
 
 /// The urgency of the WAN participant's announcements: behind the hazards and the state a robot sends, before its
@@ -29,6 +47,8 @@ struct Repair {
 inline constexpr base::Duration ANNOUNCEMENT_TTL = std::chrono::seconds(5);
 /// How long an announcement may wait for the link (announced every 20 s, and a lease of 120 s).
 inline constexpr base::Duration ANNOUNCEMENT_WAIT = std::chrono::seconds(2);
+/// Announcements to one port left out in a row at most (Repair::skippable): 60 s without one, half the lease.
+inline constexpr int MAX_SKIPPED_ANNOUNCEMENTS = 2;
 
 /// What became of the repairs the scheduler was given.
 struct RepairCounters {
@@ -40,10 +60,21 @@ struct RepairCounters {
     /// Not sent: the queue of repairs was full, or the gateway stopped.
     std::uint64_t discarded = 0;
     std::uint64_t queued = 0;  ///< waiting now, announcements included
-    /// The participant's announcements (Repair::announcement), apart from the above.
+    /// The participant's announcements (Repair::Kind::announcement), apart from the above.
     std::uint64_t announcements_sent = 0;
     std::uint64_t announcements_sent_wire_bytes = 0;
-    std::uint64_t announcements_late = 0;  ///< of those sent: at the end of their wait, whatever the budget
+    std::uint64_t announcements_late = 0;     ///< of those sent: at the end of their wait, whatever the budget
+    std::uint64_t announcements_skipped = 0;  ///< left out at the end of their wait (Repair::skippable)
+    /// Fragments paced after their sample's first (Repair::Kind::continuation), apart from the above.
+    std::uint64_t continuations_received = 0;
+    std::uint64_t continuations_sent = 0;
+    std::uint64_t continuations_sent_wire_bytes = 0;
+    /// Not sent: their sample could no longer arrive in time, or the gateway stopped.
+    std::uint64_t continuations_late = 0;
 };
+
+/// The highest rate at which a sample's fragments are paced (Repair::Kind::continuation): above it a fragment of
+/// a full datagram is on the link for less than 1.2 ms, less than pacing it through the scheduler costs.
+inline constexpr double CONTINUATION_PACING_MAX_BPS = 10e6;
 
 }  // namespace tgw::core

@@ -157,7 +157,7 @@ std::int64_t Scheduler::rank_of(TopicId topic) const {
 }
 
 std::int64_t Scheduler::rank_of(const Repair& repair) const {
-    if (!repair.announcement) {
+    if (repair.kind != Repair::Kind::announcement) {
         return rank_of(repair.topic);
     }
     switch (config_.policy) {
@@ -172,8 +172,8 @@ std::int64_t Scheduler::rank_of(const Repair& repair) const {
 }
 
 base::Duration Scheduler::protect_limit_for(const Repair& repair) const {
-    return repair.announcement ? protect_.limit_for(ProtectedTopics::NONE, rank_of(repair))
-                               : protect_limit_for(repair.topic);
+    return repair.kind == Repair::Kind::announcement ? protect_.limit_for(ProtectedTopics::NONE, rank_of(repair))
+                                                     : protect_limit_for(repair.topic);
 }
 
 std::int64_t Scheduler::protect_rank_of(TopicId topic) const {
@@ -250,20 +250,30 @@ std::uint64_t Scheduler::alone_wire_bits(const Sample& sample) const {
 }
 
 void Scheduler::push_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink) {
-    if (!repair.announcement) {
-        ++repair_counters_.received;
+    switch (repair.kind) {
+        case Repair::Kind::repair:
+            ++repair_counters_.received;
+            break;
+        case Repair::Kind::continuation:
+            ++repair_counters_.continuations_received;
+            break;
+        case Repair::Kind::announcement:
+            break;
     }
     switch (config_.policy) {
         case PolicyKind::fifo:
             send_repair_now(repair, sink);
             return;
         case PolicyKind::paper:
-            charge_link(now, repair.wire_bits);
+            charge_link(now, repair.wire_bits - std::min(repair.prepaid_bits, repair.wire_bits));
             send_repair_now(repair, sink);
             return;
         case PolicyKind::ttl:
         case PolicyKind::edf:
             break;
+    }
+    if (repair.kind == Repair::Kind::continuation) {
+        budget_.refund(repair.prepaid_bits);  // charged again as it leaves
     }
     if (repair.deadline <= now + config_.link_latency) {
         give_up_repair(repair, now, sink);
@@ -306,8 +316,9 @@ bool Scheduler::send_repair_before(const std::optional<UrgencyKey>& bound, base:
 }
 
 bool Scheduler::send_announcement_in_slack(base::SteadyTime now, base::SteadyTime start, SampleSink& sink) {
-    const auto it = std::find_if(repairs_.begin(), repairs_.end(),
-                                 [](const RepairQueue::Entry& entry) { return entry.repair.announcement; });
+    const auto it = std::find_if(repairs_.begin(), repairs_.end(), [](const RepairQueue::Entry& entry) {
+        return entry.repair.kind == Repair::Kind::announcement;
+    });
     if (it == repairs_.end()) {
         return false;
     }
@@ -350,19 +361,31 @@ RepairCounters Scheduler::repair_counters() const {
 }
 
 void Scheduler::send_repair_now(const Repair& repair, SampleSink& sink) {
-    if (repair.announcement) {
-        ++repair_counters_.announcements_sent;
-        repair_counters_.announcements_sent_wire_bytes += repair.wire_bits / 8;
-    } else {
-        ++repair_counters_.sent;
-        repair_counters_.sent_wire_bytes += repair.wire_bits / 8;
+    switch (repair.kind) {
+        case Repair::Kind::repair:
+            ++repair_counters_.sent;
+            repair_counters_.sent_wire_bytes += repair.wire_bits / 8;
+            break;
+        case Repair::Kind::announcement:
+            ++repair_counters_.announcements_sent;
+            repair_counters_.announcements_sent_wire_bytes += repair.wire_bits / 8;
+            break;
+        case Repair::Kind::continuation:
+            ++repair_counters_.continuations_sent;
+            repair_counters_.continuations_sent_wire_bytes += repair.wire_bits / 8;
+            break;
     }
     sink.send_repair(repair.id);
 }
 
 void Scheduler::give_up_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink) {
-    if (!repair.announcement) {
+    if (repair.kind != Repair::Kind::announcement) {
         discard_repair(repair, true, sink);
+        return;
+    }
+    if (repair.skippable && budget_.transmit_time(repair.wire_bits) > protect_limit_for(repair)) {
+        ++repair_counters_.announcements_skipped;
+        sink.discard_repair(repair.id);
         return;
     }
     ++repair_counters_.announcements_late;
@@ -371,7 +394,11 @@ void Scheduler::give_up_repair(const Repair& repair, base::SteadyTime now, Sampl
 }
 
 void Scheduler::discard_repair(const Repair& repair, bool late, SampleSink& sink) {
-    ++(late ? repair_counters_.late : repair_counters_.discarded);
+    if (repair.kind == Repair::Kind::continuation) {
+        ++repair_counters_.continuations_late;  // its sample is lost with it, late or cut short at shutdown
+    } else {
+        ++(late ? repair_counters_.late : repair_counters_.discarded);
+    }
     sink.discard_repair(repair.id);
 }
 
@@ -512,7 +539,10 @@ std::optional<base::SteadyTime> Scheduler::first_yields(base::SteadyTime start) 
 bool Scheduler::may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std::uint64_t bits, SampleSink& sink) {
     const DeadlineQueue::Peek sample = queue_.at(slot);
     const base::Duration tx = budget_.transmit_time(bits);
-    const bool blocks_urgent = tx > protect_limit_for(sample.topic);
+    const bool paced = config_.paced_fragments && budget_.rate_bps() <= CONTINUATION_PACING_MAX_BPS;
+    const base::Duration holds_link =
+        paced ? budget_.transmit_time(8u * config_.wire.first_datagram_wire_bytes(sample.payload_bytes)) : tx;
+    const bool blocks_urgent = holds_link > protect_limit_for(sample.topic);
     if (start + tx + config_.link_latency > sample.deadline) {
         drop(take(slot), blocks_urgent ? DropReason::oversize : DropReason::doomed, sink);
         return false;

@@ -36,6 +36,10 @@ struct SchedulerConfig {
     /// Compact WAN mode (`ttl` and `edf` only): what one release step admits leaves as one bundle of at most these
     /// limits, charged as the one DDS sample it is; nullopt: each sample is a DDS sample of its own (standard).
     std::optional<BundleLimits> bundles;
+    /// Standard WAN mode: up to CONTINUATION_PACING_MAX_BPS the WAN transport holds a large sample's fragments after
+    /// its first for the schedule (Repair::Kind::continuation). A sample then holds the link for its first datagram
+    /// only, and the non-preemptive rule weighs that, not its whole wire time.
+    bool paced_fragments = false;
     std::size_t memory_cap_bytes = 64u << 20;
     /// How early the next sample may be handed to the link before the previous one has drained.
     base::Duration lead = std::chrono::milliseconds(2);
@@ -297,7 +301,7 @@ class Scheduler {
     bool send_announcement_in_slack(base::SteadyTime now, base::SteadyTime start, SampleSink& sink);
     void discard_repair(const Repair& repair, bool late, SampleSink& sink);
     /// A repair that can no longer arrive in time is discarded; an announcement is sent all the same, charged as
-    /// traffic from outside the schedule.
+    /// traffic from outside the schedule, or left out when it is skippable and would hold the link too long.
     void give_up_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink);
 
     SchedulerConfig config_;

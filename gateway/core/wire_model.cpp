@@ -60,4 +60,12 @@ std::size_t WireModel::wire_bytes(std::size_t serialized_bytes) const {
            datagram_wire_bytes(per_fragment_bytes + padded_to_4(last_fragment));
 }
 
+std::size_t WireModel::first_datagram_wire_bytes(std::size_t serialized_bytes) const {
+    const std::size_t payload_bytes = serialized_bytes + payload_overhead_bytes;
+    if (payload_bytes <= max_unfragmented_bytes || fragment_payload_bytes == 0) {
+        return wire_bytes(serialized_bytes);
+    }
+    return datagram_wire_bytes(per_fragment_bytes + fragment_payload_bytes);
+}
+
 }  // namespace tgw::core

@@ -99,6 +99,10 @@ struct WireModel {
 
     std::uint64_t wire_bits(std::size_t payload_bytes) const { return 8u * wire_bytes(payload_bytes); }
 
+    /// Bytes on the wire of the first datagram of such a sample: its first fragment's, or the whole sample's when
+    /// it does not fragment.
+    std::size_t first_datagram_wire_bytes(std::size_t serialized_bytes) const;
+
   private:
     /// One datagram with `submessage_bytes` after the per-datagram headers: whole frames, IP fragments included.
     std::size_t datagram_wire_bytes(std::size_t submessage_bytes) const;

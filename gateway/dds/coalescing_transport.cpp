@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <optional>
 #include <vector>
 
 #include <fastdds/rtps/network/SenderResource.h>
@@ -132,9 +133,22 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     const auto copies = static_cast<std::size_t>(
         std::count_if(destination.locators.begin(), destination.locators.end(),
                       [this](const rtps::Locator_t& locator) { return IsLocatorSupported(locator); }));
+    // Read once, when a scheduled write's message needs it.
+    std::optional<std::size_t> heartbeat;
+    const auto heartbeat_bytes = [&] {
+        if (!heartbeat) {
+            heartbeat = RtpsDatagram::heartbeat_bytes(send_buffer, send_buffer_size);
+        }
+        return *heartbeat;
+    };
     if (descriptor_.repair_desk) {
         if (scheduled_write) {
-            descriptor_.repair_desk->note_scheduled(send_buffer, send_buffer_size);
+            // The write was charged for one copy of the sample, without the HEARTBEAT a reliable writer adds.
+            const std::size_t prepaid = send_buffer_size + core::WireModel::FRAME_HEADER_BYTES - heartbeat_bytes();
+            if (descriptor_.repair_desk->note_scheduled(*this, destination, send_buffer, send_buffer_size, copies,
+                                                        prepaid)) {
+                return true;  // a fragment after its sample's first: the schedule sends it
+            }
         } else if (descriptor_.repair_desk->hold(*this, destination, send_buffer, send_buffer_size, copies)) {
             return true;  // the schedule sends it, or finds it too late
         }
@@ -158,7 +172,7 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
             unscheduled += (copies - scheduled) * (send_buffer_size + core::WireModel::FRAME_HEADER_BYTES);
         }
         if (copies > 0 && scheduled > 0) {
-            unscheduled += RtpsDatagram::heartbeat_bytes(send_buffer, send_buffer_size);
+            unscheduled += heartbeat_bytes();
         }
         if (unscheduled > 0) {
             descriptor_.on_unscheduled(unscheduled);

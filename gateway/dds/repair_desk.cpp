@@ -12,7 +12,7 @@ namespace tgw::dds {
 
 namespace {
 
-thread_local const RepairDesk::WriteScope* current_scope = nullptr;
+thread_local RepairDesk::WriteScope* current_scope = nullptr;
 
 /// Samples looked at per message: a repair message holds a few (a burst of small samples, or fragments).
 constexpr std::size_t MAX_REFS = 32;
@@ -23,8 +23,8 @@ constexpr std::chrono::seconds PRUNE_PERIOD{1};
 
 }  // namespace
 
-RepairDesk::WriteScope::WriteScope(core::TopicId topic, base::SteadyTime deadline)
-    : topic_(topic), deadline_(deadline), outer_(current_scope) {
+RepairDesk::WriteScope::WriteScope(core::TopicId topic, base::SteadyTime deadline, bool reliable)
+    : topic_(topic), deadline_(deadline), reliable_(reliable), outer_(current_scope) {
     current_scope = this;
 }
 
@@ -68,27 +68,57 @@ void RepairDesk::forget(const DatagramSender& sender) {
         }
     }
     written_.clear();  // the new participant's writers number their samples afresh
+    skipped_.erase(std::remove_if(skipped_.begin(), skipped_.end(),
+                                  [&](const SkippedAnnouncements& s) { return s.sender == &sender; }),
+                   skipped_.end());
 }
 
-void RepairDesk::note_scheduled(const std::uint8_t* message, std::size_t size) {
-    const WriteScope* scope = current_scope;
-    if (scope == nullptr || !samples_) {
-        return;
+bool RepairDesk::note_scheduled(DatagramSender& sender, const DatagramDestination& destination,
+                                const std::uint8_t* message, std::size_t size, std::size_t copies,
+                                std::size_t prepaid_bytes) {
+    WriteScope* scope = current_scope;
+    const bool pacing = pace_fragments_.load(std::memory_order_relaxed);
+    if (scope == nullptr || !samples_ || (!scope->reliable_ && !pacing)) {
+        return false;  // a best-effort sample on a fast link: nothing to read in it
     }
     std::array<RtpsSampleRef, MAX_REFS> refs;
     const std::size_t n = rtps_sample_refs(message, size, refs.data(), refs.size());
     if (n == 0) {
-        return;
+        return false;
+    }
+    const RtpsSampleRef& written = scope->written_ ? *scope->written_ : *(scope->written_ = refs[0]);
+    // Only the rest of the written sample, alone in its message: the fragments Fast DDS sends after its first.
+    const bool continuation =
+        pacing && copies > 0 &&
+        std::all_of(refs.begin(), refs.begin() + static_cast<std::ptrdiff_t>(n), [&](const RtpsSampleRef& ref) {
+            return ref.first_fragment > 1 && ref.writer == written.writer && ref.sequence == written.sequence;
+        });
+    if (!scope->reliable_ && !continuation) {
+        return false;
     }
     const base::SteadyTime now = clock_.now();
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::mutex> lock(mutex_);  // submitted under it, as in hold()
     if (stopped_ || !submit_) {
-        return;
+        return false;
     }
-    for (std::size_t i = 0; i < n; ++i) {
-        written_[SampleKey{refs[i].writer, refs[i].sequence}] = Written{scope->topic_, scope->deadline_};
+    if (scope->reliable_) {
+        for (std::size_t i = 0; i < n; ++i) {
+            written_[SampleKey{refs[i].writer, refs[i].sequence}] = Written{scope->topic_, scope->deadline_};
+        }
+        prune_nts(now);
     }
-    prune_nts(now);
+    if (!continuation) {
+        return false;
+    }
+    core::Repair repair;
+    repair.topic = scope->topic_;
+    repair.deadline = scope->deadline_;
+    repair.wire_bits = 8u * copies * (size + core::WireModel::FRAME_HEADER_BYTES);
+    repair.kind = core::Repair::Kind::continuation;
+    repair.prepaid_bits = 8u * prepaid_bytes;
+    ++counts_.continuations_held;
+    hold_nts(repair, sender, destination, message, size, refs[0]);
+    return true;
 }
 
 bool RepairDesk::hold(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
@@ -128,17 +158,11 @@ bool RepairDesk::hold(DatagramSender& sender, const DatagramDestination& destina
         ++counts_.repeats;
         return true;
     }
-    repair.id = next_id_++;
     repair.topic = owner->topic;
     repair.deadline = owner->deadline;
     repair.wire_bits = 8u * copies * (size + core::WireModel::FRAME_HEADER_BYTES);
-    Held& held = held_[repair.id];
-    held.sender = &sender;
-    held.destination = destination;
-    held.bytes.assign(message, message + size);
-    held.first = refs[0];
     ++counts_.held;
-    submit_(repair);
+    hold_nts(repair, sender, destination, message, size, refs[0]);
     return true;
 }
 
@@ -170,7 +194,8 @@ bool RepairDesk::hold_announcement(DatagramSender& sender, const DatagramDestina
     base::Duration stagger{};
     for (DatagramDestination& copy : copies) {
         const auto held_for = std::find_if(held_.begin(), held_.end(), [&](const auto& entry) {
-            return entry.second.announcement && entry.second.sender == &sender && entry.second.destination == copy;
+            return entry.second.kind == core::Repair::Kind::announcement && entry.second.sender == &sender &&
+                   entry.second.destination == copy;
         });
         if (held_for != held_.end()) {
             held_for->second.bytes.assign(message, message + size);  // the participant as it is now
@@ -178,21 +203,28 @@ bool RepairDesk::hold_announcement(DatagramSender& sender, const DatagramDestina
             continue;
         }
         core::Repair repair;
-        repair.id = next_id_++;
         // Copies the schedule found no room for leave at their deadlines: one at a time, not in a burst.
         repair.deadline = now + core::ANNOUNCEMENT_WAIT + stagger;
         stagger += ANNOUNCEMENT_STAGGER;
         repair.wire_bits = 8u * (size + core::WireModel::FRAME_HEADER_BYTES);
-        repair.announcement = true;
-        Held& held = held_[repair.id];
-        held.sender = &sender;
-        held.destination = std::move(copy);
-        held.bytes.assign(message, message + size);
-        held.announcement = true;
+        repair.kind = core::Repair::Kind::announcement;
+        repair.skippable = skipped_in_a_row_nts(sender, copy) < core::MAX_SKIPPED_ANNOUNCEMENTS;
         ++counts_.announcements_held;
-        submit_(repair);
+        hold_nts(repair, sender, std::move(copy), message, size, RtpsSampleRef{});
     }
     return true;
+}
+
+void RepairDesk::hold_nts(core::Repair repair, DatagramSender& sender, DatagramDestination destination,
+                          const std::uint8_t* message, std::size_t size, const RtpsSampleRef& first) {
+    repair.id = next_id_++;
+    Held& held = held_[repair.id];
+    held.sender = &sender;
+    held.destination = std::move(destination);
+    held.bytes.assign(message, message + size);
+    held.first = first;
+    held.kind = repair.kind;
+    submit_(repair);
 }
 
 void RepairDesk::send(std::uint64_t id) {
@@ -209,13 +241,33 @@ void RepairDesk::send(std::uint64_t id) {
     const bool ok = coalescer_->send(*held.sender, held.destination, held.bytes.data(), held.bytes.size());
     std::lock_guard<std::mutex> lock(mutex_);
     ++(ok ? counts_.sent : counts_.send_failures);
+    if (held.kind == core::Repair::Kind::announcement) {
+        skipped_in_a_row_nts(*held.sender, held.destination) = 0;
+    }
 }
 
 void RepairDesk::discard(std::uint64_t id) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (held_.erase(id) > 0) {
-        ++counts_.discarded;
+    const auto it = held_.find(id);
+    if (it == held_.end()) {
+        return;
     }
+    if (it->second.kind == core::Repair::Kind::announcement) {
+        ++skipped_in_a_row_nts(*it->second.sender, it->second.destination);  // the next one to it goes
+    }
+    ++counts_.discarded;
+    held_.erase(it);
+}
+
+int& RepairDesk::skipped_in_a_row_nts(const DatagramSender& sender, const DatagramDestination& destination) {
+    const auto it = std::find_if(skipped_.begin(), skipped_.end(), [&](const SkippedAnnouncements& s) {
+        return s.sender == &sender && s.destination == destination;
+    });
+    if (it != skipped_.end()) {
+        return it->in_a_row;
+    }
+    skipped_.push_back({&sender, destination, 0});
+    return skipped_.back().in_a_row;
 }
 
 RepairDesk::Counts RepairDesk::counts() const {

@@ -1,10 +1,12 @@
 // Holds the WAN participant's repairs for reliable readers, so that the schedule sends them (core::Repair).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -22,14 +24,17 @@ namespace tgw::dds {
 /// it (send()) or discards it (discard()). Fast DDS takes the message as sent either way: a reader that still
 /// misses the sample asks again at the next HEARTBEAT, and once the sample is past its Lifespan (= TTL) the writer
 /// answers with a GAP.
+/// On a slow link it also paces a large sample: the fragments a scheduled write sends after the first wait here
+/// as continuations, so that the schedule puts more urgent samples between them (note_scheduled).
 ///
 /// Thread-safe: scheduled writes and Fast DDS's threads note and hold, the gateway's loop sends and discards.
 class RepairDesk {
   public:
     /// Marks one scheduled write on its thread: the samples its messages carry belong to `topic`, due `deadline`.
+    /// A reliable writer's are remembered for their repairs.
     class WriteScope {
       public:
-        WriteScope(core::TopicId topic, base::SteadyTime deadline);
+        WriteScope(core::TopicId topic, base::SteadyTime deadline, bool reliable);
         ~WriteScope();
         WriteScope(const WriteScope&) = delete;
         WriteScope& operator=(const WriteScope&) = delete;
@@ -38,7 +43,10 @@ class RepairDesk {
         friend class RepairDesk;
         core::TopicId topic_;
         base::SteadyTime deadline_;
-        const WriteScope* outer_;
+        bool reliable_;
+        /// The sample the write's first message carried: its later fragments are continuations.
+        std::optional<RtpsSampleRef> written_;
+        WriteScope* outer_;
     };
 
     /// Sends held messages through `coalescer` (the transport's), in order with everything else it sends. Without
@@ -55,8 +63,15 @@ class RepairDesk {
     /// schedule's later send() or discard() of them does nothing.
     void forget(const DatagramSender& sender);
 
-    /// A scheduled write's message: remembers the samples it carries, when a WriteScope is active on this thread.
-    void note_scheduled(const std::uint8_t* message, std::size_t size);
+    /// A scheduled write's message, when a WriteScope is active on this thread: remembers the samples it carries
+    /// (a reliable writer's), and returns true when it holds the message as a continuation, which must not be sent
+    /// now: a fragment after the first of the sample the write sent, while pace_fragments is on. `copies` is as in
+    /// hold(); `prepaid_bytes` what the write was charged for the message (one copy, without a HEARTBEAT).
+    bool note_scheduled(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
+                        std::size_t size, std::size_t copies, std::size_t prepaid_bytes);
+    /// Whether a large sample's fragments after the first wait for the schedule (core::Repair::Kind::continuation);
+    /// on a link faster than core::CONTINUATION_PACING_MAX_BPS they leave with the first. Off until set.
+    void pace_fragments(bool on) { pace_fragments_.store(on, std::memory_order_relaxed); }
     /// A message sent outside any scheduled write, to `copies` of the transport's locators: true when it carries a
     /// sample a scheduled write sent whose deadline has not passed; the desk then keeps it for the schedule (a
     /// repeat of one it already keeps is forgotten), and it must not be sent now.
@@ -85,6 +100,7 @@ class RepairDesk {
         std::uint64_t discarded = 0;
         std::uint64_t announcements_held = 0;      ///< copies, one per locator
         std::uint64_t announcements_replaced = 0;  ///< by a newer one to the same locator while held
+        std::uint64_t continuations_held = 0;      ///< fragments paced after their sample's first
     };
     Counts counts() const;
 
@@ -106,20 +122,33 @@ class RepairDesk {
         DatagramDestination destination;
         std::vector<std::uint8_t> bytes;
         RtpsSampleRef first;  ///< what it repairs first: a repeat has the same, to the same destination
-        bool announcement = false;
+        core::Repair::Kind kind = core::Repair::Kind::repair;
     };
+    /// Keeps `message` under a new id and gives the schedule its core::Repair; the lock is held.
+    void hold_nts(core::Repair repair, DatagramSender& sender, DatagramDestination destination,
+                  const std::uint8_t* message, std::size_t size, const RtpsSampleRef& first);
     /// Forgets what is past its deadline; the lock is held.
     void prune_nts(base::SteadyTime now);
+    /// The announcements the schedule left out in a row to `destination` of `sender`: a count for each port.
+    struct SkippedAnnouncements {
+        const DatagramSender* sender = nullptr;
+        DatagramDestination destination;
+        int in_a_row = 0;
+    };
+    /// The count for that port, made at 0 if there is none; the lock is held.
+    int& skipped_in_a_row_nts(const DatagramSender& sender, const DatagramDestination& destination);
 
     const std::shared_ptr<DatagramCoalescer> coalescer_;
     const base::Clock& clock_;
     const bool samples_;
+    std::atomic<bool> pace_fragments_{false};
     mutable std::mutex mutex_;
     std::function<void(const core::Repair&)> submit_;
     bool stopped_ = false;
     std::unordered_map<SampleKey, Written, SampleKeyHash> written_;
     base::SteadyTime next_prune_{};
     std::unordered_map<std::uint64_t, Held> held_;
+    std::vector<SkippedAnnouncements> skipped_;  // a few ports
     std::uint64_t next_id_ = 1;
     Counts counts_;
 };

@@ -69,10 +69,7 @@ WriteResult WanWriter::write(core::Sample& sample) {
             return ReturnCode_t(ReturnCode_t::RETCODE_NOT_ENABLED);
         const DatagramCoalescer::DeferScope may_wait;
         // Only a reliable writer repairs: a best-effort lane's samples need not be remembered.
-        std::optional<RepairDesk::WriteScope> repairs_belong_to;
-        if (reliable_) {
-            repairs_belong_to.emplace(sample.topic, sample.deadline);
-        }
+        RepairDesk::WriteScope repairs_belong_to(sample.topic, sample.deadline, reliable_);
         switch (sample.kind) {
             case core::SampleKind::dispose:
                 return writer_->dispose_w_timestamp(&data, handle, stamp);

@@ -113,12 +113,24 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
         const tgw::core::RepairCounters repairs = gateway.repair_counters();
         std::printf(
             "announcements of the WAN participant, in the schedule: %llu copies held, %llu sent (%llu bytes), %llu of "
-            "them at the end of their wait, %llu replaced by a newer one while held\n",
+            "them at the end of their wait, %llu left out as too long for the link then, %llu replaced by a newer "
+            "one while held\n",
             static_cast<unsigned long long>(desk->announcements_held),
             static_cast<unsigned long long>(repairs.announcements_sent),
             static_cast<unsigned long long>(repairs.announcements_sent_wire_bytes),
             static_cast<unsigned long long>(repairs.announcements_late),
+            static_cast<unsigned long long>(repairs.announcements_skipped),
             static_cast<unsigned long long>(desk->announcements_replaced));
+    }
+    if (const auto desk = gateway.repair_desk_counts(); desk && desk->continuations_held > 0) {
+        const tgw::core::RepairCounters repairs = gateway.repair_counters();
+        std::printf(
+            "large samples paced, in the schedule: %llu fragments after their sample's first held, %llu sent (%llu "
+            "bytes), %llu not sent as their sample could no longer arrive in time (or at exit)\n",
+            static_cast<unsigned long long>(desk->continuations_held),
+            static_cast<unsigned long long>(repairs.continuations_sent),
+            static_cast<unsigned long long>(repairs.continuations_sent_wire_bytes),
+            static_cast<unsigned long long>(repairs.continuations_late));
     }
     if (gateway.statuses_published() > 0) {
         const tgw::core::TopicCounters status = gateway.status_counters();

@@ -155,9 +155,10 @@ TEST_F(RepairSchedulingTest, InCompactModeAMoreUrgentRepairGoesBeforeTheNextBund
 /// Fast DDS sent them at once; three robots' at the same instant held the channel long enough for A to expire.
 class AnnouncementSchedulingTest : public RepairSchedulingTest {
   protected:
-    void push_announcement(std::uint64_t id, std::uint64_t wire_bytes = 446) {
+    void push_announcement(std::uint64_t id, std::uint64_t wire_bytes = 446, bool skippable = false) {
         Repair announcement{id, 0, clock.now() + ANNOUNCEMENT_WAIT, 8 * wire_bytes};
-        announcement.announcement = true;
+        announcement.kind = Repair::Kind::announcement;
+        announcement.skippable = skippable;
         sut->push_repair(announcement, clock.now(), sink);
     }
 };
@@ -210,6 +211,29 @@ TEST_F(AnnouncementSchedulingTest, OneThatWaitedItsWholeWaitIsSentAllTheSameNeve
     EXPECT_EQ(sut->repair_counters().announcements_late, 1u);
 }
 
+TEST_F(AnnouncementSchedulingTest, ASkippableOneTooLongForTheLinkAtTheEndOfItsWaitIsLeftOut) {
+    make_sut(PolicyKind::ttl, 4'000);  // a dip: a copy is 0.9 s of the link, a hazard may wait 0.5 s at most
+    for (int i = 0; i < 10; ++i) {
+        push(a, 16);
+        if (i == 0)
+            push_announcement(1, 446, true);
+        run_for(milliseconds(1'000));
+    }
+    EXPECT_EQ(sink.discarded_repairs(), (std::vector<std::uint64_t>{1}));
+    EXPECT_EQ(sut->repair_counters().announcements_skipped, 1u);
+    EXPECT_EQ(sut->repair_counters().announcements_sent, 0u);
+    EXPECT_EQ(sut->counters(a).forwarded, 10u) << "every hazard on time";
+}
+
+TEST_F(AnnouncementSchedulingTest, ASkippableOneThatFitsGoesAsAnyOther) {
+    make_sut(PolicyKind::ttl, 25'000);
+    push(a, 16);
+    push_announcement(1, 446, true);
+    run_for(seconds(1));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(a), repair(1)}));
+    EXPECT_EQ(sut->repair_counters().announcements_skipped, 0u);
+}
+
 TEST_F(AnnouncementSchedulingTest, InCompactModeItGoesInTheSlackTheHazardsLeaveNotAtTheEndOfItsWait) {
     // Hazards every 200 ms keep the queue's most urgent sample a hazard: by rank alone the announcement would wait
     // its whole ANNOUNCEMENT_WAIT, then leave with its copies in a burst. It goes before a bundle whose most urgent
@@ -240,6 +264,86 @@ TEST_F(AnnouncementSchedulingTest, InCompactModeALessUrgentSampleNearItsDeadline
     run_for(seconds(1));
     ASSERT_GE(sink.departures().size(), 2u);
     EXPECT_EQ(sink.departures()[1], repair(1)) << "a picture that may miss anyway is not the announcement's concern";
+}
+
+/// A large sample's fragments after its first (Repair::Kind::continuation): the write charged the whole sample; the
+/// scheduler gives the rest back and charges each fragment as it leaves, in the sample's urgency.
+class ContinuationSchedulingTest : public RepairSchedulingTest {
+  protected:
+    /// Writes a sample of `topic` of `fragments` x FRAGMENT_BYTES as the WAN writer would: the write, then the
+    /// desk's continuations (ids from 1) for every fragment after the first.
+    void write_large(TopicId topic, int fragments) {  // of D
+        const std::size_t payload = static_cast<std::size_t>(fragments) * FRAGMENT_PAYLOAD_BYTES;
+        push(topic, payload);
+        release();
+        const std::uint64_t fragment_bits = 8 * config.wire.first_datagram_wire_bytes(payload);
+        for (int k = 2; k <= fragments; ++k) {
+            Repair continuation{next_id_++, topic, clock.now() + seconds(20), fragment_bits};  // D's TTL
+            continuation.kind = Repair::Kind::continuation;
+            continuation.prepaid_bits = fragment_bits;
+            sut->push_repair(continuation, clock.now(), sink);
+        }
+    }
+    static constexpr std::size_t FRAGMENT_PAYLOAD_BYTES = 1'000;
+    std::uint64_t next_id_ = 1;
+};
+
+TEST_F(ContinuationSchedulingTest, AMoreUrgentSampleGoesBetweenTheFragmentsOfALargeOne) {
+    make_sut(PolicyKind::ttl, 20'000);
+    write_large(d, 4);  // about 1.8 s of the link whole, 0.6 s a full fragment
+    run_for(milliseconds(100));
+    push(a);
+    run_for(seconds(5));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(d), sample_of(a), repair(1), repair(2), repair(3)}));
+    EXPECT_EQ(sut->counters(a).forwarded, 1u) << "on time: it waited for one fragment, not for the picture";
+    EXPECT_EQ(sut->repair_counters().continuations_received, 3u);
+    EXPECT_EQ(sut->repair_counters().continuations_sent, 3u);
+    EXPECT_EQ(sut->repair_counters().received, 0u) << "not a repair for a reader";
+}
+
+TEST_F(ContinuationSchedulingTest, AFragmentIsChargedOnceWhenItLeaves) {
+    make_sut(PolicyKind::ttl, 20'000);
+    write_large(d, 4);
+    const base::Duration whole =
+        base::from_seconds(static_cast<double>(config.wire.wire_bits(4 * FRAGMENT_PAYLOAD_BYTES)) / 20'000.0);
+    run_for(whole + milliseconds(400));  // every fragment has left, if each was charged once
+    const std::size_t before = sink.departures().size();
+    push(b);
+    release();
+    EXPECT_EQ(sink.departures().size(), before + 1) << "the link is free: nothing was charged twice";
+}
+
+TEST_F(ContinuationSchedulingTest, AFragmentWhoseSampleCanNoLongerArriveIsNotSent) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(d, 2 * FRAGMENT_PAYLOAD_BYTES, milliseconds(19'000));  // due in 1 s at the source
+    release();
+    Repair continuation{1, d, clock.now() + milliseconds(500), 8 * 1'100};
+    continuation.kind = Repair::Kind::continuation;
+    continuation.prepaid_bits = continuation.wire_bits;
+    sut->push_repair(continuation, clock.now(), sink);
+    run_for(seconds(3));
+    EXPECT_EQ(sink.discarded_repairs(), (std::vector<std::uint64_t>{1}));
+    EXPECT_EQ(sut->repair_counters().continuations_late, 1u);
+    EXPECT_EQ(sut->repair_counters().late, 0u) << "counted apart from the readers' repairs";
+}
+
+TEST_F(ContinuationSchedulingTest, WithPacedFragmentsALargeSampleHoldsTheLinkForItsFirstDatagramOnly) {
+    config.paced_fragments = true;
+    make_sut(PolicyKind::ttl, 20'000);
+    push(a);
+    release();                            // A is active: nothing may hold the link much longer than 0.9 s
+    push(d, 4 * FRAGMENT_PAYLOAD_BYTES);  // whole, 1.8 s of the link; its first datagram 0.6 s
+    run_for(milliseconds(500));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(a), sample_of(d)}));
+}
+
+TEST_F(ContinuationSchedulingTest, WithoutPacedFragmentsALargeSampleWaitsForAFasterLink) {
+    make_sut(PolicyKind::ttl, 20'000);
+    push(a);
+    release();
+    push(d, 4 * FRAGMENT_PAYLOAD_BYTES);
+    run_for(milliseconds(500));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(a)})) << "the non-preemptive rule holds it back whole";
 }
 
 }  // namespace

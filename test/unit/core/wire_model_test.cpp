@@ -32,6 +32,11 @@ TEST_F(WireModelTest, LargeSampleFragmentsAndPaysHeadersPerFragment) {
     EXPECT_EQ(sut.wire_bytes(6'020), 4 * 1482u + 1022u);
 }
 
+TEST_F(WireModelTest, TheFirstDatagramOfAFragmentedSampleIsOneFullFragment) {
+    EXPECT_EQ(sut.first_datagram_wire_bytes(6'020), 1482u);
+    EXPECT_EQ(sut.first_datagram_wire_bytes(paper_message_serialized_bytes(1016)), 1210u) << "not fragmented: whole";
+}
+
 TEST(WireModelForMaxDatagram, AtOneFrameIsTheCapturedModel) {
     const WireModel captured;
     const WireModel derived = WireModel::for_max_datagram(WireModel::MAX_DATAGRAM_PAYLOAD_BYTES);

@@ -45,9 +45,15 @@ class RepairDeskTest : public ::testing::Test {
 
     /// A scheduled write of sample `sequence` of topic 5, due in `due_in`: its message, as the transport sees it.
     void write(std::int64_t sequence, base::Duration due_in = 2s) {
-        const RepairDesk::WriteScope scope(5, clock.now() + due_in);
-        const rtps::Bytes message = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, sequence, 1)});
-        sut.note_scheduled(message.data(), message.size());
+        const RepairDesk::WriteScope scope(5, clock.now() + due_in, true);
+        EXPECT_FALSE(write_message(sequence, 1)) << "a write's first message is sent";
+    }
+    /// A scheduled write's message carrying fragment `fragment` of sample `sequence`, to `copies` readers: true
+    /// when the desk holds it.
+    bool write_message(std::int64_t sequence, std::uint32_t fragment, std::size_t copies = 1) {
+        const rtps::Bytes message = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, sequence, fragment)});
+        return sut.note_scheduled(sender, reader_at(7411), message.data(), message.size(), copies,
+                                  message.size() + core::WireModel::FRAME_HEADER_BYTES);
     }
     /// Fast DDS sends fragment `fragment` of sample `sequence` again, outside any write.
     bool resend(std::int64_t sequence, std::uint32_t fragment = 2, std::uint32_t port = 7411) {
@@ -119,6 +125,62 @@ TEST_F(RepairDeskTest, HoldsNothingOnceStopped) {
     EXPECT_TRUE(sender.sent.empty()) << "what it held went with it";
 }
 
+TEST_F(RepairDeskTest, HoldsAWritesFragmentsAfterItsFirstAsContinuationsWhilePacing) {
+    sut.pace_fragments(true);
+    {
+        const RepairDesk::WriteScope scope(5, clock.now() + 20s, false);
+        EXPECT_FALSE(write_message(3, 1)) << "the first fragment leaves with the write";
+        EXPECT_TRUE(write_message(3, 2, 2));
+        EXPECT_TRUE(write_message(3, 3, 2));
+    }
+    ASSERT_EQ(submitted.size(), 2u);
+    const std::size_t message_bytes = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, 3, 2)}).size();
+    for (const core::Repair& continuation : submitted) {
+        EXPECT_EQ(continuation.kind, core::Repair::Kind::continuation);
+        EXPECT_EQ(continuation.topic, 5u);
+        EXPECT_EQ(continuation.deadline, clock.now() + 20s);
+        EXPECT_EQ(continuation.wire_bits, 2u * 8u * (message_bytes + core::WireModel::FRAME_HEADER_BYTES))
+            << "both copies, sent when it leaves";
+        EXPECT_EQ(continuation.prepaid_bits, 8u * (message_bytes + core::WireModel::FRAME_HEADER_BYTES))
+            << "the one copy the write was charged for";
+    }
+    EXPECT_EQ(sut.counts().continuations_held, 2u);
+    sut.send(submitted[1].id);
+    sut.send(submitted[0].id);
+    ASSERT_EQ(sender.sent.size(), 2u);
+    EXPECT_EQ(sender.sent[0], rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, 3, 3)})) << "as told";
+}
+
+TEST_F(RepairDeskTest, SendsAWholeWriteAtOnceWhenNotPacing) {
+    const RepairDesk::WriteScope scope(5, clock.now() + 20s, true);
+    EXPECT_FALSE(write_message(3, 1));
+    EXPECT_FALSE(write_message(3, 2)) << "a fast link: the fragments leave together";
+    EXPECT_TRUE(submitted.empty());
+    EXPECT_TRUE(resend(3)) << "still remembered for its repairs";
+}
+
+TEST_F(RepairDeskTest, PacesOnlyTheWrittenSamplesFragments) {
+    sut.pace_fragments(true);
+    const RepairDesk::WriteScope scope(5, clock.now() + 20s, false);
+    EXPECT_FALSE(write_message(3, 1));
+    EXPECT_FALSE(write_message(2, 4)) << "another sample's fragment in the write (a repair Fast DDS sends with it)";
+    const rtps::Bytes whole = rtps::message({rtps::info_ts(1), rtps::data_of(WRITER, 4)});
+    EXPECT_FALSE(sut.note_scheduled(sender, reader_at(7411), whole.data(), whole.size(), 1, whole.size()));
+    EXPECT_TRUE(submitted.empty());
+}
+
+TEST_F(RepairDeskTest, ARepairOfAFragmentStillHeldAsAContinuationIsARepeat) {
+    sut.pace_fragments(true);
+    {
+        const RepairDesk::WriteScope scope(5, clock.now() + 20s, true);
+        EXPECT_FALSE(write_message(3, 1));
+        EXPECT_TRUE(write_message(3, 2));
+    }
+    EXPECT_TRUE(resend(3, 2)) << "the held continuation carries it";
+    EXPECT_EQ(submitted.size(), 1u);
+    EXPECT_EQ(sut.counts().repeats, 1u);
+}
+
 constexpr std::array<std::uint8_t, 4> SPDP_WRITER{0x00, 0x01, 0x00, 0xc2};
 
 /// Fast DDS's announcement (SPDP) `sequence`, to the base-camp ports `ports`, as the transport sees it.
@@ -138,7 +200,7 @@ TEST_F(RepairDeskTest, HoldsAnAnnouncementAsOneCopyPerLocatorForTheSchedule) {
     ASSERT_EQ(submitted.size(), 4u) << "one copy per port; the port Fast DDS listed twice once";
     const std::size_t message_bytes = rtps::message({rtps::info_ts(1), rtps::data_of(SPDP_WRITER, 1)}).size();
     for (std::size_t i = 0; i < submitted.size(); ++i) {
-        EXPECT_TRUE(submitted[i].announcement);
+        EXPECT_EQ(submitted[i].kind, core::Repair::Kind::announcement);
         EXPECT_EQ(submitted[i].deadline, clock.now() + core::ANNOUNCEMENT_WAIT + i * 250ms)
             << "the copies the schedule found no room for leave one at a time";
         EXPECT_EQ(submitted[i].wire_bits, 8u * (message_bytes + core::WireModel::FRAME_HEADER_BYTES));
@@ -169,15 +231,36 @@ TEST_F(RepairDeskTest, AnAnnouncementOnlyToLocatorsTheTransportDoesNotServeOrAno
     EXPECT_TRUE(submitted.empty());
 }
 
+TEST_F(RepairDeskTest, LetsTheScheduleLeaveOutAtMostTwoAnnouncementsInARowToAPort) {
+    std::vector<bool> skippable;
+    for (std::int64_t k = 1; k <= 4; ++k) {
+        ASSERT_TRUE(announce(sut, sender, k, {7400}));
+        skippable.push_back(submitted.back().skippable);
+        sut.discard(submitted.back().id);  // left out
+    }
+    EXPECT_EQ(skippable, (std::vector<bool>{true, true, false, false}));
+    sut.send(submitted.back().id);  // already discarded: nothing
+    ASSERT_TRUE(announce(sut, sender, 5, {7400}));
+    sut.send(submitted.back().id);
+    ASSERT_TRUE(announce(sut, sender, 6, {7400}));
+    EXPECT_TRUE(submitted.back().skippable) << "one sent: the count starts again";
+    ASSERT_TRUE(announce(sut, sender, 7, {7402}));
+    EXPECT_TRUE(submitted.back().skippable) << "another port counts its own";
+}
+
 TEST(RepairDeskAnnouncementsOnlyTest, HoldsAnnouncementsButNoRepairs) {
     test::FakeClock clock;
     RepairDesk desk(std::make_shared<DatagramCoalescer>(std::chrono::microseconds(0), 1472, clock), clock, false);
     std::vector<core::Repair> submitted;
     desk.set_submit([&](const core::Repair& repair) { submitted.push_back(repair); });
     CountingSender sender;
-    const RepairDesk::WriteScope scope(5, clock.now() + 2s);
+    desk.pace_fragments(true);
+    const RepairDesk::WriteScope scope(5, clock.now() + 2s, true);
     const rtps::Bytes written = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, 3, 1)});
-    desk.note_scheduled(written.data(), written.size());
+    desk.note_scheduled(sender, reader_at(7411), written.data(), written.size(), 1, written.size());
+    const rtps::Bytes rest = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, 3, 2)});
+    EXPECT_FALSE(desk.note_scheduled(sender, reader_at(7411), rest.data(), rest.size(), 1, rest.size()))
+        << "compact mode's bundles are its own chunks";
     const rtps::Bytes repair = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, 3, 2)});
     EXPECT_FALSE(desk.hold(sender, reader_at(7411), repair.data(), repair.size(), 1)) << "compact mode's";
     EXPECT_TRUE(announce(desk, sender, 1, {7400}));

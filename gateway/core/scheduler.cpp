@@ -383,7 +383,9 @@ void Scheduler::give_up_repair(const Repair& repair, base::SteadyTime now, Sampl
         discard_repair(repair, true, sink);
         return;
     }
-    if (repair.skippable && budget_.transmit_time(repair.wire_bits) > protect_limit_for(repair)) {
+    // Not while the link is down (a rate of 0): there it goes as before, and a camp that lost the robot hears it.
+    if (repair.skippable && budget_.rate_bps() > 0.0 &&
+        budget_.transmit_time(repair.wire_bits) > protect_limit_for(repair)) {
         ++repair_counters_.announcements_skipped;
         sink.discard_repair(repair.id);
         return;

@@ -149,8 +149,18 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
                                                         prepaid)) {
                 return true;  // a fragment after its sample's first: the schedule sends it
             }
-        } else if (descriptor_.repair_desk->hold(*this, destination, send_buffer, send_buffer_size, copies)) {
-            return true;  // the schedule sends it, or finds it too late
+        } else {
+            thread_local std::vector<rtps::octet> gap;
+            switch (descriptor_.repair_desk->hold(*this, destination, send_buffer, send_buffer_size, copies, gap)) {
+                case RepairDesk::Verdict::held:
+                    return true;  // the schedule sends it, or finds it too late
+                case RepairDesk::Verdict::gap:
+                    send_buffer = gap.data();  // the samples are past their deadlines: the reader stops asking
+                    send_buffer_size = static_cast<std::uint32_t>(gap.size());
+                    break;
+                case RepairDesk::Verdict::send:
+                    break;
+            }
         }
     }
     if (!scheduled_write && descriptor_.repeat_throttle &&

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "gateway/core/wire_model.hpp"
+#include "gateway/dds/gap_for_repair.hpp"
 #include "gateway/dds/rtps_submessage.hpp"
 
 namespace tgw::dds {
@@ -16,6 +17,11 @@ thread_local RepairDesk::WriteScope* current_scope = nullptr;
 
 /// Samples looked at per message: a repair message holds a few (a burst of small samples, or fragments).
 constexpr std::size_t MAX_REFS = 32;
+
+std::uint32_t entity_id(const std::array<std::uint8_t, 4>& writer) {
+    return static_cast<std::uint32_t>(writer[0]) << 24 | static_cast<std::uint32_t>(writer[1]) << 16 |
+           static_cast<std::uint32_t>(writer[2]) << 8 | writer[3];
+}
 /// Between the deadlines of an announcement's copies.
 constexpr std::chrono::milliseconds ANNOUNCEMENT_STAGGER{250};
 /// How often what is past its deadline is forgotten.
@@ -23,8 +29,8 @@ constexpr std::chrono::seconds PRUNE_PERIOD{1};
 
 }  // namespace
 
-RepairDesk::WriteScope::WriteScope(core::TopicId topic, base::SteadyTime deadline, bool reliable)
-    : topic_(topic), deadline_(deadline), reliable_(reliable), outer_(current_scope) {
+RepairDesk::WriteScope::WriteScope(core::TopicId topic, base::SteadyTime deadline, bool reliable, bool latched)
+    : topic_(topic), deadline_(deadline), reliable_(reliable), latched_(latched), outer_(current_scope) {
     current_scope = this;
 }
 
@@ -68,6 +74,7 @@ void RepairDesk::forget(const DatagramSender& sender) {
         }
     }
     written_.clear();  // the new participant's writers number their samples afresh
+    expiring_writers_.clear();
     skipped_.erase(std::remove_if(skipped_.begin(), skipped_.end(),
                                   [&](const SkippedAnnouncements& s) { return s.sender == &sender; }),
                    skipped_.end());
@@ -104,6 +111,9 @@ bool RepairDesk::note_scheduled(DatagramSender& sender, const DatagramDestinatio
     if (scope->reliable_) {
         for (std::size_t i = 0; i < n; ++i) {
             written_[SampleKey{refs[i].writer, refs[i].sequence}] = Written{scope->topic_, scope->deadline_};
+            if (!scope->latched_) {
+                expiring_writers_.insert(entity_id(refs[i].writer));
+            }
         }
         prune_nts(now);
     }
@@ -121,15 +131,16 @@ bool RepairDesk::note_scheduled(DatagramSender& sender, const DatagramDestinatio
     return true;
 }
 
-bool RepairDesk::hold(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
-                      std::size_t size, std::size_t copies) {
+RepairDesk::Verdict RepairDesk::hold(DatagramSender& sender, const DatagramDestination& destination,
+                                     const std::uint8_t* message, std::size_t size, std::size_t copies,
+                                     std::vector<std::uint8_t>& gap) {
     if (!samples_) {
-        return false;  // compact mode: nothing was noted to repair, so no need to read the message
+        return Verdict::send;  // compact mode: nothing was noted to repair, so no need to read the message
     }
     std::array<RtpsSampleRef, MAX_REFS> refs;
     const std::size_t n = rtps_sample_refs(message, size, refs.data(), refs.size());
     if (n == 0 || copies == 0) {
-        return false;
+        return Verdict::send;
     }
     const base::SteadyTime now = clock_.now();
     core::Repair repair;
@@ -137,7 +148,7 @@ bool RepairDesk::hold(DatagramSender& sender, const DatagramDestination& destina
     // scheduler's loop never calls the desk with its own lock held.
     std::lock_guard<std::mutex> lock(mutex_);
     if (stopped_ || !submit_) {
-        return false;
+        return Verdict::send;
     }
     // The message goes with its most urgent sample: the others ride along.
     const Written* owner = nullptr;
@@ -149,21 +160,29 @@ bool RepairDesk::hold(DatagramSender& sender, const DatagramDestination& destina
         }
     }
     if (owner == nullptr) {
-        return false;  // not a sample of a scheduled write, or past its deadline: as before, sent and charged
+        // None due any more. Every one a volatile reliable writer's: past its deadline, and no use to the reader.
+        const bool past_deadline =
+            std::all_of(refs.begin(), refs.begin() + static_cast<std::ptrdiff_t>(n),
+                        [&](const RtpsSampleRef& ref) { return expiring_writers_.count(entity_id(ref.writer)) > 0; });
+        if (past_deadline && gap_for_repair(message, size, gap)) {
+            ++counts_.gapped;
+            return Verdict::gap;
+        }
+        return Verdict::send;  // not a sample of a scheduled write (discovery), or a latched one for a late joiner
     }
     const bool repeat = std::any_of(held_.begin(), held_.end(), [&](const auto& entry) {
         return entry.second.first == refs[0] && entry.second.destination == destination;
     });
     if (repeat) {
         ++counts_.repeats;
-        return true;
+        return Verdict::held;
     }
     repair.topic = owner->topic;
     repair.deadline = owner->deadline;
     repair.wire_bits = 8u * copies * (size + core::WireModel::FRAME_HEADER_BYTES);
     ++counts_.held;
     hold_nts(repair, sender, destination, message, size, refs[0]);
-    return true;
+    return Verdict::held;
 }
 
 bool RepairDesk::hold_announcement(DatagramSender& sender, const DatagramDestination& destination,

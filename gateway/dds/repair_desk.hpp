@@ -8,6 +8,7 @@
 #include <mutex>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "base/clock.hpp"
@@ -31,10 +32,11 @@ namespace tgw::dds {
 class RepairDesk {
   public:
     /// Marks one scheduled write on its thread: the samples its messages carry belong to `topic`, due `deadline`.
-    /// A reliable writer's are remembered for their repairs.
+    /// A reliable writer's are remembered for their repairs; a `latched` writer's (transient local) are repaired
+    /// for late joiners past their deadlines too.
     class WriteScope {
       public:
-        WriteScope(core::TopicId topic, base::SteadyTime deadline, bool reliable);
+        WriteScope(core::TopicId topic, base::SteadyTime deadline, bool reliable, bool latched = false);
         ~WriteScope();
         WriteScope(const WriteScope&) = delete;
         WriteScope& operator=(const WriteScope&) = delete;
@@ -44,6 +46,7 @@ class RepairDesk {
         core::TopicId topic_;
         base::SteadyTime deadline_;
         bool reliable_;
+        bool latched_;
         /// The sample the write's first message carried: its later fragments are continuations.
         std::optional<RtpsSampleRef> written_;
         WriteScope* outer_;
@@ -72,11 +75,19 @@ class RepairDesk {
     /// Whether a large sample's fragments after the first wait for the schedule (core::Repair::Kind::continuation);
     /// on a link faster than core::CONTINUATION_PACING_MAX_BPS they leave with the first. Off until set.
     void pace_fragments(bool on) { pace_fragments_.store(on, std::memory_order_relaxed); }
-    /// A message sent outside any scheduled write, to `copies` of the transport's locators: true when it carries a
-    /// sample a scheduled write sent whose deadline has not passed; the desk then keeps it for the schedule (a
-    /// repeat of one it already keeps is forgotten), and it must not be sent now.
-    bool hold(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
-              std::size_t size, std::size_t copies);
+    /// What becomes of a message hold() was given.
+    enum class Verdict {
+        send,  ///< not the schedule's: send it now
+        held,  ///< kept for the schedule (or a repeat of one kept): not to be sent now
+        gap,   ///< a repair of samples past their deadlines: send the GAP hold() made instead
+    };
+    /// A message sent outside any scheduled write, to `copies` of the transport's locators. When it carries a
+    /// sample a scheduled write sent whose deadline has not passed, the desk keeps it for the schedule (a repeat
+    /// of one it already keeps is forgotten). When every sample it carries is a volatile reliable writer's past its
+    /// deadline, `gap` gets a GAP for them: Fast DDS 2.9 was seen answering a reader's NACK_FRAG for a picture 1.6 s
+    /// past its deadline and Lifespan, and the reader, told, stops asking.
+    Verdict hold(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
+                 std::size_t size, std::size_t copies, std::vector<std::uint8_t>& gap);
 
     /// Which of a destination's locators the transport sends to.
     using LocatorFilter = std::function<bool(const eprosima::fastrtps::rtps::Locator_t&)>;
@@ -101,6 +112,7 @@ class RepairDesk {
         std::uint64_t announcements_held = 0;      ///< copies, one per locator
         std::uint64_t announcements_replaced = 0;  ///< by a newer one to the same locator while held
         std::uint64_t continuations_held = 0;      ///< fragments paced after their sample's first
+        std::uint64_t gapped = 0;                  ///< repairs past their samples' deadlines, answered with a GAP
     };
     Counts counts() const;
 
@@ -146,6 +158,9 @@ class RepairDesk {
     std::function<void(const core::Repair&)> submit_;
     bool stopped_ = false;
     std::unordered_map<SampleKey, Written, SampleKeyHash> written_;
+    /// The entity ids of the volatile reliable writers whose samples written_ remembers: a repair of theirs not
+    /// there any more is of a sample past its deadline.
+    std::unordered_set<std::uint32_t> expiring_writers_;
     base::SteadyTime next_prune_{};
     std::unordered_map<std::uint64_t, Held> held_;
     std::vector<SkippedAnnouncements> skipped_;  // a few ports

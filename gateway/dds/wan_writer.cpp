@@ -24,6 +24,7 @@ WanWriter::WanWriter(fdds::DataWriter* writer, std::unique_ptr<WriterMatchCounte
       topic_(std::move(topic)),
       keyed_(keyed),
       reliable_(writer->get_qos().reliability().kind == fdds::RELIABLE_RELIABILITY_QOS),
+      latched_(writer->get_qos().durability().kind != fdds::VOLATILE_DURABILITY_QOS),
       lifespan_(to_duration(writer->get_qos().lifespan().duration)) {}
 
 WanWriter::~WanWriter() {
@@ -69,7 +70,7 @@ WriteResult WanWriter::write(core::Sample& sample) {
             return ReturnCode_t(ReturnCode_t::RETCODE_NOT_ENABLED);
         const DatagramCoalescer::DeferScope may_wait;
         // Only a reliable writer repairs: a best-effort lane's samples need not be remembered.
-        RepairDesk::WriteScope repairs_belong_to(sample.topic, sample.deadline, reliable_);
+        RepairDesk::WriteScope repairs_belong_to(sample.topic, sample.deadline, reliable_, latched_);
         switch (sample.kind) {
             case core::SampleKind::dispose:
                 return writer_->dispose_w_timestamp(&data, handle, stamp);

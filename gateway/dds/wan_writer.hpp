@@ -62,6 +62,7 @@ class WanWriter {
     const std::string topic_;
     const bool keyed_;
     const bool reliable_;
+    const bool latched_;  ///< transient local: a late joiner gets its history, past deadlines too
     const std::optional<base::Duration> lifespan_;
     std::atomic<bool> failure_reported_{false};
 };

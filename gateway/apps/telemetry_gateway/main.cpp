@@ -99,15 +99,17 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
         static_cast<unsigned long long>(gateway.unscheduled_wire_bytes()),
         static_cast<unsigned long long>(gateway.suppressed_repeats()),
         static_cast<unsigned long long>(gateway.introductions()));
-    if (const auto desk = gateway.repair_desk_counts(); desk && desk->held > 0) {
+    if (const auto desk = gateway.repair_desk_counts(); desk && (desk->held > 0 || desk->gapped > 0)) {
         const tgw::core::RepairCounters repairs = gateway.repair_counters();
         std::printf(
             "repairs for reliable readers, in the schedule: %llu held, %llu sent (%llu bytes), %llu not sent as too "
-            "late for their sample's deadline, %llu asked again while held, %llu discarded\n",
+            "late for their sample's deadline, %llu asked again while held, %llu discarded; %llu asked for past "
+            "their deadline, answered with a GAP\n",
             static_cast<unsigned long long>(desk->held), static_cast<unsigned long long>(repairs.sent),
             static_cast<unsigned long long>(repairs.sent_wire_bytes), static_cast<unsigned long long>(repairs.late),
             static_cast<unsigned long long>(desk->repeats),
-            static_cast<unsigned long long>(repairs.discarded + desk->send_failures));
+            static_cast<unsigned long long>(repairs.discarded + desk->send_failures),
+            static_cast<unsigned long long>(desk->gapped));
     }
     if (const auto desk = gateway.repair_desk_counts(); desk && desk->announcements_held > 0) {
         const tgw::core::RepairCounters repairs = gateway.repair_counters();

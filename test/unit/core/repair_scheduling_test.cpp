@@ -225,6 +225,15 @@ TEST_F(AnnouncementSchedulingTest, ASkippableOneTooLongForTheLinkAtTheEndOfItsWa
     EXPECT_EQ(sut->counters(a).forwarded, 10u) << "every hazard on time";
 }
 
+TEST_F(AnnouncementSchedulingTest, ASkippableOneIsNotLeftOutWhileTheLinkIsDown) {
+    make_sut(PolicyKind::ttl, 25'000);
+    sut->set_rate(0);
+    push_announcement(1, 446, true);
+    run_for(seconds(3));
+    EXPECT_EQ(sut->repair_counters().announcements_skipped, 0u);
+    EXPECT_EQ(sut->repair_counters().announcements_late, 1u) << "sent at the end of its wait, as before";
+}
+
 TEST_F(AnnouncementSchedulingTest, ASkippableOneThatFitsGoesAsAnyOther) {
     make_sut(PolicyKind::ttl, 25'000);
     push(a, 16);

@@ -57,8 +57,11 @@ class RepairDeskTest : public ::testing::Test {
     }
     /// Fast DDS sends fragment `fragment` of sample `sequence` again, outside any write.
     bool resend(std::int64_t sequence, std::uint32_t fragment = 2, std::uint32_t port = 7411) {
+        return resent(sequence, fragment, port) == RepairDesk::Verdict::held;
+    }
+    RepairDesk::Verdict resent(std::int64_t sequence, std::uint32_t fragment = 2, std::uint32_t port = 7411) {
         const rtps::Bytes message = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, sequence, fragment)});
-        return sut.hold(sender, reader_at(port), message.data(), message.size(), 1);
+        return sut.hold(sender, reader_at(port), message.data(), message.size(), 1, gap);
     }
 
     test::FakeClock clock;
@@ -67,6 +70,7 @@ class RepairDeskTest : public ::testing::Test {
     RepairDesk sut{coalescer, clock};
     CountingSender sender;
     std::vector<core::Repair> submitted;
+    std::vector<std::uint8_t> gap;
 };
 
 TEST_F(RepairDeskTest, HoldsARepairOfAScheduledSampleWithItsTopicAndDeadline) {
@@ -98,12 +102,30 @@ TEST_F(RepairDeskTest, ForgetsADiscardedRepair) {
     EXPECT_EQ(sut.counts().discarded, 1u);
 }
 
-TEST_F(RepairDeskTest, LetsGoWhatNoScheduledWriteSentAndWhatIsPastItsDeadline) {
-    EXPECT_FALSE(resend(9)) << "not a sample the gateway wrote (discovery, another writer)";
+TEST_F(RepairDeskTest, LetsGoWhatNoScheduledWriteSent) {
+    EXPECT_EQ(resent(9), RepairDesk::Verdict::send) << "not a sample the gateway wrote (discovery, another writer)";
+    EXPECT_TRUE(submitted.empty());
+}
+
+TEST_F(RepairDeskTest, AnswersARepairOfASamplePastItsDeadlineWithAGap) {
     write(3, 1s);
     clock.advance(1s);
-    EXPECT_FALSE(resend(3)) << "past its deadline: Fast DDS sends it, charged as before";
+    EXPECT_EQ(resent(3), RepairDesk::Verdict::gap) << "Fast DDS may still have it; the reader has no use for it";
+    EXPECT_EQ(gap, rtps::message({rtps::gap(WRITER, 3)}));
+    clock.advance(2s);  // pruned from what the desk remembers
+    EXPECT_EQ(resent(3, 3), RepairDesk::Verdict::gap);
+    EXPECT_EQ(sut.counts().gapped, 2u);
     EXPECT_TRUE(submitted.empty());
+}
+
+TEST_F(RepairDeskTest, ALatchedWritersSamplePastItsDeadlineStillGoesToALateJoiner) {
+    {
+        const RepairDesk::WriteScope scope(5, clock.now() + 1s, true, true);
+        EXPECT_FALSE(write_message(3, 1));
+    }
+    clock.advance(5s);
+    EXPECT_EQ(resent(3), RepairDesk::Verdict::send) << "transient local: its history is for late joiners";
+    EXPECT_EQ(sut.counts().gapped, 0u);
 }
 
 TEST_F(RepairDeskTest, ForgetsARepeatOfARepairItHolds) {
@@ -262,7 +284,9 @@ TEST(RepairDeskAnnouncementsOnlyTest, HoldsAnnouncementsButNoRepairs) {
     EXPECT_FALSE(desk.note_scheduled(sender, reader_at(7411), rest.data(), rest.size(), 1, rest.size()))
         << "compact mode's bundles are its own chunks";
     const rtps::Bytes repair = rtps::message({rtps::info_ts(1), rtps::data_frag(WRITER, 3, 2)});
-    EXPECT_FALSE(desk.hold(sender, reader_at(7411), repair.data(), repair.size(), 1)) << "compact mode's";
+    std::vector<std::uint8_t> gap;
+    EXPECT_EQ(desk.hold(sender, reader_at(7411), repair.data(), repair.size(), 1, gap), RepairDesk::Verdict::send)
+        << "compact mode's";
     EXPECT_TRUE(announce(desk, sender, 1, {7400}));
     EXPECT_EQ(submitted.size(), 1u);
 }

@@ -85,6 +85,19 @@ inline Bytes data_frag(const std::array<std::uint8_t, 4>& writer, std::int64_t s
     return submessage(0x16, 0x01, body);
 }
 
+/// A GAP of sample `sequence` of `writer` alone, to reader 0 (ENTITYID_UNKNOWN): gapStart `sequence`, gapList
+/// from `sequence` + 1 with no bits.
+inline Bytes gap(const std::array<std::uint8_t, 4>& writer, std::int64_t sequence) {
+    Bytes body(4, 0);
+    body.insert(body.end(), writer.begin(), writer.end());
+    for (std::int64_t sn : {sequence, sequence + 1}) {
+        put_le(body, static_cast<std::uint64_t>(sn) >> 32, 4);
+        put_le(body, static_cast<std::uint64_t>(sn) & 0xffffffffu, 4);
+    }
+    put_le(body, 0, 4);
+    return submessage(0x08, 0x01, body);
+}
+
 /// A HEARTBEAT submessage (28 bytes of body: reader and writer ids, first and last sequence numbers, count)
 /// from the writer whose entity id bytes are all `writer`, announcing 1 .. `last`.
 inline Bytes heartbeat(std::uint8_t writer = 0x11, std::uint8_t last = 1, std::uint8_t count = 1) {

@@ -76,5 +76,10 @@ struct RepairCounters {
 /// The highest rate at which a sample's fragments are paced (Repair::Kind::continuation): above it a fragment of
 /// a full datagram is on the link for less than 1.2 ms, less than pacing it through the scheduler costs.
 inline constexpr double CONTINUATION_PACING_MAX_BPS = 10e6;
+/// Whether a large sample's fragments after its first wait for the schedule at `rate_bps` (the WAN transport's
+/// RepairDesk and the scheduler's non-preemptive rule ask the same).
+inline bool paces_fragments_at(double rate_bps) {
+    return rate_bps > 0.0 && rate_bps <= CONTINUATION_PACING_MAX_BPS;
+}
 
 }  // namespace tgw::core

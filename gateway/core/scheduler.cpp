@@ -541,7 +541,8 @@ std::optional<base::SteadyTime> Scheduler::first_yields(base::SteadyTime start) 
 bool Scheduler::may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std::uint64_t bits, SampleSink& sink) {
     const DeadlineQueue::Peek sample = queue_.at(slot);
     const base::Duration tx = budget_.transmit_time(bits);
-    const bool paced = config_.paced_fragments && budget_.rate_bps() <= CONTINUATION_PACING_MAX_BPS;
+    // At a rate of 0 nothing goes, paced or not: transmit_time is Duration::max() either way.
+    const bool paced = config_.paced_fragments && paces_fragments_at(budget_.rate_bps());
     const base::Duration holds_link =
         paced ? budget_.transmit_time(8u * config_.wire.first_datagram_wire_bytes(sample.payload_bytes)) : tx;
     const bool blocks_urgent = holds_link > protect_limit_for(sample.topic);

@@ -41,11 +41,6 @@ constexpr auto RATE_LOG_PERIOD = std::chrono::seconds(1);
 // queued (Scheduler::set_reachable); they start to flow within this of a reader matching.
 constexpr auto REACHABILITY_POLL = std::chrono::milliseconds(100);
 
-/// Whether a large sample's fragments after the first wait for the schedule at this rate (RepairDesk).
-bool paces_fragments_at(double rate_bps) {
-    return rate_bps > 0 && rate_bps <= core::CONTINUATION_PACING_MAX_BPS;
-}
-
 void check_domain(const char* flag, int domain) {
     if (domain < 0 || domain > MAX_DOMAIN_ID) {
         throw base::ConfigError(std::string(flag) + " " + std::to_string(domain) + ": must be 0 to " +
@@ -252,7 +247,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
     if (RepairDesk* desk = wan_->repair_desk()) {
         desk->set_submit([loop = loop_.get()](const core::Repair& repair) { loop->submit_repair(repair); });
-        desk->pace_fragments(paces_fragments_at(config_.scheduler.initial_rate_bps));
+        desk->pace_fragments(core::paces_fragments_at(config_.scheduler.initial_rate_bps));
     }
     if (config_.status_period > base::Duration::zero()) {
         // The status is scheduled like a sample of a topic with a TTL of STATUS_TTL, so its bytes leave only when
@@ -575,7 +570,7 @@ void Gateway::apply_rate() {
     }
     loop_->set_rate(rate, commands_bps);
     if (RepairDesk* desk = wan_->repair_desk()) {
-        desk->pace_fragments(paces_fragments_at(rate));
+        desk->pace_fragments(core::paces_fragments_at(rate));
     }
     log_rate(sensed, rate);
 }

@@ -77,8 +77,9 @@ void ForwardingLoop::submit(Sample&& sample) {
 void ForwardingLoop::submit_repair(const Repair& repair) {
     std::unique_lock<std::mutex> lock(mutex_);
     if (stopped_) {
-        lock.unlock();                    // the sink is never called with the lock held
-        sink_.discard_repair(repair.id);  // never sent after shutdown
+        // Never sent after shutdown; a sample cut short by it is logged, as the queue's were.
+        scheduler_.discard_repair(repair, DropReason::shutdown, decisions());
+        write_outbox(lock);
         return;
     }
     scheduler_.push_repair(repair, clock_.now(), decisions());
@@ -178,6 +179,9 @@ void ForwardingLoop::write_decisions() {
                 break;
             case WriteOutbox::Decision::Kind::discard_repair:
                 sink_.discard_repair(d.repair_id);
+                break;
+            case WriteOutbox::Decision::Kind::sample_cut_short:
+                sink_.sample_cut_short(d.repair_id, d.reason);
                 break;
         }
     }

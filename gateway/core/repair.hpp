@@ -1,6 +1,7 @@
 // A reliable reader's repair, held for the schedule like the sample it repairs.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "base/time.hpp"
@@ -35,6 +36,10 @@ struct Repair {
     std::uint64_t wire_bits = 0;  ///< what it puts on the link, headers included
     Kind kind = Kind::repair;
     std::uint64_t prepaid_bits = 0;  ///< a continuation's share of what its write charged
+    /// A continuation's sample: the same number for all its fragments, never 0. Once one of them is not sent, the
+    /// sample cannot arrive: the others are not sent either, and the sample counts as dropped, not forwarded.
+    std::uint64_t sample = 0;
+    std::size_t sample_payload_bytes = 0;  ///< a continuation's sample's
     /// An announcement that, at its deadline, is left out rather than sent when it would hold the link longer than
     /// the non-preemptive rule allows (a dip to 4,000 bit/s, where a copy is a second of the link). The base camp
     /// renews the participant's lease with every message it gets from it, and the next announcement comes 20 s
@@ -71,6 +76,8 @@ struct RepairCounters {
     std::uint64_t continuations_sent_wire_bytes = 0;
     /// Not sent: their sample could no longer arrive in time, or the gateway stopped.
     std::uint64_t continuations_late = 0;
+    /// Samples whose fragments were not all sent (the above): counted dropped, not forwarded, and logged.
+    std::uint64_t samples_cut_short = 0;
 };
 
 /// The highest rate at which a sample's fragments are paced (Repair::Kind::continuation): above it a fragment of

@@ -55,6 +55,9 @@ class SampleSink {
     virtual void send_repair(std::uint64_t /*id*/) {}
     /// The repair of this id will not be sent: forget its bytes.
     virtual void discard_repair(std::uint64_t /*id*/) {}
+    /// A continuation of the sample numbered `sample` (Repair::sample) will not be sent: the sample, written, cannot
+    /// arrive. It counts as dropped for `reason`: keep it, as drop() would. Once per sample, after its discard_repair.
+    virtual void sample_cut_short(std::uint64_t /*sample*/, DropReason /*reason*/) {}
 };
 
 }  // namespace tgw::core

@@ -274,6 +274,10 @@ void Scheduler::push_repair(const Repair& repair, base::SteadyTime now, SampleSi
     }
     if (repair.kind == Repair::Kind::continuation) {
         budget_.refund(repair.prepaid_bits);  // charged again as it leaves
+        if (cut_short(repair)) {
+            discard_repair(repair, DropReason::doomed, sink);
+            return;
+        }
     }
     if (repair.deadline <= now + config_.link_latency) {
         give_up_repair(repair, now, sink);
@@ -281,7 +285,7 @@ void Scheduler::push_repair(const Repair& repair, base::SteadyTime now, SampleSi
     }
     repairs_.push(repair, rank_of(repair));
     if (repairs_.size() > MAX_QUEUED_REPAIRS) {
-        discard_repair(repairs_.take(repairs_.least_urgent()), false, sink);
+        discard_repair(repairs_.take(repairs_.least_urgent()), DropReason::evicted, sink);
     }
 }
 
@@ -295,6 +299,11 @@ bool Scheduler::send_repair_before(const std::optional<UrgencyKey>& bound, base:
         }
         const base::Duration tx = budget_.transmit_time(entry.repair.wire_bits);
         const auto next = std::next(it);
+        if (cut_short(entry.repair)) {
+            discard_repair(repairs_.take(it), DropReason::doomed, sink);
+            it = next;
+            continue;
+        }
         if (start + tx + config_.link_latency > entry.repair.deadline) {
             give_up_repair(repairs_.take(it), now, sink);
             it = next;
@@ -380,7 +389,7 @@ void Scheduler::send_repair_now(const Repair& repair, SampleSink& sink) {
 
 void Scheduler::give_up_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink) {
     if (repair.kind != Repair::Kind::announcement) {
-        discard_repair(repair, true, sink);
+        discard_repair(repair, DropReason::doomed, sink);
         return;
     }
     // Not while the link is down (a rate of 0): there it goes as before, and a camp that lost the robot hears it.
@@ -395,13 +404,39 @@ void Scheduler::give_up_repair(const Repair& repair, base::SteadyTime now, Sampl
     send_repair_now(repair, sink);
 }
 
-void Scheduler::discard_repair(const Repair& repair, bool late, SampleSink& sink) {
+void Scheduler::discard_repair(const Repair& repair, DropReason reason, SampleSink& sink) {
     if (repair.kind == Repair::Kind::continuation) {
-        ++repair_counters_.continuations_late;  // its sample is lost with it, late or cut short at shutdown
+        ++repair_counters_.continuations_late;
     } else {
-        ++(late ? repair_counters_.late : repair_counters_.discarded);
+        ++(reason == DropReason::doomed ? repair_counters_.late : repair_counters_.discarded);
     }
     sink.discard_repair(repair.id);
+    if (repair.kind == Repair::Kind::continuation && repair.sample != 0 && !cut_short(repair)) {
+        note_cut_short(repair, reason);
+        sink.sample_cut_short(repair.sample, reason);
+    }
+}
+
+bool Scheduler::cut_short(const Repair& repair) const {
+    return repair.kind == Repair::Kind::continuation && repair.sample != 0 &&
+           std::find(cut_short_.begin(), cut_short_.end(), repair.sample) != cut_short_.end();
+}
+
+void Scheduler::note_cut_short(const Repair& continuation, DropReason reason) {
+    // A sample's continuations come in one after another: the last few samples cut are enough to know.
+    cut_short_[next_cut_short_++ % cut_short_.size()] = continuation.sample;
+    ++repair_counters_.samples_cut_short;
+    if (continuation.topic >= topics_.size()) {
+        return;
+    }
+    // Counted forwarded when its write was decided: it did not arrive, and the sink keeps it with the reason.
+    TopicCounters& c = topics_[continuation.topic].counters;
+    if (c.forwarded > 0) {
+        --c.forwarded;
+        c.forwarded_payload_bytes -=
+            std::min<std::uint64_t>(c.forwarded_payload_bytes, continuation.sample_payload_bytes);
+    }
+    ++c.dropped_for(reason);
 }
 
 void Scheduler::release(base::SteadyTime now, SampleSink& sink) {
@@ -1043,7 +1078,7 @@ void Scheduler::drain(SampleSink& sink, DropReason reason) {
         drop(take(queue_.earliest_deadline()), reason, sink);  // parked ones too
     }
     while (!repairs_.empty()) {
-        discard_repair(repairs_.take(repairs_.begin()), false, sink);
+        discard_repair(repairs_.take(repairs_.begin()), reason, sink);
     }
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -115,6 +116,10 @@ class Scheduler {
     /// charges it as traffic from outside). Repairs never count as samples received or forwarded.
     void push_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink);
     RepairCounters repair_counters() const;
+    /// A repair that will not be sent (one given after drain(), or the least urgent when too many wait): `reason`
+    /// says why (doomed: it could no longer arrive in time). The first continuation of a sample not sent cuts the
+    /// sample short, which then counts as dropped for `reason`; the sink keeps it.
+    void discard_repair(const Repair& repair, DropReason reason, SampleSink& sink);
     /// At most this many repairs wait; past it, the least urgent is discarded.
     static constexpr std::size_t MAX_QUEUED_REPAIRS = 4096;
 
@@ -299,7 +304,9 @@ class Scheduler {
     /// goes now, starting on the link at `start`, if every queued sample more urgent than it still arrives in time
     /// behind it.
     bool send_announcement_in_slack(base::SteadyTime now, base::SteadyTime start, SampleSink& sink);
-    void discard_repair(const Repair& repair, bool late, SampleSink& sink);
+    /// Whether `repair` is a continuation whose sample was cut short already: its other fragments are of no use.
+    bool cut_short(const Repair& repair) const;
+    void note_cut_short(const Repair& continuation, DropReason reason);
     /// A repair that can no longer arrive in time is discarded; an announcement is sent all the same, charged as
     /// traffic from outside the schedule, or left out when it is skippable and would hold the link too long.
     void give_up_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink);
@@ -324,6 +331,9 @@ class Scheduler {
     base::SteadyTime protect_built_at_{};
     /// When a sample held back by the non-preemptive rule must be looked at again; set by release().
     std::optional<base::SteadyTime> blocked_wakeup_;
+    /// The last samples cut short (Repair::sample; 0 is none).
+    std::array<std::uint64_t, 8> cut_short_{};
+    std::size_t next_cut_short_ = 0;
 
     /// Compact WAN mode: the sample leaving in chunks, at most one at a time. Counted as queued until its last
     /// chunk leaves.

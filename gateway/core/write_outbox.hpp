@@ -26,11 +26,11 @@ class WriteOutbox final : public SampleSink {
         std::optional<Sample> completed;
     };
     struct Decision {
-        enum class Kind : std::uint8_t { forward, drop, bundle, send_repair, discard_repair };
+        enum class Kind : std::uint8_t { forward, drop, bundle, send_repair, discard_repair, sample_cut_short };
         Kind kind = Kind::drop;
-        Sample sample;  ///< forward, drop
-        DropReason reason = DropReason::shutdown;
-        std::uint64_t repair_id = 0;  ///< send_repair, discard_repair
+        Sample sample;                             ///< forward, drop
+        DropReason reason = DropReason::shutdown;  ///< drop, sample_cut_short
+        std::uint64_t repair_id = 0;  ///< send_repair, discard_repair; the sample's number for sample_cut_short
         /// bundle. Apart, so that the decision standard mode makes per sample stays the size of a sample.
         std::unique_ptr<BundleWrite> bundle;
     };
@@ -70,6 +70,11 @@ class WriteOutbox final : public SampleSink {
     }
     void send_repair(std::uint64_t id) override { push(Decision::Kind::send_repair).repair_id = id; }
     void discard_repair(std::uint64_t id) override { push(Decision::Kind::discard_repair).repair_id = id; }
+    void sample_cut_short(std::uint64_t sample, DropReason reason) override {
+        Decision& d = push(Decision::Kind::sample_cut_short);
+        d.repair_id = sample;
+        d.reason = reason;
+    }
     void drop(Sample&& sample, DropReason reason) override {
         Decision& d = push(Decision::Kind::drop);
         d.sample = std::move(sample);

@@ -18,7 +18,8 @@ void GatewaySink::set_status_route(core::TopicId id, std::shared_ptr<WanWriter> 
 bool GatewaySink::forward(core::Sample&& sample) {
     WriteResult result = WriteResult::unknown_topic;
     const bool status = sample.topic == status_topic_;
-    const std::shared_ptr<TopicBridge> bridge = status ? nullptr : topics_.find(sample.topic);
+    std::shared_ptr<TopicBridge> bridge = status ? nullptr : topics_.find(sample.topic);
+    const RepairDesk::PacedWatch paced;
     if (status) {
         result = status_writer_->write(sample);
     } else if (bridge != nullptr) {
@@ -30,7 +31,15 @@ bool GatewaySink::forward(core::Sample&& sample) {
         drop(std::move(sample), core::DropReason::write_failed);
         return false;
     }
-    note_forwarded(sample, bridge.get());
+    const base::SteadyTime written = clock_.now();
+    processing_latency_.record(written - sample.arrival);
+    if (paced.sample() != 0 && log_ != nullptr && bridge != nullptr) {
+        std::lock_guard<std::mutex> lock(paced_mutex_);
+        prune_paced_nts(written);
+        paced_[paced.sample()] = PacedSample{std::move(sample), std::move(bridge), paced.continuations()};
+        return true;
+    }
+    log_forwarded(sample, bridge.get(), written);
     return true;
 }
 
@@ -59,15 +68,15 @@ bool GatewaySink::write_bundle(std::vector<core::Sample>&& samples, core::Encode
                 drop(std::move(sample), core::DropReason::write_failed);
             }
         } else if (sample.completes_sample()) {
-            note_forwarded(sample, sample.topic == status_topic_ ? nullptr : topics_.find(sample.topic).get());
+            const base::SteadyTime now = clock_.now();
+            processing_latency_.record(now - sample.arrival);
+            log_forwarded(sample, sample.topic == status_topic_ ? nullptr : topics_.find(sample.topic).get(), now);
         }
     }
     return written;
 }
 
-void GatewaySink::note_forwarded(const core::Sample& sample, const TopicBridge* bridge) {
-    const base::SteadyTime written = clock_.now();
-    processing_latency_.record(written - sample.arrival);
+void GatewaySink::log_forwarded(const core::Sample& sample, const TopicBridge* bridge, base::SteadyTime written) {
     // The log says what left the robot, so that the mission archive can tell lost on the link from never produced.
     // Not the status (the gateway's own, not telemetry), nor a dispose or unregister: the base camp records data
     // samples only, so one could never be matched.
@@ -89,8 +98,56 @@ void GatewaySink::note_forwarded(const core::Sample& sample, const TopicBridge* 
 }
 
 void GatewaySink::send_repair(std::uint64_t id) {
-    if (repairs_ != nullptr) {
-        repairs_->send(id);
+    if (repairs_ == nullptr) {
+        return;
+    }
+    if (const std::uint64_t sample = repairs_->send(id); sample != 0) {
+        paced_fragment_left(sample);
+    }
+}
+
+void GatewaySink::paced_fragment_left(std::uint64_t sample) {
+    PacedSample left;
+    {
+        std::lock_guard<std::mutex> lock(paced_mutex_);
+        const auto it = paced_.find(sample);
+        if (it == paced_.end() || --it->second.fragments_left > 0) {
+            return;
+        }
+        left = std::move(it->second);
+        paced_.erase(it);
+    }
+    log_forwarded(left.sample, left.bridge.get(), clock_.now());
+}
+
+void GatewaySink::sample_cut_short(std::uint64_t sample, core::DropReason reason) {
+    PacedSample cut;
+    {
+        std::lock_guard<std::mutex> lock(paced_mutex_);
+        const auto it = paced_.find(sample);
+        if (it == paced_.end()) {
+            return;  // not kept: no log
+        }
+        cut = std::move(it->second);
+        paced_.erase(it);
+    }
+    drop(std::move(cut.sample), reason);
+}
+
+void GatewaySink::prune_paced_nts(base::SteadyTime now) {
+    // Each fragment is sent or cut short before its sample's deadline; a grace for the decision in flight.
+    constexpr std::chrono::seconds GRACE{5};
+    if (now < next_paced_prune_) {
+        return;
+    }
+    next_paced_prune_ = now + std::chrono::seconds(1);
+    for (auto it = paced_.begin(); it != paced_.end();) {
+        if (it->second.sample.deadline + GRACE < now) {
+            log_forwarded(it->second.sample, it->second.bridge.get(), now);
+            it = paced_.erase(it);
+        } else {
+            ++it;
+        }
     }
 }
 

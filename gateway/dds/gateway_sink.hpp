@@ -3,7 +3,9 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <unordered_map>
 
 #include "base/clock.hpp"
 #include "gateway/core/latency_histogram.hpp"
@@ -40,6 +42,7 @@ class GatewaySink final : public core::SampleSink {
     void drop(core::Sample&& sample, core::DropReason reason) override;
     void send_repair(std::uint64_t id) override;
     void discard_repair(std::uint64_t id) override;
+    void sample_cut_short(std::uint64_t sample, core::DropReason reason) override;
 
     /// Repairs the scheduler decides on are `desk`'s, which must outlive the sink. Call before the loop starts.
     void set_repair_desk(RepairDesk* desk) { repairs_ = desk; }
@@ -51,9 +54,21 @@ class GatewaySink final : public core::SampleSink {
     const core::LatencyHistogram& processing_latency() const { return processing_latency_; }
 
   private:
-    /// The sample left for the WAN: its processing time, and the on-robot log's record of it. `bridge`: its
+    /// The on-robot log's record of a sample that left for the WAN at `written` (clock_'s now). `bridge`: its
     /// topic's, null for the status.
-    void note_forwarded(const core::Sample& sample, const TopicBridge* bridge);
+    void log_forwarded(const core::Sample& sample, const TopicBridge* bridge, base::SteadyTime written);
+    /// A sample whose fragments after the first the RepairDesk paced (core::Repair::Kind::continuation): it has
+    /// left once its last fragment has, and is logged then; cut short, it is kept with its reason instead.
+    struct PacedSample {
+        core::Sample sample;
+        std::shared_ptr<TopicBridge> bridge;
+        std::size_t fragments_left = 0;
+    };
+    /// One of the paced sample's fragments left.
+    void paced_fragment_left(std::uint64_t sample);
+    /// Logs as forwarded, and forgets, the paced samples well past their deadlines: their fragments were forgotten
+    /// with the WAN participant (made anew), having left in part. The lock is held.
+    void prune_paced_nts(base::SteadyTime now);
     base::WallTime to_wall(base::SteadyTime t) const;
 
     const TopicTable& topics_;
@@ -66,6 +81,9 @@ class GatewaySink final : public core::SampleSink {
     std::atomic<std::uint64_t> wan_write_failures_{0};
     std::atomic<std::uint64_t> logged_{0};
     core::LatencyHistogram processing_latency_;
+    std::mutex paced_mutex_;
+    std::unordered_map<std::uint64_t, PacedSample> paced_;  ///< by core::Repair::sample
+    base::SteadyTime next_paced_prune_{};
 };
 
 }  // namespace tgw::dds

@@ -14,6 +14,7 @@ namespace tgw::dds {
 namespace {
 
 thread_local RepairDesk::WriteScope* current_scope = nullptr;
+thread_local RepairDesk::PacedWatch* current_watch = nullptr;
 
 /// Samples looked at per message: a repair message holds a few (a burst of small samples, or fragments).
 constexpr std::size_t MAX_REFS = 32;
@@ -29,13 +30,27 @@ constexpr std::chrono::seconds PRUNE_PERIOD{1};
 
 }  // namespace
 
-RepairDesk::WriteScope::WriteScope(core::TopicId topic, base::SteadyTime deadline, bool reliable, bool latched)
-    : topic_(topic), deadline_(deadline), reliable_(reliable), latched_(latched), outer_(current_scope) {
+RepairDesk::WriteScope::WriteScope(core::TopicId topic, base::SteadyTime deadline, bool reliable, bool latched,
+                                   std::size_t payload_bytes)
+    : topic_(topic),
+      deadline_(deadline),
+      reliable_(reliable),
+      latched_(latched),
+      payload_bytes_(payload_bytes),
+      outer_(current_scope) {
     current_scope = this;
 }
 
 RepairDesk::WriteScope::~WriteScope() {
     current_scope = outer_;
+}
+
+RepairDesk::PacedWatch::PacedWatch() : outer_(current_watch) {
+    current_watch = this;
+}
+
+RepairDesk::PacedWatch::~PacedWatch() {
+    current_watch = outer_;
 }
 
 std::size_t RepairDesk::SampleKeyHash::operator()(const SampleKey& key) const {
@@ -126,6 +141,15 @@ bool RepairDesk::note_scheduled(DatagramSender& sender, const DatagramDestinatio
     repair.wire_bits = 8u * copies * (size + core::WireModel::FRAME_HEADER_BYTES);
     repair.kind = core::Repair::Kind::continuation;
     repair.prepaid_bits = 8u * prepaid_bytes;
+    if (scope->paced_sample_ == 0) {
+        scope->paced_sample_ = next_paced_sample_++;
+    }
+    repair.sample = scope->paced_sample_;
+    repair.sample_payload_bytes = scope->payload_bytes_;
+    if (current_watch != nullptr) {
+        current_watch->sample_ = repair.sample;
+        ++current_watch->continuations_;
+    }
     ++counts_.continuations_held;
     hold_nts(repair, sender, destination, message, size, refs[0]);
     return true;
@@ -243,16 +267,17 @@ void RepairDesk::hold_nts(core::Repair repair, DatagramSender& sender, DatagramD
     held.bytes.assign(message, message + size);
     held.first = first;
     held.kind = repair.kind;
+    held.sample = repair.sample;
     submit_(repair);
 }
 
-void RepairDesk::send(std::uint64_t id) {
+std::uint64_t RepairDesk::send(std::uint64_t id) {
     Held held;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         const auto it = held_.find(id);
         if (it == held_.end()) {
-            return;  // stopped meanwhile
+            return 0;  // stopped meanwhile
         }
         held = std::move(it->second);
         held_.erase(it);
@@ -263,6 +288,7 @@ void RepairDesk::send(std::uint64_t id) {
     if (held.kind == core::Repair::Kind::announcement) {
         skipped_in_a_row_nts(*held.sender, held.destination) = 0;
     }
+    return held.sample;
 }
 
 void RepairDesk::discard(std::uint64_t id) {

@@ -33,10 +33,12 @@ class RepairDesk {
   public:
     /// Marks one scheduled write on its thread: the samples its messages carry belong to `topic`, due `deadline`.
     /// A reliable writer's are remembered for their repairs; a `latched` writer's (transient local) are repaired
-    /// for late joiners past their deadlines too.
+    /// for late joiners past their deadlines too. `payload_bytes`: the sample's, for the scheduler's counts should
+    /// its fragments be cut short.
     class WriteScope {
       public:
-        WriteScope(core::TopicId topic, base::SteadyTime deadline, bool reliable, bool latched = false);
+        WriteScope(core::TopicId topic, base::SteadyTime deadline, bool reliable, bool latched = false,
+                   std::size_t payload_bytes = 0);
         ~WriteScope();
         WriteScope(const WriteScope&) = delete;
         WriteScope& operator=(const WriteScope&) = delete;
@@ -47,9 +49,32 @@ class RepairDesk {
         base::SteadyTime deadline_;
         bool reliable_;
         bool latched_;
+        std::size_t payload_bytes_;
         /// The sample the write's first message carried: its later fragments are continuations.
         std::optional<RtpsSampleRef> written_;
+        std::uint64_t paced_sample_ = 0;  ///< core::Repair::sample of its continuations, once one is held
         WriteScope* outer_;
+    };
+
+    /// Watches the writes on its thread while it lives: whether the desk paced the fragments of the sample written
+    /// (held them as continuations), so that the writer can keep the sample until its last fragment left (send()
+    /// and discard() name it).
+    class PacedWatch {
+      public:
+        PacedWatch();
+        ~PacedWatch();
+        PacedWatch(const PacedWatch&) = delete;
+        PacedWatch& operator=(const PacedWatch&) = delete;
+
+        /// core::Repair::sample of the continuations held, 0 when none was.
+        std::uint64_t sample() const { return sample_; }
+        std::size_t continuations() const { return continuations_; }
+
+      private:
+        friend class RepairDesk;
+        std::uint64_t sample_ = 0;
+        std::size_t continuations_ = 0;
+        PacedWatch* outer_;
     };
 
     /// Sends held messages through `coalescer` (the transport's), in order with everything else it sends. Without
@@ -99,8 +124,9 @@ class RepairDesk {
     bool hold_announcement(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
                            std::size_t size, const LocatorFilter& supported);
 
-    /// The schedule's decisions on a held repair.
-    void send(std::uint64_t id);
+    /// The schedule's decisions on a held repair. send() returns the core::Repair::sample of a continuation (0 for
+    /// anything else, or an id no longer held).
+    std::uint64_t send(std::uint64_t id);
     void discard(std::uint64_t id);
 
     struct Counts {
@@ -135,6 +161,7 @@ class RepairDesk {
         std::vector<std::uint8_t> bytes;
         RtpsSampleRef first;  ///< what it repairs first: a repeat has the same, to the same destination
         core::Repair::Kind kind = core::Repair::Kind::repair;
+        std::uint64_t sample = 0;  ///< a continuation's core::Repair::sample
     };
     /// Keeps `message` under a new id and gives the schedule its core::Repair; the lock is held.
     void hold_nts(core::Repair repair, DatagramSender& sender, DatagramDestination destination,
@@ -165,6 +192,7 @@ class RepairDesk {
     std::unordered_map<std::uint64_t, Held> held_;
     std::vector<SkippedAnnouncements> skipped_;  // a few ports
     std::uint64_t next_id_ = 1;
+    std::uint64_t next_paced_sample_ = 1;
     Counts counts_;
 };
 

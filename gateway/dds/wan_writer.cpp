@@ -52,6 +52,7 @@ void WanWriter::replace(fdds::DataWriter* writer) {
 
 WriteResult WanWriter::write(core::Sample& sample) {
     PassthroughData data;
+    const std::size_t payload_bytes = sample.payload.size();
     // Borrowed for the write, which copies it once into the change, and handed back after.
     data.payload = std::move(sample.payload);
     fdds::InstanceHandle_t handle = fdds::HANDLE_NIL;
@@ -70,7 +71,7 @@ WriteResult WanWriter::write(core::Sample& sample) {
             return ReturnCode_t(ReturnCode_t::RETCODE_NOT_ENABLED);
         const DatagramCoalescer::DeferScope may_wait;
         // Only a reliable writer repairs: a best-effort lane's samples need not be remembered.
-        RepairDesk::WriteScope repairs_belong_to(sample.topic, sample.deadline, reliable_, latched_);
+        RepairDesk::WriteScope repairs_belong_to(sample.topic, sample.deadline, reliable_, latched_, payload_bytes);
         switch (sample.kind) {
             case core::SampleKind::dispose:
                 return writer_->dispose_w_timestamp(&data, handle, stamp);

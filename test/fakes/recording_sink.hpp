@@ -49,6 +49,16 @@ class RecordingSink final : public core::SampleSink {
         discarded_repairs_.push_back(id);
         changed_.notify_all();
     }
+    void sample_cut_short(std::uint64_t sample, core::DropReason reason) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        cut_short_.emplace_back(sample, reason);
+        changed_.notify_all();
+    }
+    /// The samples cut short (SampleSink::sample_cut_short), in order.
+    std::vector<std::pair<std::uint64_t, core::DropReason>> cut_short() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return cut_short_;
+    }
     /// What left for the link, in order: "sample TOPIC_ID" for a sample sent alone, "bundle", "repair ID".
     std::vector<std::string> departures() const {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -155,6 +165,7 @@ class RecordingSink final : public core::SampleSink {
     std::vector<Bundle> bundles_;
     std::vector<std::string> departures_;
     std::vector<std::uint64_t> discarded_repairs_;
+    std::vector<std::pair<std::uint64_t, core::DropReason>> cut_short_;
     std::vector<std::thread::id> repair_threads_;
     std::size_t passes_left_ = 0;
     std::size_t refusals_left_ = 0;

@@ -3,6 +3,7 @@
 // the one datagram the sample holds the link for, not its whole wire time. Real participants on loopback, the
 // gateway's own budget as the link.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <chrono>
 #include <string>
@@ -62,6 +63,58 @@ TEST_F(GatewayIntegrationTest, ALargeSampleLeavesAFragmentAtATimeWithAnUrgentSam
     EXPECT_EQ(repairs.continuations_sent, desk->continuations_held);
     EXPECT_EQ(repairs.continuations_late, 0u);
     expect_balanced();
+}
+
+/// The number of rows of the on-robot log `path` that `sql` counts.
+std::int64_t count_rows(const std::string& path, const std::string& sql) {
+    sqlite3* db = nullptr;
+    std::int64_t n = -1;
+    if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+        sqlite3_stmt* stmt = nullptr;
+        if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt, nullptr) == SQLITE_OK && sqlite3_step(stmt) == SQLITE_ROW) {
+            n = sqlite3_column_int64(stmt, 0);
+        }
+        sqlite3_finalize(stmt);
+    }
+    sqlite3_close(db);
+    return n;
+}
+
+TEST_F(GatewayIntegrationTest, ALargeSampleWhoseFragmentsCannotAllLeaveInTimeIsLoggedNotCountedForwarded) {
+    dds::GatewayConfig c = config();
+    c.log_file = temp_file(".db");
+    c.scheduler.initial_rate_bps = 40'000;
+    start_gateway(c);
+    auto& pictures = listener<CollectingReader<idl::PaperMessage>>();
+    auto* picture =
+        bridge<idl::PaperMessagePubSubType>(topic_prefix_ + "picture", robot_writer_qos(*robot_, 3s), pictures);
+    ASSERT_NE(picture, nullptr);
+
+    idl::PaperMessage msg;
+    msg.data(std::vector<std::uint8_t>(6'000, 0x50));
+    ASSERT_TRUE(picture->write(&msg));
+    // Its first datagram leaves at once; then the link falls to where a fragment is 5 s of it.
+    ASSERT_TRUE(wait_until([&] { return gateway_->repair_desk_counts()->continuations_held > 0; }, 5s));
+    gateway_->set_rate(2'000);
+    ASSERT_TRUE(wait_until([&] { return gateway_->repair_counters().samples_cut_short >= 1; }, 5s));
+    std::this_thread::sleep_for(500ms);
+    EXPECT_EQ(pictures.count(), 0u);
+
+    const core::TopicId id = gateway_->find_topic(topic_prefix_ + "picture")->id;
+    const core::TopicCounters counters = gateway_->counters(id);
+    EXPECT_EQ(counters.forwarded, 0u);
+    EXPECT_EQ(counters.dropped_for(core::DropReason::doomed), 1u);
+    expect_balanced();
+    EXPECT_EQ(gateway_->repair_counters().continuations_sent, 0u);
+
+    gateway_->stop();
+    EXPECT_EQ(count_rows(c.log_file,
+                         "SELECT COUNT(*) FROM dropped_samples WHERE reason = 'doomed' AND "
+                         "length(payload) > 6000"),
+              1)
+        << "kept whole, with its reason";
+    EXPECT_EQ(count_rows(c.log_file, "SELECT COUNT(*) FROM forwarded_samples"), 0)
+        << "it never left whole: the mission archive must not count it lost on the link";
 }
 
 }  // namespace

@@ -128,11 +128,13 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
         const tgw::core::RepairCounters repairs = gateway.repair_counters();
         std::printf(
             "large samples paced, in the schedule: %llu fragments after their sample's first held, %llu sent (%llu "
-            "bytes), %llu not sent as their sample could no longer arrive in time (or at exit)\n",
+            "bytes), %llu not sent as their sample could no longer arrive in time (or at exit): %llu samples cut "
+            "short, logged as dropped\n",
             static_cast<unsigned long long>(desk->continuations_held),
             static_cast<unsigned long long>(repairs.continuations_sent),
             static_cast<unsigned long long>(repairs.continuations_sent_wire_bytes),
-            static_cast<unsigned long long>(repairs.continuations_late));
+            static_cast<unsigned long long>(repairs.continuations_late),
+            static_cast<unsigned long long>(repairs.samples_cut_short));
     }
     if (gateway.statuses_published() > 0) {
         const tgw::core::TopicCounters status = gateway.status_counters();

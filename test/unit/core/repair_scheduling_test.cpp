@@ -280,8 +280,8 @@ TEST_F(AnnouncementSchedulingTest, InCompactModeALessUrgentSampleNearItsDeadline
 class ContinuationSchedulingTest : public RepairSchedulingTest {
   protected:
     /// Writes a sample of `topic` of `fragments` x FRAGMENT_BYTES as the WAN writer would: the write, then the
-    /// desk's continuations (ids from 1) for every fragment after the first.
-    void write_large(TopicId topic, int fragments) {  // of D
+    /// desk's continuations (ids from 1) for every fragment after the first, numbered as sample `sample`.
+    void write_large(TopicId topic, int fragments, std::uint64_t sample = 1) {  // of D
         const std::size_t payload = static_cast<std::size_t>(fragments) * FRAGMENT_PAYLOAD_BYTES;
         push(topic, payload);
         release();
@@ -290,6 +290,8 @@ class ContinuationSchedulingTest : public RepairSchedulingTest {
             Repair continuation{next_id_++, topic, clock.now() + seconds(20), fragment_bits};  // D's TTL
             continuation.kind = Repair::Kind::continuation;
             continuation.prepaid_bits = fragment_bits;
+            continuation.sample = sample;
+            continuation.sample_payload_bytes = payload;
             sut->push_repair(continuation, clock.now(), sink);
         }
     }
@@ -334,6 +336,43 @@ TEST_F(ContinuationSchedulingTest, AFragmentWhoseSampleCanNoLongerArriveIsNotSen
     EXPECT_EQ(sink.discarded_repairs(), (std::vector<std::uint64_t>{1}));
     EXPECT_EQ(sut->repair_counters().continuations_late, 1u);
     EXPECT_EQ(sut->repair_counters().late, 0u) << "counted apart from the readers' repairs";
+}
+
+TEST_F(ContinuationSchedulingTest, ASampleWhoseFragmentCannotArriveIsCutShortCountedDroppedAndNotSentFurther) {
+    make_sut(PolicyKind::ttl, 20'000);
+    write_large(d, 4, 7);
+    sut->set_rate(200);  // a fragment is now 40 s of the link: the sample cannot arrive in its 20 s
+    run_for(seconds(25));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(d)})) << "its first datagram only";
+    EXPECT_EQ(sink.discarded_repairs(), (std::vector<std::uint64_t>{1, 2, 3}));
+    using Cut = std::pair<std::uint64_t, DropReason>;
+    EXPECT_EQ(sink.cut_short(), (std::vector<Cut>{{7, DropReason::doomed}})) << "once, for its three fragments";
+    const TopicCounters counters = sut->counters(d);
+    EXPECT_EQ(counters.forwarded, 0u) << "counted forwarded when written, it never arrived whole";
+    EXPECT_EQ(counters.forwarded_payload_bytes, 0u);
+    EXPECT_EQ(counters.dropped_for(DropReason::doomed), 1u);
+    EXPECT_EQ(counters.received, counters.forwarded + counters.queued + counters.dropped_total());
+    EXPECT_EQ(sut->repair_counters().samples_cut_short, 1u);
+    EXPECT_EQ(sut->repair_counters().continuations_late, 3u);
+}
+
+TEST_F(ContinuationSchedulingTest, ASampleWhoseFragmentsAllLeaveStaysForwarded) {
+    make_sut(PolicyKind::ttl, 20'000);
+    write_large(d, 4, 7);
+    run_for(seconds(5));
+    EXPECT_TRUE(sink.cut_short().empty());
+    EXPECT_EQ(sut->counters(d).forwarded, 1u);
+    EXPECT_EQ(sut->repair_counters().samples_cut_short, 0u);
+}
+
+TEST_F(ContinuationSchedulingTest, AtShutdownASampleStillLeavingIsCutShortAsShutdown) {
+    make_sut(PolicyKind::ttl, 20'000);
+    write_large(d, 4, 7);
+    sut->drain(sink, DropReason::shutdown);
+    using Cut = std::pair<std::uint64_t, DropReason>;
+    EXPECT_EQ(sink.cut_short(), (std::vector<Cut>{{7, DropReason::shutdown}}));
+    EXPECT_EQ(sut->counters(d).dropped_for(DropReason::shutdown), 1u);
+    EXPECT_EQ(sut->counters(d).forwarded, 0u);
 }
 
 TEST_F(ContinuationSchedulingTest, WithPacedFragmentsALargeSampleHoldsTheLinkForItsFirstDatagramOnly) {

@@ -22,6 +22,11 @@ struct Repair {
         /// (ANNOUNCEMENT_WAIT after it was made, its copies 250 ms apart) it is sent all the same, never discarded:
         /// the base camp drops a participant that stops announcing itself.
         announcement,
+        /// One copy of a WAN writer's announcement (its SEDP DATA(w)): a base camp matches the writer, and takes its
+        /// samples, only once it has it. It ranks as its topic's samples, so that a hazard's writer is announced
+        /// before a picture's and a hazard's first sample goes before the picture's writer is announced. At its
+        /// deadline it is sent all the same, never discarded.
+        writer_announcement,
         /// A fragment after the first of a sample a scheduled write has just sent (standard mode, a sample larger
         /// than a datagram). The write charged the whole sample: the scheduler gives `prepaid_bits` back when it
         /// takes the fragment and charges it as it leaves, one fragment at a time in the sample's urgency. A more
@@ -70,6 +75,10 @@ struct RepairCounters {
     std::uint64_t announcements_sent_wire_bytes = 0;
     std::uint64_t announcements_late = 0;     ///< of those sent: at the end of their wait, whatever the budget
     std::uint64_t announcements_skipped = 0;  ///< left out at the end of their wait (Repair::skippable)
+    /// WAN writers' announcements (Repair::Kind::writer_announcement), apart from the above.
+    std::uint64_t writer_announcements_sent = 0;
+    std::uint64_t writer_announcements_sent_wire_bytes = 0;
+    std::uint64_t writer_announcements_late = 0;  ///< of those sent: at the end of their wait, whatever the budget
     /// Fragments paced after their sample's first (Repair::Kind::continuation), apart from the above.
     std::uint64_t continuations_received = 0;
     std::uint64_t continuations_sent = 0;

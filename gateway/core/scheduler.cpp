@@ -258,6 +258,7 @@ void Scheduler::push_repair(const Repair& repair, base::SteadyTime now, SampleSi
             ++repair_counters_.continuations_received;
             break;
         case Repair::Kind::announcement:
+        case Repair::Kind::writer_announcement:
             break;
     }
     switch (config_.policy) {
@@ -383,11 +384,21 @@ void Scheduler::send_repair_now(const Repair& repair, SampleSink& sink) {
             ++repair_counters_.continuations_sent;
             repair_counters_.continuations_sent_wire_bytes += repair.wire_bits / 8;
             break;
+        case Repair::Kind::writer_announcement:
+            ++repair_counters_.writer_announcements_sent;
+            repair_counters_.writer_announcements_sent_wire_bytes += repair.wire_bits / 8;
+            break;
     }
     sink.send_repair(repair.id);
 }
 
 void Scheduler::give_up_repair(const Repair& repair, base::SteadyTime now, SampleSink& sink) {
+    if (repair.kind == Repair::Kind::writer_announcement) {
+        ++repair_counters_.writer_announcements_late;  // a base camp must hear of the writer, late or not
+        charge_link(now, repair.wire_bits);
+        send_repair_now(repair, sink);
+        return;
+    }
     if (repair.kind != Repair::Kind::announcement) {
         discard_repair(repair, DropReason::doomed, sink);
         return;

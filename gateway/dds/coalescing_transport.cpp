@@ -173,6 +173,10 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
             [this](const rtps::Locator_t& locator) { return IsLocatorSupported(locator); })) {
         return true;  // the schedule sends its copies, and charges them as they leave
     }
+    if (!scheduled_write && descriptor_.repair_desk &&
+        descriptor_.repair_desk->hold_writer_announcement(*this, destination, send_buffer, send_buffer_size, copies)) {
+        return true;  // the schedule sends it in its topic's urgency, and charges it as it leaves
+    }
     // A scheduled write was charged for one copy of its message, without the HEARTBEAT a reliable writer may
     // have put in it; everything else is reported.
     if (descriptor_.on_unscheduled) {

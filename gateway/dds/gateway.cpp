@@ -248,6 +248,11 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     if (RepairDesk* desk = wan_->repair_desk()) {
         desk->set_submit([loop = loop_.get()](const core::Repair& repair) { loop->submit_repair(repair); });
         desk->pace_fragments(core::paces_fragments_at(config_.scheduler.initial_rate_bps));
+        desk->set_topic_lookup([this](std::string_view wan_topic) -> std::optional<RepairDesk::ScheduledTopic> {
+            std::lock_guard<std::mutex> lock(wan_topics_mutex_);
+            const auto it = wan_topics_.find(std::string(wan_topic));
+            return it != wan_topics_.end() ? std::optional(it->second) : std::nullopt;
+        });
     }
     if (config_.status_period > base::Duration::zero()) {
         // The status is scheduled like a sample of a topic with a TTL of STATUS_TTL, so its bytes leave only when
@@ -296,7 +301,9 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     }
 
     discovery_ = std::make_unique<Discovery>(
-        [this](DiscoveredPublisher&& pub) { post([this, pub = std::move(pub)] { bridge_nts(pub); }); },
+        [this](DiscoveredPublisher&& pub) {
+            post([this, pub = std::move(pub)]() mutable { gather_nts(std::move(pub)); });
+        },
         [this](const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
             post([this, topic, writer] { forget_writer_nts(topic, writer); });
         });
@@ -650,6 +657,10 @@ void Gateway::poll_reachability_nts() {
 }
 
 void Gateway::forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
+    // Gone before it was bridged: it gets no lane, which would wait for it for ever.
+    gathered_.erase(std::remove_if(gathered_.begin(), gathered_.end(),
+                                   [&](const DiscoveredPublisher& pub) { return pub.writer == writer; }),
+                    gathered_.end());
     const std::shared_ptr<TopicBridge> bridge = topics_->find(topic);
     const std::optional<std::uint16_t> lane = bridge != nullptr ? bridge->release(writer) : std::nullopt;
     if (!lane) {
@@ -683,6 +694,8 @@ void Gateway::retire_topic_nts(const std::weak_ptr<TopicBridge>& weak) {
         const std::optional<core::TopicCounters> counts = loop_->retire_topic(bridge->id(), compact_ == nullptr);
         if (counts) {
             topics_->remove(bridge->name());
+            std::lock_guard<std::mutex> topics_lock(wan_topics_mutex_);
+            wan_topics_.erase(bridge->wan_name());
             keep_retired_nts(bridge->name(), bridge->ttl(), *counts);
             if (compact_) {
                 compact_slots_[bridge->name()] = bridge->id();
@@ -733,6 +746,35 @@ core::TopicId Gateway::add_topic_nts(const core::TopicConfig& topic) {
     return id;
 }
 
+void Gateway::gather_nts(DiscoveredPublisher&& pub) {
+    gathered_.push_back(std::move(pub));
+    if (gathered_.size() == 1) {
+        post_at(std::chrono::steady_clock::now() + DISCOVERY_GATHERING, [this] { bridge_gathered_nts(); });
+    }
+}
+
+void Gateway::bridge_gathered_nts() {
+    std::vector<std::pair<base::Duration, DiscoveredPublisher>> by_ttl;
+    by_ttl.reserve(gathered_.size());
+    for (DiscoveredPublisher& pub : gathered_) {
+        const base::Duration ttl = ttl_for(pub).ttl;
+        by_ttl.emplace_back(ttl, std::move(pub));
+    }
+    gathered_.clear();
+    std::stable_sort(by_ttl.begin(), by_ttl.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [ttl, pub] : by_ttl) {
+        bridge_nts(pub);
+    }
+}
+
+ResolvedTtl Gateway::ttl_for(const DiscoveredPublisher& pub) const {
+    std::optional<base::Duration> profile_lifespan;
+    if (auto profile = wan_->writer_profile(pub.topic)) {
+        profile_lifespan = to_duration(profile->lifespan().duration);
+    }
+    return resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
+}
+
 void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     // The worker starts after robot_ is set, and stop() joins it before resetting robot_.
     if (!filter_.admits(pub.topic)) {
@@ -744,18 +786,24 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
         }
         return;
     }
-    std::optional<base::Duration> profile_lifespan;
-    if (auto profile = wan_->writer_profile(pub.topic)) {
-        profile_lifespan = to_duration(profile->lifespan().duration);
-    }
-    const ResolvedTtl ttl = resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
+    const ResolvedTtl ttl = ttl_for(pub);
     const core::TopicId id = add_topic_nts(core::TopicConfig{pub.topic, ttl.ttl, false});
-    auto bridge = std::make_shared<TopicBridge>(
-        id, pub.topic, base::namespaced_topic(config_.robot_name, pub.topic), pub.type_name, pub.keyed, ttl,
-        TopicBridge::Ends{*robot_, *wan_, *loop_, clock_, compact_.get()}, key_hasher_for(pub));
+    const std::string wan_name = base::namespaced_topic(config_.robot_name, pub.topic);
+    {
+        // Its WAN writers' announcements go in its urgency (RepairDesk::hold_writer_announcement).
+        std::lock_guard<std::mutex> lock(wan_topics_mutex_);
+        wan_topics_[wan_name] = RepairDesk::ScheduledTopic{id, ttl.ttl};
+    }
+    auto bridge = std::make_shared<TopicBridge>(id, pub.topic, wan_name, pub.type_name, pub.keyed, ttl,
+                                                TopicBridge::Ends{*robot_, *wan_, *loop_, clock_, compact_.get()},
+                                                key_hasher_for(pub));
     if (bridge->admit(pub, declared)) {
         topics_->add(std::move(bridge));
         return;
+    }
+    {
+        std::lock_guard<std::mutex> lock(wan_topics_mutex_);
+        wan_topics_.erase(wan_name);
     }
     // Fast DDS refused the WAN writer or the robot reader (admit logged which): nothing of the topic stays, so that
     // the next publisher of it gets one bridge, made afresh. No reader was made, so nothing of it is queued.

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include "base/clock.hpp"
@@ -28,6 +29,7 @@
 #include "gateway/dds/grant_reader.hpp"
 #include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/receiver_report_reader.hpp"
+#include "gateway/dds/repair_desk.hpp"
 #include "gateway/dds/robot_transport.hpp"
 #include "gateway/dds/topic_bridge.hpp"
 #include "gateway/dds/topic_filter.hpp"
@@ -248,6 +250,8 @@ class Gateway {
 
     /// How long a lane whose last publisher left outlives the TTL of its samples still queued.
     static constexpr std::chrono::seconds LANE_LINGER{1};
+    /// Publishers discovered within this of the first of them are bridged together, most urgent first.
+    static constexpr std::chrono::milliseconds DISCOVERY_GATHERING{20};
     /// A topic whose last lane was retired with samples still queued (their deadline later than its TTL from
     /// then: a source clock ahead) is looked at again this often, until they are sent or logged.
     static constexpr std::chrono::seconds RETIRE_RETRY{1};
@@ -272,6 +276,17 @@ class Gateway {
     void run_worker();
     /// Bridges `pub`'s topic, or finds or makes its lane; `declared`: from a --qos profile, no publisher yet.
     void bridge_nts(const DiscoveredPublisher& pub, bool declared = false);  // the worker thread only
+    /// A publisher discovered: bridged with those found within DISCOVERY_GATHERING of the first, most urgent first
+    /// (bridge_gathered_nts). The worker thread only.
+    void gather_nts(DiscoveredPublisher&& pub);
+    /// Bridges the publishers gathered, shortest TTL first: a new WAN writer's announcement (SEDP) crosses the link
+    /// at once, and a base camp hears of it, matches and takes its samples only after. A robot program's
+    /// publishers come together, in any order: bridged in the order found, the announcements of a picture's and a
+    /// log's writers went ahead of the hazard's, and the hazard's first sample waited for a match past its deadline.
+    void bridge_gathered_nts();
+    /// The TTL the gateway gives `pub`'s samples: its topic's --qos profile's Lifespan, else the publisher's, else
+    /// --default-ttl.
+    ResolvedTtl ttl_for(const DiscoveredPublisher& pub) const;
     /// A publisher left: if it was its lane's last, the lane is retired once its queued samples are past.
     void forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer);
     /// Retires the lane, then the topic if that was its last lane (retire_topic_nts). The worker thread only.
@@ -410,6 +425,10 @@ class Gateway {
     /// Compact WAN mode: the scheduler slot (the catalog's topic id) of each topic ever bridged and now retired,
     /// taken again by the same name only, so that an id in the catalog never changes its topic. The worker only.
     std::map<std::string, core::TopicId> compact_slots_;
+    std::vector<DiscoveredPublisher> gathered_;  ///< publishers discovered, to be bridged (gather_nts)
+    /// The bridged topics by their names on the WAN, for the RepairDesk's writer announcements.
+    std::mutex wan_topics_mutex_;
+    std::unordered_map<std::string, RepairDesk::ScheduledTopic> wan_topics_;
 };
 
 }  // namespace tgw::dds

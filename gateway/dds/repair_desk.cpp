@@ -8,6 +8,7 @@
 #include "gateway/core/wire_model.hpp"
 #include "gateway/dds/gap_for_repair.hpp"
 #include "gateway/dds/rtps_submessage.hpp"
+#include "gateway/dds/writer_announcement.hpp"
 
 namespace tgw::dds {
 
@@ -255,6 +256,47 @@ bool RepairDesk::hold_announcement(DatagramSender& sender, const DatagramDestina
         ++counts_.announcements_held;
         hold_nts(repair, sender, std::move(copy), message, size, RtpsSampleRef{});
     }
+    return true;
+}
+
+void RepairDesk::set_topic_lookup(TopicLookup lookup) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    topic_lookup_ = std::move(lookup);
+}
+
+bool RepairDesk::hold_writer_announcement(DatagramSender& sender, const DatagramDestination& destination,
+                                          const std::uint8_t* message, std::size_t size, std::size_t copies) {
+    if (!samples_ || copies == 0) {
+        return false;
+    }
+    const std::optional<WriterAnnouncement> announcement = writer_announcement(message, size);
+    if (!announcement) {
+        return false;
+    }
+    const base::SteadyTime now = clock_.now();
+    std::lock_guard<std::mutex> lock(mutex_);  // submitted under it, as in hold()
+    if (stopped_ || !submit_ || !topic_lookup_) {
+        return false;
+    }
+    const std::optional<ScheduledTopic> topic = topic_lookup_(announcement->topic);
+    if (!topic) {
+        return false;
+    }
+    const bool repeat = std::any_of(held_.begin(), held_.end(), [&](const auto& entry) {
+        return entry.second.kind == core::Repair::Kind::writer_announcement &&
+               entry.second.first == announcement->ref && entry.second.destination == destination;
+    });
+    if (repeat) {
+        ++counts_.repeats;
+        return true;
+    }
+    core::Repair repair;
+    repair.topic = topic->topic;
+    repair.deadline = now + std::min(topic->ttl, core::ANNOUNCEMENT_WAIT);
+    repair.wire_bits = 8u * copies * (size + core::WireModel::FRAME_HEADER_BYTES);
+    repair.kind = core::Repair::Kind::writer_announcement;
+    ++counts_.writer_announcements_held;
+    hold_nts(repair, sender, destination, message, size, announcement->ref);
     return true;
 }
 

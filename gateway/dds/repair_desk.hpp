@@ -7,6 +7,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string_view>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -124,6 +125,23 @@ class RepairDesk {
     bool hold_announcement(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
                            std::size_t size, const LocatorFilter& supported);
 
+    /// The topic of a WAN writer's name on the WAN, and its samples' TTL; nullopt for a topic not scheduled (the
+    /// status, a camp's command topic).
+    struct ScheduledTopic {
+        core::TopicId topic = 0;
+        base::Duration ttl{};
+    };
+    using TopicLookup = std::function<std::optional<ScheduledTopic>(std::string_view wan_topic)>;
+    /// Where hold_writer_announcement finds a writer's topic; until it is set, none is held.
+    void set_topic_lookup(TopicLookup lookup);
+    /// A message sent outside any scheduled write: true when it is a WAN writer's announcement (SEDP DATA(w)) of a
+    /// scheduled topic, which the desk keeps as a core::Repair::Kind::writer_announcement of that topic, due at
+    /// the earlier of its TTL and core::ANNOUNCEMENT_WAIT. At start-up a robot's writers are announced together
+    /// (four of the paper's topics: 2 kB, a second of a 20,000 bit/s link), and a hazard's first sample waited
+    /// behind a log's announcement past its deadline. A repeat of one held (the camp asking again) is forgotten.
+    bool hold_writer_announcement(DatagramSender& sender, const DatagramDestination& destination,
+                                  const std::uint8_t* message, std::size_t size, std::size_t copies);
+
     /// The schedule's decisions on a held repair. send() returns the core::Repair::sample of a continuation (0 for
     /// anything else, or an id no longer held).
     std::uint64_t send(std::uint64_t id);
@@ -139,6 +157,7 @@ class RepairDesk {
         std::uint64_t announcements_replaced = 0;  ///< by a newer one to the same locator while held
         std::uint64_t continuations_held = 0;      ///< fragments paced after their sample's first
         std::uint64_t gapped = 0;                  ///< repairs past their samples' deadlines, answered with a GAP
+        std::uint64_t writer_announcements_held = 0;
     };
     Counts counts() const;
 
@@ -183,6 +202,7 @@ class RepairDesk {
     std::atomic<bool> pace_fragments_{false};
     mutable std::mutex mutex_;
     std::function<void(const core::Repair&)> submit_;
+    TopicLookup topic_lookup_;
     bool stopped_ = false;
     std::unordered_map<SampleKey, Written, SampleKeyHash> written_;
     /// The entity ids of the volatile reliable writers whose samples written_ remembers: a repair of theirs not

@@ -124,6 +124,16 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
             static_cast<unsigned long long>(repairs.announcements_skipped),
             static_cast<unsigned long long>(desk->announcements_replaced));
     }
+    if (const auto desk = gateway.repair_desk_counts(); desk && desk->writer_announcements_held > 0) {
+        const tgw::core::RepairCounters repairs = gateway.repair_counters();
+        std::printf(
+            "announcements of the WAN writers, in their topics' urgency: %llu held, %llu sent (%llu bytes), "
+            "%llu of them at the end of their wait\n",
+            static_cast<unsigned long long>(desk->writer_announcements_held),
+            static_cast<unsigned long long>(repairs.writer_announcements_sent),
+            static_cast<unsigned long long>(repairs.writer_announcements_sent_wire_bytes),
+            static_cast<unsigned long long>(repairs.writer_announcements_late));
+    }
     if (const auto desk = gateway.repair_desk_counts(); desk && desk->continuations_held > 0) {
         const tgw::core::RepairCounters repairs = gateway.repair_counters();
         std::printf(

@@ -275,6 +275,43 @@ TEST_F(AnnouncementSchedulingTest, InCompactModeALessUrgentSampleNearItsDeadline
     EXPECT_EQ(sink.departures()[1], repair(1)) << "a picture that may miss anyway is not the announcement's concern";
 }
 
+/// A WAN writer's announcement (Repair::Kind::writer_announcement): in its topic's urgency, never discarded.
+class WriterAnnouncementSchedulingTest : public RepairSchedulingTest {
+  protected:
+    void push_writer_announcement(std::uint64_t id, TopicId topic, base::Duration wait = ANNOUNCEMENT_WAIT) {
+        Repair announcement{id, topic, clock.now() + wait, 8 * 526};  // a DATA(w) as Fast DDS sends it
+        announcement.kind = Repair::Kind::writer_announcement;
+        sut->push_repair(announcement, clock.now(), sink);
+    }
+};
+
+TEST_F(WriterAnnouncementSchedulingTest, AHazardsSampleGoesBeforeALogsWriterIsAnnounced) {
+    make_sut(PolicyKind::ttl, 20'000);
+    push(c);
+    release();  // on the link
+    push(b);
+    push_writer_announcement(1, d);
+    push_writer_announcement(2, a, milliseconds(900));
+    push(a);
+    run_for(seconds(3));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(c), repair(2), sample_of(a), sample_of(b), repair(1)}))
+        << "each in its topic's urgency: A's writer before B's sample, D's after it";
+    EXPECT_EQ(sut->repair_counters().writer_announcements_sent, 2u);
+    EXPECT_EQ(sut->repair_counters().writer_announcements_late, 0u);
+    EXPECT_EQ(sut->repair_counters().sent, 0u) << "not a repair for a reader";
+}
+
+TEST_F(WriterAnnouncementSchedulingTest, IsSentAtTheEndOfItsWaitWhateverWaitsNeverDiscarded) {
+    make_sut(PolicyKind::ttl, 10'000);
+    push(d, 1'000);  // about 0.9 s on the link
+    release();
+    push_writer_announcement(1, c, milliseconds(300));  // its wait ends while D is on the link
+    run_for(seconds(2));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(d), repair(1)}));
+    EXPECT_TRUE(sink.discarded_repairs().empty());
+    EXPECT_EQ(sut->repair_counters().writer_announcements_late, 1u);
+}
+
 /// A large sample's fragments after its first (Repair::Kind::continuation): the write charged the whole sample; the
 /// scheduler gives the rest back and charges each fragment as it leaves, in the sample's urgency.
 class ContinuationSchedulingTest : public RepairSchedulingTest {

@@ -291,5 +291,30 @@ TEST(RepairDeskAnnouncementsOnlyTest, HoldsAnnouncementsButNoRepairs) {
     EXPECT_EQ(submitted.size(), 1u);
 }
 
+TEST_F(RepairDeskTest, HoldsAScheduledTopicsWriterAnnouncementInItsUrgencyAndForgetsARepeat) {
+    sut.set_topic_lookup([](std::string_view topic) -> std::optional<RepairDesk::ScheduledTopic> {
+        if (topic == "rover1/hazard") {
+            return RepairDesk::ScheduledTopic{3, 1s};
+        }
+        return std::nullopt;
+    });
+    const auto announce = [&](const std::string& topic, std::int64_t sequence) {
+        const rtps::Bytes message =
+            rtps::message({rtps::info_dst(2), rtps::announcement_data(rtps::publication(topic, true), sequence)});
+        return sut.hold_writer_announcement(sender, reader_at(7411), message.data(), message.size(), 1);
+    };
+    ASSERT_TRUE(announce("rover1/hazard", 4));
+    ASSERT_EQ(submitted.size(), 1u);
+    EXPECT_EQ(submitted[0].kind, core::Repair::Kind::writer_announcement);
+    EXPECT_EQ(submitted[0].topic, 3u);
+    EXPECT_EQ(submitted[0].deadline, clock.now() + 1s) << "its TTL, shorter than the announcements' wait";
+    EXPECT_TRUE(announce("rover1/hazard", 4)) << "the camp asked again while it waits";
+    EXPECT_EQ(submitted.size(), 1u);
+    EXPECT_FALSE(announce("tgw/status", 5)) << "not a scheduled topic: sent now";
+    sut.send(submitted[0].id);
+    EXPECT_EQ(sender.sent.size(), 1u);
+    EXPECT_EQ(sut.counts().writer_announcements_held, 1u);
+}
+
 }  // namespace
 }  // namespace tgw::dds

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <initializer_list>
+#include <string>
 #include <vector>
 
 namespace tgw::test::rtps {
@@ -96,6 +97,55 @@ inline Bytes gap(const std::array<std::uint8_t, 4>& writer, std::int64_t sequenc
     }
     put_le(body, 0, 4);
     return submessage(0x08, 0x01, body);
+}
+
+/// ENTITYID_SEDP_BUILTIN_PUBLICATIONS_WRITER: its DATA announce writers (DATA(w)).
+inline constexpr std::array<std::uint8_t, 4> PUBLICATIONS{0x00, 0x00, 0x03, 0xc2};
+
+/// A parameter: id, length (padded to 4), value, in the given endianness.
+inline void put_parameter(Bytes& out, std::uint16_t pid, const Bytes& value, bool little_endian) {
+    Bytes padded = value;
+    padded.resize((value.size() + 3) / 4 * 4, 0);
+    const auto put16 = [&](std::uint16_t v) {
+        out.push_back(static_cast<std::uint8_t>(little_endian ? v & 0xff : v >> 8));
+        out.push_back(static_cast<std::uint8_t>(little_endian ? v >> 8 : v & 0xff));
+    };
+    put16(pid);
+    put16(static_cast<std::uint16_t>(padded.size()));
+    out.insert(out.end(), padded.begin(), padded.end());
+}
+
+/// A CDR string: its length with the NUL, then its characters and the NUL.
+inline Bytes cdr_string(const std::string& s, bool little_endian) {
+    const auto n = static_cast<std::uint32_t>(s.size() + 1);
+    Bytes out;
+    for (int i = 0; i < 4; ++i) {
+        out.push_back(static_cast<std::uint8_t>(n >> (little_endian ? 8 * i : 8 * (3 - i))));
+    }
+    out.insert(out.end(), s.begin(), s.end());
+    out.push_back(0);
+    return out;
+}
+
+/// The serialized payload of a DATA(w): a participant GUID, the topic and type names, then the sentinel.
+inline Bytes publication(const std::string& topic, bool little_endian) {
+    Bytes payload{0x00, static_cast<std::uint8_t>(little_endian ? 0x03 : 0x02), 0, 0};
+    put_parameter(payload, 0x0050, Bytes(16, 0x01), little_endian);  // PID_PARTICIPANT_GUID
+    put_parameter(payload, 0x0005, cdr_string(topic, little_endian), little_endian);
+    put_parameter(payload, 0x0007, cdr_string("PaperMessage", little_endian), little_endian);  // PID_TYPE_NAME
+    put_parameter(payload, 0x0001, {}, little_endian);
+    return payload;
+}
+
+/// A DATA of the publications writer (little-endian submessage) with `payload`, and inline QoS when asked.
+inline Bytes announcement_data(const Bytes& payload, std::int64_t sequence = 7, bool inline_qos = false) {
+    Bytes body = sample_fields(PUBLICATIONS, sequence, 16);
+    if (inline_qos) {
+        put_parameter(body, 0x0070, Bytes(16, 0x02), true);  // PID_KEY_HASH
+        put_parameter(body, 0x0001, {}, true);
+    }
+    body.insert(body.end(), payload.begin(), payload.end());
+    return submessage(0x15, static_cast<std::uint8_t>(0x05 | (inline_qos ? 0x02 : 0x00)), body);
 }
 
 /// A HEARTBEAT submessage (28 bytes of body: reader and writer ids, first and last sequence numbers, count)

@@ -269,7 +269,7 @@ bool RepairDesk::hold_writer_announcement(DatagramSender& sender, const Datagram
     if (!samples_ || copies == 0) {
         return false;
     }
-    const std::optional<WriterAnnouncement> announcement = writer_announcement(message, size);
+    const std::optional<WriterAnnouncements> announcement = writer_announcements(message, size);
     if (!announcement) {
         return false;
     }
@@ -278,13 +278,20 @@ bool RepairDesk::hold_writer_announcement(DatagramSender& sender, const Datagram
     if (stopped_ || !submit_ || !topic_lookup_) {
         return false;
     }
-    const std::optional<ScheduledTopic> topic = topic_lookup_(announcement->topic);
+    // Several in one message go in the urgency of the most urgent.
+    std::optional<ScheduledTopic> topic;
+    for (std::size_t i = 0; i < announcement->count; ++i) {
+        const std::optional<ScheduledTopic> found = topic_lookup_(announcement->topics[i]);
+        if (found && (!topic || found->ttl < topic->ttl)) {
+            topic = found;
+        }
+    }
     if (!topic) {
         return false;
     }
     const bool repeat = std::any_of(held_.begin(), held_.end(), [&](const auto& entry) {
         return entry.second.kind == core::Repair::Kind::writer_announcement &&
-               entry.second.first == announcement->ref && entry.second.destination == destination;
+               entry.second.first == announcement->first && entry.second.destination == destination;
     });
     if (repeat) {
         ++counts_.repeats;
@@ -296,7 +303,7 @@ bool RepairDesk::hold_writer_announcement(DatagramSender& sender, const Datagram
     repair.wire_bits = 8u * copies * (size + core::WireModel::FRAME_HEADER_BYTES);
     repair.kind = core::Repair::Kind::writer_announcement;
     ++counts_.writer_announcements_held;
-    hold_nts(repair, sender, destination, message, size, announcement->ref);
+    hold_nts(repair, sender, destination, message, size, announcement->first);
     return true;
 }
 

@@ -68,11 +68,11 @@ std::optional<std::string_view> topic_name(const std::uint8_t* p, const std::uin
 
 }  // namespace
 
-std::optional<WriterAnnouncement> writer_announcement(const std::uint8_t* message, std::size_t size) {
+std::optional<WriterAnnouncements> writer_announcements(const std::uint8_t* message, std::size_t size) {
     if (size < MESSAGE_HEADER_BYTES || std::memcmp(message, "RTPS", 4) != 0) {
         return std::nullopt;
     }
-    std::optional<WriterAnnouncement> found;
+    WriterAnnouncements found;
     std::size_t pos = MESSAGE_HEADER_BYTES;
     while (pos + SUBMESSAGE_HEADER_BYTES <= size) {
         const std::uint8_t* sub = message + pos;
@@ -86,10 +86,11 @@ std::optional<WriterAnnouncement> writer_announcement(const std::uint8_t* messag
         switch (sub[0]) {
             case INFO_DST:
             case INFO_TS:
+            case HEARTBEAT:
             case EPROSIMA_STATISTICS:
                 break;
             case DATA: {
-                if (found || length < DATA_FIELDS_BYTES || (sub[1] & FLAG_DATA) == 0 ||
+                if (found.count == found.topics.size() || length < DATA_FIELDS_BYTES || (sub[1] & FLAG_DATA) == 0 ||
                     std::memcmp(body + SAMPLE_WRITER_ID_OFFSET, SEDP_PUBLICATIONS_WRITER_ID, 4) != 0) {
                     return std::nullopt;
                 }
@@ -105,13 +106,13 @@ std::optional<WriterAnnouncement> writer_announcement(const std::uint8_t* messag
                 if (!topic) {
                     return std::nullopt;
                 }
-                WriterAnnouncement announcement;
-                announcement.topic = *topic;
-                std::memcpy(announcement.ref.writer.data(), body + SAMPLE_WRITER_ID_OFFSET, 4);
-                const auto high = static_cast<std::int32_t>(read_u32(body + SAMPLE_SEQUENCE_OFFSET, little_endian));
-                announcement.ref.sequence = static_cast<std::int64_t>(high) * (std::int64_t{1} << 32) +
-                                            read_u32(body + SAMPLE_SEQUENCE_OFFSET + 4, little_endian);
-                found = announcement;
+                if (found.count == 0) {
+                    std::memcpy(found.first.writer.data(), body + SAMPLE_WRITER_ID_OFFSET, 4);
+                    const auto high = static_cast<std::int32_t>(read_u32(body + SAMPLE_SEQUENCE_OFFSET, little_endian));
+                    found.first.sequence = static_cast<std::int64_t>(high) * (std::int64_t{1} << 32) +
+                                           read_u32(body + SAMPLE_SEQUENCE_OFFSET + 4, little_endian);
+                }
+                found.topics[found.count++] = *topic;
                 break;
             }
             default:
@@ -122,7 +123,7 @@ std::optional<WriterAnnouncement> writer_announcement(const std::uint8_t* messag
         }
         pos += SUBMESSAGE_HEADER_BYTES + length;
     }
-    return found;
+    return found.count > 0 ? std::optional(found) : std::nullopt;
 }
 
 }  // namespace tgw::dds

@@ -59,6 +59,8 @@ TEST_F(GatewayIntegrationTest, ALargeSampleLeavesAFragmentAtATimeWithAnUrgentSam
     const auto desk = gateway_->repair_desk_counts();
     ASSERT_TRUE(desk);
     EXPECT_GE(desk->continuations_held, 3u) << "6,000 bytes are 5 fragments";
+    EXPECT_GE(desk->writer_announcements_held, 2u) << "each WAN writer's announcement went in its topic's urgency";
+    EXPECT_EQ(gateway_->repair_counters().writer_announcements_sent, desk->writer_announcements_held);
     const core::RepairCounters repairs = gateway_->repair_counters();
     EXPECT_EQ(repairs.continuations_sent, desk->continuations_held);
     EXPECT_EQ(repairs.continuations_late, 0u);

@@ -232,6 +232,27 @@ DeadlineQueue::Peek DeadlineQueue::at(Slot slot) const {
                 &r.payload};
 }
 
+std::optional<base::SteadyTime> DeadlineQueue::earliest_deadline_of(TopicId topic) const {
+    if (topic >= lanes_of_topic_.size()) {
+        return std::nullopt;
+    }
+    std::optional<base::SteadyTime::rep> earliest;
+    for (const LaneId id : lanes_of_topic_[topic]) {
+        // A lane is sorted by deadline, and its ends are never tombstones outside a visit.
+        for (const Slot slot : lanes_[id].slots) {
+            const Record& r = record(slot);
+            if ((r.lane_and_flags & DEAD) == 0) {
+                earliest = earliest ? std::min(*earliest, r.deadline) : r.deadline;
+                break;
+            }
+        }
+    }
+    if (!earliest) {
+        return std::nullopt;
+    }
+    return base::SteadyTime(base::SteadyTime::duration(*earliest));
+}
+
 Sample DeadlineQueue::take(Slot slot) {
     Record& r = record(slot);
     const LaneId lane_id = r.lane_and_flags & LANE_MASK;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <optional>
 #include <type_traits>
 #include <vector>
 
@@ -79,6 +80,8 @@ class DeadlineQueue {
     Slot earliest_deadline() const;
 
     Peek at(Slot slot) const;
+    /// The earliest deadline of `topic`'s queued samples (parked or not); nullopt when none is queued.
+    std::optional<base::SteadyTime> earliest_deadline_of(TopicId topic) const;
     /// Remove the sample from the queue and hand it over.
     Sample take(Slot slot);
 

@@ -280,11 +280,19 @@ void Scheduler::push_repair(const Repair& repair, base::SteadyTime now, SampleSi
             return;
         }
     }
-    if (repair.deadline <= now + config_.link_latency) {
-        give_up_repair(repair, now, sink);
+    Repair held = repair;
+    if (repair.kind == Repair::Kind::writer_announcement) {
+        // Before every sample of its topic: a base camp drops a sample of a writer it has not heard of. A writer
+        // made anew (the WAN participant on a new address) finds its topic's samples queued.
+        if (const std::optional<base::SteadyTime> first = queue_.earliest_deadline_of(repair.topic)) {
+            held.deadline = std::min(held.deadline, *first - base::Duration(1));
+        }
+    }
+    if (held.deadline <= now + config_.link_latency) {
+        give_up_repair(held, now, sink);
         return;
     }
-    repairs_.push(repair, rank_of(repair));
+    repairs_.push(held, rank_of(held));
     if (repairs_.size() > MAX_QUEUED_REPAIRS) {
         discard_repair(repairs_.take(repairs_.least_urgent()), DropReason::evicted, sink);
     }

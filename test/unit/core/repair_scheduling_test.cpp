@@ -301,6 +301,19 @@ TEST_F(WriterAnnouncementSchedulingTest, AHazardsSampleGoesBeforeALogsWriterIsAn
     EXPECT_EQ(sut->repair_counters().sent, 0u) << "not a repair for a reader";
 }
 
+TEST_F(WriterAnnouncementSchedulingTest, GoesBeforeTheSamplesOfItsTopicQueuedBeforeIt) {
+    make_sut(PolicyKind::ttl, 20'000);
+    push(d, 600);  // about 0.25 s on the link
+    release();
+    push(a);
+    push(a);
+    clock.advance(milliseconds(100));
+    push_writer_announcement(1, a, seconds(1));  // the writer made anew: due later than the samples queued
+    run_for(seconds(2));
+    EXPECT_EQ(sink.departures(), (Departures{sample_of(d), repair(1), sample_of(a), sample_of(a)}))
+        << "a camp drops a sample of a writer it has not heard of";
+}
+
 TEST_F(WriterAnnouncementSchedulingTest, IsSentAtTheEndOfItsWaitWhateverWaitsNeverDiscarded) {
     make_sut(PolicyKind::ttl, 10'000);
     push(d, 1'000);  // about 0.9 s on the link

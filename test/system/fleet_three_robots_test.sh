@@ -134,11 +134,12 @@ if [ "$RESTART" = drop ]; then
     "${tb[@]}" robot3 ip link set "$rover3_veth" down
     sleep 5
     "${tb[@]}" robot3 ip link set "$rover3_veth" up
+    up_ns=$(wait_link_up robot3 "$rover3_veth")
     for route in "${rover3_routes[@]}"; do
         # shellcheck disable=SC2086
         "${tb[@]}" robot3 ip route replace $route dev "$rover3_veth"
     done
-    back_ns=$(date +%s%N)
+    back_ns=$up_ns
 fi
 if [ "$RESTART" = 1 ]; then
     sleep $((RESTART_AT - CAMERA_AT))

@@ -83,6 +83,24 @@ stop_testbed() {
     fi
 }
 
+# wait_link_up NAMESPACE VETH: after `ip link set VETH up`, waits until the kernel reports it up (operstate, which
+# IFF_RUNNING follows) and prints that moment in ns; says on stderr how long it took. The kernel's link watch runs at
+# most once a second across every namespace: with other tests' links changing, up to 1 s after the command (seen in
+# CI: 1,022 ms). No program can send on the link before, so a radio is back from that moment.
+wait_link_up() {
+    local set_ns tries=0
+    set_ns=$(date +%s%N)
+    until [ "$("${tb[@]}" "$1" cat "/sys/class/net/$2/operstate")" = up ]; do
+        tries=$((tries + 1))
+        [ "$tries" -lt 500 ] || { echo "FAIL: $2 not up 5 s after ip link set up" >&2; exit 1; }
+        sleep 0.01
+    done
+    local up_ns
+    up_ns=$(date +%s%N)
+    echo "the kernel reported $2 up $(((up_ns - set_ns) / 1000000)) ms after ip link set up" >&2
+    echo "$up_ns"
+}
+
 # start_paper_publisher SECONDS: tm-robot-sim publishing the paper's workload at 5 Hz on the robot's loopback (domain
 # 0) for SECONDS, once the gateway's readers match, into $WORK/robot.out; sets sim_pid.
 start_paper_publisher() {

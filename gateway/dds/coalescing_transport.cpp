@@ -93,9 +93,11 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
         destination.locators.push_back(*it);
     }
     const bool strip_timestamp = descriptor_.strip_timestamp && UnstampedWrite::active();
-    if (descriptor_.strip_destination || descriptor_.strip_statistics || strip_timestamp) {
+    if (descriptor_.strip_destination || descriptor_.strip_statistics || descriptor_.strip_statistics_without_samples ||
+        strip_timestamp) {
         const RtpsDatagram::Strippable strip = RtpsDatagram::strippable(send_buffer, send_buffer_size);
-        if (descriptor_.strip_statistics) {
+        if (descriptor_.strip_statistics ||
+            (descriptor_.strip_statistics_without_samples && !strip.carries_user_sample)) {
             // The trailer is the message's last submessage: the message without it is its first bytes.
             send_buffer_size -= static_cast<std::uint32_t>(strip.trailer_bytes);
         }
@@ -177,6 +179,10 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
         descriptor_.repair_desk->hold_writer_announcement(*this, destination, send_buffer, send_buffer_size, copies)) {
         return true;  // the schedule sends it in its topic's urgency, and charges it as it leaves
     }
+    if (!scheduled_write && coalescer_->holds_control() && copies > 0 &&
+        RtpsDatagram::user_control_only(send_buffer, send_buffer_size)) {
+        return coalescer_->hold(*this, destination, send_buffer, send_buffer_size, copies);  // charged as it leaves
+    }
     // A scheduled write was charged for one copy of its message, without the HEARTBEAT a reliable writer may
     // have put in it; everything else is reported.
     if (descriptor_.on_unscheduled) {
@@ -203,7 +209,7 @@ void CoalescingTransport::receive(eprosima::fastdds::rtps::TransportReceiverInte
 
 bool CoalescingTransport::send_datagram(const DatagramDestination& destination, const std::uint8_t* bytes,
                                         std::size_t size) {
-    if (descriptor_.strip_statistics) {
+    if (descriptor_.strip_statistics || descriptor_.strip_statistics_without_samples) {
         // Without its statistics submessage a datagram may still look as if it ended with one to the UDP
         // transport below, which would then write over its last 60 bytes: a payload's, or a protected message's
         // signature (seen once in about 10 secured compact-mode runs). PADs at the end keep it whole.

@@ -41,6 +41,10 @@ struct CoalescingTransportDescriptor : public eprosima::fastdds::rtps::ChainingT
     std::uint32_t heartbeat_spacing_bytes = 0;
     /// Leave out the statistics submessage at the end of each message (RtpsDatagram::statistics_trailer_bytes).
     bool strip_statistics = false;
+    /// Leave it out of each message that carries no application's sample (RtpsDatagram::Strippable::
+    /// carries_user_sample): a lone HEARTBEAT, ACKNACK or GAP, discovery. A base camp's channel meter reads the
+    /// send stamp off the samples' datagrams; Fast DDS counts only the datagrams that carry one.
+    bool strip_statistics_without_samples = false;
     /// Leave out the INFO_DST a message to one participant's unicast locators starts with
     /// (RtpsDatagram::leading_destination_bytes).
     bool strip_destination = false;

@@ -4,6 +4,9 @@
 
 #include <atomic>
 #include <optional>
+#include <utility>
+
+#include "gateway/core/wire_model.hpp"
 
 namespace tgw::dds {
 
@@ -27,8 +30,8 @@ std::uint64_t DatagramCoalescer::DeferScope::current() {
 }
 
 DatagramCoalescer::DatagramCoalescer(std::chrono::microseconds window, std::size_t max_datagram_bytes,
-                                     const base::Clock& clock)
-    : window_(window), max_datagram_bytes_(max_datagram_bytes), clock_(clock) {}
+                                     const base::Clock& clock, HeldControl held_control)
+    : window_(window), max_datagram_bytes_(max_datagram_bytes), clock_(clock), held_control_(std::move(held_control)) {}
 
 DatagramCoalescer::~DatagramCoalescer() {
     stop();
@@ -42,7 +45,7 @@ void DatagramCoalescer::start() {
 }
 
 void DatagramCoalescer::forget(const DatagramSender& sender) {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::unique_lock<std::mutex> lock(mutex_);
     const base::SteadyTime now = clock_.now();
     for (auto& batch : batches_) {
         if (batch->sender == &sender)
@@ -51,6 +54,7 @@ void DatagramCoalescer::forget(const DatagramSender& sender) {
     batches_.erase(std::remove_if(batches_.begin(), batches_.end(),
                                   [&](const std::unique_ptr<Batch>& batch) { return batch->sender == &sender; }),
                    batches_.end());
+    report_charges(lock);
 }
 
 void DatagramCoalescer::stop() {
@@ -65,12 +69,13 @@ void DatagramCoalescer::stop() {
     if (thread_.joinable()) {
         thread_.join();
     }
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::unique_lock<std::mutex> lock(mutex_);
     const base::SteadyTime now = clock_.now();
     for (auto& batch : batches_) {
         flush_nts(*batch, now);
     }
     stopped_ = true;
+    report_charges(lock);
 }
 
 DatagramCoalescer::Batch* DatagramCoalescer::find_nts(const DatagramSender& sender,
@@ -107,19 +112,115 @@ void DatagramCoalescer::flush_nts(Batch& batch, base::SteadyTime now) {
     if (batch.datagram.empty()) {
         return;
     }
+    if (batch.control_only) {
+        // Nothing came to ride with: a datagram of their own, not one of the samples' (counts_.datagrams).
+        pending_charge_ += batch.copies * (batch.datagram.size() + core::WireModel::FRAME_HEADER_BYTES);
+        batch.control_only = false;
+        batch.control_messages = 0;
+        batch.sender->send_datagram(batch.destination, batch.datagram.data(), batch.datagram.size());
+        batch.datagram.clear();
+        return;
+    }
     if (!send_now_nts(batch, batch.datagram.data(), batch.datagram.size(), now)) {
         ++counts_.failed_datagrams;
     }
     batch.datagram.clear();
 }
 
+std::optional<bool> DatagramCoalescer::send_with_held_control_nts(Batch& batch, const std::uint8_t* message,
+                                                                  std::size_t size) {
+    if (!batch.datagram.append(message, size)) {
+        return std::nullopt;
+    }
+    // The message is charged as if alone (size and frames); the datagram carries it and theirs in fewer bytes
+    // (one header, one INFO_DST to the base camp): theirs cost the rest.
+    pending_charge_ += batch.copies * (batch.datagram.size() - std::min(batch.datagram.size(), size));
+    counts_.controls_rode += batch.control_messages;
+    batch.control_only = false;
+    batch.control_messages = 0;
+    const bool sent = batch.sender->send_datagram(batch.destination, batch.datagram.data(), batch.datagram.size());
+    batch.datagram.clear();
+    return sent;
+}
+
+bool DatagramCoalescer::hold(DatagramSender& sender, const DatagramDestination& destination,
+                             const std::uint8_t* message, std::size_t size, std::size_t copies) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (!holds_control() || stopping_) {
+        pending_charge_ += copies * (size + core::WireModel::FRAME_HEADER_BYTES);
+        if (Batch* batch = find_nts(sender, destination)) {
+            flush_nts(*batch, clock_.now());
+        }
+        const bool sent = sender.send_datagram(destination, message, size);
+        report_charges(lock);
+        return sent;
+    }
+    Batch& batch = batch_for_nts(sender, destination);
+    const base::SteadyTime now = clock_.now();
+    ++counts_.controls_held;
+    if (!batch.datagram.empty() && !batch.control_only) {
+        // Samples wait for their window: it rides with them.
+        const std::size_t before = batch.datagram.size();
+        if (batch.datagram.append(message, size)) {
+            pending_charge_ += copies * (batch.datagram.size() - before);
+            ++counts_.controls_rode;
+            report_charges(lock);
+            return true;
+        }
+        flush_nts(batch, now);
+    }
+    if (!batch.datagram.append(message, size)) {
+        flush_nts(batch, now);
+        if (!batch.datagram.append(message, size)) {
+            pending_charge_ += copies * (size + core::WireModel::FRAME_HEADER_BYTES);
+            const bool sent = send_now_nts(batch, message, size, now);
+            report_charges(lock);
+            return sent;
+        }
+    }
+    if (!batch.control_only) {
+        batch.control_only = true;
+        batch.copies = copies;
+        batch.deadline = now + held_control_.wait;
+        kicked_ = true;
+    }
+    ++batch.control_messages;
+    report_charges(lock);
+    wake_.notify_one();
+    return true;
+}
+
+void DatagramCoalescer::report_charges(std::unique_lock<std::mutex>& lock) {
+    const std::uint64_t charge = std::exchange(pending_charge_, 0);
+    if (charge == 0 || !held_control_.on_sent) {
+        return;
+    }
+    // Outside the lock: the callback charges the scheduler, whose writes come back here.
+    lock.unlock();
+    held_control_.on_sent(charge);
+    lock.lock();
+}
+
 bool DatagramCoalescer::send(DatagramSender& sender, const DatagramDestination& destination,
                              const std::uint8_t* message, std::size_t size) {
     std::unique_lock<std::mutex> lock(mutex_);
+    const bool sent = send_nts(lock, sender, destination, message, size);
+    report_charges(lock);
+    return sent;
+}
+
+bool DatagramCoalescer::send_nts(std::unique_lock<std::mutex>& lock, DatagramSender& sender,
+                                 const DatagramDestination& destination, const std::uint8_t* message,
+                                 std::size_t size) {
     const std::uint64_t scope = DeferScope::current();
     if (scope == 0 || stopping_) {
-        // What waits for this destination was written first: it goes first.
+        // What waits for this destination was written first: it goes first, with this message when it can.
         if (Batch* batch = find_nts(sender, destination)) {
+            if (batch->control_only) {
+                if (const std::optional<bool> sent = send_with_held_control_nts(*batch, message, size)) {
+                    return *sent;
+                }
+            }
             flush_nts(*batch, clock_.now());
         }
         return sender.send_datagram(destination, message, size);
@@ -127,6 +228,16 @@ bool DatagramCoalescer::send(DatagramSender& sender, const DatagramDestination& 
     Batch& batch = batch_for_nts(sender, destination);
     const base::SteadyTime now = clock_.now();
     ++counts_.messages;
+    if (batch.control_only) {
+        // A sample: it goes at once, and what was held goes in its datagram.
+        if (const std::optional<bool> sent = send_with_held_control_nts(batch, message, size)) {
+            ++counts_.datagrams;
+            batch.last_sent = now;
+            batch.sent_at_once_scope = scope;
+            return *sent;
+        }
+        flush_nts(batch, now);
+    }
     // A sample that comes alone goes at once, all its fragments; with a zero window every sample does.
     if (batch.datagram.empty() && (now - batch.last_sent >= window_ || batch.sent_at_once_scope == scope)) {
         batch.sent_at_once_scope = scope;
@@ -143,13 +254,15 @@ bool DatagramCoalescer::send(DatagramSender& sender, const DatagramDestination& 
         kicked_ = true;
         lock.unlock();
         wake_.notify_one();
+        lock.lock();
     }
     return true;
 }
 
 void DatagramCoalescer::flush_due() {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::unique_lock<std::mutex> lock(mutex_);
     flush_due_nts(clock_.now());
+    report_charges(lock);
 }
 
 void DatagramCoalescer::flush_due_nts(base::SteadyTime now) {
@@ -177,6 +290,7 @@ void DatagramCoalescer::run() {
         }
         kicked_ = false;
         flush_due_nts(clock_.now());
+        report_charges(lock);
     }
 }
 

@@ -5,8 +5,10 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -32,6 +34,13 @@ class DatagramSender {
   public:
     virtual ~DatagramSender() = default;
     virtual bool send_datagram(const DatagramDestination& destination, const std::uint8_t* bytes, std::size_t size) = 0;
+};
+
+/// What DatagramCoalescer::hold does with a reliable writer's control alone.
+struct HeldControl {
+    base::Duration wait{};  ///< 0: nothing is held
+    /// Told what a held message came to on the wire as it leaves, frames included, every copy.
+    std::function<void(std::uint64_t frame_bytes)> on_sent;
 };
 
 /// Decides, per RTPS message the WAN participant sends, whether it goes now or waits to share a datagram.
@@ -63,8 +72,13 @@ class DatagramCoalescer {
     /// Long enough to pack the samples of a burst on a fast link, short beside any TTL.
     static constexpr std::chrono::microseconds DEFAULT_WINDOW{100};
 
+    /// Short beside the TTLs of the samples a HEARTBEAT announces, long beside the gap between two samples to a
+    /// base camp while any flow (5 Hz and more for a robot's state).
+    static constexpr base::Duration DEFAULT_CONTROL_WAIT = std::chrono::milliseconds(250);
+
     /// `window` 0 sends everything at once. `max_datagram_bytes`: the low-level transport's message size.
-    DatagramCoalescer(std::chrono::microseconds window, std::size_t max_datagram_bytes, const base::Clock& clock);
+    DatagramCoalescer(std::chrono::microseconds window, std::size_t max_datagram_bytes, const base::Clock& clock,
+                      HeldControl held_control = {});
     ~DatagramCoalescer();
 
     DatagramCoalescer(const DatagramCoalescer&) = delete;
@@ -83,6 +97,16 @@ class DatagramCoalescer {
     bool send(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
               std::size_t size);
 
+    /// Keeps `message`, a reliable writer's HEARTBEATs or GAPs alone (RtpsDatagram::user_control_only), up to the
+    /// HeldControl's wait for the next message to the same destination, and sends it in that one's datagram: its
+    /// bytes but its 20-byte header, where alone it is a datagram of its own (110 bytes for a HEARTBEAT, frames
+    /// included). Fast DDS sends a writer's periodic HEARTBEATs on the writer's own timer, apart from its
+    /// samples; the next sample to that base camp follows them soon. Goes at once when the wait is 0.
+    /// `copies`: the destination's locators the transport sends to.
+    bool hold(DatagramSender& sender, const DatagramDestination& destination, const std::uint8_t* message,
+              std::size_t size, std::size_t copies);
+    bool holds_control() const { return held_control_.wait > base::Duration::zero(); }
+
     /// Sends the datagrams whose window has ended by the clock's now: the flush thread's step.
     void flush_due();
 
@@ -92,6 +116,8 @@ class DatagramCoalescer {
         std::uint64_t datagrams = 0;  ///< that carried them
         /// Datagrams that waited and then failed to send: their writers had been told the write succeeded.
         std::uint64_t failed_datagrams = 0;
+        std::uint64_t controls_held = 0;  ///< hold()'s messages
+        std::uint64_t controls_rode = 0;  ///< of those, sent in the datagram of another message
     };
     Counts counts() const;
 
@@ -103,6 +129,10 @@ class DatagramCoalescer {
         base::SteadyTime deadline{};
         base::SteadyTime last_sent{};
         std::uint64_t sent_at_once_scope = 0;  ///< the last write whose messages went at once
+        /// `datagram` holds hold()'s messages alone, not yet charged; `control_messages` of them.
+        bool control_only = false;
+        std::size_t control_messages = 0;
+        std::size_t copies = 1;
         explicit Batch(std::size_t max_bytes) : datagram(max_bytes) {}
     };
 
@@ -110,12 +140,20 @@ class DatagramCoalescer {
     Batch* find_nts(const DatagramSender& sender, const DatagramDestination& destination);
     bool send_now_nts(Batch& batch, const std::uint8_t* bytes, std::size_t size, base::SteadyTime now);
     void flush_nts(Batch& batch, base::SteadyTime now);
+    /// Appends `message` to the held control messages of `batch` and sends them together: whether the transport
+    /// took the datagram; nullopt, nothing sent, when it does not fit.
+    std::optional<bool> send_with_held_control_nts(Batch& batch, const std::uint8_t* message, std::size_t size);
+    bool send_nts(std::unique_lock<std::mutex>& lock, DatagramSender& sender, const DatagramDestination& destination,
+                  const std::uint8_t* message, std::size_t size);
+    /// Tells HeldControl::on_sent what the held messages that left came to, with the lock released meanwhile.
+    void report_charges(std::unique_lock<std::mutex>& lock);
     void flush_due_nts(base::SteadyTime now);
     void run();
 
     const std::chrono::microseconds window_;
     const std::size_t max_datagram_bytes_;
     const base::Clock& clock_;
+    const HeldControl held_control_;
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;
@@ -125,6 +163,7 @@ class DatagramCoalescer {
     bool kicked_ = false;
     std::thread thread_;
     Counts counts_;
+    std::uint64_t pending_charge_ = 0;  ///< frame bytes of held messages that left, not yet reported
 };
 
 }  // namespace tgw::dds

@@ -12,7 +12,6 @@ using namespace rtps_bytes;
 
 namespace {
 
-constexpr std::uint8_t GAP = 0x08;
 /// readerId, writerId, gapStart, gapList's bitmapBase and numBits (0: no bitmap).
 constexpr std::uint16_t GAP_BODY_BYTES = 4 + 4 + 8 + 8 + 4;
 constexpr std::size_t SAMPLE_READER_ID_OFFSET = 4;

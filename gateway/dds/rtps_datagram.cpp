@@ -53,6 +53,9 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
     // INFO_TS DATA: 0 none yet, 1 the INFO_TS, 2 the DATA after it, 3 anything else.
     int lone_sample = 0;
     std::size_t timestamp_bytes = 0;
+    // HEARTBEATs and GAPs of applications' writers seen, and nothing else but INFO_* and the trailer: -1 once
+    // anything else is.
+    int user_controls = 0;
     std::size_t pos = HEADER_BYTES;
     while (pos < size) {
         if (size - pos < SUBMESSAGE_HEADER_BYTES) {
@@ -77,6 +80,7 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
             // An INFO_DST to GUIDPREFIX_UNKNOWN leaves a Fast DDS receiver's destination as it was.
             if (!is_zero(message + body, GUID_PREFIX_BYTES)) {
                 shape.destination_in_force = true;
+                shape.destination_at = body;
                 shape.sets_destination = shape.sets_destination || pos == HEADER_BYTES;
             }
         } else if (id == INFO_TS) {
@@ -89,6 +93,21 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
             shape.mergeable = false;
         } else if (id == HEARTBEAT) {
             shape.heartbeat_bytes += SUBMESSAGE_HEADER_BYTES + length;
+        }
+        const bool trailer = eprosima && id == EPROSIMA_STATISTICS;
+        if (user_controls >= 0 && !is_info(id) && !trailer) {
+            // Both carry the writer's id second, after the reader's (DDSI-RTPS 9.4.5.6, 9.4.5.8).
+            constexpr std::size_t CONTROL_WRITER_KIND_AT = 7;
+            const bool user_control =
+                (id == HEARTBEAT || id == GAP) && length > CONTROL_WRITER_KIND_AT &&
+                (message[body + CONTROL_WRITER_KIND_AT] & BUILTIN_ENTITY_KIND_BITS) != BUILTIN_ENTITY_KIND_BITS;
+            user_controls = user_control ? user_controls + 1 : -1;
+        }
+        if (id == DATA || id == DATA_FRAG) {
+            const bool builtin =
+                length > SAMPLE_WRITER_ID_OFFSET + 3 &&
+                (message[body + SAMPLE_WRITER_ID_OFFSET + 3] & BUILTIN_ENTITY_KIND_BITS) == BUILTIN_ENTITY_KIND_BITS;
+            shape.carries_user_sample = shape.carries_user_sample || !builtin;
         } else if (id == SEC_PREFIX) {
             group_start = pos;
             shape.protected_submessages = true;
@@ -97,7 +116,6 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
         // Receivers step to the next 4-byte boundary.
         const std::size_t next = body + ((length + 3) & ~std::size_t{3});
         const bool leading_destination = id == INFO_DST && pos == HEADER_BYTES;
-        const bool trailer = eprosima && id == EPROSIMA_STATISTICS;
         if (!leading_destination && !trailer) {
             if (lone_sample == 0 && id == INFO_TS && (sub[1] & FLAG_INVALIDATE) == 0) {
                 lone_sample = 1;
@@ -108,7 +126,7 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
                 lone_sample = 3;
             }
         }
-        if (eprosima && id == EPROSIMA_STATISTICS) {
+        if (trailer) {
             shape.trailer_last = next == size;
             if (!shape.trailer_last) {
                 shape.mergeable = false;  // not where the receiver expects it
@@ -123,6 +141,8 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
     if (shape.rtps_protected) {
         shape.heartbeat_bytes += protected_extra_bytes;
     }
+    shape.carries_user_sample = shape.carries_user_sample || shape.rtps_protected || shape.protected_submessages;
+    shape.user_control_only = user_controls > 0 && !shape.rtps_protected && !shape.protected_submessages;
     if (lone_sample == 2 && !shape.rtps_protected && !shape.protected_submessages) {
         shape.lone_sample_timestamp_bytes = timestamp_bytes;
     }
@@ -135,6 +155,11 @@ RtpsDatagram::Shape RtpsDatagram::shape_of(const std::uint8_t* message, std::siz
 
 std::size_t RtpsDatagram::heartbeat_bytes(const std::uint8_t* message, std::size_t size) {
     return shape_of(message, size).heartbeat_bytes;
+}
+
+bool RtpsDatagram::user_control_only(const std::uint8_t* message, std::size_t size) {
+    const Shape shape = shape_of(message, size);
+    return shape.well_formed && shape.mergeable && shape.user_control_only;
 }
 
 std::optional<std::array<std::uint8_t, 12>> RtpsDatagram::sender(const std::uint8_t* message, std::size_t size) {
@@ -168,6 +193,7 @@ RtpsDatagram::Strippable RtpsDatagram::strippable(const std::uint8_t* message, s
         out.destination_bytes = SUBMESSAGE_HEADER_BYTES + GUID_PREFIX_BYTES;
     }
     out.timestamp_bytes = shape.lone_sample_timestamp_bytes;
+    out.carries_user_sample = shape.carries_user_sample;
     return out;
 }
 
@@ -198,7 +224,7 @@ bool RtpsDatagram::append(const std::uint8_t* message, std::size_t size) {
         bytes_.assign(message, message + size);
         messages_ = 1;
         closed_ = !shape.well_formed || !shape.mergeable;
-        destination_in_force_ = shape.destination_in_force;
+        note_destination(message, shape);
         timestamp_in_force_ = shape.timestamp_in_force;
         trailer_bytes_ = shape.trailer_bytes;
         return true;
@@ -208,8 +234,14 @@ bool RtpsDatagram::append(const std::uint8_t* message, std::size_t size) {
         return false;
     }
     const bool invalidate_timestamp = timestamp_in_force_ && !shape.sets_timestamp_first;
+    // Its leading INFO_DST names the participant in force already.
+    const bool same_destination =
+        destination_in_force_ && !shape.protected_submessages &&
+        octets_to_next_header(message + HEADER_BYTES) == GUID_PREFIX_BYTES &&
+        std::memcmp(message + HEADER_BYTES + SUBMESSAGE_HEADER_BYTES, destination_.data(), GUID_PREFIX_BYTES) == 0;
+    const std::size_t from = HEADER_BYTES + (same_destination ? SUBMESSAGE_HEADER_BYTES + GUID_PREFIX_BYTES : 0);
     const std::size_t kept = bytes_.size() - trailer_bytes_;
-    const std::size_t added = (invalidate_timestamp ? SUBMESSAGE_HEADER_BYTES : 0) + size - HEADER_BYTES;
+    const std::size_t added = (invalidate_timestamp ? SUBMESSAGE_HEADER_BYTES : 0) + size - from;
     if (kept + added > max_bytes_) {
         return false;
     }
@@ -218,16 +250,23 @@ bool RtpsDatagram::append(const std::uint8_t* message, std::size_t size) {
         const std::uint8_t info_ts[SUBMESSAGE_HEADER_BYTES] = {INFO_TS, FLAG_LITTLE_ENDIAN | FLAG_INVALIDATE, 0, 0};
         bytes_.insert(bytes_.end(), info_ts, info_ts + SUBMESSAGE_HEADER_BYTES);
     }
-    bytes_.insert(bytes_.end(), message + HEADER_BYTES, message + size);
+    bytes_.insert(bytes_.end(), message + from, message + size);
     ++messages_;
     // Alone, the message starts from a reset receiver; appended, from the state in force. It sets the
     // destination again whenever one is in force (checked above), and the timestamp is set or invalidated, so
     // the state after it is its own.
     closed_ = !shape.mergeable;
-    destination_in_force_ = shape.destination_in_force;
+    note_destination(message, shape);
     timestamp_in_force_ = shape.timestamp_in_force;
     trailer_bytes_ = shape.trailer_bytes;
     return true;
+}
+
+void RtpsDatagram::note_destination(const std::uint8_t* message, const Shape& shape) {
+    destination_in_force_ = shape.destination_in_force;
+    if (destination_in_force_) {
+        std::memcpy(destination_.data(), message + shape.destination_at, GUID_PREFIX_BYTES);
+    }
 }
 
 }  // namespace tgw::dds

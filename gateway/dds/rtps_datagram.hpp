@@ -15,7 +15,8 @@ namespace tgw::dds {
 ///
 /// Receivers keep per-message state across submessages (destination participant, source timestamp), so a message
 /// is appended only when it reads the same alone and appended: it must set the destination again when one is in
-/// force (Fast DDS 2.9 ignores an INFO_DST to GUIDPREFIX_UNKNOWN, so the destination cannot be reset), and a
+/// force (Fast DDS 2.9 ignores an INFO_DST to GUIDPREFIX_UNKNOWN, so the destination cannot be reset; an INFO_DST
+/// that names the participant already in force is left out, 16 bytes), and a
 /// timestamp in force is invalidated (INFO_TS with the I flag, 4 bytes) before a message that sets none. A
 /// message whose state changes are not tracked (INFO_SRC, INFO_REPLY), whose last submessage runs to the end,
 /// or that does not end on a 4-byte boundary closes the datagram. A message protected as a whole (DDS Security's
@@ -48,6 +49,10 @@ class RtpsDatagram {
     /// The bytes of the statistics submessage (header included) that ends a well-formed eProsima RTPS message,
     /// or 0 when it does not end with one. Receivers read it only for eProsima's statistics module.
     static std::size_t statistics_trailer_bytes(const std::uint8_t* message, std::size_t size);
+    /// True for a well-formed, unprotected message whose only submessages (besides INFO_DST, INFO_TS, PAD and the
+    /// statistics trailer) are HEARTBEATs and GAPs of applications' writers: a reliable writer's control alone,
+    /// which may wait a moment to ride in the datagram of the next message to the same destination.
+    static bool user_control_only(const std::uint8_t* message, std::size_t size);
     /// The sending participant's GUID prefix, from the message's header; nullopt for bytes that are not RTPS.
     static std::optional<std::array<std::uint8_t, 12>> sender(const std::uint8_t* message, std::size_t size);
     /// The bytes of the INFO_DST (header included) that a well-formed, unprotected message starts with when it is
@@ -63,6 +68,8 @@ class RtpsDatagram {
         std::size_t destination_bytes = 0;
         std::size_t trailer_bytes = 0;
         std::size_t timestamp_bytes = 0;
+        /// It holds a DATA or DATA_FRAG of an application's writer, or protected submessages that may be one.
+        bool carries_user_sample = false;
     };
     static Strippable strippable(const std::uint8_t* message, std::size_t size);
     /// The bytes of PAD submessages to append to a datagram that does not end with a statistics submessage (its
@@ -84,20 +91,25 @@ class RtpsDatagram {
         bool protected_submessages = false;  ///< DDS Security protects some of its submessages (SEC_PREFIX)
         bool sets_timestamp_first = false;   ///< an INFO_TS comes before the first submessage that is not INFO_*
         bool destination_in_force = false;   ///< at the end
+        std::size_t destination_at = 0;      ///< where the GUID prefix of the last INFO_DST to a participant is
         bool timestamp_in_force = false;     ///< at the end
         std::size_t trailer_bytes = 0;       ///< the statistics submessage it ends with, header included
         bool trailer_last = false;           ///< the statistics submessage is the last submessage
         std::size_t heartbeat_bytes = 0;     ///< HEARTBEAT submessages, headers included
+        bool carries_user_sample = false;    ///< as in Strippable
+        bool user_control_only = false;      ///< as in user_control_only(), but for protection
         /// [INFO_DST] INFO_TS DATA [statistics] and nothing else: the INFO_TS's bytes (header included), else 0.
         std::size_t lone_sample_timestamp_bytes = 0;
     };
     static Shape shape_of(const std::uint8_t* message, std::size_t size);
+    void note_destination(const std::uint8_t* message, const Shape& shape);
 
     std::size_t max_bytes_;
     std::vector<std::uint8_t> bytes_;
     std::size_t messages_ = 0;
     bool closed_ = false;
     bool destination_in_force_ = false;
+    std::array<std::uint8_t, 12> destination_{};  ///< the participant in force, while destination_in_force_
     bool timestamp_in_force_ = false;
     std::size_t trailer_bytes_ = 0;
 };

@@ -15,6 +15,7 @@ constexpr std::size_t GUID_PREFIX_BYTES = 12;
 constexpr std::uint8_t PAD = 0x01;
 constexpr std::uint8_t ACKNACK = 0x06;
 constexpr std::uint8_t HEARTBEAT = 0x07;
+constexpr std::uint8_t GAP = 0x08;
 constexpr std::uint8_t INFO_TS = 0x09;
 constexpr std::uint8_t DATA = 0x15;
 constexpr std::uint8_t DATA_FRAG = 0x16;
@@ -46,6 +47,10 @@ constexpr std::size_t SAMPLE_SEQUENCE_OFFSET = 12;
 constexpr std::size_t FRAGMENT_START_OFFSET = 20;
 constexpr std::size_t DATA_FIELDS_BYTES = 20;
 constexpr std::size_t DATA_FRAG_FIELDS_BYTES = 32;
+
+/// An entity id's last byte, its kind (DDSI-RTPS 9.3.1.2): the two top bits set for the built-in endpoints
+/// (discovery, liveliness, security), clear for an application's.
+constexpr std::uint8_t BUILTIN_ENTITY_KIND_BITS = 0xc0;
 
 /// A 32-bit and a 16-bit field of a submessage, in the endianness its E flag gives.
 inline std::uint32_t read_u32(const std::uint8_t* p, bool little_endian) {

@@ -249,7 +249,8 @@ Locator_t udp_locator(const std::string& address, std::uint16_t port) {
 }  // namespace
 
 WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainParticipantQos>& base)
-    : coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_)),
+    : coalescer_(std::make_shared<DatagramCoalescer>(config.coalesce_window, config.max_datagram_bytes, clock_,
+                                                     HeldControl{config.control_wait, config.on_unscheduled})),
       domain_(config.domain),
       listen_port_(config.listen_port),
       introducer_(std::make_unique<Introducer>()),
@@ -275,6 +276,7 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
         std::make_shared<CoalescingTransportDescriptor>(udp, coalescer_, config.on_unscheduled, repeat_throttle_);
     coalescing->heartbeat_spacing_bytes = config.heartbeat_spacing_bytes;
     coalescing->strip_statistics = config.strip_statistics;
+    coalescing->strip_statistics_without_samples = config.strip_statistics_without_samples;
     coalescing->strip_destination = config.strip_destination;
     coalescing->strip_timestamp = config.strip_timestamp;
     coalescing->strip_early_heartbeats = config.strip_early_heartbeats;

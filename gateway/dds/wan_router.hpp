@@ -74,6 +74,12 @@ struct WanConfig {
     /// Sends every RTPS message without the statistics submessage this Fast DDS build ends it with (60 bytes; only
     /// eProsima's statistics module reads it): WireModel::without_statistics() must then be the model.
     bool strip_statistics = false;
+    /// Sends without it every message that carries no application's sample (HEARTBEATs, ACKNACKs and GAPs alone,
+    /// discovery): 60 of the 170 bytes of a lone HEARTBEAT. The samples keep it for a base camp's channel meter.
+    bool strip_statistics_without_samples = true;
+    /// How long a reliable writer's HEARTBEATs or GAPs alone wait for the next message to the same destination, to
+    /// ride in its datagram (DatagramCoalescer::hold); 0 sends them at once.
+    base::Duration control_wait = DatagramCoalescer::DEFAULT_CONTROL_WAIT;
     /// Sends a message to one participant without the INFO_DST that names it (16 bytes; its unicast locators
     /// reach that participant alone): WireModel::without_destination() must then be the model. Leave it off
     /// with security, which signs the message as Fast DDS made it.

@@ -91,6 +91,11 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
     if (datagrams.failed_datagrams > 0) {
         std::printf(", %llu failed after waiting", static_cast<unsigned long long>(datagrams.failed_datagrams));
     }
+    if (datagrams.controls_held > 0) {
+        std::printf("; %llu HEARTBEATs and GAPs alone held for the next message to their base camp, %llu rode with one",
+                    static_cast<unsigned long long>(datagrams.controls_held),
+                    static_cast<unsigned long long>(datagrams.controls_rode));
+    }
     std::printf("\n");
     std::printf(
         "WAN traffic outside the schedule (discovery, heartbeats, repairs, copies to further readers, commands on a "

@@ -5,6 +5,7 @@
 #include <thread>
 #include <vector>
 
+#include "gateway/core/wire_model.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "test/fakes/fake_clock.hpp"
 #include "test/unit/dds/rtps_bytes.hpp"
@@ -15,6 +16,7 @@ namespace {
 using namespace std::chrono_literals;
 using test::rtps::Bytes;
 using test::rtps::data;
+using test::rtps::info_dst;
 using test::rtps::info_ts;
 using test::rtps::message;
 
@@ -202,6 +204,133 @@ TEST_F(DatagramCoalescerTest, CountsADatagramThatWaitedAndFailed) {
     clock.advance(100us);
     sut.flush_due();
     EXPECT_EQ(sut.counts().failed_datagrams, 1u);
+}
+
+/// A coalescer that holds a reliable writer's HEARTBEATs and GAPs alone for 250 ms, and adds up what it charges.
+class HeldControlTest : public DatagramCoalescerTest {
+  protected:
+    bool hold(const Bytes& m, const DatagramDestination& to, std::size_t copies = 1) {
+        return held.hold(sender, to, m.data(), m.size(), copies);
+    }
+    /// A write of sample `i` to one participant, whose message names it first as Fast DDS's do.
+    bool write_held(std::uint8_t i, const DatagramDestination& to) {
+        const DatagramCoalescer::DeferScope scope;
+        const Bytes m = addressed(i);
+        return held.send(sender, to, m.data(), m.size());
+    }
+    static Bytes addressed(std::uint8_t i) { return message({info_dst(0x33), info_ts(i), data(40)}); }
+
+    /// What a message to the same participant leaves out when it joins another: its header and its INFO_DST.
+    static constexpr std::size_t SHARED_BYTES = RtpsDatagram::HEADER_BYTES + 16;
+    static Bytes joined(const Bytes& first, const Bytes& second) {
+        Bytes out = first;
+        out.insert(out.end(), second.begin() + SHARED_BYTES, second.end());
+        return out;
+    }
+
+    /// A lone HEARTBEAT to one participant, as Fast DDS sends a writer's periodic one (its statistics left out).
+    const Bytes heartbeat = message({info_dst(0x33), test::rtps::heartbeat()});
+    std::uint64_t charged = 0;
+    DatagramCoalescer held{100us, 1472, clock, HeldControl{250ms, [this](std::uint64_t bytes) { charged += bytes; }}};
+};
+
+TEST_F(HeldControlTest, AHeartbeatAloneRidesInTheDatagramOfTheNextSample) {
+    ASSERT_TRUE(hold(heartbeat, base_camp));
+    EXPECT_TRUE(sender.sent().empty());
+    clock.advance(40ms);
+    ASSERT_TRUE(write_held(1, base_camp));
+
+    ASSERT_EQ(sender.sent().size(), 1u) << "the sample goes at once, the HEARTBEAT with it";
+    EXPECT_EQ(sender.sent()[0].bytes, joined(heartbeat, addressed(1)));
+    // The sample is charged as if alone; in one datagram with it the HEARTBEAT costs its own submessage.
+    EXPECT_EQ(charged, heartbeat.size() - SHARED_BYTES);
+    const auto counts = held.counts();
+    EXPECT_EQ(counts.controls_held, 1u);
+    EXPECT_EQ(counts.controls_rode, 1u);
+}
+
+TEST_F(HeldControlTest, AHeartbeatNothingFollowsLeavesAloneAtTheEndOfItsWait) {
+    hold(heartbeat, base_camp);
+    clock.advance(249ms);
+    held.flush_due();
+    EXPECT_TRUE(sender.sent().empty());
+    clock.advance(1ms);
+    held.flush_due();
+
+    ASSERT_EQ(sender.sent().size(), 1u);
+    EXPECT_EQ(sender.sent()[0].bytes, heartbeat);
+    EXPECT_EQ(charged, heartbeat.size() + core::WireModel::FRAME_HEADER_BYTES) << "a datagram of its own";
+    EXPECT_EQ(held.counts().controls_rode, 0u);
+}
+
+TEST_F(HeldControlTest, SeveralWritersHeartbeatsShareOneDatagram) {
+    const Bytes other = message({info_dst(0x33), test::rtps::heartbeat(0x21)});
+    hold(heartbeat, base_camp);
+    clock.advance(100ms);
+    hold(other, base_camp);
+    clock.advance(150ms);  // the first one's wait ends: both go
+    held.flush_due();
+
+    ASSERT_EQ(sender.sent().size(), 1u);
+    EXPECT_EQ(sender.sent()[0].bytes, joined(heartbeat, other));
+    EXPECT_EQ(charged, joined(heartbeat, other).size() + core::WireModel::FRAME_HEADER_BYTES);
+}
+
+TEST_F(HeldControlTest, AMessageFromOutsideAWriteTakesItAlong) {
+    hold(heartbeat, base_camp);
+    const Bytes repair = message({info_dst(0x33), info_ts(9), data(40)});
+    ASSERT_TRUE(held.send(sender, base_camp, repair.data(), repair.size()));
+
+    ASSERT_EQ(sender.sent().size(), 1u);
+    EXPECT_EQ(sender.sent()[0].bytes, joined(heartbeat, repair));
+}
+
+TEST_F(HeldControlTest, RidesWithSamplesWaitingForTheirWindow) {
+    write_held(1, base_camp);
+    clock.advance(10us);
+    write_held(2, base_camp);  // waits for its window
+    hold(heartbeat, base_camp);
+    clock.advance(100us);
+    held.flush_due();
+
+    ASSERT_EQ(sender.sent().size(), 2u);
+    // The HEARTBEAT's message sets no timestamp: the sample's is invalidated before it.
+    Bytes expected = addressed(2);
+    expected.insert(expected.end(), {0x09, 0x03, 0x00, 0x00});
+    expected.insert(expected.end(), heartbeat.begin() + SHARED_BYTES, heartbeat.end());
+    EXPECT_EQ(sender.sent()[1].bytes, expected);
+    EXPECT_EQ(charged, 4 + heartbeat.size() - SHARED_BYTES);
+}
+
+TEST_F(HeldControlTest, WaitsOnlyForItsOwnDestination) {
+    hold(heartbeat, base_camp);
+    write_held(1, destination(7413));
+    ASSERT_EQ(sender.sent().size(), 1u);
+    EXPECT_EQ(sender.sent()[0].bytes, addressed(1));
+    EXPECT_EQ(charged, 0u) << "still held";
+}
+
+TEST_F(HeldControlTest, ChargesEveryCopy) {
+    hold(heartbeat, base_camp, 2);
+    write_held(1, base_camp);
+    EXPECT_EQ(charged, 2 * (heartbeat.size() - SHARED_BYTES));
+}
+
+TEST_F(HeldControlTest, StopSendsWhatIsHeld) {
+    hold(heartbeat, base_camp);
+    held.stop();
+    ASSERT_EQ(sender.sent().size(), 1u);
+    EXPECT_EQ(sender.sent()[0].bytes, heartbeat);
+    EXPECT_EQ(charged, heartbeat.size() + core::WireModel::FRAME_HEADER_BYTES);
+}
+
+TEST_F(HeldControlTest, WithoutAWaitItGoesAtOnce) {
+    std::uint64_t at_once_charged = 0;
+    DatagramCoalescer at_once{100us, 1472, clock, HeldControl{{}, [&](std::uint64_t b) { at_once_charged += b; }}};
+    EXPECT_FALSE(at_once.holds_control());
+    ASSERT_TRUE(at_once.hold(sender, base_camp, heartbeat.data(), heartbeat.size(), 1));
+    ASSERT_EQ(sender.sent().size(), 1u);
+    EXPECT_EQ(at_once_charged, heartbeat.size() + core::WireModel::FRAME_HEADER_BYTES);
 }
 
 TEST(DatagramCoalescerThreadTest, TheFlushThreadSendsWhenTheWindowEnds) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -11,13 +12,18 @@
 namespace tgw::dds {
 namespace {
 
+using test::rtps::acknack;
 using test::rtps::Bytes;
 using test::rtps::data;
+using test::rtps::data_frag;
+using test::rtps::data_of;
+using test::rtps::gap;
 using test::rtps::heartbeat;
 using test::rtps::info_dst;
 using test::rtps::info_src;
 using test::rtps::info_ts;
 using test::rtps::message;
+using test::rtps::PUBLICATIONS;
 using test::rtps::signed_rtps;
 using test::rtps::statistics;
 
@@ -96,8 +102,26 @@ TEST_F(RtpsDatagramTest, CountsTheStatisticsSubmessageItDropsWhenCheckingTheSize
 }
 
 TEST_F(RtpsDatagramTest, AppendsAMessageThatSetsTheDestinationInForceAgain) {
-    ASSERT_TRUE(append(sut, message({info_dst(0x33), info_ts(1), data(40)})));
-    EXPECT_TRUE(append(sut, message({info_dst(0x44), info_ts(2), data(40)})));
+    const Bytes first = message({info_dst(0x33), info_ts(1), data(40)});
+    const Bytes second = message({info_dst(0x44), info_ts(2), data(40)});
+    ASSERT_TRUE(append(sut, first));
+    ASSERT_TRUE(append(sut, second));
+    EXPECT_EQ(contents(sut), concat({first, body(second)}));
+}
+
+TEST_F(RtpsDatagramTest, LeavesOutAnInfoDstThatNamesTheParticipantInForce) {
+    const Bytes first = message({info_dst(0x33), heartbeat()});
+    const Bytes second = message({info_dst(0x33), info_ts(2), data(40), statistics(0)});
+    ASSERT_TRUE(append(sut, first));
+    ASSERT_TRUE(append(sut, second));
+    EXPECT_EQ(contents(sut), concat({first, info_ts(2), data(40), statistics(0)}));
+    // The destination in force is the last one named, here by the second message's own INFO_DST.
+    const Bytes third = message({info_dst(0x44), heartbeat(), info_dst(0x33), heartbeat(0x12)});
+    const Bytes fourth = message({info_dst(0x33), heartbeat(0x13)});
+    RtpsDatagram other{MAX_BYTES};
+    ASSERT_TRUE(append(other, third));
+    ASSERT_TRUE(append(other, fourth));
+    EXPECT_EQ(contents(other), concat({third, heartbeat(0x13)}));
 }
 
 TEST_F(RtpsDatagramTest, RefusesAMessageForEveryoneAfterOneForOneParticipant) {
@@ -229,6 +253,39 @@ TEST(RtpsLoneSampleTimestamp, IsNothingUnlessTheMessageIsOneStampedSampleAndPlai
     Bytes truncated = message({info_ts(1), data(40)});
     truncated.resize(truncated.size() - 8);
     EXPECT_EQ(stamp(truncated), 0u);
+}
+
+TEST(RtpsUserSample, IsADataOrDataFragOfAnApplicationsWriter) {
+    const auto carries = [](const Bytes& m) {
+        return RtpsDatagram::strippable(m.data(), m.size()).carries_user_sample;
+    };
+    constexpr std::array<std::uint8_t, 4> USER_WRITER{0x00, 0x00, 0x01, 0x03};
+    constexpr std::array<std::uint8_t, 4> SPDP_WRITER{0x00, 0x01, 0x00, 0xc2};
+    EXPECT_TRUE(carries(message({info_ts(1), data_of(USER_WRITER, 1), statistics(0)})));
+    EXPECT_TRUE(carries(message({info_dst(0x33), data_frag(USER_WRITER, 1, 2), heartbeat(), statistics(0)})));
+    EXPECT_TRUE(carries(message({heartbeat(), info_ts(1), data_of(USER_WRITER, 2)})));
+    // What a base camp's channel meter can do without: control alone, and discovery.
+    EXPECT_FALSE(carries(message({info_dst(0x33), heartbeat(), statistics(0)})));
+    EXPECT_FALSE(carries(message({info_dst(0x33), acknack(), statistics(0)})));
+    EXPECT_FALSE(carries(message({info_dst(0x33), gap(USER_WRITER, 3), statistics(0)})));
+    EXPECT_FALSE(carries(message({info_ts(1), data_of(SPDP_WRITER, 1), statistics(0)})));
+    EXPECT_FALSE(carries(message({info_ts(1), data_of(PUBLICATIONS, 1), heartbeat(), statistics(0)})));
+    // Protected, a sample cannot be told from the rest.
+    EXPECT_TRUE(carries(message(signed_rtps({heartbeat()}))));
+}
+
+TEST(RtpsUserControl, IsAWritersHeartbeatsAndGapsAlone) {
+    const auto control = [](const Bytes& m) { return RtpsDatagram::user_control_only(m.data(), m.size()); };
+    constexpr std::array<std::uint8_t, 4> USER_WRITER{0x00, 0x00, 0x01, 0x03};
+    EXPECT_TRUE(control(message({info_dst(0x33), heartbeat()})));
+    EXPECT_TRUE(control(message({info_dst(0x33), heartbeat(), statistics(0)})));
+    EXPECT_TRUE(control(message({info_dst(0x33), gap(USER_WRITER, 3), heartbeat()})));
+    EXPECT_FALSE(control(message({info_dst(0x33)})));                                     // nothing to carry
+    EXPECT_FALSE(control(message({info_dst(0x33), info_ts(1), data(40), heartbeat()})));  // a sample
+    EXPECT_FALSE(control(message({info_dst(0x33), acknack()})));                          // a reader's
+    EXPECT_FALSE(control(message({info_dst(0x33), heartbeat(0xc2)})));                    // discovery's writer
+    EXPECT_FALSE(control(message({info_src(), heartbeat()})));                            // state not tracked
+    EXPECT_FALSE(control(message(signed_rtps({heartbeat()}))));
 }
 
 TEST_F(RtpsDatagramTest, SendsAMessageProtectedAsAWholeAlone) {

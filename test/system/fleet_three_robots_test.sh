@@ -27,6 +27,12 @@
 # QOS= (empty; ctest's fleet_three_robots_grants, with WAY=grants RESTART=0) runs the gateways without
 # qos/paper_workload.xml: the TTLs come from the publishers' Lifespans, and a topic is known once it publishes.
 # PEER_PARTICIPANTS=N announces each gateway to N participants at the camp (default 1; the gateway's own default 4).
+# PUBLISHER=cyclone (issue 49's fleet target, with WAY=grants RESTART=0 QOS=): each robot's workload comes from an
+# independent Cyclone program with its defaults and Lifespan = TTL (mix_pub's paper workload), and a Cyclone reader
+# with its defaults made reliable and ROS 2's depth of 10 (mix_sub) reads every robot's A and B behind the relay on
+# the camp's domain; checks A and B >= 99 % on time at that reader as well. Cyclone's own depth of 1 keeps the last
+# of the samples of a topic that one compact bundle brings: 92 to 115 of 200 A and B reached such a reader, all on
+# time, while the relay recorded all 200 (2026-12-06).
 set -euo pipefail
 BIN=$1
 cd "$(dirname "$0")/../.."
@@ -44,6 +50,12 @@ robot_address() { TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info "robot$1-add
 peers=()
 for k in $(seq 1 "$ROBOTS"); do peers+=(--peer "$(robot_address "$k")"); done
 WAY=${WAY:-equal}
+PUBLISHER=${PUBLISHER:-robot-sim}
+if [ "$PUBLISHER" = cyclone ]; then
+    for p in mix_pub mix_sub; do
+        [ -x "$BIN/$p" ] || { echo "fleet_three_robots: $BIN/$p is missing (it needs Cyclone DDS: scripts/build)" >&2; exit 1; }
+    done
+fi
 DISCOVERY=${DISCOVERY:-peers}
 relay_discovery=("${peers[@]}")
 gateway_discovery=(--wan-peer "$basecamp_addr" --wan-peer-participants "${PEER_PARTICIPANTS:-1}")
@@ -82,6 +94,14 @@ echo "fleet_three_robots: $WAY shares, discovery by $DISCOVERY, commands to rove
     --local-domain 2 --local-interface 127.0.0.1 "${relay_flags[@]}" --out "$WORK/camp.db" >"$WORK/relay.out" 2>&1 &
 relay=$!
 PIDS+=("$relay")
+camp_topics=()
+if [ "$PUBLISHER" = cyclone ]; then
+    for k in $(seq 1 "$ROBOTS"); do camp_topics+=("rover$k/telemetry/A" "rover$k/telemetry/B"); done
+    "${tb[@]}" basecamp env CYCLONEDDS_URI="$robot_cyclone" MIX_DEPTH=10 "$BIN/mix_sub" 2 $((WARMUP + DURATION + 30)) \
+        "$WORK/camp-arrivals.txt" "${camp_topics[@]}" >"$WORK/camp-reader.out" 2>&1 &
+    camp_reader=$!
+    PIDS+=("$camp_reader")
+fi
 
 QOS=${QOS-qos/paper_workload.xml}
 qos_flags=()
@@ -106,8 +126,13 @@ done
 sleep "$WARMUP"
 sims=()
 for k in $(seq 1 "$ROBOTS"); do
-    "${tb[@]}" "robot$k" "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload paper --rate-hz 5 \
-        --duration "$DURATION" --linger 0 --wait-match 10 >"$WORK/sim$k.out" 2>&1 &
+    if [ "$PUBLISHER" = cyclone ]; then
+        "${tb[@]}" "robot$k" env CYCLONEDDS_URI="$robot_cyclone" "$BIN/mix_pub" 0 "$DURATION" paper \
+            >"$WORK/sim$k.out" 2>&1 &
+    else
+        "${tb[@]}" "robot$k" "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload paper --rate-hz 5 \
+            --duration "$DURATION" --linger 0 --wait-match 10 >"$WORK/sim$k.out" 2>&1 &
+    fi
     sims+=("$!")
     PIDS+=("$!")
 done
@@ -157,8 +182,12 @@ if [ "$COMMANDS" = 1 ]; then
     wait "$commands_record" 2>/dev/null || true
 fi
 
-published() {  # K TOPIC: what rover K's tm-robot-sim published of TOPIC
-    awk -v t="$2" '$2 == t { print $5; exit }' "$WORK/sim$1.out"
+published() {  # K TOPIC: what rover K's publisher published of TOPIC
+    if [ "$PUBLISHER" = cyclone ]; then
+        awk -v t="$2" '$1 == "mix_pub:" && $2 == t && $3 == "published" { print $4; exit }' "$WORK/sim$1.out"
+    else
+        awk -v t="$2" '$2 == t { print $5; exit }' "$WORK/sim$1.out"
+    fi
 }
 offered=()
 for k in $(seq 1 "$ROBOTS"); do
@@ -178,6 +207,20 @@ for k in $checked_robots; do
             "b >= 150 && a >= 0.99 * b" "${on_time:-0}" "${offered_n:-0}"
     done
 done
+if [ "$PUBLISHER" = cyclone ]; then
+    kill -TERM "$camp_reader" 2>/dev/null || true
+    wait "$camp_reader" 2>/dev/null || true
+    for k in $checked_robots; do
+        for type in A B; do
+            ttl_ns=$([ "$type" = A ] && echo 1000000000 || echo 2000000000)
+            on_time=$(awk -v t="rover$k/telemetry/$type" -v ttl="$ttl_ns" \
+                '$1 == t && $4 - $3 <= ttl { seen[$2] = 1 } END { print length(seen) }' "$WORK/camp-arrivals.txt")
+            offered_n=$(published "$k" "telemetry/$type")
+            check "rover$k/telemetry/$type: ${on_time:-0} of ${offered_n:-0} on time at the camp's Cyclone reader" \
+                "b >= 150 && a >= 0.99 * b" "${on_time:-0}" "${offered_n:-0}"
+        done
+    done
+fi
 camera_received=$(awk '$1 == "rover2/camera/image" && (NF == 9 || NF == 10) { print $4; exit }' "$WORK/report.txt")
 echo "rover2's camera frames received: ${camera_received:-0} of $(awk '$2 == "camera/image" { print $5 }' "$WORK/camera.out")"
 # The restarted gateway's exit summary: topic received forwarded ... It runs about 18 s (90 A); what it forwards
@@ -221,7 +264,7 @@ done
 
 if [ "$fail" -ne 0 ]; then
     for f in server.out relay.out gateway1.out gateway2.out gateway3.out gateway3-restarted.out sim1.out sim2.out sim3.out \
-        camera.out commands.out commands-record.out tc.txt; do
+        camera.out commands.out commands-record.out camp-reader.out tc.txt; do
         [ -f "$WORK/$f" ] || continue
         echo "--- $f"
         cat "$WORK/$f"

@@ -5,7 +5,10 @@
  * gateway's), or 10 s after the start if one has not. Each sample is written with the wall clock at writing as source
  * timestamp and stamp_ns. seq counts per topic from 0; the six joints of one tick share it.
  *
- *   mix_pub DOMAIN SECONDS
+ *   mix_pub DOMAIN SECONDS [paper]
+ *
+ * With "paper", the paper's workload instead, as an independent Cyclone program would publish it: telemetry/A to D,
+ * Blob samples of 41, 66, 266 and 1016 bytes of data, 5 Hz each, Lifespans (TTLs) of 1, 2, 5 and 20 s.
  *
  * stdout: "mix_pub: start_ns T" (the wall clock at t = 0) at once, and at the end one line per topic
  * "mix_pub: TOPIC published N" (samples, so six per tick for mix/joints). */
@@ -25,8 +28,9 @@
 #define IMAGE_BYTES 6000
 #define SCIENCE_BYTES 1500
 #define MATCH_WAIT_S 10
+#define MAX_TOPICS 6
 
-typedef enum mix_kind { MIX_HAZARD, MIX_POSE, MIX_JOINTS, MIX_BATTERY, MIX_IMAGE, MIX_SCIENCE } mix_kind;
+typedef enum mix_kind { MIX_HAZARD, MIX_POSE, MIX_JOINTS, MIX_BATTERY, MIX_IMAGE, MIX_SCIENCE, MIX_PAPER } mix_kind;
 
 typedef struct mix_topic {
     mix_kind kind;
@@ -34,6 +38,7 @@ typedef struct mix_topic {
     const dds_topic_descriptor_t* desc;
     int64_t period_ns;
     int64_t ttl_ns;
+    uint32_t blob_bytes; /* MIX_PAPER: its data's size */
     dds_entity_t writer;
     uint32_t seq;
     int64_t next_due_ns; /* monotonic */
@@ -130,6 +135,10 @@ static unsigned write_tick(mix_topic* t, uint8_t* buffer) {
             rc = write_blob(t, buffer, SCIENCE_BYTES, stamp);
             ok = rc == DDS_RETCODE_OK;
             break;
+        case MIX_PAPER:
+            rc = write_blob(t, buffer, t->blob_bytes, stamp);
+            ok = rc == DDS_RETCODE_OK;
+            break;
     }
     if (rc != DDS_RETCODE_OK && t->failed++ == 0)
         fprintf(stderr, "mix_pub: %s: dds_write_ts: %s (reported once)\n", t->name, dds_strretcode(-rc));
@@ -137,22 +146,31 @@ static unsigned write_tick(mix_topic* t, uint8_t* buffer) {
 }
 
 int main(int argc, char** argv) {
-    const double seconds = argc == 3 ? atof(argv[2]) : 0.0;
-    if (argc != 3 || seconds <= 0) {
-        fprintf(stderr, "usage: mix_pub DOMAIN SECONDS\n");
+    const double seconds = argc >= 3 ? atof(argv[2]) : 0.0;
+    const int paper = argc == 4 && strcmp(argv[3], "paper") == 0;
+    if (argc < 3 || argc > 4 || seconds <= 0 || (argc == 4 && !paper)) {
+        fprintf(stderr, "usage: mix_pub DOMAIN SECONDS [paper]\n");
         return 2;
     }
     const int domain = atoi(argv[1]);
 
-    mix_topic topics[] = {
-        {MIX_HAZARD, "mix/hazard", &tgw_mix_Text_desc, DDS_SECS(1), DDS_SECS(1), 0, 0, 0, 0, 0},
-        {MIX_POSE, "mix/pose", &tgw_mix_Pose_desc, DDS_MSECS(200), DDS_MSECS(1500), 0, 0, 0, 0, 0},
-        {MIX_JOINTS, "mix/joints", &tgw_mix_Joint_desc, DDS_SECS(1), DDS_SECS(2), 0, 0, 0, 0, 0},
-        {MIX_BATTERY, "mix/battery", &tgw_mix_Text_desc, DDS_SECS(1), DDS_SECS(5), 0, 0, 0, 0, 0},
-        {MIX_IMAGE, "mix/image", &tgw_mix_Blob_desc, DDS_SECS(2), DDS_SECS(20), 0, 0, 0, 0, 0},
-        {MIX_SCIENCE, "mix/science", &tgw_mix_Blob_desc, DDS_SECS(1), DDS_SECS(60), 0, 0, 0, 0, 0},
+    const mix_topic mix[] = {
+        {MIX_HAZARD, "mix/hazard", &tgw_mix_Text_desc, DDS_SECS(1), DDS_SECS(1), 0, 0, 0, 0, 0, 0},
+        {MIX_POSE, "mix/pose", &tgw_mix_Pose_desc, DDS_MSECS(200), DDS_MSECS(1500), 0, 0, 0, 0, 0, 0},
+        {MIX_JOINTS, "mix/joints", &tgw_mix_Joint_desc, DDS_SECS(1), DDS_SECS(2), 0, 0, 0, 0, 0, 0},
+        {MIX_BATTERY, "mix/battery", &tgw_mix_Text_desc, DDS_SECS(1), DDS_SECS(5), 0, 0, 0, 0, 0, 0},
+        {MIX_IMAGE, "mix/image", &tgw_mix_Blob_desc, DDS_SECS(2), DDS_SECS(20), 0, 0, 0, 0, 0, 0},
+        {MIX_SCIENCE, "mix/science", &tgw_mix_Blob_desc, DDS_SECS(1), DDS_SECS(60), 0, 0, 0, 0, 0, 0},
     };
-    const size_t n_topics = sizeof topics / sizeof topics[0];
+    const mix_topic paper_workload[] = {
+        {MIX_PAPER, "telemetry/A", &tgw_mix_Blob_desc, DDS_MSECS(200), DDS_SECS(1), 41, 0, 0, 0, 0, 0},
+        {MIX_PAPER, "telemetry/B", &tgw_mix_Blob_desc, DDS_MSECS(200), DDS_SECS(2), 66, 0, 0, 0, 0, 0},
+        {MIX_PAPER, "telemetry/C", &tgw_mix_Blob_desc, DDS_MSECS(200), DDS_SECS(5), 266, 0, 0, 0, 0, 0},
+        {MIX_PAPER, "telemetry/D", &tgw_mix_Blob_desc, DDS_MSECS(200), DDS_SECS(20), 1016, 0, 0, 0, 0, 0},
+    };
+    mix_topic topics[MAX_TOPICS];
+    const size_t n_topics = paper ? sizeof paper_workload / sizeof paper_workload[0] : sizeof mix / sizeof mix[0];
+    memcpy(topics, paper ? paper_workload : mix, n_topics * sizeof topics[0]);
 
     const dds_entity_t participant = dds_create_participant((dds_domainid_t)domain, NULL, NULL);
     if (participant < 0) {

@@ -1,9 +1,13 @@
 /* A base-camp program as its users make it with Cyclone DDS, reading what mix_pub publishes: six readers with
  * Cyclone's default QoS but reliable (the readers ROS 2 makes; Cyclone's own default reader is best effort),
- * KEEP_LAST 1. MIX_BEST_EFFORT=1 keeps them best effort, for the comparison run. The participant takes its
+ * KEEP_LAST 1. MIX_BEST_EFFORT=1 keeps them best effort, for the comparison run. MIX_DEPTH=N keeps the last N
+ * (ROS 2's default profile keeps 10). The participant takes its
  * configuration (peers, interface) from CYCLONEDDS_URI.
  *
- *   mix_sub DOMAIN SECONDS OUT_FILE
+ *   mix_sub DOMAIN SECONDS OUT_FILE [TOPIC...]
+ *
+ * TOPICs, when given, are read instead of mix_pub's, each as a Blob (mix_pub's paper workload, under the names a
+ * base camp's relay gives them, such as rover1/telemetry/A).
  *
  * A waitset wakes the program as soon as a sample is there, and the arrival is stamped when it is taken. Each
  * valid sample appends "TOPIC SEQ SOURCE_NS ARRIVAL_NS INSTANCE" to OUT_FILE (wall-clock ns; INSTANCE the joint's
@@ -76,22 +80,32 @@ static void take_all(mix_topic* t, FILE* out) {
     }
 }
 
+#define MAX_TOPICS 16
+
 int main(int argc, char** argv) {
-    const double seconds = argc == 4 ? atof(argv[2]) : 0.0;
-    if (argc != 4 || seconds <= 0) {
-        fprintf(stderr, "usage: mix_sub DOMAIN SECONDS OUT_FILE\n");
+    const double seconds = argc >= 4 ? atof(argv[2]) : 0.0;
+    if (argc < 4 || seconds <= 0 || argc - 4 > MAX_TOPICS) {
+        fprintf(stderr, "usage: mix_sub DOMAIN SECONDS OUT_FILE [TOPIC...] (at most %d)\n", MAX_TOPICS);
         return 2;
     }
     const int domain = atoi(argv[1]);
     const char* best_effort_env = getenv("MIX_BEST_EFFORT");
     const int best_effort = best_effort_env != NULL && strcmp(best_effort_env, "1") == 0;
 
-    mix_topic topics[] = {
+    const mix_topic mix[] = {
         {"mix/hazard", MIX_TEXT, &tgw_mix_Text_desc, 0, 0},   {"mix/pose", MIX_POSE, &tgw_mix_Pose_desc, 0, 0},
         {"mix/joints", MIX_JOINT, &tgw_mix_Joint_desc, 0, 0}, {"mix/battery", MIX_TEXT, &tgw_mix_Text_desc, 0, 0},
         {"mix/image", MIX_BLOB, &tgw_mix_Blob_desc, 0, 0},    {"mix/science", MIX_BLOB, &tgw_mix_Blob_desc, 0, 0},
     };
-    const size_t n_topics = sizeof topics / sizeof topics[0];
+    mix_topic topics[MAX_TOPICS];
+    size_t n_topics = 0;
+    if (argc > 4) {
+        for (int i = 4; i < argc; ++i)
+            topics[n_topics++] = (mix_topic){argv[i], MIX_BLOB, &tgw_mix_Blob_desc, 0, 0};
+    } else {
+        n_topics = sizeof mix / sizeof mix[0];
+        memcpy(topics, mix, sizeof mix);
+    }
 
     FILE* out = fopen(argv[3], "a");
     if (out == NULL) {
@@ -107,6 +121,9 @@ int main(int argc, char** argv) {
     const dds_entity_t waitset = dds_create_waitset(participant);
     dds_qos_t* qos = dds_create_qos();
     dds_qset_reliability(qos, best_effort ? DDS_RELIABILITY_BEST_EFFORT : DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+    const char* depth_env = getenv("MIX_DEPTH");
+    if (depth_env != NULL && atoi(depth_env) > 0)
+        dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, atoi(depth_env));
     for (size_t i = 0; i < n_topics; ++i) {
         mix_topic* t = &topics[i];
         const dds_entity_t topic = dds_create_topic(participant, t->desc, t->name, NULL, NULL);
@@ -128,7 +145,7 @@ int main(int argc, char** argv) {
 
     const dds_time_t end = dds_time() + (dds_duration_t)(seconds * 1e9);
     dds_time_t next_flush = dds_time() + DDS_SECS(1);
-    dds_attach_t triggered[sizeof topics / sizeof topics[0]];
+    dds_attach_t triggered[MAX_TOPICS];
     while (!mix_stop_requested) {
         const dds_time_t now = dds_time();
         if (now >= end)

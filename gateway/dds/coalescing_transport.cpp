@@ -92,12 +92,13 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     for (rtps::LocatorsIterator& it = *destination_locators_begin; it != *destination_locators_end; ++it) {
         destination.locators.push_back(*it);
     }
+    const bool scheduled_write = DatagramCoalescer::DeferScope::current() != 0;
     const bool strip_timestamp = descriptor_.strip_timestamp && UnstampedWrite::active();
-    if (descriptor_.strip_destination || descriptor_.strip_statistics || descriptor_.strip_statistics_without_samples ||
-        strip_timestamp) {
+    // A scheduled write's message carries its sample: only the rest need reading for it.
+    const bool strip_unless_sample = descriptor_.strip_statistics_without_samples && !scheduled_write;
+    if (descriptor_.strip_destination || descriptor_.strip_statistics || strip_unless_sample || strip_timestamp) {
         const RtpsDatagram::Strippable strip = RtpsDatagram::strippable(send_buffer, send_buffer_size);
-        if (descriptor_.strip_statistics ||
-            (descriptor_.strip_statistics_without_samples && !strip.carries_user_sample)) {
+        if (descriptor_.strip_statistics || (strip_unless_sample && !strip.carries_user_sample)) {
             // The trailer is the message's last submessage: the message without it is its first bytes.
             send_buffer_size -= static_cast<std::uint32_t>(strip.trailer_bytes);
         }
@@ -130,7 +131,6 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
             send_buffer_size = static_cast<std::uint32_t>(without_heartbeats.size());
         }
     }
-    const bool scheduled_write = DatagramCoalescer::DeferScope::current() != 0;
     // Only locators this transport sends to count (a remote reader may also announce shared memory ones).
     const auto copies = static_cast<std::size_t>(
         std::count_if(destination.locators.begin(), destination.locators.end(),

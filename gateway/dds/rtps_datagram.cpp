@@ -198,8 +198,10 @@ RtpsDatagram::Strippable RtpsDatagram::strippable(const std::uint8_t* message, s
 }
 
 std::size_t RtpsDatagram::padding_against_statistics_fill(const std::uint8_t* datagram, std::size_t size) {
-    if (size < HEADER_BYTES || statistics_trailer_bytes(datagram, size) != 0) {
-        return 0;  // its own statistics submessage, the one to fill in
+    // Most datagrams have no statistics id where the transport looks: decided without reading the submessages.
+    if (size < HEADER_BYTES + STATISTICS_BYTES || datagram[size - STATISTICS_BYTES] != EPROSIMA_STATISTICS ||
+        statistics_trailer_bytes(datagram, size) != 0) {
+        return 0;  // or its own statistics submessage, the one to fill in
     }
     // Each PAD moves the byte the transport looks at 4 bytes on; the last bytes of the datagram, then the PADs'
     // own (id 0x01, flags 0x01, length 0), none of which is the statistics id.

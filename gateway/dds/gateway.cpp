@@ -180,6 +180,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     wan.max_datagram_bytes = config_.scheduler.wire.max_datagram_bytes;
     wan.coalesce_window = config_.wan_coalesce_window;
     wan.heartbeat_spacing_bytes = config_.wan_heartbeat_bytes;
+    wan.datagram_transport = config_.wan_datagram_transport;
     // The camp's datagrams (its commands) come as its Fast DDS sends them, whatever this end strips from its own.
     camp_wire_ = wan.security ? config_.scheduler.wire.with_security() : config_.scheduler.wire;
     if (config_.compact_wan) {

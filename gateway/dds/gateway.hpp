@@ -15,6 +15,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include <fastdds/rtps/transport/TransportDescriptorInterface.h>
 #include "base/clock.hpp"
 #include "base/quiet_discovery_ports.hpp"
 #include "gateway/core/demand_watch.hpp"
@@ -22,6 +23,7 @@
 #include "gateway/core/latency_histogram.hpp"
 #include "gateway/core/scheduler.hpp"
 #include "gateway/core/sent_rate.hpp"
+
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
@@ -106,6 +108,8 @@ struct GatewayConfig {
     bool channel_grants = false;
     /// WanConfig::coalesce_window: how long a WAN sample may wait to share a datagram; 0: never.
     std::chrono::microseconds wan_coalesce_window = DatagramCoalescer::DEFAULT_WINDOW;
+    /// See WanConfig::datagram_transport.
+    std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> wan_datagram_transport;
     /// See WanConfig::heartbeat_spacing_bytes.
     std::uint32_t wan_heartbeat_bytes = DEFAULT_HEARTBEAT_SPACING_BYTES;
     static constexpr std::chrono::microseconds MAX_COALESCE_WINDOW{100'000};

@@ -263,7 +263,10 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     // UDPv4 only: no shared memory (the base camp is elsewhere), bound to the WAN interface.
     qos.transport().use_builtin_transports = false;
     qos.transport().user_transports.clear();
-    auto udp = std::make_shared<UDPv4TransportDescriptor>();
+    std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> udp = config.datagram_transport;
+    if (!udp) {
+        udp = std::make_shared<UDPv4TransportDescriptor>();
+    }
     // By default one RTPS message per Ethernet frame: larger samples go as DATA_FRAG, which the wire model
     // counts and a reliable writer can repair one by one, instead of IP fragments of one 64 kB datagram.
     udp->maxMessageSize = static_cast<std::uint32_t>(config.max_datagram_bytes);

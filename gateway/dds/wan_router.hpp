@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <fastdds/rtps/transport/TransportDescriptorInterface.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
@@ -59,6 +60,10 @@ struct WanConfig {
     /// 20 s / 3 s put 5,300 bit/s on the link with one idle peer (DESIGN section 4); these cut that ~7x.
     std::chrono::seconds lease_duration{120};
     std::chrono::seconds announcement_period{20};
+    /// The UDP transport the participant sends through, under its coalescer; its maxMessageSize is set to
+    /// max_datagram_bytes. None: Fast DDS's UDPv4 transport. The integration tests give Fast DDS's
+    /// test_UDPv4Transport, which loses the datagrams they choose, as a radio does.
+    std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> datagram_transport;
     /// The UDP transport's maxMessageSize: larger samples go as DATA_FRAG. One Ethernet frame by default;
     /// the scheduler's WireModel must be made for the same size.
     std::size_t max_datagram_bytes = core::WireModel::MAX_DATAGRAM_PAYLOAD_BYTES;

@@ -69,7 +69,7 @@ inline void use_transports_in_process() {
 /// neighbours are often a multiple of SLOTS apart.
 inline int test_slot() {
     static const int slot = [] {
-        constexpr int SLOTS = 95;
+        constexpr int SLOTS = 70;
         const char* dir = "/tmp/tgw-test-domains";
         ::mkdir(dir, 0777);
         const int first = static_cast<int>(::getpid() % SLOTS);
@@ -87,18 +87,22 @@ inline int test_slot() {
     return slot;
 }
 
-/// Domain ids and ports for one test process, apart from every other test process running (test_slot()). Robot
-/// and WAN domains are an adjacent pair in 10..199.
+/// Domain ids and ports for one test process, apart from every other test process running (test_slot()): a robot
+/// domain in 10..79, a WAN domain in 85..154 and a base camp's own domain in 160..229. Not adjacent: a domain's
+/// ports run into the next domain's from participant id 125 on, which the robot side's automatic ids reach when a
+/// test repeats in one process, and the WAN side's fixed ports must never be among them.
 struct TestDomains {
     int robot = 0;
     int wan = 0;
+    int camp = 0;                        ///< a relay's camp-side domain
     std::uint16_t wan_reader_port = 0;   ///< the test's base-camp participant, the gateway's --wan-peer
     std::uint16_t gateway_wan_port = 0;  ///< the gateway's own WAN metatraffic port
 
     static TestDomains for_this_process() {
         TestDomains d;
-        d.robot = 10 + test_slot() * 2;
-        d.wan = d.robot + 1;
+        d.robot = 10 + test_slot();
+        d.wan = 85 + test_slot();
+        d.camp = 160 + test_slot();
         // Participant ids well above what Fast DDS assigns in one process, so the ports are free.
         d.wan_reader_port = dds::metatraffic_unicast_port(d.wan, 60);
         d.gateway_wan_port = dds::metatraffic_unicast_port(d.wan, 61);

@@ -19,7 +19,7 @@ class RelayTest : public GatewayIntegrationTest {
         GatewayIntegrationTest::SetUp();
         // The relay is the base camp's one participant on the WAN domain, on the port the gateway announces to.
         basecamp_.reset();
-        local_domain_ = 201 + test_slot() % 31;
+        local_domain_ = domains_.camp;
         local_ = std::make_unique<TestParticipant>(local_domain_, fdds::PARTICIPANT_QOS_DEFAULT);
         ASSERT_TRUE(local_->ok());
     }

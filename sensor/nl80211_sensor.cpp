@@ -47,9 +47,11 @@ Nl80211Sensor::Nl80211Sensor(std::string interface, std::optional<MacAddress> pe
     : interface_(std::move(interface)), peer_(peer) {
     if (interface_.empty())
         throw base::ConfigError("no interface given (nl80211:IFACE[:PEER_MAC])");
+    // A radio's interface may appear after the gateway starts (a USB dongle, its driver loaded with it): until then
+    // its readings fail, as they do when it goes. One that is there must be wireless.
     const unsigned ifindex = if_nametoindex(interface_.c_str());
     if (ifindex == 0)
-        throw base::ConfigError("no interface " + interface_);
+        return;
     if (auto error = connect(); !error.empty())
         throw base::ConfigError(error);
     const Dump dump = dump_stations(static_cast<int>(ifindex));
@@ -129,15 +131,15 @@ Nl80211Sensor::Dump Nl80211Sensor::dump_stations(int ifindex) {
 
 RateReading Nl80211Sensor::read() {
     try {
+        const unsigned ifindex = if_nametoindex(interface_.c_str());
+        if (ifindex == 0)
+            return failed_reading("no interface " + interface_);
         if (!socket_) {
             if (auto error = connect(); !error.empty()) {
                 socket_.reset();
                 return failed_reading(error);
             }
         }
-        const unsigned ifindex = if_nametoindex(interface_.c_str());
-        if (ifindex == 0)
-            return failed_reading("no interface " + interface_);
         const Dump dump = dump_stations(static_cast<int>(ifindex));
         if (dump.nl_error < 0) {
             // A reply may still be on its way and would confuse the next dump: start afresh next time.

@@ -58,6 +58,15 @@ RateReading read_htb(nl_sock* socket, const std::string& interface, int ifindex,
     return success(8.0 * static_cast<double>(total_bytes_per_s), "htb class " + roots);
 }
 
+/// Whether `interface` exists in the network namespace of `socket`.
+bool has_link(nl_sock* socket, const std::string& interface) {
+    rtnl_link* raw_link = nullptr;
+    if (rtnl_link_get_kernel(socket, 0, interface.c_str(), &raw_link) < 0)
+        return false;
+    const RtnlLinkPtr link(raw_link);
+    return true;
+}
+
 /// One reading of the root shaper of `interface`, in the network namespace of `socket`.
 RateReading read_root_shaper(nl_sock* socket, const std::string& interface) {
     rtnl_link* raw_link = nullptr;
@@ -99,8 +108,10 @@ QdiscSensor::QdiscSensor(std::string interface) : interface_(std::move(interface
     if (interface_.empty())
         throw base::ConfigError("no interface given (qdisc:IFACE)");
     socket_ = connect_rtnetlink();
+    // A radio's interface may appear after the gateway starts (a USB modem, a driver loaded late): until then its
+    // readings fail, as they do when it goes. One that is there must have a shaper this sensor reads.
     const RateReading first = read();
-    if (!first.ok)
+    if (!first.ok && has_link(socket_.get(), interface_))
         throw base::ConfigError(first.error);
 }
 

@@ -170,8 +170,9 @@ class WanRouter {
     void announce_again();
     /// Makes the participant anew, bound to `interface_address` (the WAN interface came back with another, a
     /// DHCP lease or a mesh radio's): the old one announced an address nobody can reach. Every writer made here
-    /// gets its successor on the new participant (the same WanWriter, its history gone: a transient-local lane
-    /// starts empty), the receiver reports and grants are read again, and the new participant announces itself
+    /// gets its successor on the new participant (the same WanWriter; a transient-local lane's successor is given
+    /// each instance's last change again), the receiver reports and grants are read again, and the new participant
+    /// announces itself
     /// to the peers. Its GUID is new: the base camp sees a new participant, and lets the old one's lease run
     /// out. Call while nothing is scheduled (the link is down, the budget 0): writes in between fail. False
     /// (after logging it) when Fast DDS refuses; writes fail until a later rebind succeeds.

@@ -48,9 +48,32 @@ void WanWriter::replace(fdds::DataWriter* writer) {
     std::lock_guard<std::mutex> lock(mutex_);
     writer_ = writer;
     failure_reported_.store(false);
+    // The successor starts with no history: the camp's late joiners must still get each instance's last change.
+    // It has no reader yet, so these writes only fill its history.
+    for (core::Sample& change : latched_history_.live(base::WallClock::now(), lifespan_)) {
+        write_nts(change);
+    }
 }
 
 WriteResult WanWriter::write(core::Sample& sample) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const ReturnCode_t rc = write_nts(sample);
+    if (rc != ReturnCode_t::RETCODE_OK) {
+        if (!failure_reported_.exchange(true)) {
+            std::cerr << "telemetry-gateway: WAN write failed on " << topic_ << " (code " << rc() << ")\n";
+        }
+        return WriteResult::failed;
+    }
+    if (latched_) {
+        latched_history_.keep(sample);
+    }
+    return WriteResult::ok;
+}
+
+ReturnCode_t WanWriter::write_nts(core::Sample& sample) {
+    if (writer_ == nullptr) {
+        return ReturnCode_t::RETCODE_NOT_ENABLED;
+    }
     PassthroughData data;
     const std::size_t payload_bytes = sample.payload.size();
     // Borrowed for the write, which copies it once into the change, and handed back after.
@@ -65,10 +88,7 @@ WriteResult WanWriter::write(core::Sample& sample) {
         handle = data.key.isDefined() ? data.key : PassthroughType::UNKNOWN_INSTANCE;
     }
     const auto stamp = to_dds_time(sample.source_time);
-    std::lock_guard<std::mutex> lock(mutex_);
     const ReturnCode_t rc = [&] {
-        if (writer_ == nullptr)
-            return ReturnCode_t(ReturnCode_t::RETCODE_NOT_ENABLED);
         const DatagramCoalescer::DeferScope may_wait;
         // Only a reliable writer repairs: a best-effort lane's samples need not be remembered.
         RepairDesk::WriteScope repairs_belong_to(sample.topic, sample.deadline, reliable_, latched_, payload_bytes);
@@ -83,13 +103,7 @@ WriteResult WanWriter::write(core::Sample& sample) {
         return writer_->write_w_timestamp(&data, handle, stamp);
     }();
     sample.payload = std::move(data.payload);
-    if (rc != ReturnCode_t::RETCODE_OK) {
-        if (!failure_reported_.exchange(true)) {
-            std::cerr << "telemetry-gateway: WAN write failed on " << topic_ << " (code " << rc() << ")\n";
-        }
-        return WriteResult::failed;
-    }
-    return WriteResult::ok;
+    return rc;
 }
 
 }  // namespace tgw::dds

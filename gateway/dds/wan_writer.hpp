@@ -8,8 +8,11 @@
 #include <optional>
 #include <string>
 
+#include <fastrtps/types/TypesBase.h>
+
 #include "base/clock.hpp"
 #include "gateway/core/sample.hpp"
+#include "gateway/dds/latched_history.hpp"
 #include "gateway/dds/writer_match_counter.hpp"
 
 namespace eprosima::fastdds::dds {
@@ -25,7 +28,8 @@ enum class WriteResult { ok, unknown_topic, failed };
 /// with the sample's source timestamp and instance, and counts the base-camp readers it matches. It deletes the
 /// writer when the last holder lets go of it, so a write in progress finishes first; every holder must let go
 /// before the WAN router goes. When the router makes its participant anew (an address change), it detaches the
-/// writer and gives it its successor on the new participant: holders keep the same WanWriter.
+/// writer and gives it its successor on the new participant: holders keep the same WanWriter, and a transient-local
+/// writer's successor is given the last change of each instance again (LatchedHistory).
 class WanWriter {
   public:
     /// Deletes a writer when its WanWriter goes (WanRouter's, which deletes the topic with its last writer).
@@ -44,7 +48,8 @@ class WanWriter {
 
     /// No writer until replace(): the participant is going. Waits for a write in progress; later writes fail.
     void detach();
-    /// The successor of the detached writer, made with match_listener() as its listener.
+    /// The successor of the detached writer, made with match_listener() as its listener; a transient-local one is
+    /// written what the camp's late joiners must get.
     void replace(eprosima::fastdds::dds::DataWriter* writer);
     /// The listener a successor must be made with.
     WriterMatchCounter* match_listener() const { return matches_.get(); }
@@ -55,6 +60,8 @@ class WanWriter {
     std::optional<base::Duration> lifespan() const { return lifespan_; }
 
   private:
+    eprosima::fastrtps::types::ReturnCode_t write_nts(core::Sample& sample);
+
     mutable std::mutex mutex_;                    // a write against detach() and replace()
     eprosima::fastdds::dds::DataWriter* writer_;  // under mutex_; null while detached
     std::unique_ptr<WriterMatchCounter> matches_;
@@ -64,6 +71,7 @@ class WanWriter {
     const bool reliable_;
     const bool latched_;  ///< transient local: a late joiner gets its history, past deadlines too
     const std::optional<base::Duration> lifespan_;
+    LatchedHistory latched_history_;  // under mutex_; a transient-local writer's only
     std::atomic<bool> failure_reported_{false};
 };
 

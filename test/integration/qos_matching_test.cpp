@@ -392,6 +392,43 @@ TEST_F(QosMatchingTest, ALateJoinerToALatchedTopicGetsTheLastSampleOfEachInstanc
     EXPECT_GE(gateway_->unscheduled_wire_bytes() - unscheduled_before, 3u * 100u);
 }
 
+// The WAN participant made anew on another address (a DHCP lease, a mesh radio): the latched writer's successor
+// starts with no history of its own, so a camp program that joins after that must still get each instance's last
+// sample, as it would have from the writer before.
+TEST_F(QosMatchingTest, ALateJoinerAfterTheWanSideWasMadeAnewGetsTheLastSampleOfEachInstance) {
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "latched";
+    auto* writer = robot_writer<idl::KeyedReadingPubSubType>(topic, writer_qos(true, true, 1));
+    ASSERT_NE(writer, nullptr);
+    auto& early = listener<CollectingReader<idl::KeyedReading>>();
+    ASSERT_TRUE(basecamp_reader<idl::KeyedReadingPubSubType>(topic, reader_qos(true, true), early));
+    wait_until_linked(topic, early);
+    ASSERT_FALSE(HasFatalFailure());
+    for (std::uint32_t round = 0; round < 2; ++round) {
+        for (std::uint32_t sensor : {1u, 2u, 3u}) {
+            idl::KeyedReading r;
+            r.sensor_id(sensor);
+            r.value(round);
+            ASSERT_TRUE(writer->write(&r));
+        }
+    }
+    ASSERT_TRUE(wait_until([&] { return early.count() >= 6; })) << "got " << early.count();
+
+    gateway_->rebind_wan("127.0.0.2");
+    ASSERT_TRUE(wait_until([&] { return gateway_->wan_rebinds() == 1; }));
+    auto& late = listener<CollectingReader<idl::KeyedReading>>();
+    ASSERT_TRUE(basecamp_reader<idl::KeyedReadingPubSubType>(topic, reader_qos(true, true), late));
+    ASSERT_TRUE(wait_until([&] { return late.count() >= 3; }))
+        << "the late joiner got " << late.count() << " of 3 from the writer made anew";
+    std::map<std::uint32_t, double> last;
+    for (const auto& r : late.received()) {
+        last[r.data.sensor_id()] = r.data.value();
+    }
+    EXPECT_EQ(last, (std::map<std::uint32_t, double>{{1, 1.0}, {2, 1.0}, {3, 1.0}}));
+    EXPECT_EQ(late.count(), 3u) << "only the last sample of each instance";
+    EXPECT_EQ(gateway_->total_counters().forwarded, 6u) << "given again to the successor, not forwarded again";
+}
+
 TEST_F(QosMatchingTest, AThousandInstancesInABurstArriveApartAndADisposeAndAnUnregisterFollow) {
     start_gateway(config());
     const std::string topic = topic_prefix_ + "instances";

@@ -102,6 +102,25 @@ class QosMatchingTest : public GatewayIntegrationTest {
         EXPECT_EQ(numbers(wan), range(0, count));
     }
 
+    /// A latched keyed topic as /tf_static's (reliable, transient local, keep last 1, no Lifespan) with a camp
+    /// reader `early`, and two rounds of sensors 1, 2 and 3 (value 0, then 1) that reached it.
+    void write_two_rounds_of_three_instances(const std::string& topic, CollectingReader<idl::KeyedReading>& early) {
+        auto* writer = robot_writer<idl::KeyedReadingPubSubType>(topic, writer_qos(true, true, 1));
+        ASSERT_NE(writer, nullptr);
+        ASSERT_TRUE(basecamp_reader<idl::KeyedReadingPubSubType>(topic, reader_qos(true, true), early));
+        wait_until_linked(topic, early);
+        ASSERT_FALSE(HasFatalFailure());
+        for (std::uint32_t round = 0; round < 2; ++round) {
+            for (std::uint32_t sensor : {1u, 2u, 3u}) {
+                idl::KeyedReading r;
+                r.sensor_id(sensor);
+                r.value(round);
+                ASSERT_TRUE(writer->write(&r));
+            }
+        }
+        ASSERT_TRUE(wait_until([&] { return early.count() >= 6; })) << "got " << early.count();
+    }
+
     static idl::PaperMessage paper_message(std::uint64_t n) {
         idl::PaperMessage m;
         m.generated_ns(n);
@@ -350,22 +369,8 @@ TEST_F(QosMatchingTest, ALateJoinerToALatchedTopicGetsTheLastSampleOfEachInstanc
     c.default_ttl = 300ms;
     start_gateway(c);
     const std::string topic = topic_prefix_ + "latched";
-    // /tf_static's QoS: reliable, transient local, keep last 1, no Lifespan.
-    auto* writer = robot_writer<idl::KeyedReadingPubSubType>(topic, writer_qos(true, true, 1));
-    ASSERT_NE(writer, nullptr);
     auto& early = listener<CollectingReader<idl::KeyedReading>>();
-    ASSERT_TRUE(basecamp_reader<idl::KeyedReadingPubSubType>(topic, reader_qos(true, true), early));
-    wait_until_linked(topic, early);
-    ASSERT_FALSE(HasFatalFailure());
-    for (std::uint32_t round = 0; round < 2; ++round) {
-        for (std::uint32_t sensor : {1u, 2u, 3u}) {
-            idl::KeyedReading r;
-            r.sensor_id(sensor);
-            r.value(round);
-            ASSERT_TRUE(writer->write(&r));
-        }
-    }
-    ASSERT_TRUE(wait_until([&] { return early.count() >= 6; })) << "got " << early.count();
+    ASSERT_NO_FATAL_FAILURE(write_two_rounds_of_three_instances(topic, early));
     const auto written = std::chrono::steady_clock::now();
     ASSERT_TRUE(wait_until([&] { return std::chrono::steady_clock::now() - written > 3 * c.default_ttl; }));
 
@@ -398,21 +403,8 @@ TEST_F(QosMatchingTest, ALateJoinerToALatchedTopicGetsTheLastSampleOfEachInstanc
 TEST_F(QosMatchingTest, ALateJoinerAfterTheWanSideWasMadeAnewGetsTheLastSampleOfEachInstance) {
     start_gateway(config());
     const std::string topic = topic_prefix_ + "latched";
-    auto* writer = robot_writer<idl::KeyedReadingPubSubType>(topic, writer_qos(true, true, 1));
-    ASSERT_NE(writer, nullptr);
     auto& early = listener<CollectingReader<idl::KeyedReading>>();
-    ASSERT_TRUE(basecamp_reader<idl::KeyedReadingPubSubType>(topic, reader_qos(true, true), early));
-    wait_until_linked(topic, early);
-    ASSERT_FALSE(HasFatalFailure());
-    for (std::uint32_t round = 0; round < 2; ++round) {
-        for (std::uint32_t sensor : {1u, 2u, 3u}) {
-            idl::KeyedReading r;
-            r.sensor_id(sensor);
-            r.value(round);
-            ASSERT_TRUE(writer->write(&r));
-        }
-    }
-    ASSERT_TRUE(wait_until([&] { return early.count() >= 6; })) << "got " << early.count();
+    ASSERT_NO_FATAL_FAILURE(write_two_rounds_of_three_instances(topic, early));
 
     gateway_->rebind_wan("127.0.0.2");
     ASSERT_TRUE(wait_until([&] { return gateway_->wan_rebinds() == 1; }));

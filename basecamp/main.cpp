@@ -27,7 +27,7 @@
 #include "basecamp/on_time_payload.hpp"
 #include "basecamp/progress_line.hpp"
 #include "basecamp/recorder.hpp"
-#include "basecamp/relay.hpp"
+#include "basecamp/relay_command.hpp"
 #include "basecamp/report.hpp"
 #include "basecamp/sample_store.hpp"
 #include "basecamp/stats_command.hpp"
@@ -102,64 +102,6 @@ int main(int argc, char** argv) {
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
 
-    CLI::App* relay = app.add_subcommand(
-        "relay", "the camp's one participant on the WAN domain: every topic republished into the camp's own domain");
-    int local_domain = 0;
-    double relay_duration_s = 0.0;
-    tgw::base::PeerTransport relay_transport;
-    relay->add_option("--domain", domain, "the WAN domain's id")->check(CLI::Range(0, 232));
-    relay->add_option("--peer", relay_transport.peers,
-                      "IPv4 address of the robot (repeatable): UDP unicast only on the WAN, no multicast");
-    relay->add_option("--interface", relay_transport.interface,
-                      "interface name or IPv4 address to bind the WAN participant's sockets to");
-    tgw::basecamp::add_discovery_server_option(*relay, relay_transport);
-    relay
-        ->add_option("--local-domain", local_domain,
-                     "the camp's own domain: every topic appears there, for programs with their vendors' defaults")
-        ->check(CLI::Range(0, 232))
-        ->required();
-    std::string relay_security;
-    tgw::basecamp::add_security_option(*relay, relay_security);
-    tgw::base::PeerTransport local_transport;
-    local_transport.interface_flag = "--local-interface";
-    relay->add_option("--local-interface", local_transport.interface,
-                      "interface name or IPv4 address the camp's domain uses (default: every interface but the WAN's, "
-                      "loopback included, as they are at start)");
-    std::vector<std::string> relay_uplink;
-    relay->add_option("--uplink", relay_uplink,
-                      "a topic the camp's programs may publish to the robots (commands: rt/NAME/cmd_vel, for a gateway "
-                      "with --robot-name NAME --uplink rt/cmd_vel), carried from the camp's domain onto the WAN; "
-                      "repeatable, nothing else goes that way");
-    double channel_bps = 0;
-    CLI::Option* channel_rate = relay->add_option(
-        "--channel-rate", channel_bps,
-        "experimental (see the README): bit/s of the radio channel the gateways share; each gateway with "
-        "--channel-grants gets its share of 90 % of it on tgw/grant every second, the fleet's shortest TTLs "
-        "first; the other 10 % is the share of gateways that join");
-    channel_rate->check(CLI::PositiveNumber);
-    bool measure_channel = false;
-    relay
-        ->add_flag("--measure-channel", measure_channel,
-                   "experimental: measure what the channel delivers (what arrives, what is lost, how long it took) and "
-                   "grant shares of that, with --channel-rate as its upper bound")
-        ->needs(channel_rate);
-    std::string relay_out;
-    relay->add_option("--out", relay_out, "also record every sample taken off the WAN, as 'record' does (SQLite)");
-    double relay_report_period_s = 1.0;
-    relay
-        ->add_option("--report-period", relay_report_period_s,
-                     "seconds between receiver reports to each gateway (tgw/receiver_report); 0: none")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    relay->add_option("--duration", relay_duration_s, "seconds to relay; until SIGINT/SIGTERM without it")
-        ->check(CLI::PositiveNumber);
-    std::uint16_t foxglove_port = 0;
-    CLI::Option* foxglove = relay->add_option(
-        "--foxglove-port", foxglove_port,
-        "serve every relayed topic live to Foxglove (WebSocket, foxglove.websocket.v1) on this TCP port");
-    std::vector<std::string> relay_idl_dirs;
-    tgw::basecamp::add_idl_option(*relay, relay_idl_dirs);
-
     CLI::App* report = app.add_subcommand("report", "print received, on time and transmission time per topic");
     std::string in;
     std::vector<std::string> ttls;
@@ -193,7 +135,8 @@ int main(int argc, char** argv) {
     const std::vector<tgw::basecamp::Subcommand> subcommands = {
         tgw::basecamp::add_echo_command(app),    tgw::basecamp::add_export_command(app),
         tgw::basecamp::add_linkmap_command(app), tgw::basecamp::add_merge_command(app),
-        tgw::basecamp::add_stats_command(app),   tgw::basecamp::add_status_command(app),
+        tgw::basecamp::add_relay_command(app),   tgw::basecamp::add_stats_command(app),
+        tgw::basecamp::add_status_command(app),
     };
 
     try {
@@ -207,81 +150,7 @@ int main(int argc, char** argv) {
             if (subcommand.command->parsed())
                 return subcommand.run();
         }
-        if (relay->parsed()) {
-            // Checked first: nothing is created when an identity's file is missing or tampered with.
-            const auto security = tgw::basecamp::security_files(relay_security);
-            if (local_domain == domain)
-                throw tgw::base::ConfigError("--local-domain: must differ from --domain (" + std::to_string(domain) +
-                                             "), or every sample would come back to the relay");
-            auto* factory = eprosima::fastdds::dds::DomainParticipantFactory::get_instance();
-            auto wan_qos = factory->get_default_participant_qos();
-            tgw::base::apply_peer_transport(wan_qos, relay_transport, domain);
-            // The WAN participant only: the camp's own domain stays plain, for programs with their defaults.
-            if (security)
-                tgw::base::apply_dds_security(wan_qos, *security);
-            auto local_qos = factory->get_default_participant_qos();
-            const std::vector<std::string> camp_addresses =
-                tgw::basecamp::apply_camp_domain_transport(local_qos, local_transport, relay_transport, local_domain);
-            std::vector<tgw::basecamp::SampleConsumer*> consumers;
-            std::unique_ptr<tgw::basecamp::SampleStore> store;
-            if (!relay_out.empty()) {
-                store = std::make_unique<tgw::basecamp::SampleStore>(relay_out, "--out");
-                consumers.push_back(store.get());
-            }
-            std::unique_ptr<tgw::basecamp::FoxgloveServer> foxglove_server;
-            if (foxglove->count() > 0) {
-                foxglove_server = std::make_unique<tgw::basecamp::FoxgloveServer>(
-                    foxglove_port, tgw::types::TypeLibrary::project_and(relay_idl_dirs, "--idl"), "--foxglove-port");
-                consumers.push_back(foxglove_server.get());
-            }
-            tgw::basecamp::ConsumerFanOut taken_off_the_wan(consumers);
-            tgw::basecamp::Relay relaying(
-                domain, wan_qos, local_domain, local_qos, consumers.empty() ? nullptr : &taken_off_the_wan,
-                tgw::base::from_seconds(relay_report_period_s), relay_uplink, channel_bps, measure_channel);
-            tgw::basecamp::stop_on_signals();
-            std::cout << "tm-basecamp relay: WAN domain " << domain << " -> local domain " << local_domain << "; "
-                      << tgw::basecamp::describe_camp_domain(camp_addresses, local_transport, relay_transport);
-            if (foxglove_server)
-                std::cout << ", Foxglove on ws://0.0.0.0:" << foxglove_server->port();
-            std::cout << std::endl;
-            const auto duration =
-                relay_duration_s > 0 ? tgw::base::from_seconds(relay_duration_s) : tgw::base::Duration::max() / 2;
-            tgw::basecamp::run_with_progress(
-                duration, tgw::basecamp::stop_requested(),
-                [&](tgw::base::Duration slice) { relaying.run(slice, tgw::basecamp::stop_requested()); },
-                [&] { return "relaying: " + topics_and_samples(relaying.relayed()); });
-            if (store) {
-                store->flush();
-                std::cout << "  recorded in " << relay_out << ": " << store->rows_written() << " rows, "
-                          << store->write_errors() << " write errors\n";
-            }
-            for (const auto& [topic, count] : relaying.relayed())
-                std::cout << "  " << topic << ": " << count << " samples relayed\n";
-            if (const tgw::basecamp::CompactUnpacker* compact = relaying.compact()) {
-                const auto c = compact->counts();
-                std::cout << "  compact WAN: " << c.bundles << " bundles taken (" << c.rejected_bundles << " rejected, "
-                          << c.lost_bundles << " lost on the way), " << c.entries << " entries, " << c.relayed
-                          << " samples relayed, " << c.unknown_entries << " never described by a catalog entry, "
-                          << c.incomplete_samples << " chunked samples incomplete, " << c.undecodable_entries
-                          << " compressed entries undecodable\n";
-            }
-            for (const auto& [gateway, bps] : relaying.channel_grants())
-                std::cout << "  last grant to gateway " << gateway << ": " << static_cast<long long>(bps) << " bit/s\n";
-            if (const std::optional<double> newcomers = relaying.newcomer_share())
-                std::cout << "  last newcomers' share: " << static_cast<long long>(*newcomers) << " bit/s\n";
-            if (const std::optional<tgw::basecamp::ChannelReading> channel = relaying.channel_reading())
-                std::cout << "  channel measured: " << static_cast<long long>(channel->channel_bps) << " bit/s ("
-                          << tgw::core::to_string(channel->verdict) << "), " << channel->datagrams
-                          << " datagrams received (" << channel->stamped_datagrams << " stamped by their sender, "
-                          << channel->lost_datagrams << " lost on the way)\n";
-            for (const tgw::dds::UplinkCount& up : relaying.uplink_counts())
-                std::cout << "  uplink " << up.from_topic << ": " << up.received << " commands taken from the camp, "
-                          << up.delivered << " onto the WAN, " << up.no_reader
-                          << " written while no gateway listened (lost), " << up.expired
-                          << " past their Lifespan (dropped), " << up.failed << " failed\n";
-            if (foxglove_server)
-                std::cout << "  Foxglove: " << foxglove_server->messages_sent() << " messages sent to clients\n";
-        } else if (record->parsed()) {
+        if (record->parsed()) {
             if (out.empty() && record_mcap.path.empty())
                 throw tgw::base::ConfigError("--out or --mcap: say where to record");
             const auto security = tgw::basecamp::security_files(record_security);

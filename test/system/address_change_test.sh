@@ -54,12 +54,7 @@ address_ns=$(date +%s%N)
 "${tb[@]}" robot ip addr add "$robot_addr/30" dev "$veth"
 echo "robot's veth given $robot_addr ${ADDRESS_AT_S} s after tm-robot-sim started"
 sleep $((CHANGE_AT_S - ADDRESS_AT_S))
-# The camp's side of a flat radio network: the robot's new address is reachable on its veth.
-"${tb[@]}" basecamp ip route add "$NEW_ADDR/32" dev "$camp_veth"
-change_ns=$(date +%s%N)
-"${tb[@]}" robot ip addr del "$robot_addr/30" dev "$veth"
-"${tb[@]}" robot ip addr add "$NEW_ADDR/24" dev "$veth"
-echo "robot's address $robot_addr -> $NEW_ADDR ${CHANGE_AT_S} s after tm-robot-sim started"
+move_address robot "$veth" "$robot_addr" "$NEW_ADDR" "$camp_veth"
 
 finish_run "$sim_pid" "$gateway_pid" "$record_pid"
 show_outputs "$WORK/record.out"

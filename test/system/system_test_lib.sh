@@ -142,6 +142,19 @@ finish_run() {
 # camp_query SQL: runs SQL on the camp's recording $REC with the on-robot log $LOG attached as "log".
 camp_query() { sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log; $1"; }
 
+# move_address SIDE DEV OLD NEW OTHER_DEV: on a flat radio network, SIDE's (robot or basecamp) DEV loses OLD (a /30)
+# and gets NEW (a /24), the link staying up (a new DHCP lease, a mesh radio's); the other side routes NEW through its
+# OTHER_DEV first. Sets change_ns to the moment the old address went.
+move_address() {
+    local other=basecamp
+    [ "$1" = robot ] || other=robot
+    "${tb[@]}" "$other" ip route add "$4/32" dev "$5"
+    change_ns=$(date +%s%N)
+    "${tb[@]}" "$1" ip addr del "$3/30" dev "$2"
+    "${tb[@]}" "$1" ip addr add "$4/24" dev "$2"
+    echo "the $1's address $3 -> $4"
+}
+
 # a_on_time_between FROM_NS TO_NS [TOPIC]: "ON_TIME PUBLISHED" for A (TOPIC: telemetry/A, or a robot's
 # rover1/telemetry/A; TTL 1 s) published in [FROM_NS, TO_NS): published as the on-robot log has them (forwarded or
 # dropped), on time as the camp's recording has them.

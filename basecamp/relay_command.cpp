@@ -1,0 +1,266 @@
+#include "basecamp/relay_command.hpp"
+
+#include <algorithm>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+
+#include "base/config_error.hpp"
+#include "base/dds_security.hpp"
+#include "base/peer_transport.hpp"
+#include "basecamp/camp_domain_transport.hpp"
+#include "basecamp/compact_unpacker.hpp"
+#include "basecamp/consumer_fan_out.hpp"
+#include "basecamp/foxglove_server.hpp"
+#include "basecamp/progress_line.hpp"
+#include "basecamp/relay.hpp"
+#include "basecamp/sample_store.hpp"
+#include "gateway/dds/wan_address.hpp"
+#include "sensor/link_state_watch.hpp"
+#include "types/type_library.hpp"
+
+namespace tgw::basecamp {
+
+namespace {
+
+struct RelayOptions {
+    int domain = 1;
+    int local_domain = 0;
+    double duration_s = 0.0;
+    base::PeerTransport transport;
+    base::PeerTransport local_transport;
+    std::string security_dir;
+    std::vector<std::string> uplink;
+    double channel_bps = 0;
+    bool measure_channel = false;
+    std::string out;
+    double report_period_s = 1.0;
+    std::uint16_t foxglove_port = 0;
+    CLI::Option* foxglove = nullptr;
+    std::vector<std::string> idl_dirs;
+};
+
+/// Follows the camp's WAN interface (--interface) in a thread of its own: when the address the relay is bound to
+/// is gone and the interface has another (a DHCP lease, the laptop moved to another radio), it hands that over
+/// once, so the relay is made anew on it.
+class WanAddressFollower {
+  public:
+    WanAddressFollower(const std::string& name_or_address, std::string bound)
+        : interface_(dds::resolve_interface_name(name_or_address)),
+          bound_(std::move(bound)),
+          watch_(interface_, [this](const sensor::LinkState& state) { on_change(state); }) {
+        watch_.start();
+    }
+
+    /// The address to bind to now, once per change; none while the bound one stands.
+    std::optional<std::string> take_new_address() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        std::optional<std::string> taken = std::move(pending_);
+        pending_.reset();
+        return taken;
+    }
+
+    const std::string& interface() const { return interface_; }
+
+  private:
+    void on_change(const sensor::LinkState& state) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (state.addresses.empty() ||
+            std::find(state.addresses.begin(), state.addresses.end(), bound_) != state.addresses.end()) {
+            return;
+        }
+        bound_ = state.addresses.front();
+        pending_ = bound_;
+    }
+
+    const std::string interface_;
+    std::mutex mutex_;
+    std::string bound_;                   // under mutex_
+    std::optional<std::string> pending_;  // under mutex_
+    sensor::LinkStateWatch watch_;        // last: its thread calls on_change
+};
+
+std::string topics_and_samples(const std::map<std::string, std::uint64_t>& counts) {
+    std::uint64_t samples = 0;
+    for (const auto& [topic, count] : counts)
+        samples += count;
+    return std::to_string(counts.size()) + " topics, " + std::to_string(samples) + " samples";
+}
+
+void print_summary(const Relay& relaying, const std::map<std::string, std::uint64_t>& relayed) {
+    for (const auto& [topic, count] : relayed)
+        std::cout << "  " << topic << ": " << count << " samples relayed\n";
+    if (const CompactUnpacker* compact = relaying.compact()) {
+        const auto c = compact->counts();
+        std::cout << "  compact WAN: " << c.bundles << " bundles taken (" << c.rejected_bundles << " rejected, "
+                  << c.lost_bundles << " lost on the way), " << c.entries << " entries, " << c.relayed
+                  << " samples relayed, " << c.unknown_entries << " never described by a catalog entry, "
+                  << c.incomplete_samples << " chunked samples incomplete, " << c.undecodable_entries
+                  << " compressed entries undecodable\n";
+    }
+    for (const auto& [gateway, bps] : relaying.channel_grants())
+        std::cout << "  last grant to gateway " << gateway << ": " << static_cast<long long>(bps) << " bit/s\n";
+    if (const std::optional<double> newcomers = relaying.newcomer_share())
+        std::cout << "  last newcomers' share: " << static_cast<long long>(*newcomers) << " bit/s\n";
+    if (const std::optional<ChannelReading> channel = relaying.channel_reading())
+        std::cout << "  channel measured: " << static_cast<long long>(channel->channel_bps) << " bit/s ("
+                  << core::to_string(channel->verdict) << "), " << channel->datagrams << " datagrams received ("
+                  << channel->stamped_datagrams << " stamped by their sender, " << channel->lost_datagrams
+                  << " lost on the way)\n";
+    for (const dds::UplinkCount& up : relaying.uplink_counts())
+        std::cout << "  uplink " << up.from_topic << ": " << up.received << " commands taken from the camp, "
+                  << up.delivered << " onto the WAN, " << up.no_reader << " written while no gateway listened (lost), "
+                  << up.expired << " past their Lifespan (dropped), " << up.failed << " failed\n";
+}
+
+int run_relay(const RelayOptions& options) {
+    // Checked first: nothing is created when an identity's file is missing or tampered with.
+    const auto security = security_files(options.security_dir);
+    if (options.local_domain == options.domain)
+        throw base::ConfigError("--local-domain: must differ from --domain (" + std::to_string(options.domain) +
+                                "), or every sample would come back to the relay");
+    auto* factory = eprosima::fastdds::dds::DomainParticipantFactory::get_instance();
+    // The WAN participant's QoS, bound to `address` when given (the interface's new one), else as the flags say.
+    const auto wan_qos = [&](const std::string& address) {
+        auto qos = factory->get_default_participant_qos();
+        base::PeerTransport transport = options.transport;
+        if (!address.empty())
+            transport.interface = address;
+        base::apply_peer_transport(qos, transport, options.domain);
+        // The WAN participant only: the camp's own domain stays plain, for programs with their defaults.
+        if (security)
+            base::apply_dds_security(qos, *security);
+        return qos;
+    };
+    const auto first_wan_qos = wan_qos("");
+    auto local_qos = factory->get_default_participant_qos();
+    const std::vector<std::string> camp_addresses =
+        apply_camp_domain_transport(local_qos, options.local_transport, options.transport, options.local_domain);
+    std::vector<SampleConsumer*> consumers;
+    std::unique_ptr<SampleStore> store;
+    if (!options.out.empty()) {
+        store = std::make_unique<SampleStore>(options.out, "--out");
+        consumers.push_back(store.get());
+    }
+    std::unique_ptr<FoxgloveServer> foxglove_server;
+    if (options.foxglove->count() > 0) {
+        foxglove_server = std::make_unique<FoxgloveServer>(
+            options.foxglove_port, types::TypeLibrary::project_and(options.idl_dirs, "--idl"), "--foxglove-port");
+        consumers.push_back(foxglove_server.get());
+    }
+    ConsumerFanOut taken_off_the_wan(consumers);
+    const auto make_relay = [&](const eprosima::fastdds::dds::DomainParticipantQos& qos) {
+        return std::make_unique<Relay>(
+            options.domain, qos, options.local_domain, local_qos, consumers.empty() ? nullptr : &taken_off_the_wan,
+            base::from_seconds(options.report_period_s), options.uplink, options.channel_bps, options.measure_channel);
+    };
+    std::unique_ptr<Relay> relaying = make_relay(first_wan_qos);
+    std::unique_ptr<WanAddressFollower> follower;
+    if (!options.transport.interface.empty()) {
+        follower = std::make_unique<WanAddressFollower>(options.transport.interface,
+                                                        base::resolve_ipv4(options.transport.interface, "--interface"));
+    }
+    stop_on_signals();
+    std::cout << "tm-basecamp relay: WAN domain " << options.domain << " -> local domain " << options.local_domain
+              << "; " << describe_camp_domain(camp_addresses, options.local_transport, options.transport);
+    if (foxglove_server)
+        std::cout << ", Foxglove on ws://0.0.0.0:" << foxglove_server->port();
+    std::cout << std::endl;
+
+    // What the relays made before the one running now relayed.
+    std::map<std::string, std::uint64_t> relayed_before;
+    const auto relayed = [&] {
+        std::map<std::string, std::uint64_t> all = relayed_before;
+        for (const auto& [topic, count] : relaying->relayed())
+            all[topic] += count;
+        return all;
+    };
+    const auto duration = options.duration_s > 0 ? base::from_seconds(options.duration_s) : base::Duration::max() / 2;
+    run_with_progress(
+        duration, stop_requested(),
+        [&](base::Duration slice) {
+            if (follower) {
+                if (const std::optional<std::string> address = follower->take_new_address()) {
+                    // The old participant announced an address nobody can reach: the robots hear the new one, as
+                    // a relay started now, from its announcements to their --peer addresses.
+                    std::cout << "tm-basecamp relay: WAN interface " << follower->interface() << " has " << *address
+                              << " now: the relay is made anew on it" << std::endl;
+                    relayed_before = relayed();
+                    relaying.reset();
+                    relaying = make_relay(wan_qos(*address));
+                }
+            }
+            relaying->run(slice, stop_requested());
+        },
+        [&] { return "relaying: " + topics_and_samples(relayed()); });
+    if (store) {
+        store->flush();
+        std::cout << "  recorded in " << options.out << ": " << store->rows_written() << " rows, "
+                  << store->write_errors() << " write errors\n";
+    }
+    print_summary(*relaying, relayed());
+    if (foxglove_server)
+        std::cout << "  Foxglove: " << foxglove_server->messages_sent() << " messages sent to clients\n";
+    return 0;
+}
+
+}  // namespace
+
+Subcommand add_relay_command(CLI::App& app) {
+    auto options = std::make_shared<RelayOptions>();
+    options->local_transport.interface_flag = "--local-interface";
+    CLI::App* relay = app.add_subcommand(
+        "relay", "the camp's one participant on the WAN domain: every topic republished into the camp's own domain");
+    relay->add_option("--domain", options->domain, "the WAN domain's id")->check(CLI::Range(0, 232));
+    relay->add_option("--peer", options->transport.peers,
+                      "IPv4 address of the robot (repeatable): UDP unicast only on the WAN, no multicast");
+    relay->add_option("--interface", options->transport.interface,
+                      "interface name or IPv4 address to bind the WAN participant's sockets to (followed: on a new "
+                      "address the relay is made anew on it)");
+    add_discovery_server_option(*relay, options->transport);
+    relay
+        ->add_option("--local-domain", options->local_domain,
+                     "the camp's own domain: every topic appears there, for programs with their vendors' defaults")
+        ->check(CLI::Range(0, 232))
+        ->required();
+    add_security_option(*relay, options->security_dir);
+    relay->add_option("--local-interface", options->local_transport.interface,
+                      "interface name or IPv4 address the camp's domain uses (default: every interface but the WAN's, "
+                      "loopback included, as they are at start)");
+    relay->add_option("--uplink", options->uplink,
+                      "a topic the camp's programs may publish to the robots (commands: rt/NAME/cmd_vel, for a gateway "
+                      "with --robot-name NAME --uplink rt/cmd_vel), carried from the camp's domain onto the WAN; "
+                      "repeatable, nothing else goes that way");
+    CLI::Option* channel_rate = relay->add_option(
+        "--channel-rate", options->channel_bps,
+        "experimental (docs/fleet-channel.md): bit/s of the radio channel the gateways share; each gateway with "
+        "--channel-grants gets its share of 90 % of it on tgw/grant every second, the fleet's shortest TTLs "
+        "first; the other 10 % is the share of gateways that join");
+    channel_rate->check(CLI::PositiveNumber);
+    relay
+        ->add_flag("--measure-channel", options->measure_channel,
+                   "experimental: measure what the channel delivers (what arrives, what is lost, how long it took) and "
+                   "grant shares of that, with --channel-rate as its upper bound")
+        ->needs(channel_rate);
+    relay->add_option("--out", options->out, "also record every sample taken off the WAN, as 'record' does (SQLite)");
+    relay
+        ->add_option("--report-period", options->report_period_s,
+                     "seconds between receiver reports to each gateway (tgw/receiver_report); 0: none")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    relay->add_option("--duration", options->duration_s, "seconds to relay; until SIGINT/SIGTERM without it")
+        ->check(CLI::PositiveNumber);
+    options->foxglove = relay->add_option(
+        "--foxglove-port", options->foxglove_port,
+        "serve every relayed topic live to Foxglove (WebSocket, foxglove.websocket.v1) on this TCP port");
+    add_idl_option(*relay, options->idl_dirs);
+    return {relay, [options] { return run_relay(*options); }};
+}
+
+}  // namespace tgw::basecamp

@@ -9,7 +9,7 @@
 # Mid-run, rover2 starts publishing camera frames (6 kB at 1 Hz, TTL 5 s), and rover3's gateway is stopped and
 # started again. Checks: rover1's A and B, and rover2's, at least 99 % on time at the base camp; rover3's telemetry
 # arrives again after its restart; every robot's topics under its own name.
-# WAY=grants (not in ctest; for the README's comparison) runs the same with the base camp's grants instead: each
+# WAY=grants (not in ctest; for docs/fleet-channel.md's comparison) runs the same with the base camp's grants instead: each
 # gateway senses the whole channel (--sensor fixed:60000, --channel-grants), the relay grants the shares
 # (--channel-rate 60000). WAY=measured: the same, the relay measuring the channel with twice its rate as the bound
 # (--channel-rate 120000 --measure-channel).

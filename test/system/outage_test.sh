@@ -18,7 +18,7 @@
 #       reason, forwarded = the log's forwarded_samples rows, every recorded sample is one the gateway forwarded,
 #       and forwarded - recorded (lost on the WAN) is at most what the shaper dropped (packets), expected 0.
 # The status (tgw/status) is the only place the gateway shows its queue, and it crosses the link only when the
-# budget has room: the test also asserts that one reaches the base camp after the recovery (README: one about
+# budget has room: the test also asserts that one reaches the base camp after the recovery (docs/gateway-status.md: one about
 # every 14 s at 20,000 bit/s).
 # Figures when written (2026-11-25 07:35 to 07:59 UTC, 2 shared cores, six runs): A from 1 s after recovery
 # 94/94, 94/94, 95/95, 95/95, 95/95, 94/94 on time (mean 55 ms, max 110 ms), the first A published after
@@ -171,7 +171,7 @@ echo "gateway VmRSS: $rss_before KiB before the outage, peak $rss_outage_peak Ki
 check "the cap was reached: samples were evicted (exit summary)" "a > 0" "$evicted_summary"
 check "every eviction is an 'evicted' row of the on-robot log" "a == b" "$evicted_logged" "$evicted_summary"
 # The status is the only place the gateway shows its queue. It comes at most every 1 s, less often where it would
-# take more than 2 % of the sensed rate (README: about every 14 s at 20,000 bit/s), so within the 20 s after the
+# take more than 2 % of the sensed rate (docs/gateway-status.md: about every 14 s at 20,000 bit/s), so within the 20 s after the
 # rate came back at least one must arrive.
 check "a tgw/status (the gateway's queue, seen from the base camp) arrived after the recovery" "a > 0" "$status_after"
 check "every recorded tgw/status shows queued payload under the cap" "a <= b" "$status_max" "$CAP_BYTES"

@@ -6,7 +6,7 @@
 # readers, repairs and heartbeats go in the schedule: the urgent topics keep their deadlines as with best-effort
 # readers. Cyclone knows the robot by its address alone (its documented unicast set-up), so it announces itself to
 # ten discovery ports there: the gateway holds those it does not use, else the robot's ICMP port unreachables cost
-# hazards now and then (README, "A robot's mix"). Needs root; skipped (77) otherwise.
+# hazards now and then (docs/reliability.md, "A robot's mix"). Needs root; skipped (77) otherwise.
 #   robot_mix_reliable_test.sh BIN_DIR
 set -euo pipefail
 BIN="${1:?usage: robot_mix_reliable_test.sh BIN_DIR}"

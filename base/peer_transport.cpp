@@ -42,6 +42,19 @@ std::string resolve_ipv4(const std::string& name_or_addr, const std::string& fla
     throw ConfigError(flag + ": '" + name_or_addr + "' is neither an IPv4 address nor an interface with one");
 }
 
+std::vector<std::string> resolve_peers(const PeerTransport& transport) {
+    std::vector<std::string> addresses;
+    for (const std::string& peer : transport.peers) {
+        if (!is_ipv4(peer) && !is_host_name(peer))
+            throw ConfigError(transport.peers_flag + ": '" + peer + "' is neither an IPv4 address nor a host name");
+        const std::optional<std::string> address = lookup_ipv4(peer);
+        if (!address)
+            throw ConfigError(transport.peers_flag + ": '" + peer + "' does not resolve to an IPv4 address (now)");
+        addresses.push_back(*address);
+    }
+    return addresses;
+}
+
 void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, const PeerTransport& transport,
                           int domain) {
     using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
@@ -81,9 +94,7 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
     // be the domain's first participant (a recorder started before it takes that port), and then it would hear
     // of us only at its next periodic announcement, 20 s later.
     udp->maxInitialPeersRange = 1;
-    for (const std::string& peer : transport.peers) {
-        if (!is_ipv4(peer))
-            throw ConfigError(transport.peers_flag + ": '" + peer + "' is not an IPv4 address");
+    for (const std::string& peer : resolve_peers(transport)) {
         if (!is_loopback_ipv4(peer)) {
             builtin.initialPeersList.push_back(udp_locator(peer));
             continue;

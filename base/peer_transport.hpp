@@ -29,13 +29,18 @@ struct PeerTransport {
 /// named. Throws ConfigError naming `flag` when it is neither.
 std::string resolve_ipv4(const std::string& name_or_addr, const std::string& flag);
 
+/// `transport.peers` as IPv4 addresses: an address as given, a host name as the resolver has it now (lookup_ipv4:
+/// /etc/hosts, DNS, mDNS as nsswitch.conf says). Throws ConfigError naming the flag for a peer that is neither, or
+/// a name that does not resolve. May block for as long as the resolver takes.
+std::vector<std::string> resolve_peers(const PeerTransport& transport);
+
 /// A peer on this host (a loopback address) gets the announcements at the ports of this many participants of
 /// the domain: the gateway, a relay and the tools run beside them share the host, and take participant ids in
 /// the order they start. A datagram to loopback costs the radio nothing.
 constexpr int SAME_HOST_PEER_PARTICIPANTS = 8;
 
-/// Configures `qos` for the link to the other end of `domain`. With peers: UDPv4 only (no shared memory, no
-/// multicast), SPDP to a remote peer's first participant port only (to a loopback peer's first
+/// Configures `qos` for the link to the other end of `domain`. With peers (resolve_peers): UDPv4 only (no shared
+/// memory, no multicast), SPDP to a remote peer's first participant port only (to a loopback peer's first
 /// SAME_HOST_PEER_PARTICIPANTS), longer announcement period. With a discovery server: the same, but discovery
 /// through the server. With an interface: every UDP socket bound to its address. Throws ConfigError on a bad
 /// address.

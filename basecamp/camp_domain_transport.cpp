@@ -31,7 +31,7 @@ std::optional<std::string> wan_local_address(const base::PeerTransport& wan) {
     if (!wan.interface.empty())
         return base::resolve_ipv4(wan.interface, wan.interface_flag);
     if (!wan.peers.empty())
-        return base::route_source_address(wan.peers.front());
+        return base::route_source_address(base::resolve_peers(wan).front());
     if (!wan.discovery_server.empty())
         return base::route_source_address(
             base::parse_discovery_server(wan.discovery_server, wan.discovery_server_flag).address);

@@ -1,18 +1,22 @@
 #include "basecamp/relay_command.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <condition_variable>
 #include <iostream>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "base/config_error.hpp"
 #include "base/dds_security.hpp"
+#include "base/interface_addresses.hpp"
 #include "base/peer_transport.hpp"
 #include "basecamp/camp_domain_transport.hpp"
 #include "basecamp/compact_unpacker.hpp"
@@ -84,6 +88,67 @@ class WanAddressFollower {
     std::string bound_;                   // under mutex_
     std::optional<std::string> pending_;  // under mutex_
     sensor::LinkStateWatch watch_;        // last: its thread calls on_change
+};
+
+/// Looks the relay's --peer host names up again every PEER_LOOKUP_PERIOD, in a thread of its own (a robot on DHCP,
+/// known by its name): says once when one resolves to another address than before, so that the relay is made anew
+/// announcing to it. A lookup that fails keeps the last address.
+class PeerNameFollower {
+  public:
+    static constexpr std::chrono::seconds PEER_LOOKUP_PERIOD{5};
+
+    /// `peers` as given to --peer, all of them resolved once already (base::resolve_peers).
+    explicit PeerNameFollower(std::vector<std::string> peers)
+        : peers_(std::move(peers)), known_(lookup()), thread_([this] { run(); }) {}
+    ~PeerNameFollower() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stopping_ = true;
+        }
+        wake_.notify_all();
+        thread_.join();
+    }
+    PeerNameFollower(const PeerNameFollower&) = delete;
+    PeerNameFollower& operator=(const PeerNameFollower&) = delete;
+
+    /// What resolves to another address since the last call ("robot1.local is 10.0.0.9"); empty when nothing does.
+    std::string take_change() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        std::string changed = std::move(changed_);
+        changed_.clear();
+        return changed;
+    }
+
+  private:
+    std::vector<std::string> lookup() const {
+        std::vector<std::string> addresses;
+        for (const std::string& peer : peers_)
+            addresses.push_back(base::lookup_ipv4(peer).value_or(""));
+        return addresses;
+    }
+
+    void run() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        while (!wake_.wait_for(lock, PEER_LOOKUP_PERIOD, [this] { return stopping_; })) {
+            lock.unlock();
+            const std::vector<std::string> now = lookup();  // the resolver may take seconds
+            lock.lock();
+            for (std::size_t i = 0; i < now.size(); ++i) {
+                if (!now[i].empty() && now[i] != known_[i]) {
+                    known_[i] = now[i];
+                    changed_ += (changed_.empty() ? "" : ", ") + peers_[i] + " is " + now[i];
+                }
+            }
+        }
+    }
+
+    const std::vector<std::string> peers_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    bool stopping_ = false;           // under mutex_
+    std::vector<std::string> known_;  // under mutex_
+    std::string changed_;             // under mutex_
+    std::thread thread_;              // last: it runs run()
 };
 
 std::string topics_and_samples(const std::map<std::string, std::uint64_t>& counts) {
@@ -162,9 +227,15 @@ int run_relay(const RelayOptions& options) {
     };
     std::unique_ptr<Relay> relaying = make_relay(first_wan_qos);
     std::unique_ptr<WanAddressFollower> follower;
+    std::string bound;  // the address the relay is bound to now; empty: as the flags say
     if (!options.transport.interface.empty()) {
-        follower = std::make_unique<WanAddressFollower>(options.transport.interface,
-                                                        base::resolve_ipv4(options.transport.interface, "--interface"));
+        bound = base::resolve_ipv4(options.transport.interface, "--interface");
+        follower = std::make_unique<WanAddressFollower>(options.transport.interface, bound);
+    }
+    std::unique_ptr<PeerNameFollower> names;
+    if (std::any_of(options.transport.peers.begin(), options.transport.peers.end(),
+                    [](const std::string& peer) { return !base::is_ipv4(peer); })) {
+        names = std::make_unique<PeerNameFollower>(options.transport.peers);
     }
     stop_on_signals();
     std::cout << "tm-basecamp relay: WAN domain " << options.domain << " -> local domain " << options.local_domain
@@ -185,15 +256,29 @@ int run_relay(const RelayOptions& options) {
     run_with_progress(
         duration, stop_requested(),
         [&](base::Duration slice) {
+            std::string why;
             if (follower) {
                 if (const std::optional<std::string> address = follower->take_new_address()) {
                     // The old participant announced an address nobody can reach: the robots hear the new one, as
                     // a relay started now, from its announcements to their --peer addresses.
-                    std::cout << "tm-basecamp relay: WAN interface " << follower->interface() << " has " << *address
-                              << " now: the relay is made anew on it" << std::endl;
+                    why = "WAN interface " + follower->interface() + " has " + *address + " now";
+                    bound = *address;
+                }
+            }
+            if (names) {
+                if (const std::string peers_now = names->take_change(); !peers_now.empty())
+                    why += (why.empty() ? "--peer " : "; --peer ") + peers_now + " now";
+            }
+            if (!why.empty()) {
+                try {
+                    const auto qos = wan_qos(bound);  // before the relay goes: a lookup may fail
+                    std::cout << "tm-basecamp relay: " << why << ": the relay is made anew" << std::endl;
                     relayed_before = relayed();
                     relaying.reset();
-                    relaying = make_relay(wan_qos(*address));
+                    relaying = make_relay(qos);
+                } catch (const base::ConfigError& error) {
+                    std::cerr << "tm-basecamp relay: " << why << ", but " << error.what()
+                              << ": relaying on as before\n";
                 }
             }
             relaying->run(slice, stop_requested());
@@ -219,7 +304,8 @@ Subcommand add_relay_command(CLI::App& app) {
         "relay", "the camp's one participant on the WAN domain: every topic republished into the camp's own domain");
     relay->add_option("--domain", options->domain, "the WAN domain's id")->check(CLI::Range(0, 232));
     relay->add_option("--peer", options->transport.peers,
-                      "IPv4 address of the robot (repeatable): UDP unicast only on the WAN, no multicast");
+                      "IPv4 address or host name of the robot (repeatable; a name is looked up again every 5 s, and a "
+                      "new address makes the relay anew): UDP unicast only on the WAN, no multicast");
     relay->add_option("--interface", options->transport.interface,
                       "interface name or IPv4 address to bind the WAN participant's sockets to (followed: on a new "
                       "address the relay is made anew on it)");

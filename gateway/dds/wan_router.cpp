@@ -236,6 +236,10 @@ class WanRouter::ParticipantCounter final : public TypeObjectGuard {
 
 namespace {
 
+/// Participant ids of one host on one domain, in practice; RTPS's port arithmetic runs into the next domain's ports
+/// from 120 on.
+constexpr std::uint32_t MAX_PINNED_PARTICIPANT_ID = 120;
+
 Locator_t udp_locator(const std::string& address, std::uint16_t port) {
     Locator_t locator;
     locator.kind = LOCATOR_KIND_UDPv4;
@@ -353,6 +357,20 @@ bool WanRouter::create_participant_nts(const std::string& interface_address) {
         return false;
     }
     interface_address_ = interface_address;
+    if (listen_port_ == 0) {
+        // Made anew (another address), the participant keeps the port it announced from the start: Fast DDS would
+        // give it the next participant id's, and a camp that knows the robot by its address alone announces to
+        // participant 0's (and the quiet discovery ports would hold that one). Fast DDS's GUID prefix ends with
+        // the participant id, little-endian (its GuidUtils); DDS Security rewrites the prefix from the identity, and
+        // an id out of range is taken for that: Fast DDS's choice then stands.
+        const auto& prefix = participant_->guid().guidPrefix.value;
+        const std::uint32_t id = static_cast<std::uint32_t>(prefix[8]) | static_cast<std::uint32_t>(prefix[9]) << 8 |
+                                 static_cast<std::uint32_t>(prefix[10]) << 16 |
+                                 static_cast<std::uint32_t>(prefix[11]) << 24;
+        if (id < MAX_PINNED_PARTICIPANT_ID) {
+            listen_port_ = base::metatraffic_unicast_port(domain_, static_cast<int>(id));
+        }
+    }
     return true;
 }
 

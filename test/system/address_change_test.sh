@@ -2,8 +2,8 @@
 # System test: the robot's WAN interface has no IPv4 address when the gateway starts (DHCP not done), and the camp's
 # name (the gateway's --wan-peer basecamp.tgw) does not resolve yet; a second into publishing it does (the robot
 # namespace's /etc/hosts, as ip netns exec shows it), 5 s in the interface gets an address, and it changes mid-run (a new lease, a mesh radio's), the link staying up (issue 44's second part). Over
-# the testbed's 40,000 bit/s tbf, the paper's workload, the camp's relay given the robot's first address as its
-# peer: the gateway starts with the robot's veth bare; 4 s into publishing it gets 10.77.0.1; 16 s in it loses that
+# the testbed's 40,000 bit/s tbf, the paper's workload, the camp's relay given the robot's name as its peer
+# (rover.tgw, in the camp namespace's /etc/hosts, changed to the new address with it): the gateway starts with the robot's veth bare; 4 s into publishing it gets 10.77.0.1; 16 s in it loses that
 # and gets 10.77.0.5 (the camp routes to it). Each time the gateway makes its WAN participant anew on the address:
 # A from 2 s after the first address until the change is on time but for one; the camp hears the robot again
 # within 5 s of the change (its first A after it), A is >= 99 % on time from 5 s after it; nothing is forwarded
@@ -32,14 +32,21 @@ camp_veth="$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info basecamp-veth)"
 robot_etc="/etc/netns/$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info robot-ns)"
 mkdir -p "$robot_etc"
 printf '127.0.0.1 localhost\n' >"$robot_etc/hosts"
+# The camp knows the robot by its name too (relay --peer rover.tgw): its address, then the new one.
+camp_etc="/etc/netns/$(TGW_TESTBED_ID="$TESTBED_ID" scripts/testbed info basecamp-ns)"
+mkdir -p "$camp_etc"
+printf '127.0.0.1 localhost\n%s rover.tgw\n' "$robot_addr" >"$camp_etc/hosts"
 # shellcheck disable=SC2317  # called by the EXIT trap
-forget_hosts() { rm -rf "$robot_etc"; rmdir --ignore-fail-on-non-empty /etc/netns 2>/dev/null || true; }
+forget_hosts() {
+    rm -rf "$robot_etc" "$camp_etc"
+    rmdir --ignore-fail-on-non-empty /etc/netns 2>/dev/null || true
+}
 trap 'forget_hosts; stop_testbed' EXIT
 [ -z "${TGW_TEST_KEEP:-}" ] ||
     trap 'forget_hosts; mkdir -p "$TGW_TEST_KEEP" && cp -r "$WORK"/. "$TGW_TEST_KEEP"/; stop_testbed' EXIT
 
 "${tb[@]}" robot ip addr flush dev "$veth"
-"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --peer "$robot_addr" --interface "$basecamp_addr" \
+"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --peer rover.tgw --interface "$basecamp_addr" \
     --local-domain 7 --out "$WORK/basecamp.db" --duration "$BOUND_S" >"$WORK/record.out" 2>&1 &
 record_pid=$!
 PIDS+=("$record_pid")
@@ -55,6 +62,8 @@ address_ns=$(date +%s%N)
 echo "robot's veth given $robot_addr ${ADDRESS_AT_S} s after tm-robot-sim started"
 sleep $((CHANGE_AT_S - ADDRESS_AT_S))
 move_address robot "$veth" "$robot_addr" "$NEW_ADDR" "$camp_veth"
+# The same file: the bind mount shows it (a name server's record updated, as a DHCP server with DNS does).
+printf '127.0.0.1 localhost\n%s rover.tgw\n' "$NEW_ADDR" >"$camp_etc/hosts"
 
 finish_run "$sim_pid" "$gateway_pid" "$record_pid"
 show_outputs "$WORK/record.out"
@@ -96,6 +105,8 @@ echo "the first A published after the change reached the camp ${first_after_ms:-
 check "the gateway made its WAN participant anew on $NEW_ADDR" "a == 1" \
     "$(grep -c "has $NEW_ADDR now, not $robot_addr: the WAN participant is made anew on it" "$WORK/gateway.out" || true)"
 check "the camp heard the robot again within 5 s of the change" "a != \"\" && a <= 5000" "${first_after_ms:-}"
+check "the relay looked rover.tgw up again and was made anew announcing to $NEW_ADDR" "a == 1" \
+    "$(grep -c -- "--peer rover.tgw is $NEW_ADDR now: the relay is made anew" "$WORK/record.out" || true)"
 check "A from 5 s after the change: >= 99 % on time" "b >= 50 && a >= 0.99 * b" "$on_time" "$published"
 
 echo

@@ -62,16 +62,27 @@ TEST(PeerTransportTest, APeerOnThisHostIsAnnouncedToAtSeveralParticipants) {
     EXPECT_EQ(initial_peers(qos), expected);
 }
 
-TEST(PeerTransportTest, RefusesAPeerThatIsNoAddressNamingTheFlag) {
+TEST(PeerTransportTest, RefusesAPeerThatIsNeitherAnAddressNorAHostNameNamingTheFlag) {
     eprosima::fastdds::dds::DomainParticipantQos qos;
     PeerTransport transport;
-    transport.peers = {"basecamp"};
+    transport.peers = {"base camp"};
     try {
         apply_peer_transport(qos, transport, 7);
-        FAIL() << "a name was taken";
+        FAIL() << "'base camp' was taken";
     } catch (const ConfigError& e) {
-        EXPECT_NE(std::string(e.what()).find("--peer: 'basecamp'"), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()), "--peer: 'base camp' is neither an IPv4 address nor a host name");
     }
+}
+
+// A robot on DHCP is known by its name (/etc/hosts here: no resolver is asked over a network in a unit test).
+TEST(PeerTransportTest, APeerGivenByHostNameIsAnnouncedToAtItsAddress) {
+    eprosima::fastdds::dds::DomainParticipantQos qos;
+    PeerTransport transport;
+    transport.peers = {"localhost"};
+    EXPECT_EQ(resolve_peers(transport), (std::vector<std::string>{"127.0.0.1"}));
+    apply_peer_transport(qos, transport, 7);
+    ASSERT_FALSE(initial_peers(qos).empty());
+    EXPECT_EQ(initial_peers(qos).front(), (Peer{"127.0.0.1", metatraffic_unicast_port(7, 0)}));
 }
 
 }  // namespace

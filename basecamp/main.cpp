@@ -8,18 +8,13 @@
 #include <string>
 #include <vector>
 
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "base/config_error.hpp"
-#include "base/dds_security.hpp"
 #include "base/fastdds_log_reporter.hpp"
 #include "base/peer_transport.hpp"
-#include "basecamp/camp_domain_transport.hpp"
-#include "basecamp/compact_unpacker.hpp"
 #include "basecamp/consumer_fan_out.hpp"
 #include "basecamp/echo_command.hpp"
 #include "basecamp/export_command.hpp"
-#include "basecamp/foxglove_server.hpp"
 #include "basecamp/grant_summary.hpp"
 #include "basecamp/linkmap_command.hpp"
 #include "basecamp/mcap_recording.hpp"

@@ -8,7 +8,6 @@
 #include <string>
 #include <vector>
 
-
 #include "base/config_error.hpp"
 #include "base/fastdds_log_reporter.hpp"
 #include "base/peer_transport.hpp"
@@ -77,8 +76,9 @@ int main(int argc, char** argv) {
     double duration_s = 0.0;
     tgw::base::PeerTransport transport;
     record->add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
-    record->add_option("--peer", transport.peers,
-                       "IPv4 address or host name of the robot (repeatable): UDP unicast only, no multicast, no shared memory");
+    record->add_option(
+        "--peer", transport.peers,
+        "IPv4 address or host name of the robot (repeatable): UDP unicast only, no multicast, no shared memory");
     record->add_option("--interface", transport.interface, "interface name or IPv4 address to bind every socket to");
     tgw::basecamp::add_discovery_server_option(*record, transport);
     record->add_option("--out", out, "the SQLite file to write (WAL mode)");

@@ -20,8 +20,9 @@ void add_domain_options(CLI::App& command, DomainOptions& options) {
         ->capture_default_str();
     // One value per flag: a repeated flag adds one, and a positional argument after it stays one.
     command
-        .add_option("--peer", options.transport.peers,
-                    "IPv4 address or host name of the robot (repeatable): UDP unicast only, no multicast, no shared memory")
+        .add_option(
+            "--peer", options.transport.peers,
+            "IPv4 address or host name of the robot (repeatable): UDP unicast only, no multicast, no shared memory")
         ->allow_extra_args(false);
     command.add_option("--interface", options.transport.interface,
                        "interface name or IPv4 address to bind every socket to");

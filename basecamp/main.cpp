@@ -33,13 +33,6 @@
 namespace {
 
 /// "4 topics, 1234 samples" for a progress line.
-std::string topics_and_samples(const std::map<std::string, std::uint64_t>& counts) {
-    std::uint64_t samples = 0;
-    for (const auto& [topic, count] : counts)
-        samples += count;
-    return std::to_string(counts.size()) + " topics, " + std::to_string(samples) + " samples";
-}
-
 /// Splits "TOPIC=VALUE" at its last '='; topics may contain '='-free slashes and colons.
 template <typename T>
 std::map<std::string, T> parse_assignments(const std::vector<std::string>& items, const std::string& flag) {
@@ -176,7 +169,7 @@ int main(int argc, char** argv) {
                 [&](tgw::base::Duration slice) { recorder.run(slice, tgw::basecamp::stop_requested()); },
                 [&] {
                     return "recording into " + (out.empty() ? record_mcap.path : out) + ": " +
-                           topics_and_samples(recorder.received());
+                           tgw::basecamp::topics_and_samples(recorder.received());
                 });
             recorder.stop();  // before the files close: a sample arriving now would reach one of them only
             std::cout << "tm-basecamp record: domain " << domain << " -> "

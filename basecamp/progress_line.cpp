@@ -41,4 +41,11 @@ void run_with_progress(base::Duration duration, const std::atomic<bool>& stop,
     }
 }
 
+std::string topics_and_samples(const std::map<std::string, std::uint64_t>& counts) {
+    std::uint64_t samples = 0;
+    for (const auto& [topic, count] : counts)
+        samples += count;
+    return std::to_string(counts.size()) + " topics, " + std::to_string(samples) + " samples";
+}
+
 }  // namespace tgw::basecamp

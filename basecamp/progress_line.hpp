@@ -1,7 +1,9 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 
 #include "base/time.hpp"
@@ -29,5 +31,8 @@ class ProgressLine {
 /// `line()` on a ProgressLine after each slice.
 void run_with_progress(base::Duration duration, const std::atomic<bool>& stop,
                        const std::function<void(base::Duration)>& step, const std::function<std::string()>& line);
+
+/// "N topics, M samples" for a progress line, from per-topic sample counts.
+std::string topics_and_samples(const std::map<std::string, std::uint64_t>& counts);
 
 }  // namespace tgw::basecamp

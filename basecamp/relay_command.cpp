@@ -151,13 +151,6 @@ class PeerNameFollower {
     std::thread thread_;              // last: it runs run()
 };
 
-std::string topics_and_samples(const std::map<std::string, std::uint64_t>& counts) {
-    std::uint64_t samples = 0;
-    for (const auto& [topic, count] : counts)
-        samples += count;
-    return std::to_string(counts.size()) + " topics, " + std::to_string(samples) + " samples";
-}
-
 void print_summary(const Relay& relaying, const std::map<std::string, std::uint64_t>& relayed) {
     for (const auto& [topic, count] : relayed)
         std::cout << "  " << topic << ": " << count << " samples relayed\n";

@@ -7,8 +7,8 @@
 # It proves:
 #   (a) both ends work once the radio is up, although it was down when they started (Fast DDS's interface
 #       whitelist kept none, for the programs' whole life, before): the gateway said the interface was down, and
-#       of the A published from 2 s after the link came up (time for discovery, about 1.3 s at 40,000 bit/s),
-#       >= 59 of 60 reached the camp within their 1 s TTL (the issue asks for all).
+#       every A published from 2 s after the link came up (time for discovery, about 1.3 s at 40,000 bit/s) until
+#       just before it went down reached the camp within its 1 s TTL.
 #   (b) while the link is down mid-run nothing is written into the dead interface and counted as forwarded: the
 #       gateway forwarded no sample between the link going down and coming back (its on-robot log's
 #       forwarded_samples), and per topic what the gateway counts as forwarded is what the camp recorded.
@@ -78,13 +78,15 @@ END_NS=9000000000000000000
 echo
 echo "== (a) started with the link down"
 said_down="$(grep -cE "WAN interface $veth (down|absent): nothing is sent until it is up" "$WORK/gateway.out" || true)"
-read -r a_on a_all <<<"$(a_on_time_between $((up_ns + 2000000000)) "$down_ns")"
+# The window ends before the link goes down by what an A may wait behind the sample on the wire (a D of 1,016 bytes
+# is 0.23 s at 40,000 bit/s) and the link watch's notice: an A published 45 ms before the drop was still queued
+# behind one when the link went, and expired (2026-12-06, 1 of 8 runs). Before this edge, the issue asks for all.
+EDGE_NS=300000000
+read -r a_on a_all <<<"$(a_on_time_between $((up_ns + 2000000000)) $((down_ns - EDGE_NS)))"
 first_a_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $up_ns) / 1e6) FROM samples WHERE topic = 'telemetry/A'")"
-echo "A from 2 s after the link came up until it went down: $a_on of $a_all on time; the first A at the camp ${first_a_ms:-never} ms after it"
+echo "A from 2 s after the link came up until 0.3 s before it went down: $a_on of $a_all on time; the first A at the camp ${first_a_ms:-never} ms after it"
 check "the gateway said its WAN interface was down, twice (at start and mid-run)" "a == 2" "$said_down"
-# Issue 44 asks for every one; 1 of 60 was late in 1 of 4 runs (2026-12-02), the link nearly full of A, B and C
-# at 40,000 bit/s while discovery's last repairs cross: at most one may miss.
-check "A from 2 s after the link came up until it went down: all but one on time" "b >= 50 && a >= b - 1" \
+check "A from 2 s after the link came up until 0.3 s before it went down: all on time" "b >= 50 && a == b" \
     "$a_on" "$a_all"
 
 echo

@@ -86,6 +86,17 @@ void ForwardingLoop::submit_repair(const Repair& repair) {
     kick_nts();
 }
 
+void ForwardingLoop::set_idle_source(IdleSource* source, TopicId topic) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    scheduler_.set_idle_source(source, topic);
+    kick_nts();
+}
+
+void ForwardingLoop::kick() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    kick_nts();
+}
+
 RepairCounters ForwardingLoop::repair_counters() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return scheduler_.repair_counters();

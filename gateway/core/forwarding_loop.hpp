@@ -49,6 +49,11 @@ class ForwardingLoop {
     void set_rate(double rate_bps, double steady_outside_bps = 0.0);
     /// See Scheduler::set_reachable.
     void set_reachable(TopicId topic, bool reachable);
+    /// See Scheduler::set_idle_source. The source wakes the loop (kick()) when it has samples again after saying
+    /// it had none.
+    void set_idle_source(IdleSource* source, TopicId topic);
+    /// Makes the loop's thread release now.
+    void kick();
     /// See Scheduler::charge_link.
     void charge_link(std::uint64_t bits);
     /// See Scheduler::observe_link_backlog.

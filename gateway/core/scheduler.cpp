@@ -464,6 +464,7 @@ void Scheduler::release(base::SteadyTime now, SampleSink& sink) {
         case PolicyKind::ttl:
         case PolicyKind::edf:
             release_by_deadline(now, sink);
+            fill_idle(now, sink);
             break;
         case PolicyKind::paper:
             release_paper_period(now, sink);
@@ -471,6 +472,40 @@ void Scheduler::release(base::SteadyTime now, SampleSink& sink) {
         case PolicyKind::fifo:
             break;
     }
+}
+
+void Scheduler::set_idle_source(IdleSource* source, TopicId topic) {
+    idle_ = source;
+    idle_topic_ = topic;
+}
+
+void Scheduler::fill_idle(base::SteadyTime now, SampleSink& sink) {
+    if (idle_ == nullptr || !topics_[idle_topic_].reachable) {
+        return;
+    }
+    while (queue_.empty() && !chunked_ && repairs_.empty() && budget_.can_send(now)) {
+        std::optional<Sample> sample = idle_->next_when_idle(now);
+        if (!sample) {
+            return;
+        }
+        sample->topic = idle_topic_;
+        // Born now, whatever it carries: its deadline only orders it last and bounds its wait.
+        const base::WallTime born = sample->source_time;
+        push(std::move(*sample), now, born, sink);
+        release_by_deadline(now, sink);
+    }
+}
+
+std::optional<base::SteadyTime> Scheduler::idle_wakeup(base::SteadyTime now) const {
+    if (idle_ == nullptr || !topics_[idle_topic_].reachable || budget_.rate_bps() <= 0.0 ||
+        (config_.policy != PolicyKind::ttl && config_.policy != PolicyKind::edf)) {
+        return std::nullopt;
+    }
+    const std::optional<base::SteadyTime> ready = idle_->next_ready(now);
+    if (!ready) {
+        return std::nullopt;
+    }
+    return std::max({now, *ready, budget_.next_send_time()});
 }
 
 Sample Scheduler::take(DeadlineQueue::Slot slot) {
@@ -605,9 +640,14 @@ bool Scheduler::may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std:
         return false;
     }
     if (blocks_urgent) {
-        // Wait for a faster link; give up once it could no longer make its deadline.
-        const base::SteadyTime give_up = sample.deadline - tx - config_.link_latency + base::Duration(1);
-        blocked_wakeup_ = blocked_wakeup_ ? std::min(*blocked_wakeup_, give_up) : give_up;
+        // Wait for a faster link, or for the topic it would cost its deadline to go quiet (backfill's samples live
+        // an hour: their give-up time wakes no one soon); give up once it could no longer make its deadline.
+        base::SteadyTime wake = sample.deadline - tx - config_.link_latency + base::Duration(1);
+        if (const ProtectedTopics::Guard* guard = protect_.guard_for(sample.topic, protect_rank_of(sample.topic))) {
+            const TopicState& guarding = topics_[guard->topic];
+            wake = std::min(wake, guarding.last_arrival + guarding.config.ttl + base::Duration(1));
+        }
+        blocked_wakeup_ = blocked_wakeup_ ? std::min(*blocked_wakeup_, wake) : wake;
         return false;
     }
     return true;
@@ -1027,7 +1067,7 @@ void Scheduler::release_paper_period(base::SteadyTime now, SampleSink& sink) {
 
 std::optional<base::SteadyTime> Scheduler::next_wakeup(base::SteadyTime now) const {
     if (queue_.empty() && !chunked_ && repairs_.empty()) {
-        return std::nullopt;
+        return idle_wakeup(now);
     }
     base::SteadyTime next = base::SteadyTime::max();
     if (!queue_.empty()) {

@@ -9,6 +9,7 @@
 #include "gateway/core/bundle_builder.hpp"
 #include "gateway/core/deadline_queue.hpp"
 #include "gateway/core/decaying_rate.hpp"
+#include "gateway/core/idle_source.hpp"
 #include "gateway/core/link_budget.hpp"
 #include "gateway/core/policy_kind.hpp"
 #include "gateway/core/repair_queue.hpp"
@@ -122,6 +123,13 @@ class Scheduler {
     void discard_repair(const Repair& repair, DropReason reason, SampleSink& sink);
     /// At most this many repairs wait; past it, the least urgent is discarded.
     static constexpr std::size_t MAX_QUEUED_REPAIRS = 4096;
+
+    /// Work for the link when no live sample wants it (backfill, under `ttl` and `edf`): samples of `topic` (the
+    /// least urgent of all by its TTL) that `source` hands out, one at a time, asked for by release() only when
+    /// nothing is queued, no repair waits, the link is free now and the topic is reachable. Each then goes as any
+    /// sample of its topic: by the budget and the non-preemptive rule, in chunks in compact mode; its fate reaches
+    /// the sink as any sample's. nullptr: none.
+    void set_idle_source(IdleSource* source, TopicId topic);
 
     /// When release() has something to do next, absent new samples or rate changes; nullopt if nothing.
     std::optional<base::SteadyTime> next_wakeup(base::SteadyTime now) const;
@@ -289,6 +297,10 @@ class Scheduler {
     /// holds it back when its wire time would cost the most urgent topic its deadline. True if it may go.
     bool may_start(DeadlineQueue::Slot slot, base::SteadyTime start, std::uint64_t bits, SampleSink& sink);
     void release_paper_period(base::SteadyTime now, SampleSink& sink);
+    /// Asks the idle source for samples while nothing else wants the link, and releases them.
+    void fill_idle(base::SteadyTime now, SampleSink& sink);
+    /// When the idle source's next sample could go (next_wakeup with nothing queued).
+    std::optional<base::SteadyTime> idle_wakeup(base::SteadyTime now) const;
     /// Where a queued sample stands in the order of urgency, for repairs to be compared with.
     struct UrgencyKey {
         std::int64_t rank;
@@ -344,6 +356,8 @@ class Scheduler {
         std::size_t sent_bytes = 0;
     };
     std::optional<ChunkedSample> chunked_;
+    IdleSource* idle_ = nullptr;  ///< see set_idle_source
+    TopicId idle_topic_ = 0;
     std::uint32_t next_chunk_id_ = 0;
 
     RepairQueue repairs_;

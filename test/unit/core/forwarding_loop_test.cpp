@@ -83,6 +83,45 @@ TEST_F(ForwardingLoopTest, ReleasesQueuedSamplesAsTheLinkDrains) {
     EXPECT_TRUE(sink.wait_for_forwarded(50, milliseconds(5'000)));
 }
 
+/// An idle source that has `available` samples at a time; more when given().
+class GivenIdleSource final : public IdleSource {
+  public:
+    std::optional<Sample> next_when_idle(base::SteadyTime /*now*/) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (available_ == 0)
+            return std::nullopt;
+        --available_;
+        Sample s;
+        s.payload.assign(100, 7);
+        return s;
+    }
+    std::optional<base::SteadyTime> next_ready(base::SteadyTime now) const override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return available_ > 0 ? std::optional<base::SteadyTime>(now) : std::nullopt;
+    }
+    void give(int n) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        available_ += n;
+    }
+
+  private:
+    mutable std::mutex mutex_;
+    int available_ = 0;
+};
+
+TEST_F(ForwardingLoopTest, TheLoopsThreadSendsWhatTheIdleSourceHasAndWakesWhenKicked) {
+    make_sut(2'000'000);
+    const TopicId backfill = sut->add_topic({"tgw/backfill", seconds(3600)});
+    GivenIdleSource source;
+    source.give(20);
+    sut->set_idle_source(&source, backfill);
+    EXPECT_TRUE(sink.wait_for_forwarded(20, milliseconds(5'000))) << "no sample submitted: the loop's own thread";
+    source.give(5);
+    sut->kick();
+    EXPECT_TRUE(sink.wait_for_forwarded(25, milliseconds(5'000)));
+    EXPECT_EQ(sut->counters(backfill).forwarded, 25u);
+}
+
 TEST_F(ForwardingLoopTest, FollowsARateRaisedFromZero) {
     make_sut(0.0);
     sut->submit(sample());

@@ -47,15 +47,17 @@ class SchedulerFixture : public ::testing::Test {
 
     void release() { sut->release(clock.now(), sink); }
 
-    /// Runs the scheduler as the gateway's loop would, in simulated time, for `span`.
-    void run_for(base::Duration span) {
+    /// Runs the scheduler as the gateway's loop would, in simulated time, for `span`, into `into` (the fixture's
+    /// sink by default).
+    void run_for(base::Duration span) { run_for(span, sink); }
+    void run_for(base::Duration span, SampleSink& into) {
         const base::SteadyTime end = clock.now() + span;
-        release();
+        sut->release(clock.now(), into);
         while (auto next = sut->next_wakeup(clock.now())) {
             if (*next > end)
                 break;
             clock.advance(std::max(*next - clock.now(), base::Duration(1)));
-            release();
+            sut->release(clock.now(), into);
         }
         if (clock.now() < end)
             clock.advance(end - clock.now());

@@ -2,6 +2,7 @@
 
 #include <sqlite3.h>
 
+#include <array>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -13,11 +14,15 @@
 #include <vector>
 
 #include "base/config_error.hpp"
+#include "gateway/log/backfill_reader.hpp"
+#include "gateway/log/sqlite_handles.hpp"
 
 namespace tgw::log {
 
 namespace {
 
+/// What was added since (forwarded_samples, link_rates, backfill's columns and log_id) is only added: a gateway
+/// that predates it still writes such a file, so the version stays.
 constexpr int SCHEMA_VERSION = 1;
 /// A batch is committed when it holds this many rows, or when its oldest row has waited BATCH_DELAY.
 constexpr std::size_t BATCH_ROWS = 1000;
@@ -46,7 +51,7 @@ constexpr const char* SCHEMA_SQL =
     "  arrival_ns INTEGER NOT NULL,"
     "  deadline_ns INTEGER NOT NULL,"
     "  logged_ns INTEGER NOT NULL,"
-    "  reason TEXT NOT NULL);"
+    "  reason TEXT NOT NULL);"  // and BACKFILL_COLUMNS, added by open()
     // Added after the first logs were written: IF NOT EXISTS gives an older file the table when it is reopened.
     "CREATE TABLE IF NOT EXISTS forwarded_samples ("
     "  id INTEGER PRIMARY KEY,"
@@ -66,9 +71,34 @@ constexpr const char* SCHEMA_SQL =
     "  sensed_bps REAL NOT NULL,"
     "  budget_bps REAL NOT NULL);";
 
+/// The columns of dropped_samples that backfill added. open() adds those a file lacks with ALTER TABLE, to a new
+/// file too, so that a new file and a migrated one have the same layout.
+constexpr std::array<std::pair<const char*, const char*>, 3> BACKFILL_COLUMNS{{
+    {"acked_ns", "INTEGER"},  // when the base camp acknowledged the row; NULL until it has it
+    {"sends", "INTEGER NOT NULL DEFAULT 0"},
+    {"last_sent_ns", "INTEGER"},
+}};
+
+// Backfill's two questions, the unacknowledged rows by id and the acknowledged ones oldest first (at the cap), would
+// otherwise scan the table, and read every payload on the way: the added columns stand after it in each record.
+constexpr const char* BACKFILL_INDEX_SQL =
+    "CREATE INDEX IF NOT EXISTS dropped_unacknowledged ON dropped_samples (id) WHERE acked_ns IS NULL;"
+    "CREATE INDEX IF NOT EXISTS dropped_acknowledged ON dropped_samples (id) WHERE acked_ns IS NOT NULL;";
+
+// randomblob() draws from SQLite's generator, which the OS seeds (/dev/urandom). OR IGNORE: made once, then kept.
+constexpr const char* LOG_ID_SQL =
+    "INSERT OR IGNORE INTO meta (key, value) VALUES ('log_id', lower(hex(randomblob(16))));";
+
+// The id is given, not left to SQLite: see next_dropped_id_.
 constexpr const char* INSERT_SQL =
     "INSERT INTO dropped_samples (topic, type_name, payload, instance_key, source_time_ns, arrival_ns, "
-    "deadline_ns, logged_ns, reason) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9);";
+    "deadline_ns, logged_ns, reason, id) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10);";
+
+/// The largest id dropped_samples has given, that of a pruned row included: meta's max_dropped_id, which pruning
+/// keeps, or the table's own.
+constexpr const char* MAX_DROPPED_ID_SQL =
+    "SELECT MAX(COALESCE((SELECT MAX(id) FROM dropped_samples), 0), "
+    "COALESCE((SELECT CAST(value AS INTEGER) FROM meta WHERE key = 'max_dropped_id'), 0));";
 
 constexpr const char* INSERT_FORWARDED_SQL =
     "INSERT INTO forwarded_samples (topic, type_name, instance_key, source_time_ns, arrival_ns, deadline_ns, "
@@ -76,18 +106,31 @@ constexpr const char* INSERT_FORWARDED_SQL =
 
 constexpr const char* INSERT_RATE_SQL = "INSERT INTO link_rates (time_ns, sensed_bps, budget_bps) VALUES (?1, ?2, ?3);";
 
-struct DbCloser {
-    void operator()(sqlite3* db) const { sqlite3_close_v2(db); }
-};
-struct StmtFinalizer {
-    void operator()(sqlite3_stmt* stmt) const { sqlite3_finalize(stmt); }
-};
-using DbPtr = std::unique_ptr<sqlite3, DbCloser>;
-using StmtPtr = std::unique_ptr<sqlite3_stmt, StmtFinalizer>;
+constexpr const char* MARK_SENT_SQL = "UPDATE dropped_samples SET sends = sends + 1, last_sent_ns = ?2 WHERE id = ?1;";
 
-/// A record copied out of the caller's sample, owned by the buffer: a dropped sample, a forwarded one, or a rate.
+// The first acknowledgement's time stays: a row acknowledged again (the camp's ack crossed a resend) is not new.
+constexpr const char* MARK_ACKNOWLEDGED_SQL =
+    "UPDATE dropped_samples SET acked_ns = ?3 WHERE id BETWEEN ?1 AND ?2 AND acked_ns IS NULL;";
+
+/// What goes at the cap, in this order, with the meta counter of each.
+struct PruneStage {
+    const char* table;
+    const char* condition;
+    const char* meta_key;
+};
+constexpr std::array<PruneStage, 3> PRUNE_ORDER{{
+    // The base camp has their payload, and they are the large rows.
+    {"dropped_samples", "acked_ns IS NOT NULL", "pruned_acknowledged_rows"},
+    // They only say that a sample left.
+    {"forwarded_samples", "1", "pruned_forwarded_rows"},
+    // Samples that are nowhere else: the last to go.
+    {"dropped_samples", "acked_ns IS NULL", "pruned_dropped_rows"},
+}};
+
+/// A record copied out of the caller's sample, owned by the buffer: a dropped sample, a forwarded one, a rate, or
+/// backfill's mark of dropped rows.
 struct Row {
-    enum class Kind { dropped, forwarded, rate };
+    enum class Kind { dropped, forwarded, rate, sent, acknowledged };
     Kind kind = Kind::dropped;
     std::string topic;
     std::string type_name;
@@ -97,9 +140,16 @@ struct Row {
     std::int64_t source_time_ns = 0;
     std::int64_t arrival_ns = 0;
     std::int64_t deadline_ns = 0;
-    std::int64_t logged_ns = 0;  ///< dropped: when logged; forwarded: when written to the WAN; rate: its time
+    std::int64_t logged_ns = 0;  ///< dropped: when logged; forwarded: when written to the WAN; rate, marks: its time
     core::DropReason reason = core::DropReason::expired;
-    double sensed_bps = 0, budget_bps = 0;  ///< rate rows only
+    double sensed_bps = 0, budget_bps = 0;           ///< rate rows only
+    std::int64_t first_row_id = 0, last_row_id = 0;  ///< marks only: the dropped rows marked (sent: first only)
+};
+
+/// What one batch's transaction committed.
+struct BatchResult {
+    std::size_t samples = 0;         ///< rows of both sample tables
+    std::uint64_t acknowledged = 0;  ///< dropped rows newly acknowledged
 };
 
 }  // namespace
@@ -108,6 +158,7 @@ class RobotLog::Impl {
   public:
     Impl(const std::string& path, std::uint64_t max_bytes) : path_(path), max_bytes_(max_bytes) {
         open();
+        reader_ = std::make_unique<BackfillReader>(path_);
         writer_ = std::thread([this] { run(); });
     }
 
@@ -118,9 +169,14 @@ class RobotLog::Impl {
         }
         wake_writer_.notify_one();
         writer_.join();  // the writer commits everything still buffered before it returns
+        // The reader first: the last connection to close checkpoints the WAL into the file, and a read-only one
+        // cannot.
+        reader_.reset();
         insert_.reset();
         insert_forwarded_.reset();
         insert_rate_.reset();
+        mark_sent_.reset();
+        mark_acknowledged_.reset();
         db_.reset();
         if (write_errors_ > 0)
             std::fprintf(stderr, "on-robot log %s: %llu row(s) could not be written\n", path_.c_str(),
@@ -171,6 +227,12 @@ class RobotLog::Impl {
         }
     }
 
+    void mark_sent(std::int64_t row_id, base::WallTime at) noexcept { mark(Row::Kind::sent, row_id, row_id, at); }
+
+    void mark_acknowledged(std::int64_t first_row_id, std::int64_t last_row_id, base::WallTime at) noexcept {
+        mark(Row::Kind::acknowledged, first_row_id, last_row_id, at);
+    }
+
     void flush() {
         std::unique_lock<std::mutex> lock(mutex_);
         const std::uint64_t target = appended_;
@@ -191,7 +253,14 @@ class RobotLog::Impl {
         std::lock_guard<std::mutex> lock(mutex_);
         return pruned_rows_;
     }
+    std::uint64_t acknowledged_rows() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return acknowledged_rows_;
+    }
     const std::string& path() const { return path_; }
+    /// Set once in open(), before any other thread sees the log.
+    const std::string& log_id() const { return log_id_; }
+    BackfillReader& reader() { return *reader_; }
 
   private:
     static Row common_row(std::string_view topic, std::string_view type_name, const core::Sample* sample,
@@ -208,6 +277,19 @@ class RobotLog::Impl {
         row.deadline_ns = base::to_ns(deadline);
         row.logged_ns = base::to_ns(logged_at);
         return row;
+    }
+
+    void mark(Row::Kind kind, std::int64_t first_row_id, std::int64_t last_row_id, base::WallTime at) noexcept {
+        try {
+            Row row;
+            row.kind = kind;
+            row.first_row_id = first_row_id;
+            row.last_row_id = last_row_id;
+            row.logged_ns = base::to_ns(at);
+            enqueue(std::move(row), sizeof(Row));
+        } catch (const std::exception& e) {
+            fail_rows(1, e.what());
+        }
     }
 
     /// Hands the row to the writer, or refuses it (counted) when `charge_bytes` more would overfill the buffer.
@@ -269,41 +351,78 @@ class RobotLog::Impl {
 
         // In WAL mode, NORMAL loses at most the last commits on power loss and never corrupts the file.
         exec_or_fail("PRAGMA synchronous=NORMAL;", "cannot set synchronous mode");
+        // One transaction: a file is migrated whole or not at all. Thrown out of, it is rolled back as the
+        // connection closes.
         exec_or_fail("BEGIN IMMEDIATE;", "cannot create the schema");
         exec_or_fail(SCHEMA_SQL, "cannot create the schema");
         exec_or_fail(("INSERT OR IGNORE INTO meta (key, value) VALUES ('schema_version', '" +
                       std::to_string(SCHEMA_VERSION) + "');")
                          .c_str(),
                      "cannot create the schema");
+        check_schema_version();  // before migrating: a file of another version is left as it was
+        add_backfill_columns();
+        exec_or_fail(BACKFILL_INDEX_SQL, "cannot create the backfill indexes");
+        exec_or_fail(LOG_ID_SQL, "cannot make the log id");
+        log_id_ = meta_value("log_id");
+        const std::optional<std::int64_t> max_dropped_id = query_int64(MAX_DROPPED_ID_SQL);
+        if (!max_dropped_id)
+            fail_open("cannot read the largest id of dropped_samples");
+        next_dropped_id_ = *max_dropped_id + 1;
         exec_or_fail("COMMIT;", "cannot create the schema");
-        check_schema_version();
 
-        if (sqlite3_prepare_v3(db_.get(), INSERT_SQL, -1, SQLITE_PREPARE_PERSISTENT, &raw_stmt, nullptr) != SQLITE_OK)
-            fail_open("cannot prepare the insert statement");
-        insert_.reset(raw_stmt);
-        if (sqlite3_prepare_v3(db_.get(), INSERT_FORWARDED_SQL, -1, SQLITE_PREPARE_PERSISTENT, &raw_stmt, nullptr) !=
-            SQLITE_OK)
-            fail_open("cannot prepare the insert statement");
-        insert_forwarded_.reset(raw_stmt);
-        if (sqlite3_prepare_v3(db_.get(), INSERT_RATE_SQL, -1, SQLITE_PREPARE_PERSISTENT, &raw_stmt, nullptr) !=
-            SQLITE_OK)
-            fail_open("cannot prepare the insert statement");
-        insert_rate_.reset(raw_stmt);
+        insert_ = prepare_or_fail(INSERT_SQL);
+        insert_forwarded_ = prepare_or_fail(INSERT_FORWARDED_SQL);
+        insert_rate_ = prepare_or_fail(INSERT_RATE_SQL);
+        mark_sent_ = prepare_or_fail(MARK_SENT_SQL);
+        mark_acknowledged_ = prepare_or_fail(MARK_ACKNOWLEDGED_SQL);
+    }
+
+    StmtPtr prepare_or_fail(const char* sql) {
+        StmtPtr stmt = prepare_persistent(db_.get(), sql);
+        if (stmt == nullptr)
+            fail_open("cannot prepare a statement");
+        return stmt;
+    }
+
+    /// The value of `key` in the meta table. Throws base::ConfigError when there is none.
+    std::string meta_value(const char* key) {
+        sqlite3_stmt* raw = nullptr;
+        if (sqlite3_prepare_v2(db_.get(), "SELECT value FROM meta WHERE key = ?1;", -1, &raw, nullptr) != SQLITE_OK)
+            fail_open(std::string("cannot read ") + key);
+        StmtPtr stmt(raw);
+        sqlite3_bind_text(stmt.get(), 1, key, -1, SQLITE_STATIC);
+        if (sqlite3_step(stmt.get()) != SQLITE_ROW)
+            fail_open(std::string("cannot read ") + key);
+        const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(stmt.get(), 0));
+        return text ? text : "";
     }
 
     void check_schema_version() {
-        sqlite3_stmt* raw = nullptr;
-        if (sqlite3_prepare_v2(db_.get(), "SELECT value FROM meta WHERE key = 'schema_version';", -1, &raw, nullptr) !=
-            SQLITE_OK)
-            fail_open("cannot read the schema version");
-        StmtPtr stmt(raw);
-        if (sqlite3_step(stmt.get()) != SQLITE_ROW)
-            fail_open("cannot read the schema version");
-        const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(stmt.get(), 0));
-        const std::string version = text ? text : "";
+        const std::string version = meta_value("schema_version");
         if (version != std::to_string(SCHEMA_VERSION))
             throw base::ConfigError("on-robot log " + path_ + ": schema version " + version + ", this gateway writes " +
                                     std::to_string(SCHEMA_VERSION));
+    }
+
+    /// Adds the BACKFILL_COLUMNS that dropped_samples lacks. In open()'s transaction.
+    void add_backfill_columns() {
+        sqlite3_stmt* raw = nullptr;
+        if (sqlite3_prepare_v2(db_.get(), "SELECT COUNT(*) FROM pragma_table_info('dropped_samples') WHERE name = ?1;",
+                               -1, &raw, nullptr) != SQLITE_OK)
+            fail_open("cannot read the columns of dropped_samples");
+        StmtPtr has_column(raw);
+        for (const auto& [name, definition] : BACKFILL_COLUMNS) {
+            sqlite3_reset(has_column.get());
+            sqlite3_bind_text(has_column.get(), 1, name, -1, SQLITE_STATIC);
+            if (sqlite3_step(has_column.get()) != SQLITE_ROW)
+                fail_open("cannot read the columns of dropped_samples");
+            if (sqlite3_column_int64(has_column.get(), 0) > 0)
+                continue;
+            // ALTER TABLE ADD COLUMN only rewrites the schema: the rows read the default until written.
+            exec_or_fail(
+                (std::string("ALTER TABLE dropped_samples ADD COLUMN ") + name + " " + definition + ";").c_str(),
+                "cannot add the backfill columns to dropped_samples");
+        }
     }
 
     /// The writer thread: commits the buffer in batches until stopped, then commits what is left.
@@ -327,39 +446,69 @@ class RobotLog::Impl {
             buffered_bytes_ = 0;
             flush_requested_ = false;
             lock.unlock();
-            const std::size_t written = write_batch(batch);
+            const BatchResult written = write_batch(batch);
             const std::uint64_t pruned = max_bytes_ > 0 ? keep_under_cap() : 0;
             lock.lock();
-            rows_written_ += written;
+            rows_written_ += written.samples;
+            acknowledged_rows_ += written.acknowledged;
             pruned_rows_ += pruned;
             done_ += batch.size();
             done_changed_.notify_all();
         }
     }
 
-    /// Writes the rows in one transaction; returns how many were committed. Called on the writer thread only.
-    std::size_t write_batch(const std::vector<Row>& batch) {
+    /// Writes the rows and marks in one transaction; returns what it committed. Called on the writer thread only.
+    BatchResult write_batch(const std::vector<Row>& batch) {
         sqlite3* db = db_.get();
         if (sqlite3_exec(db, "BEGIN;", nullptr, nullptr, nullptr) != SQLITE_OK) {
             fail_rows(batch.size(), sqlite3_errmsg(db));
-            return 0;
+            return {};
         }
-        std::size_t inserted = 0;
+        BatchResult result;
         for (const Row& row : batch) {
-            const bool ok = row.kind == Row::Kind::rate        ? insert_rate(row)
-                            : row.kind == Row::Kind::forwarded ? insert_forwarded(row)
-                                                               : insert(row);
+            bool ok = false;
+            switch (row.kind) {
+                case Row::Kind::dropped:
+                    ok = insert(row);
+                    result.samples += ok ? 1 : 0;
+                    break;
+                case Row::Kind::forwarded:
+                    ok = insert_forwarded(row);
+                    result.samples += ok ? 1 : 0;
+                    break;
+                case Row::Kind::rate:
+                    ok = insert_rate(row);
+                    break;
+                case Row::Kind::sent:
+                    ok = update(mark_sent_.get(), row);
+                    break;
+                case Row::Kind::acknowledged:
+                    ok = update(mark_acknowledged_.get(), row);
+                    result.acknowledged += ok ? static_cast<std::uint64_t>(sqlite3_changes(db)) : 0;
+                    break;
+            }
             if (!ok)
                 fail_rows(1, sqlite3_errmsg(db));
-            else if (row.kind != Row::Kind::rate)  // rows_written counts samples
-                ++inserted;
         }
         if (sqlite3_exec(db, "COMMIT;", nullptr, nullptr, nullptr) != SQLITE_OK) {
-            fail_rows(inserted, sqlite3_errmsg(db));
+            fail_rows(result.samples, sqlite3_errmsg(db));
             sqlite3_exec(db, "ROLLBACK;", nullptr, nullptr, nullptr);
-            return 0;
+            return {};
         }
-        return inserted;
+        return result;
+    }
+
+    /// Steps a mark's UPDATE: ?1 the first row, ?2 the time (sent) or the last row, ?3 the time (acknowledged).
+    static bool update(sqlite3_stmt* stmt, const Row& row) {
+        sqlite3_reset(stmt);
+        sqlite3_bind_int64(stmt, 1, row.first_row_id);
+        if (row.kind == Row::Kind::sent) {
+            sqlite3_bind_int64(stmt, 2, row.logged_ns);
+        } else {
+            sqlite3_bind_int64(stmt, 2, row.last_row_id);
+            sqlite3_bind_int64(stmt, 3, row.logged_ns);
+        }
+        return step(stmt);
     }
 
     bool insert(const Row& row) {
@@ -378,7 +527,11 @@ class RobotLog::Impl {
         sqlite3_bind_int64(stmt, 8, row.logged_ns);
         const std::string_view reason = core::to_string(row.reason);
         sqlite3_bind_text(stmt, 9, reason.data(), static_cast<int>(reason.size()), SQLITE_STATIC);
-        return step(stmt);
+        sqlite3_bind_int64(stmt, 10, next_dropped_id_);
+        if (!step(stmt))
+            return false;
+        ++next_dropped_id_;
+        return true;
     }
 
     bool insert_forwarded(const Row& row) {
@@ -419,23 +572,31 @@ class RobotLog::Impl {
         return ok;
     }
 
-    /// The bytes the file's rows take: its pages less those free for reuse.
-    std::uint64_t live_bytes() {
+    /// The first column of the first row `sql` gives; nullopt when it gives none or fails.
+    std::optional<std::int64_t> query_int64(const char* sql) {
         sqlite3_stmt* raw = nullptr;
-        if (sqlite3_prepare_v2(db_.get(),
-                               "SELECT MAX(0, page_count - freelist_count) * page_size "
-                               "FROM pragma_page_count(), pragma_freelist_count(), pragma_page_size();",
-                               -1, &raw, nullptr) != SQLITE_OK)
-            return 0;
+        if (sqlite3_prepare_v2(db_.get(), sql, -1, &raw, nullptr) != SQLITE_OK)
+            return std::nullopt;
         StmtPtr stmt(raw);
-        return sqlite3_step(stmt.get()) == SQLITE_ROW ? static_cast<std::uint64_t>(sqlite3_column_int64(stmt.get(), 0))
-                                                      : 0;
+        if (sqlite3_step(stmt.get()) != SQLITE_ROW)
+            return std::nullopt;
+        return sqlite3_column_int64(stmt.get(), 0);
     }
 
-    /// Deletes the oldest rows (by insertion) of `table`, PRUNE_ROWS at a time; returns how many.
-    std::uint64_t delete_oldest(const char* table) {
-        const std::string sql = std::string("DELETE FROM ") + table + " WHERE rowid IN (SELECT rowid FROM " + table +
-                                " ORDER BY rowid LIMIT " + std::to_string(PRUNE_ROWS) + ");";
+    /// The bytes the file's rows take: its pages less those free for reuse.
+    std::uint64_t live_bytes() {
+        const std::optional<std::int64_t> bytes = query_int64(
+            "SELECT MAX(0, page_count - freelist_count) * page_size "
+            "FROM pragma_page_count(), pragma_freelist_count(), pragma_page_size();");
+        return bytes ? static_cast<std::uint64_t>(*bytes) : 0;
+    }
+
+    /// Deletes the oldest rows (by insertion) of the stage's table that meet its condition, PRUNE_ROWS at a time;
+    /// returns how many.
+    std::uint64_t delete_oldest(const PruneStage& prune) {
+        const std::string sql = std::string("DELETE FROM ") + prune.table + " WHERE id IN (SELECT id FROM " +
+                                prune.table + " WHERE " + prune.condition + " ORDER BY id LIMIT " +
+                                std::to_string(PRUNE_ROWS) + ");";
         if (sqlite3_exec(db_.get(), sql.c_str(), nullptr, nullptr, nullptr) != SQLITE_OK)
             return 0;
         return static_cast<std::uint64_t>(sqlite3_changes(db_.get()));
@@ -447,21 +608,27 @@ class RobotLog::Impl {
         if (live_bytes() <= max_bytes_)
             return 0;
         const std::uint64_t target = max_bytes_ / 10 * 9;
-        std::uint64_t forwarded = 0;
-        std::uint64_t dropped = 0;
+        // Kept before any row goes: were the row of the largest id pruned, SQLite would give that id again.
+        const std::string keep_max_id = "INSERT INTO meta (key, value) VALUES ('max_dropped_id', '" +
+                                        std::to_string(next_dropped_id_ - 1) +
+                                        "') ON CONFLICT(key) DO UPDATE SET value = excluded.value;";
+        if (sqlite3_exec(db_.get(), keep_max_id.c_str(), nullptr, nullptr, nullptr) != SQLITE_OK)
+            return 0;  // better over the cap than an id that names two rows
+        std::array<std::uint64_t, PRUNE_ORDER.size()> pruned{};
         while (live_bytes() > target) {
-            if (const std::uint64_t n = delete_oldest("forwarded_samples"); n > 0) {
-                forwarded += n;
-            } else if (const std::uint64_t m = delete_oldest("dropped_samples"); m > 0) {
-                dropped += m;
-            } else {
-                break;  // the link rates and the schema are all that is left
+            std::uint64_t n = 0;
+            for (std::size_t stage = 0; stage < PRUNE_ORDER.size() && n == 0; ++stage) {
+                n = delete_oldest(PRUNE_ORDER[stage]);
+                pruned[stage] += n;
             }
+            if (n == 0)
+                break;  // the link rates and the schema are all that is left
         }
-        for (const auto& [key, n] : {std::pair<const char*, std::uint64_t>{"pruned_forwarded_rows", forwarded},
-                                     std::pair<const char*, std::uint64_t>{"pruned_dropped_rows", dropped}}) {
-            const std::string sql = std::string("INSERT INTO meta (key, value) VALUES ('") + key + "', '" +
-                                    std::to_string(n) +
+        std::uint64_t total = 0;
+        for (std::size_t stage = 0; stage < PRUNE_ORDER.size(); ++stage) {
+            total += pruned[stage];
+            const std::string sql = std::string("INSERT INTO meta (key, value) VALUES ('") +
+                                    PRUNE_ORDER[stage].meta_key + "', '" + std::to_string(pruned[stage]) +
                                     "') ON CONFLICT(key) DO UPDATE SET value = CAST(CAST(value AS INTEGER) + "
                                     "CAST(excluded.value AS INTEGER) AS TEXT);";
             sqlite3_exec(db_.get(), sql.c_str(), nullptr, nullptr, nullptr);
@@ -469,11 +636,11 @@ class RobotLog::Impl {
         if (!cap_reported_) {
             cap_reported_ = true;
             std::fprintf(stderr,
-                         "on-robot log %s: at its cap of %llu MiB: the oldest rows make room, sent ones first (counts "
-                         "in its meta table)\n",
+                         "on-robot log %s: at its cap of %llu MiB: the oldest rows make room, those the base camp "
+                         "has and sent ones first (counts in its meta table)\n",
                          path_.c_str(), static_cast<unsigned long long>(max_bytes_ >> 20));
         }
-        return forwarded + dropped;
+        return total;
     }
 
     /// Counts `n` rows as lost; the first failure is reported on stderr, the rest only counted.
@@ -494,10 +661,18 @@ class RobotLog::Impl {
     const std::string path_;
     const std::uint64_t max_bytes_;
     bool cap_reported_ = false;  ///< writer thread only
+    /// The id of the next dropped row; writer thread only. A row's id names it for ever (with log_id_, at the base
+    /// camp too), so it is never given twice, even once its row is pruned: SQLite would give the largest id left
+    /// plus one, and pruning the acknowledged rows first can take the newest.
+    std::int64_t next_dropped_id_ = 1;
     DbPtr db_;
     StmtPtr insert_;
     StmtPtr insert_forwarded_;
     StmtPtr insert_rate_;
+    StmtPtr mark_sent_;
+    StmtPtr mark_acknowledged_;
+    std::string log_id_;
+    std::unique_ptr<BackfillReader> reader_;
 
     mutable std::mutex mutex_;
     std::condition_variable wake_writer_;
@@ -510,6 +685,7 @@ class RobotLog::Impl {
     std::uint64_t rows_written_ = 0;
     std::uint64_t write_errors_ = 0;
     std::uint64_t pruned_rows_ = 0;
+    std::uint64_t acknowledged_rows_ = 0;
     bool flush_requested_ = false;
     bool stopping_ = false;
     std::thread writer_;
@@ -531,8 +707,28 @@ void RobotLog::append_rate(const RateRecord& record) {
     impl_->append_rate(record);
 }
 
+void RobotLog::mark_sent(std::int64_t row_id, base::WallTime at) {
+    impl_->mark_sent(row_id, at);
+}
+
+void RobotLog::mark_acknowledged(std::int64_t first_row_id, std::int64_t last_row_id, base::WallTime at) {
+    impl_->mark_acknowledged(first_row_id, last_row_id, at);
+}
+
 void RobotLog::flush() {
     impl_->flush();
+}
+
+std::vector<BackfillCandidate> RobotLog::unacknowledged(std::int64_t after_row_id, std::size_t max_rows) {
+    return impl_->reader().unacknowledged(after_row_id, max_rows);
+}
+
+std::optional<StoredSample> RobotLog::read_dropped(std::int64_t row_id) {
+    return impl_->reader().read_dropped(row_id);
+}
+
+std::string RobotLog::log_id() const {
+    return impl_->log_id();
 }
 
 std::uint64_t RobotLog::rows_written() const {
@@ -541,6 +737,10 @@ std::uint64_t RobotLog::rows_written() const {
 
 std::uint64_t RobotLog::pruned_rows() const {
     return impl_->pruned_rows();
+}
+
+std::uint64_t RobotLog::acknowledged_rows() const {
+    return impl_->acknowledged_rows();
 }
 
 std::uint64_t RobotLog::write_errors() const {

@@ -4,6 +4,8 @@
 #include <sqlite3.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -84,7 +86,19 @@ class LogReader {
         return value;
     }
 
+    std::string scalar(const std::string& sql) { return scalar(sql.c_str()); }
+
     std::int64_t count() { return std::stoll(scalar("SELECT COUNT(*) FROM dropped_samples")); }
+
+    /// The ids of the rows of dropped_samples that meet `condition`, ascending.
+    std::vector<std::int64_t> ids(const std::string& condition) {
+        std::vector<std::int64_t> out;
+        sqlite3_stmt* stmt = prepare(("SELECT id FROM dropped_samples WHERE " + condition + " ORDER BY id").c_str());
+        while (sqlite3_step(stmt) == SQLITE_ROW)
+            out.push_back(sqlite3_column_int64(stmt, 0));
+        sqlite3_finalize(stmt);
+        return out;
+    }
 
   private:
     sqlite3_stmt* prepare(const char* sql) {
@@ -96,6 +110,58 @@ class LogReader {
 
     sqlite3* db_ = nullptr;
 };
+
+/// A log as the gateway wrote it before backfill, with one dropped row: the schema of robot_log.cpp then, copied
+/// rather than shared, since it must stay as it was when the code's schema changes.
+void write_pre_backfill_log(const std::string& path) {
+    constexpr const char* SQL =
+        "CREATE TABLE IF NOT EXISTS meta ("
+        "  key TEXT PRIMARY KEY,"
+        "  value TEXT NOT NULL);"
+        "CREATE TABLE IF NOT EXISTS dropped_samples ("
+        "  id INTEGER PRIMARY KEY,"
+        "  topic TEXT NOT NULL,"
+        "  type_name TEXT NOT NULL,"
+        "  payload BLOB NOT NULL,"
+        "  instance_key BLOB,"
+        "  source_time_ns INTEGER NOT NULL,"
+        "  arrival_ns INTEGER NOT NULL,"
+        "  deadline_ns INTEGER NOT NULL,"
+        "  logged_ns INTEGER NOT NULL,"
+        "  reason TEXT NOT NULL);"
+        "CREATE TABLE IF NOT EXISTS forwarded_samples ("
+        "  id INTEGER PRIMARY KEY,"
+        "  topic TEXT NOT NULL,"
+        "  type_name TEXT NOT NULL,"
+        "  instance_key BLOB,"
+        "  source_time_ns INTEGER NOT NULL,"
+        "  arrival_ns INTEGER NOT NULL,"
+        "  deadline_ns INTEGER NOT NULL,"
+        "  forwarded_ns INTEGER NOT NULL,"
+        "  payload_bytes INTEGER NOT NULL);"
+        "CREATE TABLE IF NOT EXISTS link_rates ("
+        "  id INTEGER PRIMARY KEY,"
+        "  time_ns INTEGER NOT NULL,"
+        "  sensed_bps REAL NOT NULL,"
+        "  budget_bps REAL NOT NULL);"
+        "INSERT INTO meta (key, value) VALUES ('schema_version', '1');"
+        "INSERT INTO dropped_samples (topic, type_name, payload, instance_key, source_time_ns, arrival_ns, "
+        "deadline_ns, logged_ns, reason) VALUES ('telemetry/old', 'tgw::PaperMessage', x'0a0b0c', NULL, "
+        "1700000000000000000, 1700000000100000000, 1700000001000000000, 1700000002000000000, 'expired');";
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    char* error = nullptr;
+    EXPECT_EQ(sqlite3_exec(db, SQL, nullptr, nullptr, &error), SQLITE_OK) << (error ? error : "");
+    sqlite3_free(error);
+    sqlite3_close_v2(db);
+}
+
+std::vector<std::int64_t> row_ids(const std::vector<BackfillCandidate>& rows) {
+    std::vector<std::int64_t> ids;
+    for (const BackfillCandidate& row : rows)
+        ids.push_back(row.row_id);
+    return ids;
+}
 
 class RobotLogTest : public ::testing::Test {
   protected:
@@ -128,6 +194,32 @@ class RobotLogTest : public ::testing::Test {
         r.deadline = clock.wall_now() + seconds(1);
         r.logged_at = clock.wall_now();
         return r;
+    }
+
+    /// Appends `n` dropped samples of `payload_bytes` each, the first byte counting them from `first`, and commits.
+    void append_dropped(int n, std::size_t payload_bytes, int first = 0) {
+        for (int i = first; i < first + n; ++i)
+            sut->append(record(sample(std::vector<std::uint8_t>(payload_bytes, static_cast<std::uint8_t>(i)))));
+        sut->flush();
+    }
+
+    /// Makes a capped log whose newest dropped row was acknowledged and pruned while older ones were kept, as
+    /// the backfill of the shortest TTLs first can leave it; returns that row's id.
+    std::int64_t prune_the_newest_row() {
+        sut = std::make_unique<RobotLog>(path, 1u << 20);
+        append_dropped(40, 10'000);
+        const std::vector<std::int64_t> ids = row_ids(sut->unacknowledged(0, 100));
+        EXPECT_EQ(ids.size(), 40u);
+        sut->mark_acknowledged(ids[30], ids.back(), clock.wall_now());
+        // Rows that take no payload push the file over its cap: the acknowledged rows go, and a few sent ones.
+        const core::Sample sent = sample({1, 2, 3});
+        for (int i = 0; i < 10'000; ++i)
+            sut->append_forwarded(
+                {"telemetry/A", "tgw::PaperMessage", &sent, clock.wall_now(), clock.wall_now(), clock.wall_now()});
+        sut->flush();
+        EXPECT_FALSE(sut->read_dropped(ids.back()).has_value()) << "the newest row must be pruned";
+        EXPECT_TRUE(sut->read_dropped(ids[29]).has_value()) << "and the unacknowledged ones kept";
+        return ids.back();
     }
 
     test::FakeClock clock;
@@ -390,6 +482,303 @@ TEST_F(RobotLogTest, CommitsWithoutAFlushWithinAShortDelay) {
     while (sut->rows_written() < 1 && std::chrono::steady_clock::now() < give_up)
         std::this_thread::sleep_for(milliseconds(5));
     EXPECT_EQ(sut->rows_written(), 1u);
+}
+
+// Backfill: the log's id, the migration of an older file, the reads and the marks.
+
+TEST_F(RobotLogTest, NamesANewFileWithARandomIdThatStaysAcrossReopening) {
+    std::string id;
+    {
+        RobotLog first(path);
+        id = first.log_id();
+    }
+    EXPECT_EQ(id.size(), 32u);
+    EXPECT_TRUE(std::all_of(id.begin(), id.end(), [](char c) {
+        return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+    })) << id;
+
+    sut = std::make_unique<RobotLog>(path);
+    EXPECT_EQ(sut->log_id(), id);
+    EXPECT_EQ(LogReader(path).scalar("SELECT value FROM meta WHERE key = 'log_id'"), id);
+    EXPECT_NE(RobotLog((dir / "other.db").string()).log_id(), id) << "another file, another id";
+}
+
+TEST_F(RobotLogTest, OpensALogFromBeforeBackfillKeepingItsRowAndAddingTheColumnsAndAnId) {
+    write_pre_backfill_log(path);
+
+    sut = std::make_unique<RobotLog>(path);
+
+    EXPECT_EQ(sut->log_id().size(), 32u);
+    {
+        LogReader reader(path);
+        EXPECT_EQ(reader.scalar("SELECT COUNT(*) FROM pragma_table_info('dropped_samples') "
+                                "WHERE name IN ('acked_ns', 'sends', 'last_sent_ns')"),
+                  "3");
+        EXPECT_EQ(reader.scalar("SELECT (acked_ns IS NULL) || ',' || sends || ',' || (last_sent_ns IS NULL) "
+                                "FROM dropped_samples"),
+                  "1,0,1");
+        EXPECT_EQ(reader.scalar("SELECT value FROM meta WHERE key = 'log_id'"), sut->log_id());
+    }
+    const std::vector<BackfillCandidate> rows = sut->unacknowledged(0, 10);
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_EQ(rows[0].topic, "telemetry/old");
+    EXPECT_EQ(base::to_ns(rows[0].source_time), 1'700'000'000'000'000'000);
+    EXPECT_EQ(base::to_ns(rows[0].deadline), 1'700'000'001'000'000'000);
+    EXPECT_EQ(rows[0].payload_bytes, 3u);
+
+    // The migrated file takes new rows, after the old one.
+    append_dropped(1, 5);
+    const std::vector<BackfillCandidate> after = sut->unacknowledged(0, 10);
+    ASSERT_EQ(after.size(), 2u);
+    EXPECT_EQ(after[0].row_id, rows[0].row_id);
+    EXPECT_EQ(after[1].payload_bytes, 5u);
+
+    const std::string id = sut->log_id();
+    sut = std::make_unique<RobotLog>(path);
+    EXPECT_EQ(sut->log_id(), id) << "made once, on the first reopening";
+}
+
+TEST_F(RobotLogTest, ListsTheUnacknowledgedRowsByIdAPageAtATime) {
+    sut = std::make_unique<RobotLog>(path);
+    for (std::size_t i = 1; i <= 5; ++i)
+        append_dropped(1, i);
+    const core::Sample s = sample({});
+    const LogRecord r = record(s);
+    const std::vector<BackfillCandidate> all = sut->unacknowledged(0, 100);
+    ASSERT_EQ(all.size(), 5u);
+    EXPECT_TRUE(
+        std::is_sorted(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.row_id < b.row_id; }));
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        EXPECT_EQ(all[i].topic, "telemetry/A");
+        EXPECT_EQ(all[i].payload_bytes, i + 1);
+        EXPECT_EQ(all[i].source_time, s.source_time);
+        EXPECT_EQ(all[i].deadline, r.deadline);
+    }
+
+    EXPECT_EQ(row_ids(sut->unacknowledged(0, 2)), (std::vector<std::int64_t>{all[0].row_id, all[1].row_id}));
+    EXPECT_EQ(row_ids(sut->unacknowledged(all[1].row_id, 2)),
+              (std::vector<std::int64_t>{all[2].row_id, all[3].row_id}));
+    EXPECT_EQ(row_ids(sut->unacknowledged(all[3].row_id, 2)), (std::vector<std::int64_t>{all[4].row_id}));
+    EXPECT_TRUE(sut->unacknowledged(all[4].row_id, 2).empty());
+    EXPECT_TRUE(sut->unacknowledged(0, 0).empty());
+}
+
+TEST_F(RobotLogTest, ListsASampleWithoutPayloadWithZeroBytes) {
+    sut = std::make_unique<RobotLog>(path);
+    core::Sample dispose = sample({});
+    dispose.kind = core::SampleKind::dispose;
+    dispose.key.valid = true;
+    dispose.key.bytes.fill(0x42);
+    sut->append(record(dispose));
+    sut->flush();
+
+    const std::vector<BackfillCandidate> rows = sut->unacknowledged(0, 10);
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_EQ(rows[0].payload_bytes, 0u);
+    const std::optional<StoredSample> stored = sut->read_dropped(rows[0].row_id);
+    ASSERT_TRUE(stored.has_value());
+    EXPECT_TRUE(stored->payload.empty());
+    EXPECT_TRUE(stored->key.valid);
+    EXPECT_EQ(stored->key.bytes, dispose.key.bytes);
+}
+
+TEST_F(RobotLogTest, LeavesTheRowsTheCampAcknowledgedOutOfTheList) {
+    sut = std::make_unique<RobotLog>(path);
+    append_dropped(5, 10);
+    const std::vector<std::int64_t> ids = row_ids(sut->unacknowledged(0, 10));
+    ASSERT_EQ(ids.size(), 5u);
+    const base::WallTime first_ack = clock.wall_now();
+
+    sut->mark_acknowledged(ids[1], ids[2], first_ack);
+    sut->flush();
+
+    EXPECT_EQ(row_ids(sut->unacknowledged(0, 10)), (std::vector<std::int64_t>{ids[0], ids[3], ids[4]}));
+    EXPECT_EQ(sut->acknowledged_rows(), 2u);
+    const std::string acked_ns_of_second = "SELECT acked_ns FROM dropped_samples WHERE id = " + std::to_string(ids[1]);
+    EXPECT_EQ(LogReader(path).scalar(acked_ns_of_second), std::to_string(base::to_ns(first_ack)));
+
+    // An acknowledgement that overlaps one already made counts only the new row and keeps the first time.
+    clock.advance(seconds(3));
+    sut->mark_acknowledged(ids[0], ids[2], clock.wall_now());
+    sut->flush();
+
+    EXPECT_EQ(row_ids(sut->unacknowledged(0, 10)), (std::vector<std::int64_t>{ids[3], ids[4]}));
+    EXPECT_EQ(sut->acknowledged_rows(), 3u);
+    EXPECT_EQ(LogReader(path).scalar(acked_ns_of_second), std::to_string(base::to_ns(first_ack)));
+    EXPECT_EQ(sut->write_errors(), 0u);
+}
+
+TEST_F(RobotLogTest, ReadsADroppedRowBackAsItWasAppended) {
+    sut = std::make_unique<RobotLog>(path);
+    core::Sample s = sample({0x00, 0x01, 0x00, 0x00, 0xca, 0xfe});
+    s.key.valid = true;
+    for (std::size_t i = 0; i < s.key.bytes.size(); ++i)
+        s.key.bytes[i] = static_cast<std::uint8_t>(0xa0 + i);
+    LogRecord r = record(s, core::DropReason::doomed);
+    r.topic = "telemetry/B";
+    r.type_name = "tgw::Pose";
+    sut->append(r);
+    sut->flush();
+    const std::vector<BackfillCandidate> rows = sut->unacknowledged(0, 1);
+    ASSERT_EQ(rows.size(), 1u);
+
+    const std::optional<StoredSample> stored = sut->read_dropped(rows[0].row_id);
+
+    ASSERT_TRUE(stored.has_value());
+    EXPECT_EQ(stored->row_id, rows[0].row_id);
+    EXPECT_EQ(stored->topic, "telemetry/B");
+    EXPECT_EQ(stored->type_name, "tgw::Pose");
+    EXPECT_EQ(stored->payload, s.payload);
+    EXPECT_TRUE(stored->key.valid);
+    EXPECT_EQ(stored->key.bytes, s.key.bytes);
+    EXPECT_EQ(stored->kind, core::SampleKind::data);
+    EXPECT_EQ(stored->source_time, s.source_time);
+    EXPECT_EQ(stored->deadline, r.deadline);
+    EXPECT_EQ(stored->reason, "doomed");
+    EXPECT_FALSE(sut->read_dropped(rows[0].row_id + 1).has_value()) << "no such row";
+}
+
+TEST_F(RobotLogTest, CountsEachSendOfARowAndKeepsTheTimeOfTheLast) {
+    sut = std::make_unique<RobotLog>(path);
+    append_dropped(2, 10);
+    const std::vector<std::int64_t> ids = row_ids(sut->unacknowledged(0, 10));
+    ASSERT_EQ(ids.size(), 2u);
+
+    sut->mark_sent(ids[0], clock.wall_now());
+    clock.advance(seconds(7));
+    const base::WallTime second_send = clock.wall_now();
+    sut->mark_sent(ids[0], second_send);
+    sut->flush();
+
+    LogReader reader(path);
+    const std::string where = " FROM dropped_samples WHERE id = ";
+    EXPECT_EQ(reader.scalar("SELECT sends" + where + std::to_string(ids[0])), "2");
+    EXPECT_EQ(reader.scalar("SELECT last_sent_ns" + where + std::to_string(ids[0])),
+              std::to_string(base::to_ns(second_send)));
+    EXPECT_EQ(reader.scalar("SELECT sends || ',' || (last_sent_ns IS NULL)" + where + std::to_string(ids[1])), "0,1");
+    EXPECT_EQ(sut->unacknowledged(0, 10).size(), 2u) << "sent is not acknowledged";
+}
+
+TEST_F(RobotLogTest, MarksOfRowsThatAreGoneChangeNothingAndAreNoErrors) {
+    sut = std::make_unique<RobotLog>(path);
+    append_dropped(1, 10);
+
+    sut->mark_sent(1'000, clock.wall_now());
+    sut->mark_acknowledged(1'000, 2'000, clock.wall_now());
+    sut->flush();
+
+    EXPECT_EQ(sut->write_errors(), 0u);
+    EXPECT_EQ(sut->acknowledged_rows(), 0u);
+    EXPECT_EQ(LogReader(path).scalar("SELECT SUM(sends) || ',' || COUNT(acked_ns) FROM dropped_samples"), "0,0");
+}
+
+TEST_F(RobotLogTest, ListsCommittedRowsWhileTheWriterAppends) {
+    sut = std::make_unique<RobotLog>(path);
+    constexpr int ROWS = 3'000;
+    std::atomic<bool> appended{false};
+    std::thread writer([&] {
+        for (int i = 0; i < ROWS; i += 100)
+            append_dropped(100, 64, i);
+        appended = true;
+    });
+
+    std::int64_t last = 0;
+    int seen = 0;
+    bool ascending = true;
+    for (;;) {
+        const bool finished = appended;  // read before the page: then the page holds every row
+        const std::vector<BackfillCandidate> page = sut->unacknowledged(last, 256);
+        for (const BackfillCandidate& row : page) {
+            ascending = ascending && row.row_id > last;
+            last = row.row_id;
+            seen += row.payload_bytes == 64 ? 1 : 0;
+        }
+        if (finished && page.empty())
+            break;
+        std::this_thread::yield();
+    }
+    writer.join();
+
+    EXPECT_EQ(seen, ROWS);
+    EXPECT_TRUE(ascending);
+    EXPECT_EQ(sut->write_errors(), 0u);
+}
+
+TEST_F(RobotLogTest, AtItsCapTheAcknowledgedRowsGoFirstThenTheSentOnesThenTheRest) {
+    constexpr std::uint64_t CAP = 1u << 20;
+    constexpr std::size_t ROW_BYTES = 10'000;
+    sut = std::make_unique<RobotLog>(path, CAP);
+    // 40 samples not sent; the camp acknowledges every other one, so that the acknowledged rows are not simply
+    // the oldest.
+    append_dropped(40, ROW_BYTES);
+    const std::vector<std::int64_t> first = row_ids(sut->unacknowledged(0, 100));
+    ASSERT_EQ(first.size(), 40u);
+    for (std::size_t i = 1; i < first.size(); i += 2)
+        sut->mark_acknowledged(first[i], first[i], clock.wall_now());
+    const core::Sample sent = sample({1, 2, 3});
+    constexpr int FORWARDED = 2'000;
+    for (int i = 0; i < FORWARDED; ++i)
+        sut->append_forwarded(
+            {"telemetry/A", "tgw::PaperMessage", &sent, clock.wall_now(), clock.wall_now(), clock.wall_now()});
+    sut->flush();
+    ASSERT_EQ(sut->acknowledged_rows(), 20u);
+    ASSERT_EQ(sut->pruned_rows(), 0u) << "under the cap so far";
+    const std::vector<std::int64_t> acked = LogReader(path).ids("acked_ns IS NOT NULL");
+    ASSERT_EQ(acked.size(), 20u);
+
+    // Then more samples not sent, a few at a time, until every kind of row has had to go.
+    constexpr int MORE = 100;
+    for (int i = 0; i < MORE; i += 5) {
+        append_dropped(5, ROW_BYTES, 40 + i);
+        LogReader reader(path);
+        const std::vector<std::int64_t> acked_left = reader.ids("acked_ns IS NOT NULL");
+        const std::int64_t forwarded_left = std::stoll(reader.scalar("SELECT COUNT(*) FROM forwarded_samples"));
+        EXPECT_TRUE(std::equal(acked_left.begin(), acked_left.end(), acked.end() - acked_left.size()))
+            << "the oldest acknowledged rows go first";
+        if (forwarded_left < FORWARDED) {
+            EXPECT_TRUE(acked_left.empty()) << "a sent row went while an acknowledged one was left, after " << i;
+        }
+        const std::int64_t unacknowledged_left = reader.count() - static_cast<std::int64_t>(acked_left.size());
+        if (unacknowledged_left < 20 + i + 5) {
+            EXPECT_TRUE(acked_left.empty()) << "an unacknowledged row went before the acknowledged ones, after " << i;
+            EXPECT_EQ(forwarded_left, 0) << "an unacknowledged row went before the sent ones, after " << i;
+        }
+    }
+
+    LogReader reader(path);
+    EXPECT_EQ(reader.scalar("SELECT value FROM meta WHERE key = 'pruned_acknowledged_rows'"), "20");
+    EXPECT_EQ(reader.scalar("SELECT value FROM meta WHERE key = 'pruned_forwarded_rows'"), std::to_string(FORWARDED));
+    const std::int64_t pruned_dropped =
+        std::stoll(reader.scalar("SELECT value FROM meta WHERE key = 'pruned_dropped_rows'"));
+    EXPECT_GT(pruned_dropped, 0) << "the cap was reached again once the others were gone";
+    // The unacknowledged rows left are the newest: the 20 first ones and all MORE, less the oldest pruned.
+    const auto rows = reader.rows();
+    EXPECT_EQ(static_cast<std::int64_t>(rows.size()) + pruned_dropped, 20 + MORE);
+    ASSERT_FALSE(rows.empty());
+    EXPECT_EQ(rows.back().payload.front(), static_cast<std::uint8_t>(40 + MORE - 1));
+    EXPECT_EQ(sut->pruned_rows(), static_cast<std::uint64_t>(20 + FORWARDED + pruned_dropped));
+    EXPECT_EQ(sut->write_errors(), 0u);
+}
+
+TEST_F(RobotLogTest, NeverGivesTheIdOfAPrunedRowAgain) {
+    const std::int64_t pruned = prune_the_newest_row();
+
+    append_dropped(1, 10, 200);
+
+    const std::vector<BackfillCandidate> rows = sut->unacknowledged(0, 100);
+    ASSERT_FALSE(rows.empty());
+    EXPECT_GT(rows.back().row_id, pruned);
+}
+
+TEST_F(RobotLogTest, NeverGivesTheIdOfAPrunedRowAgainAfterReopening) {
+    const std::int64_t pruned = prune_the_newest_row();
+    sut = std::make_unique<RobotLog>(path);
+
+    append_dropped(1, 10, 200);
+
+    const std::vector<BackfillCandidate> rows = sut->unacknowledged(0, 100);
+    ASSERT_FALSE(rows.empty());
+    EXPECT_GT(rows.back().row_id, pruned);
 }
 
 }  // namespace

@@ -22,6 +22,14 @@ struct TopicRecord {
     std::string announced_idl;
 };
 
+/// Where a backfilled sample comes from: the on-robot log row it was kept in because the gateway could not send it
+/// within its TTL. (log_id, row_id) names that row for ever, so the camp stores it once however often it arrives.
+struct BackfillOrigin {
+    std::string log_id;       ///< the on-robot log's id, 32 lowercase hex characters
+    std::int64_t row_id = 0;  ///< the row's id in that log
+    std::string reason;       ///< why it stayed on the robot, as the log says it: expired, doomed, no_reader, ...
+};
+
 /// One received sample. Times are wall clock, nanoseconds since the Unix epoch.
 struct SampleRecord {
     std::string topic;
@@ -31,6 +39,9 @@ struct SampleRecord {
     std::int64_t receive_ns = 0;
     std::optional<std::int64_t> lifespan_ns;
     std::vector<std::uint8_t> instance;  ///< 16-byte instance handle of keyed topics, else empty
+    /// The on-robot log row it was backfilled from; empty for a live sample. A backfilled sample's receive_ns is
+    /// when it reached the camp, its source_ns its source time.
+    std::optional<BackfillOrigin> backfill;
 };
 
 /// One gateway's share in a round of grants.

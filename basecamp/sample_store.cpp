@@ -2,6 +2,7 @@
 
 #include <sqlite3.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -9,6 +10,7 @@
 #include <mutex>
 #include <thread>
 #include <type_traits>
+#include <utility>
 
 #include "base/config_error.hpp"
 
@@ -52,6 +54,26 @@ CREATE TABLE IF NOT EXISTS grants(
     rate_bps REAL NOT NULL);
 )sql";
 
+/// The columns of samples that backfill added. The constructor adds those a file lacks with ALTER TABLE, to a new
+/// file too, so that a new recording and an older one end up with one layout.
+constexpr std::array<std::pair<const char*, const char*>, 4> BACKFILL_COLUMNS{{
+    {"backfilled", "INTEGER NOT NULL DEFAULT 0"},
+    {"log_id", "TEXT"},  // the on-robot log's id; NULL for a live sample
+    {"row_id", "INTEGER"},
+    {"drop_reason", "TEXT"},
+}};
+
+// Partial: live samples, the bulk of the table, never collide (their log_id is NULL) and need not pay for the index.
+constexpr const char* BACKFILL_INDEX_SQL =
+    "CREATE UNIQUE INDEX IF NOT EXISTS samples_backfill_row ON samples(log_id, row_id) WHERE log_id IS NOT NULL;";
+
+// DO NOTHING only on that index, not OR IGNORE: a row that failed another constraint must count as an error, not
+// as a duplicate the robot is told is stored.
+constexpr const char* INSERT_BACKFILL_SQL =
+    "INSERT INTO samples(topic, type_name, payload, source_ns, receive_ns, lifespan_ns, instance, backfilled, log_id, "
+    "row_id, drop_reason) VALUES(?,?,?,?,?,?,?,1,?,?,?) "
+    "ON CONFLICT(log_id, row_id) WHERE log_id IS NOT NULL DO NOTHING";
+
 /// An INTEGER or a REAL column's value, NULL when absent.
 template <typename Number>
 void bind_optional(sqlite3_stmt* stmt, int index, const std::optional<Number>& value) {
@@ -78,6 +100,17 @@ void bind_blob(sqlite3_stmt* stmt, int index, const std::vector<std::uint8_t>& b
                           static_cast<int>(bytes.size()), SQLITE_TRANSIENT);
 }
 
+/// The first seven columns, which a live and a backfilled sample share.
+void bind_sample(sqlite3_stmt* stmt, const SampleRecord& s) {
+    sqlite3_bind_text(stmt, 1, s.topic.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(stmt, 2, s.type_name.c_str(), -1, SQLITE_TRANSIENT);
+    bind_blob(stmt, 3, s.payload, false);
+    sqlite3_bind_int64(stmt, 4, s.source_ns);
+    sqlite3_bind_int64(stmt, 5, s.receive_ns);
+    bind_optional(stmt, 6, s.lifespan_ns);
+    bind_blob(stmt, 7, s.instance, true);
+}
+
 }  // namespace
 
 class SampleStore::Impl {
@@ -95,22 +128,35 @@ class SampleStore::Impl {
             sqlite3_close(db_);
             throw base::ConfigError(flag + ": cannot create tables in '" + path + "': " + why);
         }
-        sqlite3_prepare_v2(db_,
-                           "INSERT INTO samples(topic, type_name, payload, source_ns, receive_ns, lifespan_ns, "
-                           "instance) VALUES(?,?,?,?,?,?,?)",
-                           -1, &insert_sample_, nullptr);
-        sqlite3_prepare_v2(db_,
-                           "INSERT OR REPLACE INTO topics(topic, type_name, lifespan_ns, keyed, reliable, "
-                           "discovered_ns) VALUES(?,?,?,?,?,?)",
-                           -1, &insert_topic_, nullptr);
-        sqlite3_prepare_v2(db_, "INSERT OR REPLACE INTO announced_types(type_name, idl) VALUES(?,?)", -1,
-                           &insert_announced_type_, nullptr);
-        sqlite3_prepare_v2(db_,
-                           "INSERT INTO channel(time_ns, channel_bps, newcomer_bps, verdict, delivered_bps, "
-                           "queueing_ns) VALUES(?,?,?,?,?,?)",
-                           -1, &insert_channel_, nullptr);
-        sqlite3_prepare_v2(db_, "INSERT INTO grants(time_ns, gateway, robot, rate_bps) VALUES(?,?,?,?)", -1,
-                           &insert_grant_, nullptr);
+        if (const std::string why = add_backfill_columns(); !why.empty()) {
+            sqlite3_close(db_);
+            throw base::ConfigError(flag + ": cannot add the backfill columns to '" + path + "': " + why);
+        }
+        // A statement that did not prepare would crash the writer (sqlite3_clear_bindings takes no NULL).
+        std::string why;
+        const auto prepare = [&](const char* sql, sqlite3_stmt** stmt) {
+            if (sqlite3_prepare_v2(db_, sql, -1, stmt, nullptr) != SQLITE_OK && why.empty())
+                why = sqlite3_errmsg(db_);
+        };
+        prepare(
+            "INSERT INTO samples(topic, type_name, payload, source_ns, receive_ns, lifespan_ns, instance) "
+            "VALUES(?,?,?,?,?,?,?)",
+            &insert_sample_);
+        prepare(INSERT_BACKFILL_SQL, &insert_backfill_);
+        prepare(
+            "INSERT OR REPLACE INTO topics(topic, type_name, lifespan_ns, keyed, reliable, discovered_ns) "
+            "VALUES(?,?,?,?,?,?)",
+            &insert_topic_);
+        prepare("INSERT OR REPLACE INTO announced_types(type_name, idl) VALUES(?,?)", &insert_announced_type_);
+        prepare(
+            "INSERT INTO channel(time_ns, channel_bps, newcomer_bps, verdict, delivered_bps, queueing_ns) "
+            "VALUES(?,?,?,?,?,?)",
+            &insert_channel_);
+        prepare("INSERT INTO grants(time_ns, gateway, robot, rate_bps) VALUES(?,?,?,?)", &insert_grant_);
+        if (!why.empty()) {
+            close();
+            throw base::ConfigError(flag + ": cannot write to '" + path + "': " + why);
+        }
         writer_ = std::thread([this] { write_loop(); });
     }
 
@@ -121,12 +167,7 @@ class SampleStore::Impl {
         }
         wake_.notify_all();
         writer_.join();
-        sqlite3_finalize(insert_sample_);
-        sqlite3_finalize(insert_topic_);
-        sqlite3_finalize(insert_announced_type_);
-        sqlite3_finalize(insert_channel_);
-        sqlite3_finalize(insert_grant_);
-        sqlite3_close(db_);
+        close();
     }
 
     void add_topic(TopicRecord topic) { enqueue(topics_, std::move(topic)); }
@@ -141,10 +182,56 @@ class SampleStore::Impl {
         done_.wait(lock, [&] { return committed_ >= target; });
     }
 
+    void on_backfill_stored(StoredBackfill callback) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stored_backfill_ = std::move(callback);
+    }
+
     std::atomic<std::uint64_t> rows_written{0};
     std::atomic<std::uint64_t> write_errors{0};
+    std::atomic<std::uint64_t> duplicate_backfill_rows{0};
 
   private:
+    void close() {
+        for (sqlite3_stmt* stmt :
+             {insert_sample_, insert_backfill_, insert_topic_, insert_announced_type_, insert_channel_, insert_grant_})
+            sqlite3_finalize(stmt);
+        sqlite3_close(db_);
+    }
+
+    /// Adds the BACKFILL_COLUMNS that samples lacks, and their index, in one transaction. Returns why it failed, or
+    /// an empty string.
+    std::string add_backfill_columns() {
+        std::string why;
+        const auto exec = [&](const std::string& sql) {
+            char* error = nullptr;
+            if (why.empty() && sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK)
+                why = error ? error : sqlite3_errmsg(db_);
+            sqlite3_free(error);
+        };
+        // IMMEDIATE: of two programs opening one old recording at once, one adds the columns, the other finds them.
+        exec("BEGIN IMMEDIATE");
+        if (!why.empty())
+            return why;
+        sqlite3_stmt* has_column = nullptr;
+        sqlite3_prepare_v2(db_, "SELECT 1 FROM pragma_table_info('samples') WHERE name = ?", -1, &has_column, nullptr);
+        for (const auto& [name, definition] : BACKFILL_COLUMNS) {
+            sqlite3_reset(has_column);
+            sqlite3_bind_text(has_column, 1, name, -1, SQLITE_STATIC);
+            const int found = sqlite3_step(has_column);
+            if (found == SQLITE_DONE)
+                exec(std::string("ALTER TABLE samples ADD COLUMN ") + name + " " + definition);
+            else if (found != SQLITE_ROW && why.empty())
+                why = std::string("cannot read the columns of samples: ") + sqlite3_errmsg(db_);
+        }
+        sqlite3_finalize(has_column);
+        exec(BACKFILL_INDEX_SQL);
+        exec("COMMIT");
+        if (!why.empty())
+            sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+        return why;
+    }
+
     /// For the writer thread's next batch.
     template <typename Record>
     void enqueue(std::vector<Record>& pending, Record record) {
@@ -196,13 +283,11 @@ class SampleStore::Impl {
             }
         }
         for (const SampleRecord& s : samples) {
-            sqlite3_bind_text(insert_sample_, 1, s.topic.c_str(), -1, SQLITE_TRANSIENT);
-            sqlite3_bind_text(insert_sample_, 2, s.type_name.c_str(), -1, SQLITE_TRANSIENT);
-            bind_blob(insert_sample_, 3, s.payload, false);
-            sqlite3_bind_int64(insert_sample_, 4, s.source_ns);
-            sqlite3_bind_int64(insert_sample_, 5, s.receive_ns);
-            bind_optional(insert_sample_, 6, s.lifespan_ns);
-            bind_blob(insert_sample_, 7, s.instance, true);
+            if (s.backfill) {
+                write_backfilled(s);
+                continue;
+            }
+            bind_sample(insert_sample_, s);
             if (step(insert_sample_))
                 ++rows_written;
         }
@@ -222,8 +307,39 @@ class SampleStore::Impl {
                 step(insert_grant_);
             }
         }
-        if (sqlite3_exec(db_, "COMMIT", nullptr, nullptr, nullptr) != SQLITE_OK)
-            report_error("commit");
+        if (sqlite3_exec(db_, "COMMIT", nullptr, nullptr, nullptr) == SQLITE_OK) {
+            acknowledge();
+            return;
+        }
+        report_error("commit");
+        // Rolled back: the robot sends the rows again. Otherwise the transaction is still open (SQLITE_BUSY) and the
+        // next batch's COMMIT holds these rows too, so their acknowledgements wait for it.
+        if (sqlite3_get_autocommit(db_))
+            unacknowledged_.clear();
+    }
+
+    /// Inserts a backfilled sample unless its row is stored already; either way its acknowledgement waits for the
+    /// commit.
+    void write_backfilled(const SampleRecord& s) {
+        bind_sample(insert_backfill_, s);
+        sqlite3_bind_text(insert_backfill_, 8, s.backfill->log_id.c_str(), -1, SQLITE_TRANSIENT);
+        sqlite3_bind_int64(insert_backfill_, 9, s.backfill->row_id);
+        bind_text_or_null(insert_backfill_, 10, s.backfill->reason);
+        if (!step(insert_backfill_))
+            return;
+        if (sqlite3_changes(db_) > 0)
+            ++rows_written;
+        else
+            ++duplicate_backfill_rows;
+        unacknowledged_.emplace_back(s.backfill->log_id, s.backfill->row_id);
+    }
+
+    /// After a commit; on the writer thread, with mutex_ not held, so the callback may call add().
+    void acknowledge() {
+        if (stored_backfill_)
+            for (const auto& [log_id, row_id] : unacknowledged_)
+                stored_backfill_(log_id, row_id);
+        unacknowledged_.clear();
     }
 
     bool step(sqlite3_stmt* stmt) {
@@ -243,6 +359,7 @@ class SampleStore::Impl {
 
     sqlite3* db_ = nullptr;
     sqlite3_stmt* insert_sample_ = nullptr;
+    sqlite3_stmt* insert_backfill_ = nullptr;
     sqlite3_stmt* insert_topic_ = nullptr;
     sqlite3_stmt* insert_announced_type_ = nullptr;  ///< the IDL a type's TypeObject gave, for export --mcap
     sqlite3_stmt* insert_channel_ = nullptr;
@@ -258,6 +375,10 @@ class SampleStore::Impl {
     std::uint64_t committed_ = 0;
     bool stopping_ = false;
     bool flush_requested_ = false;
+    /// Set before samples are added, then read by the writer thread alone.
+    StoredBackfill stored_backfill_;
+    /// The writer thread's: backfilled rows written since the last commit, to acknowledge once it commits.
+    std::vector<std::pair<std::string, std::int64_t>> unacknowledged_;
     std::thread writer_;
 };
 
@@ -282,12 +403,20 @@ void SampleStore::flush() {
     impl_->flush();
 }
 
+void SampleStore::on_backfill_stored(StoredBackfill callback) {
+    impl_->on_backfill_stored(std::move(callback));
+}
+
 std::uint64_t SampleStore::rows_written() const {
     return impl_->rows_written.load();
 }
 
 std::uint64_t SampleStore::write_errors() const {
     return impl_->write_errors.load();
+}
+
+std::uint64_t SampleStore::duplicate_backfill_rows() const {
+    return impl_->duplicate_backfill_rows.load();
 }
 
 }  // namespace tgw::basecamp

@@ -17,10 +17,12 @@
 
 #include "base/config_error.hpp"
 #include "base/dds_security.hpp"
+#include "basecamp/backfill_endpoints.hpp"
 #include "basecamp/compact_unpacker.hpp"
 #include "basecamp/metered_transport.hpp"
 #include "basecamp/receiver_reporter.hpp"
 #include "basecamp/wan_capture.hpp"
+#include "gateway/dds/backfill_topics.hpp"
 #include "gateway/dds/compact_topics.hpp"
 #include "gateway/dds/pass_on.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
@@ -168,6 +170,7 @@ Relay::~Relay() {
             participant->set_listener(nullptr);
     }
     compact_.reset();  // its readers, then its writers
+    backfill_.reset();
     uplink_.reset();
     grantor_.reset();
     {
@@ -222,8 +225,10 @@ std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& pu
 }
 
 void Relay::relay(const dds::DiscoveredPublisher& publisher) {
-    // Receivers' reports are for the gateways, not the camp.
-    if (publisher.topic == dds::RECEIVER_REPORT_TOPIC) {
+    // Receivers' reports are for the gateways, not the camp. Backfill is past its TTL: the archive's, never the
+    // camp's live domain (archive_backfill).
+    if (publisher.topic == dds::RECEIVER_REPORT_TOPIC || publisher.topic == dds::BACKFILL_TOPIC ||
+        publisher.topic == dds::BACKFILL_ACK_TOPIC) {
         return;
     }
     // A compact-mode gateway: its bundles are unpacked, each sample republished on its own topic.
@@ -272,6 +277,10 @@ void Relay::uplink(const dds::DiscoveredPublisher& publisher) {
     uplink_->route(publisher, publisher.topic, ttl);
 }
 
+void Relay::archive_backfill(BackfillArchive& archive) {
+    backfill_ = std::make_unique<BackfillEndpoints>(wan_, archive);
+}
+
 core::ChannelGrants Relay::channel_grants() const {
     return grantor_ ? grantor_->last_grants() : core::ChannelGrants{};
 }
@@ -305,6 +314,12 @@ void Relay::run(base::Duration duration, const std::atomic<bool>& stop) {
         }
         for (const dds::DiscoveredPublisher& publisher : local_discovered_.take(std::chrono::milliseconds(0))) {
             uplink(publisher);
+        }
+        if (backfill_ && base::SteadyClock::now() >= next_backfill_acks_) {
+            // Often enough that a row's acknowledgement comes long before its resend (5 s), seldom enough to cost
+            // the robot's uplink little.
+            next_backfill_acks_ = base::SteadyClock::now() + std::chrono::milliseconds(500);
+            backfill_->publish_acks();
         }
         if (reporter_ && base::SteadyClock::now() >= next_report_) {
             next_report_ += report_period_;

@@ -34,6 +34,8 @@ class Subscriber;
 
 namespace tgw::basecamp {
 
+class BackfillArchive;
+class BackfillEndpoints;
 class CompactUnpacker;
 class ReceiverReporter;
 
@@ -68,6 +70,11 @@ class Relay {
     ~Relay();
     Relay(const Relay&) = delete;
     Relay& operator=(const Relay&) = delete;
+
+    /// Backfill (docs/design/backfill.md): the gateways' backfilled samples go into `archive` (never onto the local
+    /// domain) and its acknowledgements back to them. Without it, backfill is not read, and no gateway sends it.
+    /// Throws base::ConfigError when DDS refuses an entity. `archive` must outlive the relay.
+    void archive_backfill(BackfillArchive& archive);
 
     /// Creates lanes for topics as they are discovered, until `duration` has passed or `stop` turns true.
     void run(base::Duration duration, const std::atomic<bool>& stop);
@@ -125,9 +132,11 @@ class Relay {
     /// Made when a compact-mode gateway's bundles or catalog appear; before the participants go.
     std::unique_ptr<CompactUnpacker> compact_;
     base::SystemClock clock_;
-    std::unique_ptr<dds::Uplink> uplink_;      ///< with uplink topics; before the participants go
-    std::unique_ptr<ChannelGrantor> grantor_;  ///< with a channel rate; its writer is the WAN participant's
-    mutable std::mutex topics_mutex_;          ///< run() adds to topics_, relayed() reads it
+    std::unique_ptr<dds::Uplink> uplink_;          ///< with uplink topics; before the participants go
+    std::unique_ptr<ChannelGrantor> grantor_;      ///< with a channel rate; its writer is the WAN participant's
+    std::unique_ptr<BackfillEndpoints> backfill_;  ///< with an archive; before the participants go
+    base::SteadyTime next_backfill_acks_{};
+    mutable std::mutex topics_mutex_;  ///< run() adds to topics_, relayed() reads it
     std::map<std::string, std::unique_ptr<Topic>> topics_;
 };
 

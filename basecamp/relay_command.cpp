@@ -18,6 +18,7 @@
 #include "base/dds_security.hpp"
 #include "base/interface_addresses.hpp"
 #include "base/peer_transport.hpp"
+#include "basecamp/backfill_archive.hpp"
 #include "basecamp/camp_domain_transport.hpp"
 #include "basecamp/compact_unpacker.hpp"
 #include "basecamp/consumer_fan_out.hpp"
@@ -202,8 +203,10 @@ int run_relay(const RelayOptions& options) {
         apply_camp_domain_transport(local_qos, options.local_transport, options.transport, options.local_domain);
     std::vector<SampleConsumer*> consumers;
     std::unique_ptr<SampleStore> store;
+    std::unique_ptr<BackfillArchive> backfill;
     if (!options.out.empty()) {
         store = std::make_unique<SampleStore>(options.out, "--out");
+        backfill = std::make_unique<BackfillArchive>(*store);  // before any sample: it takes the store's acks
         consumers.push_back(store.get());
     }
     std::unique_ptr<FoxgloveServer> foxglove_server;
@@ -214,9 +217,13 @@ int run_relay(const RelayOptions& options) {
     }
     ConsumerFanOut taken_off_the_wan(consumers);
     const auto make_relay = [&](const eprosima::fastdds::dds::DomainParticipantQos& qos) {
-        return std::make_unique<Relay>(
+        auto relay = std::make_unique<Relay>(
             options.domain, qos, options.local_domain, local_qos, consumers.empty() ? nullptr : &taken_off_the_wan,
             base::from_seconds(options.report_period_s), options.uplink, options.channel_bps, options.measure_channel);
+        if (backfill) {
+            relay->archive_backfill(*backfill);
+        }
+        return relay;
     };
     std::unique_ptr<Relay> relaying = make_relay(first_wan_qos);
     std::unique_ptr<WanAddressFollower> follower;
@@ -281,6 +288,10 @@ int run_relay(const RelayOptions& options) {
         store->flush();
         std::cout << "  recorded in " << options.out << ": " << store->rows_written() << " rows, "
                   << store->write_errors() << " write errors\n";
+        if (backfill->received() > 0) {
+            std::cout << "  backfill: " << backfill->received() << " samples from the robots' logs, "
+                      << store->duplicate_backfill_rows() << " of them stored before\n";
+        }
     }
     print_summary(*relaying, relayed());
     if (foxglove_server)

@@ -10,22 +10,14 @@
 #include <cstdio>
 #include <cstring>
 
+#include "base/hex.hpp"
+
 namespace tgw::sensor {
 
 namespace {
 
 /// nl80211 reports rates in units of 100 kbit/s.
 constexpr double BITRATE_UNIT_BPS = 100'000.0;
-
-int hex_digit(char c) {
-    if (c >= '0' && c <= '9')
-        return c - '0';
-    if (c >= 'a' && c <= 'f')
-        return c - 'a' + 10;
-    if (c >= 'A' && c <= 'F')
-        return c - 'A' + 10;
-    return -1;
-}
 
 StationParseResult failure(std::string error) {
     StationParseResult result;
@@ -102,8 +94,8 @@ std::optional<MacAddress> parse_mac(std::string_view text) {
     MacAddress mac{};
     for (std::size_t i = 0; i < mac.size(); ++i) {
         const std::size_t at = 3 * i;
-        const int high = hex_digit(text[at]);
-        const int low = hex_digit(text[at + 1]);
+        const int high = base::hex_digit(text[at]);
+        const int low = base::hex_digit(text[at + 1]);
         if (high < 0 || low < 0 || (i + 1 < mac.size() && text[at + 2] != separator))
             return std::nullopt;
         mac[i] = static_cast<std::uint8_t>(high * 16 + low);

@@ -7,12 +7,14 @@
 #include <set>
 #include <utility>
 
+#include "BackfillPubSubTypes.h"
 #include "GatewayStatusPubSubTypes.h"
 #include "base/config_error.hpp"
 #include "base/discovery_server.hpp"
 #include "base/robot_namespace.hpp"
 #include "gateway/compact/zstd_frame.hpp"
 #include "gateway/core/granted_rate.hpp"
+#include "gateway/dds/backfill_topics.hpp"
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway_sink.hpp"
@@ -57,6 +59,12 @@ void GatewayConfig::validate() const {
         if (const std::string problem = base::robot_name_problem(robot_name); !problem.empty()) {
             throw base::ConfigError("--robot-name '" + robot_name + "': " + problem);
         }
+    }
+    if (backfill && log_file.empty()) {
+        throw base::ConfigError("--backfill: needs the on-robot log, whose rows it sends (drop --no-log)");
+    }
+    if (backfill && compact_wan) {
+        throw base::ConfigError("--backfill: standard WAN mode only so far (drop --wan-mode compact)");
     }
     if (robot_domain == wan_domain) {
         // One domain would make the gateway read its own WAN writers back.
@@ -282,6 +290,9 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
             demand_watch_.emplace(core::DemandWatch::Config{}, core::WireModel{});
         }
     }
+    if (config_.backfill) {
+        start_backfill();
+    }
     loop_->start();
     if (config_.receiver_reports) {
         // After the loop: each report is compared with what the loop had forwarded when it came.
@@ -380,6 +391,9 @@ void Gateway::stop() {
     if (grants_) {
         grants_->close();  // likewise: a grant sets the loop's rate
     }
+    if (backfill_acks_) {
+        backfill_acks_->close();
+    }
     stop_worker();
     if (robot_) {
         for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
@@ -394,8 +408,37 @@ void Gateway::stop() {
         desk->stop();  // before the loop: nothing more is submitted to it
     }
     loop_->stop();
+    if (backfill_) {
+        backfill_->stop();  // after the loop, which asks it for samples until it stops
+    }
     if (log_) {
         log_->flush();
+    }
+}
+
+void Gateway::start_backfill() {
+    // The least urgent topic of all: its samples go only when no live sample wants the link (core::IdleSource),
+    // and wait behind any that comes. Best effort: the camp's acknowledgements make it reliable, at the budget's
+    // pace; a reliable writer's repairs would cross outside the schedule's order.
+    backfill_topic_ = loop_->add_topic(core::TopicConfig{BACKFILL_TOPIC, BACKFILL_TTL});
+    loop_->set_reachable(*backfill_topic_, false);  // until a camp that stores backfill reads it
+    OfferedQos offer;
+    offer.reliable = false;
+    backfill_writer_ = wan_->create_writer(BACKFILL_TOPIC, BACKFILL_TOPIC, idl::BackfillSamplePubSubType().getName(),
+                                           false, std::nullopt, offer, nullptr);
+    if (backfill_writer_ == nullptr) {
+        throw base::ConfigError("--backfill: cannot create the writer of " + std::string(BACKFILL_TOPIC));
+    }
+    BackfillSender::Config backfill;
+    backfill.planner.max_bps = config_.backfill_max_bps;
+    backfill_ = std::make_unique<BackfillSender>(*log_, backfill, config_.scheduler.wire, clock_,
+                                                 [loop = loop_.get()] { loop->kick(); });
+    sink_->set_backfill_route(*backfill_topic_, backfill_writer_, backfill_.get());
+    loop_->set_idle_source(backfill_.get(), *backfill_topic_);
+    backfill_->start(*backfill_topic_);
+    backfill_acks_ = std::make_unique<BackfillAckReader>(*backfill_);
+    if (!wan_->subscribe_backfill_acks(backfill_acks_.get())) {
+        throw base::ConfigError("--backfill: cannot subscribe to the base camp's acknowledgements");
     }
 }
 
@@ -653,6 +696,10 @@ void Gateway::poll_reachability_nts() {
     }
     if (status_topic_) {
         reachable(*status_topic_, (compact_ ? compact_->matched_readers() : status_writer_->matched_readers()) > 0);
+    }
+    if (backfill_topic_) {
+        // A camp that stores backfill and acknowledges it reads the topic (tm-basecamp relay --out, record).
+        reachable(*backfill_topic_, backfill_writer_->matched_readers() > 0);
     }
     post_at(std::chrono::steady_clock::now() + REACHABILITY_POLL, [this] { poll_reachability_nts(); });
 }

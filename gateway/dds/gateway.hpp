@@ -24,6 +24,8 @@
 #include "gateway/core/scheduler.hpp"
 #include "gateway/core/sent_rate.hpp"
 
+#include "gateway/dds/backfill_ack_reader.hpp"
+#include "gateway/dds/backfill_sender.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
@@ -117,6 +119,12 @@ struct GatewayConfig {
     /// --status-period defaults to 1 s). On a slow link it comes less often, so that it takes at most
     /// STATUS_RATE_SHARE of the sensed rate.
     base::Duration status_period = base::Duration::zero();
+    /// Backfill (docs/design/backfill.md): the on-robot log's rows cross to the base camp in capacity no live
+    /// sample wants, until the camp acknowledges them. Needs a log; standard WAN mode only so far. Off by default
+    /// while the base camp's side is built.
+    bool backfill = false;
+    /// The most bit/s backfill may take (--backfill-max-bps); 0: only the budget bounds it.
+    double backfill_max_bps = 0.0;
 
     /// Throws base::ConfigError naming the flag at fault. Checks what needs no file or network.
     void validate() const;
@@ -315,6 +323,9 @@ class Gateway {
     /// The time between statuses at `rate_bps` for a status of `wire_bits` on the wire: the status period, longer
     /// where a status would take more than STATUS_RATE_SHARE of the rate.
     base::Duration status_spacing(double rate_bps, double wire_bits) const;
+    /// The backfill topic, its WAN writer, the sender reading the log and the reader of the camp's
+    /// acknowledgements (GatewayConfig::backfill). Before the loop starts.
+    void start_backfill();
     /// Tells the loop which topics a base-camp reader takes now, and looks again after REACHABILITY_POLL.
     void poll_reachability_nts();  // the worker thread only
     /// Counts traffic outside the schedule (what the WAN transport sent; commands received on a half-duplex link)
@@ -356,6 +367,10 @@ class Gateway {
     std::unique_ptr<log::RobotLog> log_;
     std::unique_ptr<ReceiverReportReader> reports_;  ///< before wan_: its reader's listener outlives it
     std::unique_ptr<GrantReader> grants_;            ///< before wan_, likewise; with --channel-grants
+    /// With backfill: before the loop, which asks it for samples until it stops; the acknowledgements' listener
+    /// before wan_, like the others.
+    std::unique_ptr<BackfillSender> backfill_;
+    std::unique_ptr<BackfillAckReader> backfill_acks_;
     std::unique_ptr<WanRouter> wan_;
     /// The WAN domain's discovery ports the WAN participant did not take, on a radio's address (see there).
     base::QuietDiscoveryPorts quiet_ports_;
@@ -392,7 +407,9 @@ class Gateway {
     std::atomic<std::uint64_t> wan_rebinds_{0};
     std::shared_ptr<WanWriter> status_writer_;   ///< standard WAN mode
     std::optional<core::TopicId> status_topic_;  ///< with a status period
-    std::vector<signed char> reachable_;         ///< per topic, as last told to the loop; -1: not yet
+    std::shared_ptr<WanWriter> backfill_writer_;
+    std::optional<core::TopicId> backfill_topic_;  ///< with backfill
+    std::vector<signed char> reachable_;           ///< per topic, as last told to the loop; -1: not yet
     std::atomic<std::uint64_t> statuses_published_{0};
     std::atomic<std::uint64_t> refused_lanes_{0};
     std::mutex sensor_mutex_;

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "gateway/dds/backfill_codec.hpp"
+#include "gateway/dds/backfill_sender.hpp"
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/repair_desk.hpp"
 
@@ -15,7 +17,22 @@ void GatewaySink::set_status_route(core::TopicId id, std::shared_ptr<WanWriter> 
     status_writer_ = std::move(writer);
 }
 
+void GatewaySink::set_backfill_route(core::TopicId id, std::shared_ptr<WanWriter> writer, BackfillSender* sender) {
+    backfill_topic_ = id;
+    backfill_writer_ = std::move(writer);
+    backfill_ = sender;
+}
+
 bool GatewaySink::forward(core::Sample&& sample) {
+    if (sample.topic == backfill_topic_) {
+        // A backfill sample's fragments, when paced, are the schedule's too; it counts as left once it is written.
+        const bool written = backfill_writer_ != nullptr && backfill_writer_->write(sample) == WriteResult::ok;
+        if (!written) {
+            wan_write_failures_.fetch_add(1, std::memory_order_relaxed);
+        }
+        backfill_left(sample, written);
+        return written;
+    }
     WriteResult result = WriteResult::unknown_topic;
     const bool status = sample.topic == status_topic_;
     std::shared_ptr<TopicBridge> bridge = status ? nullptr : topics_.find(sample.topic);
@@ -62,6 +79,10 @@ bool GatewaySink::write_bundle(std::vector<core::Sample>&& samples, core::Encode
     for (core::Sample& sample : samples) {
         // A chunk is a piece of a sample the scheduler keeps whole: it logs the sample if the chunks fail, and the
         // sample has left once its last chunk has.
+        if (sample.topic == backfill_topic_) {
+            backfill_left(sample, written);
+            continue;
+        }
         if (!written) {
             wan_write_failures_.fetch_add(1, std::memory_order_relaxed);
             if (!sample.chunk) {
@@ -157,7 +178,42 @@ void GatewaySink::discard_repair(std::uint64_t id) {
     }
 }
 
+void GatewaySink::backfill_left(const core::Sample& sample, bool written) {
+    std::optional<std::int64_t> row;
+    if (!sample.chunk || sample.chunk->offset == 0) {
+        row = backfill_row_id(sample.payload);
+    }
+    if (sample.chunk) {
+        // The sample is told whole: left with its last chunk; if a chunk fails, the scheduler drops it whole.
+        if (row) {
+            backfill_chunks_[sample.chunk->id] = *row;
+        }
+        const auto it = backfill_chunks_.find(sample.chunk->id);
+        if (it == backfill_chunks_.end() || !sample.completes_sample()) {
+            return;
+        }
+        row = it->second;
+        backfill_chunks_.erase(it);
+        if (written) {
+            backfill_->left(*row, sample.chunk->total_bytes);
+        }
+        return;
+    }
+    if (row && written) {
+        backfill_->left(*row, sample.payload.size());
+    } else if (row) {
+        backfill_->not_left(*row);
+    }
+}
+
 void GatewaySink::drop(core::Sample&& sample, core::DropReason reason) {
+    if (sample.topic == backfill_topic_) {
+        // Its row is in the log already: it may go again.
+        if (const std::optional<std::int64_t> row = backfill_row_id(sample.payload)) {
+            backfill_->not_left(*row);
+        }
+        return;
+    }
     if (log_ == nullptr || sample.topic == status_topic_) {
         return;
     }

@@ -15,6 +15,7 @@
 
 namespace tgw::dds {
 
+class BackfillSender;
 class CompactWan;
 class RepairDesk;
 
@@ -30,6 +31,10 @@ class GatewaySink final : public core::SampleSink {
     /// Samples of topic `id` are the gateway's own status, written through `writer`; one that misses its
     /// deadline is not logged (the next status carries its counts). Call before the loop starts.
     void set_status_route(core::TopicId id, std::shared_ptr<WanWriter> writer);
+
+    /// Samples of topic `id` are backfill (BackfillSender's): written through `writer`, their fate told to `sender`
+    /// (which must outlive the sink), never logged: their rows are in the log already. Call before the loop starts.
+    void set_backfill_route(core::TopicId id, std::shared_ptr<WanWriter> writer, BackfillSender* sender);
 
     /// Compact WAN mode: bundles go through `compact`, which must outlive the sink. Call before the loop starts.
     void set_compact(CompactWan* compact) { compact_ = compact; }
@@ -74,6 +79,14 @@ class GatewaySink final : public core::SampleSink {
     const TopicTable& topics_;
     std::optional<core::TopicId> status_topic_;
     std::shared_ptr<WanWriter> status_writer_;
+    std::optional<core::TopicId> backfill_topic_;
+    std::shared_ptr<WanWriter> backfill_writer_;
+    BackfillSender* backfill_ = nullptr;
+    /// Compact mode: the rows of backfill samples leaving in chunks, by chunk id (read from the first chunk, which
+    /// begins with the row id). Written by one thread at a time, as every decision.
+    std::unordered_map<std::uint32_t, std::int64_t> backfill_chunks_;
+    /// A backfill sample (or its first chunk) left, or not.
+    void backfill_left(const core::Sample& sample, bool written);
     CompactWan* compact_ = nullptr;
     RepairDesk* repairs_ = nullptr;
     log::RobotLog* log_;

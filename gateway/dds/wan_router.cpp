@@ -15,11 +15,13 @@
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
+#include "BackfillPubSubTypes.h"
 #include "ChannelGrantPubSubTypes.h"
 #include "ReceiverReportPubSubTypes.h"
 #include "base/config_error.hpp"
 #include "base/dds_security.hpp"
 #include "gateway/core/wire_model.hpp"
+#include "gateway/dds/backfill_topics.hpp"
 #include "gateway/dds/channel_grant_topic.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/dds_time.hpp"
@@ -571,21 +573,33 @@ void WanRouter::announce_again() {
 
 bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {
     subscriptions_.push_back([this, listener] {
-        return subscribe_latest(RECEIVER_REPORT_TOPIC,
-                                fdds::TypeSupport(new GuardedType<idl::ReceiverReportPubSubType>()), listener);
+        return subscribe(RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new GuardedType<idl::ReceiverReportPubSubType>()),
+                         listener);
     });
     return subscriptions_.back()();
 }
 
 bool WanRouter::subscribe_grants(fdds::DataReaderListener* listener) {
     subscriptions_.push_back([this, listener] {
-        return subscribe_latest(CHANNEL_GRANT_TOPIC, fdds::TypeSupport(new GuardedType<idl::ChannelGrantPubSubType>()),
-                                listener);
+        return subscribe(CHANNEL_GRANT_TOPIC, fdds::TypeSupport(new GuardedType<idl::ChannelGrantPubSubType>()),
+                         listener);
     });
     return subscriptions_.back()();
 }
 
-bool WanRouter::subscribe_latest(const char* topic_name, fdds::TypeSupport type, fdds::DataReaderListener* listener) {
+bool WanRouter::subscribe_backfill_acks(fdds::DataReaderListener* listener) {
+    // Each acknowledgement tells only what is new since the last: a few kept per log, so that none is replaced
+    // before it is taken.
+    constexpr std::int32_t KEPT = 16;
+    subscriptions_.push_back([this, listener] {
+        return subscribe(BACKFILL_ACK_TOPIC, fdds::TypeSupport(new GuardedType<idl::BackfillAckPubSubType>()), listener,
+                         KEPT);
+    });
+    return subscriptions_.back()();
+}
+
+bool WanRouter::subscribe(const char* topic_name, fdds::TypeSupport type, fdds::DataReaderListener* listener,
+                          std::int32_t reliable_depth) {
     if (participant_ == nullptr) {
         return false;
     }
@@ -600,11 +614,11 @@ bool WanRouter::subscribe_latest(const char* topic_name, fdds::TypeSupport type,
         return false;
     }
     fdds::DataReaderQos qos = subscriber->get_default_datareader_qos();
-    // Best effort and the latest per sender: every sample carries all it has to say.
-    qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+    // Best effort and the latest per sender where every sample carries all it has to say.
+    qos.reliability().kind = reliable_depth > 0 ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
     qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
     qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = 1;
+    qos.history().depth = std::max<std::int32_t>(1, reliable_depth);
     qos.data_sharing().off();
     qos.expects_inline_qos(false);
     if (subscriber->create_datareader(topic, qos, listener) == nullptr) {

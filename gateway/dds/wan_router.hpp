@@ -151,6 +151,9 @@ class WanRouter {
     /// Creates a reader of dds::CHANNEL_GRANT_TOPIC for `listener`, which must outlive the router. False (after
     /// logging it) when Fast DDS refuses.
     bool subscribe_grants(eprosima::fastdds::dds::DataReaderListener* listener);
+    /// Creates a reader of dds::BACKFILL_ACK_TOPIC for `listener`, which must outlive the router: reliable, as the
+    /// camp writes them (each tells what is new since the last). False (after logging it) when Fast DDS refuses.
+    bool subscribe_backfill_acks(eprosima::fastdds::dds::DataReaderListener* listener);
 
     /// Base-camp participants discovered now.
     std::size_t remote_participants() const;
@@ -220,9 +223,10 @@ class WanRouter {
     eprosima::fastdds::dds::DataWriter* create_datawriter_nts(const WriterRecipe& recipe,
                                                               eprosima::fastdds::dds::DataWriterListener* listener);
 
-    /// A best-effort reader of the latest sample per instance of `topic_name` for `listener`.
-    bool subscribe_latest(const char* topic_name, eprosima::fastdds::dds::TypeSupport type,
-                          eprosima::fastdds::dds::DataReaderListener* listener);
+    /// A reader of `topic_name` for `listener`: with `reliable_depth` 0, best effort and the latest sample per
+    /// instance; else reliable, keeping that many per instance.
+    bool subscribe(const char* topic_name, eprosima::fastdds::dds::TypeSupport type,
+                   eprosima::fastdds::dds::DataReaderListener* listener, std::int32_t reliable_depth = 0);
     /// Deletes `writer`, and its topic when it was the topic's last writer.
     void delete_writer(eprosima::fastdds::dds::DataWriter* writer);
     /// Deletes `topic` if no writer of ours uses it (a writer that could not be made left it behind). Under mutex_.
@@ -244,7 +248,7 @@ class WanRouter {
     std::map<std::string, int> writers_of_topic_;                    // under mutex_
     std::vector<WriterRecipe> recipes_;                              // under mutex_; of the writers alive
     std::set<eprosima::fastdds::dds::DataWriter*> live_writers_;     // under mutex_: of participant_
-    std::vector<std::function<bool()>> subscriptions_;               ///< subscribe_latest's calls, to make again
+    std::vector<std::function<bool()>> subscriptions_;               ///< subscribe's calls, to make again
     std::unique_ptr<Introducer> introducer_;                         ///< stopped before participant_'s deletion
     std::unique_ptr<ParticipantCounter> participants_;               ///< before participant_'s deletion
 };

@@ -7,6 +7,7 @@
 #include <string>
 #include <thread>
 
+#include "basecamp/backfill_archive.hpp"
 #include "basecamp/relay.hpp"
 #include "basecamp/sample_store.hpp"
 #include "test/integration/gateway_fixture.hpp"
@@ -35,10 +36,14 @@ class RelayTest : public GatewayIntegrationTest {
     }
 
     void start_relay(basecamp::SampleStore* store = nullptr, base::Duration report_period = 1s,
-                     std::vector<std::string> uplink = {}, double channel_bps = 0, bool measure_channel = false) {
+                     std::vector<std::string> uplink = {}, double channel_bps = 0, bool measure_channel = false,
+                     basecamp::BackfillArchive* backfill = nullptr) {
         relay_ = std::make_unique<basecamp::Relay>(
             domains_.wan, TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port), local_domain_,
             fdds::PARTICIPANT_QOS_DEFAULT, store, report_period, std::move(uplink), channel_bps, measure_channel);
+        if (backfill != nullptr) {
+            relay_->archive_backfill(*backfill);
+        }
         relay_thread_ = std::thread([this] { relay_->run(std::chrono::minutes(5), stop_relay_); });
     }
 

@@ -344,6 +344,14 @@ int main(int argc, char** argv) {
                    "MiB the on-robot log may take; past it the oldest rows make room, those of samples sent first")
         ->check(tgw::base::positive())
         ->capture_default_str();
+    CLI::Option* backfill = app.add_flag(
+        "--backfill", config.backfill,
+        "experimental (docs/design/backfill.md): send the on-robot log's rows to the base camp in capacity no live "
+        "sample wants, until the camp acknowledges them (tm-basecamp relay --out); standard WAN mode");
+    app.add_option("--backfill-max-bps", config.backfill_max_bps,
+                   "the most bit/s backfill may take (a link billed per byte); default: whatever the budget leaves")
+        ->check(tgw::base::positive())
+        ->needs(backfill);
     app.add_option("--robot-name", config.robot_name,
                    "the robot's name in a fleet: its topics appear on the WAN as rt/NAME/... (ROS 2 topics, and rq/, "
                    "rr/ services) or NAME/... (any other); letters, digits and '_'");

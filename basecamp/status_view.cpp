@@ -109,6 +109,20 @@ void StatusView::render(std::ostream& out, std::int64_t now_ns, std::size_t colu
                       static_cast<unsigned long long>(s.unscheduled_wire_bytes()),
                       static_cast<unsigned long long>(s.log_samples()), s.matched_readers());
         out << line;
+        if (s.backfill_sent() > 0 || s.backfill_rows() > 0) {
+            const double oldest_s =
+                s.backfill_oldest_ns() > 0
+                    ? static_cast<double>(static_cast<std::int64_t>(s.sent_ns()) - s.backfill_oldest_ns()) / 1e9
+                    : 0.0;
+            std::snprintf(line, sizeof line,
+                          "  backfill: %llu rows not yet in the camp's archive (%llu B, the oldest %.0f s old); %llu "
+                          "sent, %llu acknowledged\n",
+                          static_cast<unsigned long long>(s.backfill_rows()),
+                          static_cast<unsigned long long>(s.backfill_bytes()), oldest_s,
+                          static_cast<unsigned long long>(s.backfill_sent()),
+                          static_cast<unsigned long long>(s.backfill_acknowledged()));
+            out << line;
+        }
 
         // The graph ends at the latest status: each column is the last rate reported in its slice of time.
         const std::int64_t end = gateway.rates.back().at_ns;

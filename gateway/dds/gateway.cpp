@@ -1159,6 +1159,15 @@ void Gateway::publish_status_nts() {
     }
     status.uplink_wire_bytes(uplink_bytes);
     status.log_samples(logged());
+    if (backfill_) {
+        const core::BackfillPlanner::Backlog backlog = backfill_->backlog();
+        const BackfillSender::Counts counts = backfill_->counts();
+        status.backfill_rows(backlog.rows);
+        status.backfill_bytes(backlog.bytes);
+        status.backfill_oldest_ns(backlog.oldest ? base::to_ns(*backlog.oldest) : 0);
+        status.backfill_sent(counts.sent);
+        status.backfill_acknowledged(counts.acknowledged);
+    }
     std::int32_t all_readers = 0;
     if (!rows) {
         rows = status_rows();
@@ -1252,6 +1261,13 @@ std::uint64_t Gateway::forwarded_robot_samples() const {
         forwarded += loop_->counters(bridge->id()).forwarded;
     }
     return forwarded;
+}
+
+std::optional<Gateway::BackfillSummary> Gateway::backfill_summary() const {
+    if (!backfill_) {
+        return std::nullopt;
+    }
+    return BackfillSummary{loop_->counters(*backfill_topic_), backfill_->counts(), backfill_->backlog()};
 }
 
 core::TopicCounters Gateway::status_counters() const {

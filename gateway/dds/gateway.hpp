@@ -188,6 +188,14 @@ class Gateway {
     std::uint64_t statuses_published() const { return statuses_published_.load(); }
     /// The status topic's counters in the schedule; all zero without --status-period.
     core::TopicCounters status_counters() const;
+    /// What backfill did: its topic's counters in the schedule (each sample sent counts as forwarded), the sender's
+    /// counts and the backlog; nullopt without backfill.
+    struct BackfillSummary {
+        core::TopicCounters counters;
+        BackfillSender::Counts counts;
+        core::BackfillPlanner::Backlog backlog;
+    };
+    std::optional<BackfillSummary> backfill_summary() const;
     /// The rate the scheduler budgets with (before its budget fraction).
     double rate_bps() const;
     /// The base camp's valid grant for this gateway (--channel-grants); nullopt without one.

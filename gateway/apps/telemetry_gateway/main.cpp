@@ -163,6 +163,18 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
             static_cast<unsigned long long>(status.dropped_for(tgw::core::DropReason::oversize)),
             static_cast<unsigned long long>(status.dropped_for(tgw::core::DropReason::no_reader)));
     }
+    if (const auto backfill = gateway.backfill_summary()) {
+        const tgw::core::TopicCounters& sent = backfill->counters;
+        std::printf(
+            "backfill on tgw/backfill: %llu samples sent from the on-robot log (%llu bytes on the link, %.0f each), "
+            "%llu rows acknowledged by the base camp; %zu rows not yet in its archive (%llu bytes)\n",
+            static_cast<unsigned long long>(backfill->counts.sent),
+            static_cast<unsigned long long>(sent.forwarded_wire_bytes),
+            sent.forwarded > 0 ? static_cast<double>(sent.forwarded_wire_bytes) / static_cast<double>(sent.forwarded)
+                               : 0.0,
+            static_cast<unsigned long long>(backfill->counts.acknowledged), backfill->backlog.rows,
+            static_cast<unsigned long long>(backfill->backlog.bytes));
+    }
     if (const auto report = gateway.receiver_report()) {
         std::printf(
             "base camp's last receiver report (of %llu): %llu samples received, %llu lost on the way, %llu in "

@@ -104,7 +104,9 @@ TEST_F(SamplePrinterTest, IndentsNestedStructsAndListsOfStructsAsRos2TopicEchoDo
     EXPECT_NE(sut.find("\ntopics:\n- name: \"telemetry/A\"\n  ttl_ms: 1000\n  queued_samples: 0\n"), std::string::npos)
         << sut;
     // The list of structs indented, and the members after it back at the top level.
-    const std::string end = "  active_ms: 0\nuplink_topics: []\nuplink_charged: false\nuplink_wire_bytes: 0\n---\n";
+    const std::string end =
+        "  active_ms: 0\nuplink_topics: []\nuplink_charged: false\nuplink_wire_bytes: 0\nbackfill_rows: 0\n"
+        "backfill_bytes: 0\nbackfill_oldest_ns: 0\nbackfill_sent: 0\nbackfill_acknowledged: 0\n---\n";
     EXPECT_EQ(sut.compare(sut.size() - end.size(), end.size(), end), 0) << sut;
 }
 

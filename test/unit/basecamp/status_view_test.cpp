@@ -89,6 +89,28 @@ TEST_F(StatusViewTest, SaysWhenTheDeliveredRateCheckCapsTheRate) {
         << after.str();
 }
 
+TEST_F(StatusViewTest, ShowsTheBackfillBacklogOnlyWhereThereIsOne) {
+    sut.add(status_at(T0 - S, 26'000));
+    std::ostringstream without;
+    sut.render(without, T0 - S);
+    EXPECT_EQ(without.str().find("backfill"), std::string::npos) << without.str();
+    SampleRecord backfilling = status_at(T0, 26'000);
+    idl::GatewayStatus status = *decode_gateway_status(backfilling.payload);
+    status.backfill_rows(120);
+    status.backfill_bytes(90'000);
+    status.backfill_oldest_ns(T0 - 95 * S);
+    status.backfill_sent(40);
+    status.backfill_acknowledged(35);
+    backfilling.payload = test::serialized(status);
+    sut.add(backfilling);
+    std::ostringstream with;
+    sut.render(with, T0);
+    EXPECT_NE(with.str().find("backfill: 120 rows not yet in the camp's archive (90000 B, the oldest 95 s old); 40 "
+                              "sent, 35 acknowledged"),
+              std::string::npos)
+        << with.str();
+}
+
 TEST(SparklineTest, ScalesFromTheLowestToTheHighestBlockAndLeavesGapsBlank) {
     EXPECT_EQ(sparkline({0.0, 50.0, 100.0, std::nullopt, 200.0}, 100.0), "▁▅█ █");
 }

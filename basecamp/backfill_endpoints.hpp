@@ -2,6 +2,8 @@
 // writer of the camp's acknowledgements.
 #pragma once
 
+#include <chrono>
+
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 
 #include "basecamp/backfill_archive.hpp"
@@ -28,6 +30,9 @@ class BackfillEndpoints final : public eprosima::fastdds::dds::DataReaderListene
 
     /// Writes the acknowledgements due (BackfillArchive::take_acks).
     void publish_acks();
+    /// How often the owner calls publish_acks(): a row's acknowledgement comes long before its resend (5 s), and
+    /// costs the robot's uplink little.
+    static constexpr std::chrono::milliseconds ACK_PERIOD{500};
 
   private:
     BackfillArchive& archive_;

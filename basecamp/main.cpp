@@ -11,6 +11,7 @@
 #include "base/config_error.hpp"
 #include "base/fastdds_log_reporter.hpp"
 #include "base/peer_transport.hpp"
+#include "basecamp/backfill_archive.hpp"
 #include "basecamp/consumer_fan_out.hpp"
 #include "basecamp/echo_command.hpp"
 #include "basecamp/export_command.hpp"
@@ -144,8 +145,10 @@ int main(int argc, char** argv) {
             const auto security = tgw::basecamp::security_files(record_security);
             std::vector<tgw::basecamp::SampleConsumer*> files;
             std::unique_ptr<tgw::basecamp::SampleStore> store;
+            std::unique_ptr<tgw::basecamp::BackfillArchive> backfill;
             if (!out.empty()) {
                 store = std::make_unique<tgw::basecamp::SampleStore>(out, "--out");
+                backfill = std::make_unique<tgw::basecamp::BackfillArchive>(*store);  // before any sample
                 files.push_back(store.get());
             }
             std::unique_ptr<tgw::basecamp::McapRecording> mcap;
@@ -162,6 +165,9 @@ int main(int argc, char** argv) {
             tgw::basecamp::Recorder recorder(domain, transport, recording, tgw::base::from_seconds(report_period_s),
                                              security);
             recorder.only(record_topics);
+            if (backfill) {
+                recorder.archive_backfill(*backfill);
+            }
             tgw::basecamp::stop_on_signals();
             const auto duration = duration_s > 0 ? tgw::base::from_seconds(duration_s) : tgw::base::Duration::max() / 2;
             tgw::basecamp::run_with_progress(
@@ -188,6 +194,10 @@ int main(int argc, char** argv) {
                 store->flush();
                 std::cout << "  rows written: " << store->rows_written() << ", write errors: " << store->write_errors()
                           << "\n";
+                if (backfill->received() > 0) {
+                    std::cout << "  backfill: " << backfill->received() << " samples from the robots' logs, "
+                              << store->duplicate_backfill_rows() << " of them stored before\n";
+                }
             }
             if (mcap) {
                 const bool written = mcap->close();

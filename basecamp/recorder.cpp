@@ -16,8 +16,10 @@
 
 #include "base/config_error.hpp"
 #include "base/dds_security.hpp"
+#include "basecamp/backfill_endpoints.hpp"
 #include "basecamp/receiver_reporter.hpp"
 #include "basecamp/wan_capture.hpp"
+#include "gateway/dds/backfill_topics.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
@@ -85,7 +87,12 @@ Recorder::~Recorder() {
     stop();
 }
 
+void Recorder::archive_backfill(BackfillArchive& archive) {
+    backfill_ = std::make_unique<BackfillEndpoints>(participant_, archive);
+}
+
 void Recorder::stop() {
+    backfill_.reset();
     if (participant_ != nullptr) {
         participant_->set_listener(nullptr);
         participant_->delete_contained_entities();
@@ -95,8 +102,10 @@ void Recorder::stop() {
 }
 
 void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
-    // Other receivers' reports are for their gateways, not a recording.
-    if (readers_.count(publisher.topic) != 0 || publisher.topic == dds::RECEIVER_REPORT_TOPIC)
+    // Other receivers' reports are for their gateways, not a recording. Backfill is read by its own endpoints
+    // (archive_backfill), or not at all: a plain reader would have the gateway send rows no one acknowledges.
+    if (readers_.count(publisher.topic) != 0 || publisher.topic == dds::RECEIVER_REPORT_TOPIC ||
+        publisher.topic == dds::BACKFILL_TOPIC || publisher.topic == dds::BACKFILL_ACK_TOPIC)
         return;
     if (!only_.empty() && std::find(only_.begin(), only_.end(), publisher.topic) == only_.end())
         return;
@@ -138,6 +147,10 @@ void Recorder::run(base::Duration duration, const std::atomic<bool>& stop) {
     while (!stop.load() && base::SteadyClock::now() < end) {
         for (const dds::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
             subscribe(publisher);
+        }
+        if (backfill_ && base::SteadyClock::now() >= next_backfill_acks_) {
+            next_backfill_acks_ = base::SteadyClock::now() + BackfillEndpoints::ACK_PERIOD;
+            backfill_->publish_acks();
         }
         if (reporter_ && base::SteadyClock::now() >= next_report_) {
             next_report_ += report_period_;

@@ -27,6 +27,8 @@ class DataReader;
 
 namespace tgw::basecamp {
 
+class BackfillArchive;
+class BackfillEndpoints;
 class ReceiverReporter;
 
 /// Subscribes to every topic that appears on a domain, whatever its type (tgw::dds::PassthroughType), and
@@ -42,6 +44,11 @@ class Recorder {
     ~Recorder();
     Recorder(const Recorder&) = delete;
     Recorder& operator=(const Recorder&) = delete;
+
+    /// Backfill (docs/design/backfill.md): the gateways' backfilled samples go into `archive` and its
+    /// acknowledgements back to them (before run()). Without it, backfill is not read, and no gateway sends it.
+    /// Throws base::ConfigError when DDS refuses an entity. `archive` must outlive the recorder.
+    void archive_backfill(BackfillArchive& archive);
 
     /// Subscribes to these topics only (before run()); by default to every topic.
     void only(std::vector<std::string> topics) { only_ = std::move(topics); }
@@ -78,6 +85,8 @@ class Recorder {
     mutable std::mutex readers_mutex_;  ///< readers_ is filled by run() and read from other threads
     std::map<std::string, std::unique_ptr<TopicReader>> readers_;
     std::vector<std::string> only_;
+    std::unique_ptr<BackfillEndpoints> backfill_;  ///< with an archive; before the participant goes
+    base::SteadyTime next_backfill_acks_{};
     std::unique_ptr<ReceiverReporter> reporter_;
 };
 

@@ -316,9 +316,7 @@ void Relay::run(base::Duration duration, const std::atomic<bool>& stop) {
             uplink(publisher);
         }
         if (backfill_ && base::SteadyClock::now() >= next_backfill_acks_) {
-            // Often enough that a row's acknowledgement comes long before its resend (5 s), seldom enough to cost
-            // the robot's uplink little.
-            next_backfill_acks_ = base::SteadyClock::now() + std::chrono::milliseconds(500);
+            next_backfill_acks_ = base::SteadyClock::now() + BackfillEndpoints::ACK_PERIOD;
             backfill_->publish_acks();
         }
         if (reporter_ && base::SteadyClock::now() >= next_report_) {

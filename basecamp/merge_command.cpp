@@ -33,8 +33,8 @@ void print_row(std::ostream& out, int topic_width, const TopicFates& t) {
     for (const std::uint64_t n : t.dropped)
         used += std::snprintf(line + used, sizeof(line) - static_cast<std::size_t>(used), " %12llu",
                               static_cast<unsigned long long>(n));
-    std::snprintf(line + used, sizeof(line) - static_cast<std::size_t>(used), " %9llu\n",
-                  static_cast<unsigned long long>(t.lost));
+    std::snprintf(line + used, sizeof(line) - static_cast<std::size_t>(used), " %9llu %10llu\n",
+                  static_cast<unsigned long long>(t.lost), static_cast<unsigned long long>(t.backfilled));
     out << line;
 }
 
@@ -49,13 +49,17 @@ void print_counts(std::ostream& out, const std::string& archive, const MergeCoun
     for (const std::string_view reason : core::DROP_REASON_NAMES)
         used += std::snprintf(line + used, sizeof(line) - static_cast<std::size_t>(used), " %12.*s",
                               static_cast<int>(reason.size()), reason.data());
-    std::snprintf(line + used, sizeof(line) - static_cast<std::size_t>(used), " %9s\n", "lost");
+    std::snprintf(line + used, sizeof(line) - static_cast<std::size_t>(used), " %9s %10s\n", "lost", "backfilled");
     out << line;
     for (const TopicFates& t : counts.topics)
         print_row(out, topic_width, t);
     print_row(out, topic_width, counts.total);
     out << "on time: receive - source time <= the recording's Lifespan (the gateway's TTL); '-': none known.\n"
            "lost: written to the WAN by the gateway, never recorded at the base camp.\n";
+    if (counts.total.backfilled > 0)
+        out << "backfilled: of the dropped, in the camp's recording by backfill (" << counts.total.backfilled << " of "
+            << counts.total.dropped_total() << "); " << counts.total.dropped_total() - counts.total.backfilled
+            << " only on the robot.\n";
     if (counts.total.received_unmatched > 0)
         out << counts.total.received_unmatched
             << " received sample(s) match no row of the on-robot log (recorded outside the log's time, or rows the "

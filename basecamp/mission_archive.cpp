@@ -56,7 +56,8 @@ CREATE TABLE mission_samples(
     ttl_ns INTEGER,
     on_time INTEGER,
     robot_row INTEGER,
-    basecamp_row INTEGER);
+    basecamp_row INTEGER,
+    backfilled INTEGER NOT NULL);
 CREATE TEMP TABLE pairs(
     robot_row INTEGER,
     basecamp_row INTEGER);
@@ -71,25 +72,28 @@ SELECT row_number() OVER (ORDER BY source_ns, topic, fate, robot_row, basecamp_r
        topic, type_name, instance_key, source_ns, payload_bytes, payload, fate, reason, arrival_ns, deadline_ns,
        forwarded_ns, logged_ns, receive_ns, latency_ns, ttl_ns,
        CASE WHEN fate = 'received' AND ttl_ns IS NOT NULL THEN latency_ns <= ttl_ns END,
-       robot_row, basecamp_row
+       robot_row, basecamp_row, backfilled
 FROM (
     SELECT f.topic, f.type_name, f.instance_key, f.source_time_ns AS source_ns, f.payload_bytes, s.payload,
            CASE WHEN s.id IS NULL THEN 'lost' ELSE 'received' END AS fate, NULL AS reason, f.arrival_ns,
            f.deadline_ns, f.forwarded_ns, NULL AS logged_ns, s.receive_ns, s.receive_ns - f.source_time_ns AS latency_ns,
-           COALESCE(s.lifespan_ns, t.lifespan_ns) AS ttl_ns, f.id AS robot_row, s.id AS basecamp_row
+           COALESCE(s.lifespan_ns, t.lifespan_ns) AS ttl_ns, f.id AS robot_row, s.id AS basecamp_row,
+           0 AS backfilled
     FROM temp.pairs p
     JOIN robot.forwarded_samples f ON f.id = p.robot_row
     LEFT JOIN recording.samples s ON s.id = p.basecamp_row
     LEFT JOIN recording.topics t ON t.topic = f.topic
     UNION ALL
     SELECT d.topic, d.type_name, d.instance_key, d.source_time_ns, length(d.payload), d.payload, 'dropped', d.reason,
-           d.arrival_ns, d.deadline_ns, NULL, d.logged_ns, NULL, NULL, t.lifespan_ns, d.id, NULL
+           d.arrival_ns, d.deadline_ns, NULL, d.logged_ns, b.receive_ns, b.receive_ns - d.source_time_ns,
+           t.lifespan_ns, d.id, b.id, b.id IS NOT NULL
     FROM robot.dropped_samples d
+    LEFT JOIN temp.backfilled b ON b.row_id = d.id
     LEFT JOIN recording.topics t ON t.topic = d.topic
     WHERE d.topic NOT IN (?1, ?2)
     UNION ALL
     SELECT s.topic, s.type_name, s.instance, s.source_ns, length(s.payload), s.payload, 'received', NULL, NULL, NULL,
-           NULL, NULL, s.receive_ns, s.receive_ns - s.source_ns, COALESCE(s.lifespan_ns, t.lifespan_ns), NULL, s.id
+           NULL, NULL, s.receive_ns, s.receive_ns - s.source_ns, COALESCE(s.lifespan_ns, t.lifespan_ns), NULL, s.id, 0
     FROM temp.pairs p
     JOIN recording.samples s ON s.id = p.basecamp_row
     LEFT JOIN recording.topics t ON t.topic = s.topic
@@ -98,8 +102,19 @@ FROM (
 )sql";
 
 constexpr const char* COUNT_FATES_SQL =
-    "SELECT topic, fate, reason, robot_row IS NULL, COUNT(*), COALESCE(SUM(on_time), 0), COUNT(ttl_ns) "
-    "FROM main.mission_samples GROUP BY 1, 2, 3, 4 ORDER BY 1, 2, 3, 4";
+    "SELECT topic, fate, reason, robot_row IS NULL, COUNT(*), COALESCE(SUM(on_time), 0), COUNT(ttl_ns), "
+    "SUM(backfilled) FROM main.mission_samples GROUP BY 1, 2, 3, 4 ORDER BY 1, 2, 3, 4";
+
+// The samples the camp's archive got from this log by backfill (docs/design/backfill.md), by the log's row: from a
+// recording and a log that know backfill, else none.
+constexpr const char* BACKFILLED_VIEW_SQL = R"sql(
+CREATE TEMP VIEW backfilled AS
+SELECT id, row_id, receive_ns FROM recording.samples
+WHERE backfilled = 1 AND log_id = (SELECT value FROM robot.meta WHERE key = 'log_id');
+)sql";
+constexpr const char* NO_BACKFILLED_VIEW_SQL = R"sql(
+CREATE TEMP VIEW backfilled AS SELECT NULL AS id, NULL AS row_id, NULL AS receive_ns WHERE 0;
+)sql";
 
 using DbPtr = std::unique_ptr<sqlite3, int (*)(sqlite3*)>;
 using StmtPtr = std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)>;
@@ -349,11 +364,17 @@ class Merger {
         archive_.exec(ARCHIVE_SCHEMA, "cannot create the tables");
         std::vector<Identity> robot;
         std::vector<Identity> basecamp;
+        // Backfilled samples pair with the log's dropped rows, by row id, not with forwarded ones.
+        const bool backfill = has_columns("SELECT backfilled, log_id, row_id FROM recording.samples LIMIT 0") &&
+                              has_columns("SELECT key, value FROM robot.meta LIMIT 0");
+        archive_.exec(backfill ? BACKFILLED_VIEW_SQL : NO_BACKFILLED_VIEW_SQL, "cannot read the backfilled samples");
         if (!read_identities("SELECT id, topic, instance_key, source_time_ns, payload_bytes FROM "
                              "robot.forwarded_samples WHERE topic NOT IN (?1, ?2) ORDER BY id",
                              named("on-robot log", robot_log_), robot) ||
-            !read_identities("SELECT id, topic, instance, source_ns, length(payload) FROM recording.samples "
-                             "WHERE topic NOT IN (?1, ?2) ORDER BY id",
+            !read_identities(backfill ? "SELECT id, topic, instance, source_ns, length(payload) FROM recording.samples "
+                                        "WHERE topic NOT IN (?1, ?2) AND backfilled = 0 ORDER BY id"
+                                      : "SELECT id, topic, instance, source_ns, length(payload) FROM recording.samples "
+                                        "WHERE topic NOT IN (?1, ?2) ORDER BY id",
                              named("recording", recording_), basecamp))
             return std::nullopt;
         if (!write_pairs(match(std::move(robot), std::move(basecamp))))
@@ -363,7 +384,7 @@ class Merger {
         copy_side_tables();
         MergeCounts counts = count_fates();
         write_meta();
-        archive_.exec("DROP TABLE temp.pairs; COMMIT;", "cannot commit");
+        archive_.exec("DROP TABLE temp.pairs; DROP VIEW temp.backfilled; COMMIT;", "cannot commit");
         archive_.exec("DETACH DATABASE robot; DETACH DATABASE recording;", "cannot let go of the inputs");
         return counts;
     }
@@ -391,6 +412,14 @@ class Merger {
         sqlite3_bind_text(stmt.get(), 1, uri.c_str(), -1, SQLITE_TRANSIENT);
         if (sqlite3_step(stmt.get()) != SQLITE_DONE)
             throw base::ConfigError(named(what, path) + ": cannot open: " + sqlite3_errmsg(db_));
+    }
+
+    /// Whether `probe` (a query of columns) compiles: what an older file lacks.
+    bool has_columns(const char* probe) const {
+        sqlite3_stmt* raw = nullptr;
+        const bool ok = sqlite3_prepare_v2(db_, probe, -1, &raw, nullptr) == SQLITE_OK;
+        sqlite3_finalize(raw);
+        return ok;
     }
 
     /// Throws `message` with SQLite's reason ("file is not a database", "no such table") when `probe` fails.
@@ -513,6 +542,7 @@ class Merger {
             } else if (fate == "lost") {
                 t.lost += n;
             } else {
+                t.backfilled += static_cast<std::uint64_t>(sqlite3_column_int64(stmt.get(), 7));
                 const std::string why = text_column(stmt.get(), 2);
                 const auto known = std::find(core::DROP_REASON_NAMES.begin(), core::DROP_REASON_NAMES.end(), why);
                 if (known != core::DROP_REASON_NAMES.end())
@@ -536,6 +566,7 @@ class Merger {
                 counts.total.dropped[i] += t.dropped[i];
             counts.total.dropped_other += t.dropped_other;
             counts.total.lost += t.lost;
+            counts.total.backfilled += t.backfilled;
             counts.topics.push_back(std::move(t));
         }
         return counts;

@@ -23,6 +23,9 @@ struct TopicFates {
     std::array<std::uint64_t, core::DROP_REASON_COUNT> dropped{};  ///< dropped on the robot, by logged reason
     std::uint64_t dropped_other = 0;                               ///< dropped with a reason this build does not know
     std::uint64_t lost = 0;  ///< written to the WAN by the gateway, never recorded at the base camp
+    /// Of the dropped, those the camp's archive got later by backfill (docs/design/backfill.md): their rows keep
+    /// fate `dropped` and their reason, with the archive's receive time and `backfilled` = 1.
+    std::uint64_t backfilled = 0;
 
     std::uint64_t dropped_total() const;
     /// Archive rows of the topic: received + dropped + lost.

@@ -8,7 +8,8 @@
 #   (b) the archive is whole: >= 99.9 % of the samples published are in the camp's recording, live or backfilled,
 #       each once;
 #   (c) nothing backfilled reached the camp's live domain as a live sample, and the rows the camp stored are
-#       acknowledged in the robot's log.
+#       acknowledged in the robot's log;
+#   (d) `tm-basecamp merge` counts each sample once, the dropped ones as backfilled, none only on the robot.
 # MODE off runs the same without --backfill and checks (a) only, printing what the archive holds.
 # Needs root; skipped (77) otherwise. About 100 s.
 #   backfill_test.sh BIN_DIR [on|off]
@@ -87,4 +88,14 @@ relayed_live="$(awk '$1 ~ /^telemetry\// && $3 == "samples" && $4 == "relayed" {
     "$WORK/record.out")"
 live_rows="$(q "SELECT COUNT(*) FROM samples WHERE backfilled = 0 AND topic LIKE 'telemetry/%'")"
 check "the camp's live domain got only the live samples" "a == b" "$relayed_live" "$live_rows"
+
+echo
+echo "== (d) the mission archive (tm-basecamp merge)"
+"$BIN/tm-basecamp" merge "$LOG" "$REC" --out "$WORK/mission.db" | tail -4
+read -r produced only_robot lost <<<"$(sqlite3 -batch -separator ' ' "$WORK/mission.db" "SELECT COUNT(*),
+    SUM(fate = 'dropped' AND backfilled = 0), SUM(fate = 'lost') FROM mission_samples
+    WHERE topic LIKE 'telemetry/%'")"
+echo "archive: $produced samples, $only_robot only on the robot, $lost lost on the link"
+check "the archive holds each sample published once, none only on the robot" "a == c && b == 0" \
+    "$produced" "$only_robot" "$published"
 exit "$fail"

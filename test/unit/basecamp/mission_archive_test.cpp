@@ -219,6 +219,45 @@ TEST_F(MissionArchiveTest, HoldsEverySampleOnceWithWhereItEndedUp) {
     EXPECT_EQ(counts.total.produced(), 5u);
 }
 
+TEST_F(MissionArchiveTest, ABackfilledSampleStaysDroppedWithItsReasonAndGainsTheArchivesReceiveTime) {
+    declare("telemetry/C", 5000 * MS);
+    forward("telemetry/C", T0_NS, 400);
+    drop("telemetry/C", T0_NS + 200 * MS, 400, core::DropReason::expired);
+    drop("telemetry/C", T0_NS + 400 * MS, 400, core::DropReason::doomed);
+    record("telemetry/C", T0_NS, 400, 50.0);
+    write_files();
+    // The camp's archive gets the first dropped row later by backfill, and a row of another robot's log.
+    const std::string log_id = query(robot_log_, "SELECT value FROM meta WHERE key = 'log_id'").at(0);
+    const std::vector<std::string> rows = query(robot_log_, "SELECT id FROM dropped_samples ORDER BY id");
+    ASSERT_EQ(rows.size(), 2u);
+    const auto backfilled = [&](const std::string& log, const std::string& row) {
+        SampleRecord s;
+        s.topic = "telemetry/C";
+        s.type_name = TYPE;
+        s.payload = payload(400);
+        s.source_ns = T0_NS + 200 * MS;
+        s.receive_ns = T0_NS + 60'000 * MS;
+        s.backfill = BackfillOrigin{log, std::stoll(row), "expired"};
+        return s;
+    };
+    test::write_recording(recording_, {},
+                          {backfilled(log_id, rows[0]), backfilled("00112233445566778899aabbccddeeff", rows[1])});
+
+    const MergeCounts counts = merge(archive_);
+
+    EXPECT_EQ(archive_rows("source_ns - " + std::to_string(T0_NS) + ", fate, reason, backfilled, receive_ns - " +
+                           std::to_string(T0_NS)),
+              (std::vector<std::string>{"0|received|NULL|0|50000000", "200000000|dropped|expired|1|60000000000",
+                                        "400000000|dropped|doomed|0|NULL"}))
+        << "the other log's row is not this robot's";
+    const TopicFates& c = fates_of(counts, "telemetry/C");
+    EXPECT_EQ(c.produced(), 3u) << "each sample once";
+    EXPECT_EQ(c.received, 1u);
+    EXPECT_EQ(c.dropped_total(), 2u);
+    EXPECT_EQ(c.backfilled, 1u);
+    EXPECT_EQ(c.received_unmatched, 0u) << "a backfilled sample pairs with its dropped row, not as received";
+}
+
 TEST_F(MissionArchiveTest, AReceivedSampleCarriesItsLatencyAndWhetherItCameWithinTheRecordedLifespan) {
     declare("telemetry/A", 1000 * MS);
     declare("no/lifespan", std::nullopt);

@@ -16,9 +16,12 @@
 
 #include "CompactWanPubSubTypes.h"
 #include "base/config_error.hpp"
+#include "basecamp/backfill_archive.hpp"
 #include "basecamp/channel_grantor.hpp"
 #include "basecamp/wan_capture.hpp"
 #include "gateway/compact/zstd_frame.hpp"
+#include "gateway/dds/backfill_codec.hpp"
+#include "gateway/dds/backfill_topics.hpp"
 #include "gateway/dds/compact_topics.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/guarded_type.hpp"
@@ -109,13 +112,14 @@ class TakingListener final : public fdds::DataReaderListener {
 
 CompactUnpacker::CompactUnpacker(fdds::DomainParticipant* wan, fdds::DomainParticipant* local,
                                  dds::PartitionGroups<fdds::Publisher>& publishers, DeliveryTally& tally,
-                                 SampleConsumer* store, ChannelGrantor* statuses)
+                                 SampleConsumer* store, ChannelGrantor* statuses, BackfillArchive* backfill)
     : wan_(wan),
       local_(local),
       publishers_(publishers),
       tally_(tally),
       store_(store),
       statuses_(statuses),
+      backfill_(backfill),
       catalog_listener_(std::make_unique<TakingListener<wan::CatalogEntry>>(
           [this](wan::CatalogEntry& entry, const fdds::SampleInfo& info) {
               on_catalog(writer_prefix(info), std::move(entry));
@@ -264,9 +268,25 @@ bool CompactUnpacker::reassemble_nts(const ParticipantPrefix& gateway, compact::
     return true;
 }
 
+void CompactUnpacker::archive_backfill_nts(const compact::BundleEntry& entry, std::int64_t receive_ns) {
+    const std::optional<idl::BackfillSample> sample =
+        entry.kind == compact::EntryKind::data ? dds::decode_backfill(entry.payload) : std::nullopt;
+    if (!sample) {
+        ++counts_.undecodable_entries;
+        return;
+    }
+    if (backfill_ != nullptr) {
+        backfill_->take(*sample, receive_ns);
+    }
+}
+
 bool CompactUnpacker::deliver_nts(const ParticipantPrefix& gateway, compact::BundleEntry& entry,
                                   std::int64_t receive_ns) {
     const auto it = streams_.find({gateway, entry.topic_id});
+    if (it != streams_.end() && it->second->entry.topic() == dds::BACKFILL_TOPIC) {
+        archive_backfill_nts(entry, receive_ns);  // past its TTL: the archive's, never the local domain's
+        return true;
+    }
     if (it == streams_.end() || entry.lane >= it->second->lanes.size() || !it->second->lanes[entry.lane]) {
         return false;
     }
@@ -361,6 +381,9 @@ void CompactUnpacker::poll() {
             lanes_made = stream->lanes.size();
             stream->entry = entry;
         }
+        if (entry.topic() == dds::BACKFILL_TOPIC) {
+            continue;  // no local writer: its samples go into the archive (archive_backfill_nts)
+        }
         // Streams are only added, and only this thread adds lanes: `stream` stays valid, and its lanes past
         // lanes_made are this thread's to make.
         TopicRecord record;
@@ -449,6 +472,8 @@ std::map<std::string, std::uint64_t> CompactUnpacker::relayed() const {
     std::lock_guard<std::mutex> lock(mutex_);
     std::map<std::string, std::uint64_t> out;
     for (const auto& [key, stream] : streams_) {
+        if (stream->entry.topic() == dds::BACKFILL_TOPIC)
+            continue;  // archived, never relayed
         std::uint64_t& n = out[stream->entry.topic()];
         for (const auto& lane : stream->lanes) {
             n += lane ? lane->relayed : 0;

@@ -42,6 +42,8 @@ class ChannelGrantor;
 /// decodes as soon as the catalog reaches it.
 ///
 /// Local writers are made in poll(), from the thread that runs the relay, never in a DDS callback.
+class BackfillArchive;
+
 class CompactUnpacker {
   public:
     struct Counts {
@@ -65,11 +67,12 @@ class CompactUnpacker {
     /// Reads on `wan`, writes on `local` through `publishers`' groups; all must outlive it. Every bundle taken is
     /// counted in `tally` against its writer, as a sample is in standard mode: the receiver reports then tell the
     /// gateway what became of its bundles. `store`: where the relay records, or nullptr; `statuses`: the grantor
-    /// that reads the gateways' statuses (relay --channel-rate), or nullptr. Throws base::ConfigError when DDS
-    /// refuses a reader.
+    /// that reads the gateways' statuses (relay --channel-rate), or nullptr; `backfill`: where the gateways'
+    /// backfilled samples go (never onto the local domain), or nullptr to drop them. Throws base::ConfigError when
+    /// DDS refuses a reader.
     CompactUnpacker(eprosima::fastdds::dds::DomainParticipant* wan, eprosima::fastdds::dds::DomainParticipant* local,
                     dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers, DeliveryTally& tally,
-                    SampleConsumer* store, ChannelGrantor* statuses = nullptr);
+                    SampleConsumer* store, ChannelGrantor* statuses = nullptr, BackfillArchive* backfill = nullptr);
     ~CompactUnpacker();
     CompactUnpacker(const CompactUnpacker&) = delete;
     CompactUnpacker& operator=(const CompactUnpacker&) = delete;
@@ -106,6 +109,8 @@ class CompactUnpacker {
     /// A bundle of `bytes` as it decoded (`error`), its entries taken from `bundle`.
     void on_bundle(const ParticipantPrefix& gateway, compact::BundleError error, compact::Bundle& bundle,
                    std::size_t bytes, std::int64_t receive_ns);
+    /// A backfilled sample (dds::BACKFILL_TOPIC's entry) into the archive. mutex_ held.
+    void archive_backfill_nts(const compact::BundleEntry& entry, std::int64_t receive_ns);
     /// Writes the entry on the local domain if its lane's writer exists; false if it must wait. mutex_ held.
     bool deliver_nts(const ParticipantPrefix& gateway, compact::BundleEntry& entry, std::int64_t receive_ns);
 
@@ -114,7 +119,8 @@ class CompactUnpacker {
     dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers_;
     DeliveryTally& tally_;
     SampleConsumer* store_;
-    ChannelGrantor* statuses_;  ///< takes the gateways' statuses (tm-basecamp relay --channel-rate), or nullptr
+    ChannelGrantor* statuses_;   ///< takes the gateways' statuses (tm-basecamp relay --channel-rate), or nullptr
+    BackfillArchive* backfill_;  ///< takes the gateways' backfilled samples, or nullptr
     std::unique_ptr<eprosima::fastdds::dds::DataReaderListener> catalog_listener_;
     std::unique_ptr<eprosima::fastdds::dds::DataReaderListener> bundle_listener_;
     eprosima::fastdds::dds::DataReader* catalog_reader_ = nullptr;

@@ -234,8 +234,8 @@ void Relay::relay(const dds::DiscoveredPublisher& publisher) {
     // A compact-mode gateway: its bundles are unpacked, each sample republished on its own topic.
     if (publisher.topic == dds::COMPACT_BUNDLE_TOPIC || publisher.topic == dds::COMPACT_CATALOG_TOPIC) {
         if (!compact_) {
-            compact_ =
-                std::make_unique<CompactUnpacker>(wan_, local_, local_publishers_, tally_, store_, grantor_.get());
+            compact_ = std::make_unique<CompactUnpacker>(wan_, local_, local_publishers_, tally_, store_,
+                                                         grantor_.get(), archive_);
         }
         return;
     }
@@ -279,6 +279,7 @@ void Relay::uplink(const dds::DiscoveredPublisher& publisher) {
 
 void Relay::archive_backfill(BackfillArchive& archive) {
     backfill_ = std::make_unique<BackfillEndpoints>(wan_, archive);
+    archive_ = &archive;
 }
 
 core::ChannelGrants Relay::channel_grants() const {

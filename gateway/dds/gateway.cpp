@@ -63,9 +63,6 @@ void GatewayConfig::validate() const {
     if (backfill && log_file.empty()) {
         throw base::ConfigError("--backfill: needs the on-robot log, whose rows it sends (drop --no-log)");
     }
-    if (backfill && compact_wan) {
-        throw base::ConfigError("--backfill: standard WAN mode only so far (drop --wan-mode compact)");
-    }
     if (robot_domain == wan_domain) {
         // One domain would make the gateway read its own WAN writers back.
         throw base::ConfigError("--wan-domain " + std::to_string(wan_domain) + ": must differ from --robot-domain");
@@ -424,10 +421,16 @@ void Gateway::start_backfill() {
     loop_->set_reachable(*backfill_topic_, false);  // until a camp that stores backfill reads it
     OfferedQos offer;
     offer.reliable = false;
+    // In compact mode its samples ride in bundles, and this writer writes nothing: its match says that a camp
+    // archives backfill (a relay or a recorder with --out reads the topic), as in standard mode.
     backfill_writer_ = wan_->create_writer(BACKFILL_TOPIC, BACKFILL_TOPIC, idl::BackfillSamplePubSubType().getName(),
                                            false, std::nullopt, offer, nullptr);
     if (backfill_writer_ == nullptr) {
         throw base::ConfigError("--backfill: cannot create the writer of " + std::string(BACKFILL_TOPIC));
+    }
+    if (compact_) {
+        compact_->announce(CatalogLane{*backfill_topic_, BACKFILL_TOPIC, idl::BackfillSamplePubSubType().getName(),
+                                       false, BACKFILL_TTL, 0, offer, std::nullopt, false});
     }
     BackfillSender::Config backfill;
     backfill.planner.max_bps = config_.backfill_max_bps;

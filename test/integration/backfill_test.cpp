@@ -32,8 +32,9 @@ std::int64_t query(const std::string& path, const std::string& sql) {
 class BackfillTest : public RelayTest {
   protected:
     /// A gateway with backfill and its log, at `rate_bps`, and a relay recording into its store with an archive.
-    void start(double rate_bps) {
+    void start(double rate_bps, bool compact = false) {
         GatewayConfig c = config();
+        c.compact_wan = compact;
         log_path_ = temp_file("-robot.db");
         c.log_file = log_path_;
         c.backfill = true;
@@ -80,10 +81,23 @@ class BackfillTest : public RelayTest {
     std::string camp_path_;
     std::unique_ptr<basecamp::SampleStore> store_;
     std::unique_ptr<basecamp::BackfillArchive> archive_;
+
+    /// Samples expire while the link is down and go to the log; once it is up, they reach the camp's recording,
+    /// and not its live domain, and the log marks them acknowledged.
+    void expect_what_the_log_kept_in_the_archive();
 };
 
 TEST_F(BackfillTest, WhatTheLogKeptReachesTheCampsRecordingNotItsDomainAndIsAcknowledged) {
     start(50e6);
+    expect_what_the_log_kept_in_the_archive();
+}
+
+TEST_F(BackfillTest, InCompactModeTheLogsRowsRideInBundlesToTheArchive) {
+    start(50e6, true);
+    expect_what_the_log_kept_in_the_archive();
+}
+
+void BackfillTest::expect_what_the_log_kept_in_the_archive() {
     const std::string topic = topic_prefix_ + "expiring";
     auto& local = listener<CollectingReader<idl::PaperMessage>>();
     local_reader<idl::PaperMessagePubSubType>(topic, local_->default_reader_qos(), local);

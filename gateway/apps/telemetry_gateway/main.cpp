@@ -359,7 +359,7 @@ int main(int argc, char** argv) {
     CLI::Option* backfill = app.add_flag(
         "--backfill", config.backfill,
         "experimental (docs/design/backfill.md): send the on-robot log's rows to the base camp in capacity no live "
-        "sample wants, until the camp acknowledges them (tm-basecamp relay --out); standard WAN mode");
+        "sample wants, until the camp acknowledges them (tm-basecamp relay --out, record --out)");
     app.add_option("--backfill-max-bps", config.backfill_max_bps,
                    "the most bit/s backfill may take (a link billed per byte); default: whatever the budget leaves")
         ->check(tgw::base::positive())

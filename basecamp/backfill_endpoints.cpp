@@ -1,5 +1,7 @@
 #include "basecamp/backfill_endpoints.hpp"
 
+#include <cstdio>
+
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -64,6 +66,19 @@ BackfillEndpoints::BackfillEndpoints(fdds::DomainParticipant* wan, BackfillArchi
     reader_ = subscriber->create_datareader(samples, reader_qos, this);
     if (reader_ == nullptr)
         throw base::ConfigError(std::string("cannot create the reader of ") + dds::BACKFILL_TOPIC);
+}
+
+std::unique_ptr<BackfillEndpoints> BackfillEndpoints::make_or_say_why(fdds::DomainParticipant* wan,
+                                                                      BackfillArchive& archive) {
+    try {
+        return std::make_unique<BackfillEndpoints>(wan, archive);
+    } catch (const base::ConfigError& error) {
+        std::fprintf(stderr,
+                     "tm-basecamp: %s: the gateways' backfill is not archived (with DDS Security, the camp's "
+                     "permissions must allow publishing %s)\n",
+                     error.what(), dds::BACKFILL_ACK_TOPIC);
+        return nullptr;
+    }
 }
 
 BackfillEndpoints::~BackfillEndpoints() {

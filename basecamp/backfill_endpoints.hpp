@@ -3,6 +3,7 @@
 #pragma once
 
 #include <chrono>
+#include <memory>
 
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 
@@ -24,6 +25,10 @@ class BackfillEndpoints final : public eprosima::fastdds::dds::DataReaderListene
   public:
     /// Throws base::ConfigError when DDS refuses an entity. `archive` must outlive the endpoints.
     BackfillEndpoints(eprosima::fastdds::dds::DomainParticipant* wan, BackfillArchive& archive);
+    /// The endpoints, or nullptr after saying why on stderr: a camp whose DDS Security permissions predate backfill
+    /// (no grant to publish tgw/backfill_ack) records on without it, and no gateway sends it backfill.
+    static std::unique_ptr<BackfillEndpoints> make_or_say_why(eprosima::fastdds::dds::DomainParticipant* wan,
+                                                              BackfillArchive& archive);
     ~BackfillEndpoints() override;
 
     void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;

@@ -88,7 +88,7 @@ Recorder::~Recorder() {
 }
 
 void Recorder::archive_backfill(BackfillArchive& archive) {
-    backfill_ = std::make_unique<BackfillEndpoints>(participant_, archive);
+    backfill_ = BackfillEndpoints::make_or_say_why(participant_, archive);
 }
 
 void Recorder::stop() {

@@ -278,8 +278,8 @@ void Relay::uplink(const dds::DiscoveredPublisher& publisher) {
 }
 
 void Relay::archive_backfill(BackfillArchive& archive) {
-    backfill_ = std::make_unique<BackfillEndpoints>(wan_, archive);
-    archive_ = &archive;
+    backfill_ = BackfillEndpoints::make_or_say_why(wan_, archive);
+    archive_ = backfill_ ? &archive : nullptr;
 }
 
 core::ChannelGrants Relay::channel_grants() const {

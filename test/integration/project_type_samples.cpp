@@ -102,6 +102,11 @@ int main(int argc, char** argv) {
     status.uplink_topics({"rt/rover1/cmd_vel"});
     status.uplink_charged(true);
     status.uplink_wire_bytes(9680);
+    status.backfill_rows(120);
+    status.backfill_bytes(90'000);
+    status.backfill_oldest_ns(1'795'559'900'000'000'000);
+    status.backfill_sent(40);
+    status.backfill_acknowledged(35);
     add("tgw/status", "tgw::idl::GatewayStatus",
         tgw::test::fastcdr_payload(status, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS));
 
@@ -131,7 +136,9 @@ int main(int argc, char** argv) {
                              "doomed": "0", "evicted": "0", "oversize": "0", "shutdown": "0", "write_failed": "0",
                              "no_reader": "0",
                              "matched_readers": 1, "active_ms": 60000}],
-                 "uplink_topics": ["rt/rover1/cmd_vel"], "uplink_charged": true, "uplink_wire_bytes": "9680"}
+                 "uplink_topics": ["rt/rover1/cmd_vel"], "uplink_charged": true, "uplink_wire_bytes": "9680",
+                 "backfill_rows": "120", "backfill_bytes": "90000", "backfill_oldest_ns": "1795559900000000000",
+                 "backfill_sent": "40", "backfill_acknowledged": "35"}
 }
 )";
     return out ? 0 : 1;

@@ -95,7 +95,11 @@ void BackfillEndpoints::on_data_available(fdds::DataReader* reader) {
     }
 }
 
-void BackfillEndpoints::publish_acks() {
+void BackfillEndpoints::publish_acks_when_due() {
+    const auto now = std::chrono::steady_clock::now();
+    if (now < next_acks_)
+        return;
+    next_acks_ = now + ACK_PERIOD;
     for (idl::BackfillAck& ack : archive_.take_acks(static_cast<std::uint64_t>(base::to_ns(base::WallClock::now()))))
         writer_->write(&ack);
 }

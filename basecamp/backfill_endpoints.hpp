@@ -33,16 +33,17 @@ class BackfillEndpoints final : public eprosima::fastdds::dds::DataReaderListene
 
     void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
 
-    /// Writes the acknowledgements due (BackfillArchive::take_acks).
-    void publish_acks();
-    /// How often the owner calls publish_acks(): a row's acknowledgement comes long before its resend (5 s), and
-    /// costs the robot's uplink little.
+    /// Writes the acknowledgements due (BackfillArchive::take_acks) once ACK_PERIOD has passed since the last
+    /// time; the owner calls it from its loop as often as it likes.
+    void publish_acks_when_due();
+    /// A row's acknowledgement comes long before its resend (5 s), and costs the robot's uplink little.
     static constexpr std::chrono::milliseconds ACK_PERIOD{500};
 
   private:
     BackfillArchive& archive_;
     eprosima::fastdds::dds::DataReader* reader_ = nullptr;
     eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
+    std::chrono::steady_clock::time_point next_acks_{};
 };
 
 }  // namespace tgw::basecamp

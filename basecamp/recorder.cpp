@@ -105,7 +105,7 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
     // Other receivers' reports are for their gateways, not a recording. Backfill is read by its own endpoints
     // (archive_backfill), or not at all: a plain reader would have the gateway send rows no one acknowledges.
     if (readers_.count(publisher.topic) != 0 || publisher.topic == dds::RECEIVER_REPORT_TOPIC ||
-        publisher.topic == dds::BACKFILL_TOPIC || publisher.topic == dds::BACKFILL_ACK_TOPIC)
+        dds::is_backfill_topic(publisher.topic))
         return;
     if (!only_.empty() && std::find(only_.begin(), only_.end(), publisher.topic) == only_.end())
         return;
@@ -148,9 +148,8 @@ void Recorder::run(base::Duration duration, const std::atomic<bool>& stop) {
         for (const dds::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
             subscribe(publisher);
         }
-        if (backfill_ && base::SteadyClock::now() >= next_backfill_acks_) {
-            next_backfill_acks_ = base::SteadyClock::now() + BackfillEndpoints::ACK_PERIOD;
-            backfill_->publish_acks();
+        if (backfill_) {
+            backfill_->publish_acks_when_due();
         }
         if (reporter_ && base::SteadyClock::now() >= next_report_) {
             next_report_ += report_period_;

@@ -86,7 +86,6 @@ class Recorder {
     std::map<std::string, std::unique_ptr<TopicReader>> readers_;
     std::vector<std::string> only_;
     std::unique_ptr<BackfillEndpoints> backfill_;  ///< with an archive; before the participant goes
-    base::SteadyTime next_backfill_acks_{};
     std::unique_ptr<ReceiverReporter> reporter_;
 };
 

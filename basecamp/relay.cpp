@@ -227,8 +227,7 @@ std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& pu
 void Relay::relay(const dds::DiscoveredPublisher& publisher) {
     // Receivers' reports are for the gateways, not the camp. Backfill is past its TTL: the archive's, never the
     // camp's live domain (archive_backfill).
-    if (publisher.topic == dds::RECEIVER_REPORT_TOPIC || publisher.topic == dds::BACKFILL_TOPIC ||
-        publisher.topic == dds::BACKFILL_ACK_TOPIC) {
+    if (publisher.topic == dds::RECEIVER_REPORT_TOPIC || dds::is_backfill_topic(publisher.topic)) {
         return;
     }
     // A compact-mode gateway: its bundles are unpacked, each sample republished on its own topic.
@@ -316,9 +315,8 @@ void Relay::run(base::Duration duration, const std::atomic<bool>& stop) {
         for (const dds::DiscoveredPublisher& publisher : local_discovered_.take(std::chrono::milliseconds(0))) {
             uplink(publisher);
         }
-        if (backfill_ && base::SteadyClock::now() >= next_backfill_acks_) {
-            next_backfill_acks_ = base::SteadyClock::now() + BackfillEndpoints::ACK_PERIOD;
-            backfill_->publish_acks();
+        if (backfill_) {
+            backfill_->publish_acks_when_due();
         }
         if (reporter_ && base::SteadyClock::now() >= next_report_) {
             next_report_ += report_period_;

@@ -136,8 +136,7 @@ class Relay {
     std::unique_ptr<ChannelGrantor> grantor_;      ///< with a channel rate; its writer is the WAN participant's
     std::unique_ptr<BackfillEndpoints> backfill_;  ///< with an archive; before the participants go
     BackfillArchive* archive_ = nullptr;           ///< see archive_backfill; the compact unpacker's too
-    base::SteadyTime next_backfill_acks_{};
-    mutable std::mutex topics_mutex_;  ///< run() adds to topics_, relayed() reads it
+    mutable std::mutex topics_mutex_;              ///< run() adds to topics_, relayed() reads it
     std::map<std::string, std::unique_ptr<Topic>> topics_;
 };
 

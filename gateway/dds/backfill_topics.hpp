@@ -1,6 +1,7 @@
 #pragma once
 
 #include <chrono>
+#include <string_view>
 
 namespace tgw::dds {
 
@@ -12,5 +13,11 @@ inline constexpr const char* BACKFILL_TOPIC = "tgw/backfill";
 inline constexpr std::chrono::hours BACKFILL_TTL{1};
 /// The base camp's acknowledgements of the backfilled rows it stored, back to the gateway.
 inline constexpr const char* BACKFILL_ACK_TOPIC = "tgw/backfill_ack";
+
+/// Backfill's own topics, which camp tools read with their own endpoints or not at all: a plain reader would
+/// republish samples past their TTL, or have a gateway send rows no one acknowledges.
+inline bool is_backfill_topic(std::string_view topic) {
+    return topic == BACKFILL_TOPIC || topic == BACKFILL_ACK_TOPIC;
+}
 
 }  // namespace tgw::dds

@@ -140,7 +140,12 @@ finish_run() {
 }
 
 # camp_query SQL: runs SQL on the camp's recording $REC with the on-robot log $LOG attached as "log".
-camp_query() { sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log; $1"; }
+# live_samples: the recording's samples that came live; backfilled ones (rows of the on-robot log that missed their
+# TTL, sent later in spare capacity: the gateway's default) are in samples too.
+camp_query() {
+    sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log;
+        CREATE TEMP VIEW live_samples AS SELECT * FROM main.samples WHERE NOT backfilled; $1"
+}
 
 # move_address SIDE DEV OLD NEW OTHER_DEV: on a flat radio network, SIDE's (robot or basecamp) DEV loses OLD (a /30)
 # and gets NEW (a /24), the link staying up (a new DHCP lease, a mesh radio's); the other side routes NEW through its
@@ -155,6 +160,16 @@ move_address() {
     echo "the $1's address $3 -> $4"
 }
 
+# stamp_line FILE TEXT OUT: in the background (its PID in PIDS), writes to OUT the moment (ns) TEXT first appears
+# in FILE, a program's output as it runs: when the program said it did something, for a test to place it in time.
+stamp_line() {
+    (
+        until grep -qF -- "$2" "$1" 2>/dev/null; do sleep 0.02; done
+        date +%s%N >"$3"
+    ) &
+    PIDS+=($!)
+}
+
 # a_on_time_between FROM_NS TO_NS [TOPIC]: "ON_TIME PUBLISHED" for A (TOPIC: telemetry/A, or a robot's
 # rover1/telemetry/A; TTL 1 s) published in [FROM_NS, TO_NS): published as the on-robot log has them (forwarded or
 # dropped), on time as the camp's recording has them.
@@ -163,7 +178,7 @@ a_on_time_between() {
     published="$(camp_query "SELECT COUNT(*) FROM (SELECT source_time_ns FROM log.forwarded_samples
         WHERE topic = '$topic' UNION ALL SELECT source_time_ns FROM log.dropped_samples
         WHERE topic = '$topic') WHERE source_time_ns >= $1 AND source_time_ns < $2")"
-    on_time="$(camp_query "SELECT COUNT(*) FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM samples
+    on_time="$(camp_query "SELECT COUNT(*) FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM live_samples
         WHERE topic = '$topic' AND source_ns >= $1 AND source_ns < $2 GROUP BY source_ns)
         WHERE receive_ns - source_ns <= 1000000000")"
     echo "$on_time $published"

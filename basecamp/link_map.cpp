@@ -91,6 +91,10 @@ void LinkMapBuilder::add_logged_rate(std::int64_t time_ns, double rate_bps) {
 }
 
 void LinkMapBuilder::add(SampleRecord sample) {
+    if (sample.backfill) {  // dropped on the robot, and in the archive by backfill: a drop all the same
+        std::lock_guard<std::mutex> lock(mutex_);
+        archive_drops_.push_back({sample.source_ns});
+    }
     if (sample.topic == pose_.topic) {
         const types::CdrDecodeResult decoded =
             types::decode_cdr(sample.payload.data(), sample.payload.size(), sample.type_name, types_);

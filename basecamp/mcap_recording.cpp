@@ -62,8 +62,11 @@ void McapRecording::add(SampleRecord sample) {
         topic.lifespan_ns = sample.lifespan_ns;
         channel = channel_nts(topic);
     }
-    writer_.write_message(channel, static_cast<std::uint64_t>(sample.receive_ns),
-                          static_cast<std::uint64_t>(sample.source_ns), sample.payload.data(), sample.payload.size());
+    // A backfilled sample is logged at its source time: a player shows it when the robot produced it, not hours
+    // later when it reached the camp.
+    const std::int64_t log_ns = sample.backfill ? sample.source_ns : sample.receive_ns;
+    writer_.write_message(channel, static_cast<std::uint64_t>(log_ns), static_cast<std::uint64_t>(sample.source_ns),
+                          sample.payload.data(), sample.payload.size());
 }
 
 bool McapRecording::close() {

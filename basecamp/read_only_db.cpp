@@ -16,6 +16,14 @@ ReadOnlyDb open_read_only(const std::string& path, const std::string& who) {
     return ReadOnlyDb(raw, sqlite3_close);
 }
 
+bool has_column(sqlite3* db, const std::string& table, const std::string& column) {
+    sqlite3_stmt* probe = nullptr;
+    const std::string sql = "SELECT " + column + " FROM " + table + " LIMIT 0";
+    const bool has = sqlite3_prepare_v2(db, sql.c_str(), -1, &probe, nullptr) == SQLITE_OK;
+    sqlite3_finalize(probe);
+    return has;
+}
+
 Statement prepare(sqlite3* db, const char* sql, const std::string& what) {
     sqlite3_stmt* stmt = nullptr;
     if (sqlite3_prepare_v2(db, sql, -1, &stmt, nullptr) != SQLITE_OK)

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "base/config_error.hpp"
+#include "basecamp/read_only_db.hpp"
 
 namespace tgw::basecamp {
 
@@ -76,12 +77,15 @@ std::uint64_t RecordingReader::read(SampleConsumer& into) {
 
 std::uint64_t RecordingReader::read_archive(SampleConsumer& into) {
     sqlite3_stmt* raw = nullptr;
-    sqlite3_prepare_v2(
-        db_,
-        "SELECT topic, type_name, payload, source_ns, fate, reason, receive_ns, logged_ns, forwarded_ns, "
-        "ttl_ns, instance_key FROM mission_samples "
-        "ORDER BY COALESCE(receive_ns, logged_ns, forwarded_ns, source_ns), id",
-        -1, &raw, nullptr);
+    // A backfilled sample takes its place in the mission at its source time (archives made before backfill have
+    // none).
+    const std::string backfilled = has_column(db_, "mission_samples", "backfilled") ? "backfilled" : "0";
+    const std::string select =
+        "SELECT topic, type_name, payload, source_ns, fate, reason, receive_ns, logged_ns, forwarded_ns, ttl_ns, "
+        "instance_key, " +
+        backfilled + " AS backfilled FROM mission_samples ORDER BY COALESCE(CASE WHEN " + backfilled +
+        " THEN source_ns END, receive_ns, logged_ns, forwarded_ns, source_ns), id";
+    sqlite3_prepare_v2(db_, select.c_str(), -1, &raw, nullptr);
     Statement rows(raw, &sqlite3_finalize);
     std::uint64_t count = 0;
     int step = SQLITE_ROW;
@@ -98,6 +102,12 @@ std::uint64_t RecordingReader::read_archive(SampleConsumer& into) {
             sample.topic = topic;
             sample.payload = blob_column(raw, 2);
             sample.receive_ns = sqlite3_column_int64(raw, 6);
+        } else if (fate == "dropped" && sqlite3_column_int(raw, 11) != 0) {
+            // Dropped on the robot, then backfilled: the camp has it on its own topic.
+            sample.topic = topic;
+            sample.payload = blob_column(raw, 2);
+            sample.receive_ns = optional_column(raw, 6).value_or(sample.source_ns);
+            sample.backfill = BackfillOrigin{std::string(), 0, text_column(raw, 5)};
         } else if (fate == "dropped") {
             sample.topic = "dropped/" + text_column(raw, 5) + "/" + topic;
             sample.payload = blob_column(raw, 2);
@@ -140,10 +150,14 @@ std::uint64_t RecordingReader::read_recording(SampleConsumer& into) {
         into.add_topic(std::move(topic));
     }
 
-    sqlite3_prepare_v2(raw_db,
-                       "SELECT topic, type_name, payload, source_ns, receive_ns, lifespan_ns, instance FROM samples "
-                       "ORDER BY receive_ns, id",
-                       -1, &raw, nullptr);
+    // A backfilled sample takes its place at its source time; recordings made before backfill have none.
+    const std::string backfill_columns = has_column(raw_db, "samples", "backfilled")
+                                             ? "backfilled, log_id, row_id, drop_reason"
+                                             : "0 AS backfilled, NULL, NULL, NULL";
+    const std::string select = "SELECT topic, type_name, payload, source_ns, receive_ns, lifespan_ns, instance, " +
+                               backfill_columns +
+                               " FROM samples ORDER BY CASE WHEN backfilled THEN source_ns ELSE receive_ns END, id";
+    sqlite3_prepare_v2(raw_db, select.c_str(), -1, &raw, nullptr);
     Statement samples(raw, &sqlite3_finalize);
     std::uint64_t count = 0;
     int step = SQLITE_ROW;
@@ -157,6 +171,8 @@ std::uint64_t RecordingReader::read_recording(SampleConsumer& into) {
         sample.lifespan_ns = optional_column(raw, 5);
         if (sqlite3_column_type(raw, 6) != SQLITE_NULL)
             sample.instance = blob_column(raw, 6);
+        if (sqlite3_column_int(raw, 7) != 0)
+            sample.backfill = BackfillOrigin{text_column(raw, 8), sqlite3_column_int64(raw, 9), text_column(raw, 10)};
         into.add(std::move(sample));
         ++count;
     }

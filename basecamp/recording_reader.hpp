@@ -1,5 +1,5 @@
 // A recording made by tm-basecamp record or relay --out, or a mission archive made by merge, read back in the
-// order it was received: what export turns into an MCAP file.
+// order of the mission: what export turns into an MCAP file.
 #pragma once
 
 #include <cstdint>
@@ -24,9 +24,10 @@ class RecordingReader {
     RecordingReader& operator=(const RecordingReader&) = delete;
 
     /// Hands `into` every topic (with the IDL its publisher's TypeObject gave, where the recording has it), then
-    /// every sample in order of receive time. From a mission archive, the samples that stayed on the robot come as
-    /// topics of their own: "dropped/REASON/TOPIC" at the time the gateway logged them, with their payload, and
-    /// "lost/TOPIC" (no payload, no type) at the time the gateway forwarded them. The number of samples. Throws
+    /// every sample in order of receive time; a backfilled sample (SampleRecord::backfill) at its source time, when
+    /// the robot produced it. From a mission archive, the samples that stayed on the robot and were not backfilled
+    /// come as topics of their own: "dropped/REASON/TOPIC" at the time the gateway logged them, with their payload,
+    /// and "lost/TOPIC" (no payload, no type) at the time the gateway forwarded them. The number of samples. Throws
     /// base::ConfigError when reading fails.
     std::uint64_t read(SampleConsumer& into);
 

@@ -69,10 +69,11 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
             acc.lifespan_ns = sqlite3_column_int64(declared.get(), 2);
     }
 
-    Statement rows = prepare(db.get(),
-                             "SELECT topic, type_name, source_ns, receive_ns, lifespan_ns, payload FROM samples "
-                             "WHERE source_ns >= ?1 ORDER BY id",
-                             not_a_recording);
+    // Recordings made before backfill have no backfilled column: every sample in them came live.
+    const std::string select = std::string("SELECT topic, type_name, source_ns, receive_ns, lifespan_ns, payload, ") +
+                               (has_column(db.get(), "samples", "backfilled") ? "backfilled" : "0") +
+                               " FROM samples WHERE source_ns >= ?1 ORDER BY id";
+    Statement rows = prepare(db.get(), select.c_str(), not_a_recording);
     sqlite3_bind_int64(rows.get(), 1, options.since_ns);
     std::map<std::string, std::vector<double>> transits;
     TopicRobots robots;  // from the gateways' status samples among the rows
@@ -87,6 +88,16 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
             acc.lifespan_ns = sqlite3_column_int64(rows.get(), 4);
         const auto* payload = static_cast<const std::uint8_t*>(sqlite3_column_blob(rows.get(), 5));
         const auto payload_size = static_cast<std::size_t>(sqlite3_column_bytes(rows.get(), 5));
+        if (sqlite3_column_int(rows.get(), 6) != 0) {
+            // Published, so its sequence number counts towards what was offered; not delivered live.
+            ++acc.report.backfilled;
+            if (type_name == PAPER_MESSAGE_TYPE) {
+                const auto seq = paper_message_sequence(payload, payload_size);
+                if (seq && (!acc.max_sequence || *seq > *acc.max_sequence))
+                    acc.max_sequence = seq;
+            }
+            continue;
+        }
         if (topic == dds::STATUS_TOPIC) {
             if (const auto status = decode_gateway_status(std::vector<std::uint8_t>(payload, payload + payload_size)))
                 robots.take(*status);
@@ -242,6 +253,18 @@ void print_accounting(std::ostream& out, const std::vector<TopicReport>& reports
         out << "recorded more than once (counted once): " << duplicates << "\n";
 }
 
+void print_backfilled(std::ostream& out, const std::vector<TopicReport>& reports) {
+    std::string counts;
+    for (const TopicReport& r : reports) {
+        if (r.backfilled > 0)
+            counts += (counts.empty() ? "" : ", ") + r.topic + " " + std::to_string(r.backfilled);
+    }
+    if (!counts.empty())
+        out << "backfilled (missed their TTL, reached the recording later from the on-robot log; in no figure "
+               "above): "
+            << counts << "\n";
+}
+
 }  // namespace
 
 void print_report(std::ostream& out, const std::vector<TopicReport>& reports) {
@@ -278,6 +301,7 @@ void print_report(std::ostream& out, const std::vector<TopicReport>& reports) {
     if (offered_from_sequence)
         out << ">=N: offered counted from PaperMessage sequence numbers (samples after the last one received are "
                "not seen); pass --offered TOPIC=N for the exact count.\n";
+    print_backfilled(out, reports);
     print_accounting(out, reports);
 }
 

@@ -28,6 +28,9 @@ struct TopicReport {
     double stddev_ms = 0.0;                ///< sample standard deviation
     double max_ms = 0.0;
     std::optional<DropAccounting> accounting;  ///< with --robot-log: where every sample not received went
+    /// Samples that missed their TTL and reached the recording later, backfilled from the on-robot log: in none of
+    /// the figures above (they were not delivered live).
+    std::uint64_t backfilled = 0;
 };
 
 struct ReportOptions {

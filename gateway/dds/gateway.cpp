@@ -61,7 +61,10 @@ void GatewayConfig::validate() const {
         }
     }
     if (backfill && log_file.empty()) {
-        throw base::ConfigError("--backfill: needs the on-robot log, whose rows it sends (drop --no-log)");
+        throw base::ConfigError("backfill needs the on-robot log, whose rows it sends (drop --no-log)");
+    }
+    if (backfill_max_bps > 0 && !backfill) {
+        throw base::ConfigError("--backfill-max-bps: backfill is off (--no-log keeps no rows to send)");
     }
     if (robot_domain == wan_domain) {
         // One domain would make the gateway read its own WAN writers back.

@@ -120,8 +120,8 @@ struct GatewayConfig {
     /// STATUS_RATE_SHARE of the sensed rate.
     base::Duration status_period = base::Duration::zero();
     /// Backfill (docs/design/backfill.md): the on-robot log's rows cross to the base camp in capacity no live
-    /// sample wants, until the camp acknowledges them. Needs a log. Off by default while the rest of the camp's
-    /// tools learn it.
+    /// sample wants, until the camp acknowledges them. Needs a log. telemetry-gateway turns it on wherever it keeps
+    /// one (--no-backfill).
     bool backfill = false;
     /// The most bit/s backfill may take (--backfill-max-bps); 0: only the budget bounds it.
     double backfill_max_bps = 0.0;

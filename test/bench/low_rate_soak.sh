@@ -185,7 +185,7 @@ recorded_tables="$(sqlite3 -batch -noheader "$REC" "SELECT COUNT(*) FROM sqlite_
     2>/dev/null || echo 0)"
 qr() {
     if [ "$recorded_tables" = 1 ]; then
-        sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log; $1"
+        REC="$REC" LOG="$LOG" camp_query "$1"
     else
         echo "${2:-0}"
     fi
@@ -302,8 +302,8 @@ for t in A B C D; do
     other="$(q "SELECT COUNT(*) FROM dropped_samples WHERE topic = '$topic' AND reason NOT IN
         ('expired', 'doomed', 'evicted', 'oversize', 'shutdown', 'write_failed', 'no_reader')")"
     log_fwd="$(q "SELECT COUNT(*) FROM forwarded_samples WHERE topic = '$topic'")"
-    recorded="$(qr "SELECT COUNT(DISTINCT source_ns) FROM samples WHERE topic = '$topic'")"
-    stray="$(qr "SELECT COUNT(DISTINCT source_ns) FROM samples WHERE topic = '$topic' AND source_ns NOT IN
+    recorded="$(qr "SELECT COUNT(DISTINCT source_ns) FROM live_samples WHERE topic = '$topic'")"
+    stray="$(qr "SELECT COUNT(DISTINCT source_ns) FROM live_samples WHERE topic = '$topic' AND source_ns NOT IN
         (SELECT source_time_ns FROM log.forwarded_samples WHERE topic = '$topic')")"
     lost=$((${gw[forwarded]:-0} - recorded))
     lost_total=$((lost_total + lost))
@@ -331,7 +331,7 @@ check "samples lost on the WAN at most the packets the shaper dropped" "a <= b" 
 a_published="$(awk '$2 == "telemetry/A" { print $5 }' "$WORK/robot.out")"
 read -r a_on_time a_rec a_mean_ms <<<"$(qr "SELECT COALESCE(SUM(receive_ns - source_ns <= 1000000000), 0), COUNT(*),
         COALESCE(printf('%.1f', AVG(receive_ns - source_ns) / 1e6), '-')
-    FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM samples WHERE topic = 'telemetry/A'
+    FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM live_samples WHERE topic = 'telemetry/A'
           GROUP BY source_ns)" "0|0|-" | tr '|' ' ')"
 a_logged="$(q "SELECT group_concat(reason || ' ' || n, ', ') FROM (SELECT reason, COUNT(*) AS n
     FROM dropped_samples WHERE topic = 'telemetry/A' GROUP BY reason)")"
@@ -344,7 +344,7 @@ no_reader="$(q "SELECT COUNT(*) || CASE WHEN COUNT(*) = 0 THEN ' rows' ELSE ' ro
     FROM dropped_samples WHERE reason = 'no_reader'")"
 echo "no_reader (no base-camp reader matched the topic): $no_reader"
 echo "recorded at the base camp by topic: $(qr "SELECT COALESCE(group_concat(topic || ' ' || n, ', '), 'none') FROM
-    (SELECT topic, COUNT(*) AS n FROM samples GROUP BY topic)" none)"
+    (SELECT topic, COUNT(*) AS n FROM live_samples GROUP BY topic)" none)"
 check "tm-robot-sim exited 0" "a == 0" "$sim_status"
 check "the gateway exited 0" "a == 0" "$gateway_status"
 echo

@@ -37,7 +37,7 @@ wait "$relay"
 cat "$work/relay.out"
 
 # Every message the client got is a sample the relay recorded on that topic, bytes equal.
-sqlite3 -separator $'\t' "$work/relay.db" "SELECT topic, hex(payload) FROM samples" | sort -u >"$work/recorded.tsv"
+sqlite3 -separator $'\t' "$work/relay.db" "SELECT topic, hex(payload) FROM samples WHERE NOT backfilled" | sort -u >"$work/recorded.tsv"
 cut -f1,3 "$work/received.tsv" | sort -u >"$work/received_payloads.tsv"
 unknown=$(comm -23 "$work/received_payloads.tsv" "$work/recorded.tsv" | wc -l)
 echo "received $(wc -l <"$work/received.tsv") messages, $(wc -l <"$work/received_payloads.tsv") distinct;" \

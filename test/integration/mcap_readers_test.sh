@@ -34,11 +34,12 @@ wait "$gateway"
 "$BIN/tm-basecamp" merge "$work/robot.db" "$work/recording.db" --out "$work/mission.db"
 "$BIN/tm-basecamp" export "$work/mission.db" --mcap "$work/mission.mcap"
 sqlite3 -separator $'\t' "$work/mission.db" \
-    "SELECT CASE fate WHEN 'received' THEN topic WHEN 'dropped' THEN 'dropped/' || reason || '/' || topic
-                      ELSE 'lost/' || topic END,
-            type_name, COALESCE(receive_ns, logged_ns, forwarded_ns, source_ns), source_ns, hex(payload)
-     FROM mission_samples ORDER BY COALESCE(receive_ns, logged_ns, forwarded_ns, source_ns), id" \
-    >"$work/mission.tsv"
+    "SELECT CASE WHEN fate = 'received' OR backfilled THEN topic WHEN fate = 'dropped'
+                 THEN 'dropped/' || reason || '/' || topic ELSE 'lost/' || topic END,
+            type_name, log_ns, source_ns, hex(payload)
+     FROM (SELECT *, COALESCE(CASE WHEN backfilled THEN source_ns END, receive_ns, logged_ns, forwarded_ns,
+                              source_ns) AS log_ns FROM mission_samples)
+     ORDER BY log_ns, id" >"$work/mission.tsv"
 dropped=$(sqlite3 "$work/mission.db" "SELECT COUNT(*) FROM mission_samples WHERE fate = 'dropped'")
 echo "mission archive: $(wc -l <"$work/mission.tsv") samples, $dropped dropped on the robot"
 
@@ -46,17 +47,22 @@ echo "mission archive: $(wc -l <"$work/mission.tsv") samples, $dropped dropped o
 "$BIN/tm-basecamp" export "$work/recording.db" --mcap "$work/export.mcap" --chunk-size 4096
 "$BIN/tm-basecamp" export "$work/recording.db" --mcap "$work/plain.mcap" --compression none
 sqlite3 -separator $'\t' "$work/recording.db" \
-    "SELECT topic, type_name, receive_ns, source_ns, hex(payload) FROM samples ORDER BY receive_ns, id" \
-    >"$work/samples.tsv"
-echo "recorded: $(wc -l <"$work/samples.tsv") samples"
+    "SELECT topic, type_name, log_ns, source_ns, hex(payload)
+     FROM (SELECT *, CASE WHEN backfilled THEN source_ns ELSE receive_ns END AS log_ns FROM samples)
+     ORDER BY log_ns, id" >"$work/samples.tsv"
+# record --mcap writes what came live; backfill goes to the recording, and export takes it from there.
+sqlite3 -separator $'\t' "$work/recording.db" \
+    "SELECT topic, type_name, receive_ns, source_ns, hex(payload) FROM samples WHERE NOT backfilled
+     ORDER BY receive_ns, id" >"$work/live.tsv"
+echo "recorded: $(wc -l <"$work/samples.tsv") samples, $(wc -l <"$work/live.tsv") of them live"
 
 schemas=(tgw::idl::PaperMessage tgw::idl::GatewayStatus tgw_test::FlatReading)
 fail=0
-for file in "live.mcap lz4" "export.mcap zstd" "plain.mcap none"; do
+for file in "live.mcap lz4 live.tsv" "export.mcap zstd samples.tsv" "plain.mcap none samples.tsv"; do
     set -- $file
     compression=$([ "$2" = none ] && echo "" || echo "$2")
     echo "== $1"
-    node "$READERS/check_mcap.mjs" "$work/$1" "$work/samples.tsv" "$compression" --sensor fixed:30000 "${schemas[@]}" || fail=1
+    node "$READERS/check_mcap.mjs" "$work/$1" "$work/$3" "$compression" --sensor fixed:30000 "${schemas[@]}" || fail=1
 done
 echo "== mission.mcap"
 if [ "$dropped" -eq 0 ]; then

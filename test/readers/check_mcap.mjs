@@ -56,7 +56,8 @@ const expected = readFileSync(samplesFile, "utf8")
   });
 if (expected.length === 0) fail(`${samplesFile} holds no samples`);
 
-// Messages of one topic come in the order they were received; across topics, samples received within the same
+// Messages of one topic come in the order of their log time (when received; a backfilled one's, its source time,
+// as the TSV gives it); across topics, samples received within the same
 // microseconds may be in either order. Each reader's messages are compared topic by topic.
 function messageChecker() {
   const next = new Map();
@@ -71,7 +72,7 @@ function messageChecker() {
     const want = ofTopic[i];
     if (!want) fail(`${channel.topic}: message ${i} was not recorded (${ofTopic.length} were)`);
     const where = `${channel.topic} message ${i}`;
-    if (message.logTime !== want.logTime) fail(`${where}: log time ${message.logTime}, received ${want.logTime}`);
+    if (message.logTime !== want.logTime) fail(`${where}: log time ${message.logTime}, expected ${want.logTime}`);
     if (message.publishTime !== want.publishTime) {
       fail(`${where}: publish time ${message.publishTime}, source time ${want.publishTime}`);
     }

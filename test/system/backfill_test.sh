@@ -3,14 +3,14 @@
 # On the testbed, tm-robot-sim publishes the paper's workload for PUBLISH_S seconds over a link of 20,000 bit/s, far
 # less than the workload needs: most B, C and D miss their TTL and stay in the on-robot log. Then the link idles at
 # 100,000 bit/s for IDLE_S seconds. The camp's `tm-basecamp relay --out` records.
-# It proves, with MODE on (--backfill):
+# It proves, with MODE on (the gateway's default):
 #   (a) live delivery is what it is without backfill: A >= 99 % on time (run MODE off beside it to compare);
 #   (b) the archive is whole: >= 99.9 % of the samples published are in the camp's recording, live or backfilled,
 #       each once;
 #   (c) nothing backfilled reached the camp's live domain as a live sample, and the rows the camp stored are
 #       acknowledged in the robot's log;
 #   (d) `tm-basecamp merge` counts each sample once, the dropped ones as backfilled, none only on the robot.
-# MODE off runs the same without --backfill and checks (a) only, printing what the archive holds. WAN compact runs
+# MODE off runs the same with --no-backfill and checks (a) only, printing what the archive holds. WAN compact runs
 # the gateway in compact WAN mode (the relay unpacks), where the same must hold.
 # Needs root; skipped (77) otherwise. About 80 s with IDLE_S=40.
 #   backfill_test.sh BIN_DIR [on|off] [standard|compact]
@@ -39,7 +39,7 @@ start_testbed "$LIVE_RATE" backfill
 record_pid=$!
 PIDS+=("$record_pid")
 backfill=()
-[ "$MODE" = off ] || backfill=(--backfill)
+[ "$MODE" = on ] || backfill=(--no-backfill)
 start_paper_gateway "$BOUND_S" --wan-mode "$WAN" "${backfill[@]}"
 sleep 2
 start_paper_publisher "$PUBLISH_S"

@@ -68,10 +68,10 @@ finish_run "$sim_pid" "$gateway_pid" "$second_record_pid"
 show_outputs "$WORK/record2.out"
 
 LOG="$WORK/robot-log.db" REC="$WORK/basecamp2.db"
-q() { sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log; $1"; }
+q() { camp_query "$1"; }
 
 # (a) resumption.
-first_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $restart_ns) / 1e6) FROM samples
+first_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $restart_ns) / 1e6) FROM live_samples
     WHERE topic LIKE 'telemetry/%'")"
 echo
 echo "== (a) the first robot sample at the new base camp ${first_ms:-never} ms after it started"
@@ -83,7 +83,7 @@ since=$((restart_ns + RESUME_MAX_S * 1000000000))
 a_all="$(q "SELECT COUNT(*) FROM (SELECT source_time_ns FROM log.forwarded_samples WHERE topic = 'telemetry/A'
                                    UNION ALL SELECT source_time_ns FROM log.dropped_samples WHERE topic = 'telemetry/A')
             WHERE source_time_ns >= $since")"
-a_on_time="$(q "SELECT COUNT(*) FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM samples
+a_on_time="$(q "SELECT COUNT(*) FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM live_samples
     WHERE topic = 'telemetry/A' AND source_ns >= $since GROUP BY source_ns) WHERE receive_ns - source_ns <= 1000000000")"
 echo "== (b) A published >= $RESUME_MAX_S s after the restart: $a_on_time of $a_all on time at the new base camp"
 check "A after the restart: some" "a > 0" "$a_all"
@@ -104,7 +104,7 @@ for t in A B C D; do
     log_fwd="$(q "SELECT COUNT(*) FROM log.forwarded_samples WHERE topic = '$topic'")"
     log_dropped="$(q "SELECT COUNT(*) FROM log.dropped_samples WHERE topic = '$topic'")"
     log_no_reader="$(q "SELECT COUNT(*) FROM log.dropped_samples WHERE topic = '$topic' AND reason = 'no_reader'")"
-    recorded="$(q "SELECT COUNT(DISTINCT source_ns) FROM samples WHERE topic = '$topic'")"
+    recorded="$(q "SELECT COUNT(DISTINCT source_ns) FROM live_samples WHERE topic = '$topic'")"
     while_down="$(q "SELECT COUNT(*) FROM log.forwarded_samples WHERE topic = '$topic'
         AND forwarded_ns >= $killed_ns AND forwarded_ns < $restart_ns")"
     printf '%-12s %9s %8s %9s %6s %7s %9s %8s %21s\n' "$topic" "${published:-?}" "${recv:-?}" "${fwd:-?}" \

@@ -52,7 +52,7 @@ echo
 echo "== the camp's address changes"
 # Counted from A published 0.5 s after the change: those published in the moment of it may still have left by the
 # old route.
-first_after_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $change_ns) / 1e6) FROM samples
+first_after_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $change_ns) / 1e6) FROM live_samples
     WHERE topic = 'telemetry/A' AND source_ns >= $change_ns + 500000000")"
 read -r c_on c_all <<<"$(a_on_time_between $((change_ns + 5000000000)) 9000000000000000000)"
 echo "the first A published from 0.5 s after the change reached the camp ${first_after_ms:-never} ms after it;" \

@@ -50,12 +50,13 @@ show_outputs "$WORK/record.out"
 echo "--- relay"
 tail -n 8 "$WORK/relay.out"
 
-q() { sqlite3 -batch -noheader "$WORK/camp.db" "ATTACH '$WORK/robot-log.db' AS log; $1"; }
+LOG="$WORK/robot-log.db" REC="$WORK/camp.db"
+q() { camp_query "$1"; }
 for row in "telemetry/A 1" "telemetry/B 2" "telemetry/C 5"; do
     read -r topic ttl_s <<<"$row"
     published="$(q "SELECT COUNT(*) FROM (SELECT source_time_ns FROM log.forwarded_samples WHERE topic = '$topic'
         UNION ALL SELECT source_time_ns FROM log.dropped_samples WHERE topic = '$topic')")"
-    on_time="$(q "SELECT COUNT(*) FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM samples
+    on_time="$(q "SELECT COUNT(*) FROM (SELECT source_ns, MIN(receive_ns) AS receive_ns FROM live_samples
         WHERE topic = '$topic' GROUP BY source_ns) WHERE receive_ns - source_ns <= $ttl_s * 1000000000")"
     echo "$topic: $on_time of $published on time at the camp's loopback"
     check "$topic on time at the camp's loopback: >= 99 % of what was published" "b >= 90 && a >= 0.99 * b" \

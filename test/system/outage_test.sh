@@ -93,7 +93,7 @@ shaper_dropped="${shaper_dropped:-0}"
 show_outputs "$WORK/record.out"
 
 LOG="$WORK/robot-log.db" REC="$WORK/basecamp.db"
-q() { sqlite3 -batch -noheader "$REC" "ATTACH '$LOG' AS log; $1"; }
+q() { camp_query "$1"; }
 
 # (a) the memory cap.
 evicted_summary="$(awk '$1 ~ /^telemetry\// && NF >= 11 { s += $7 } END { print s + 0 }' "$WORK/gateway.out")"
@@ -110,7 +110,7 @@ echo "  logged during the outage (what the link could no longer carry in time):"
         FROM log.dropped_samples WHERE logged_ns >= $outage_ns AND logged_ns < $recover_ns GROUP BY topic, reason)")"
 # Every recorded tgw/status (XCDR1 or XCDR2, little or big endian): its time and the payload bytes it says are
 # queued, summed over topics.
-sqlite3 -batch -noheader "$REC" "SELECT receive_ns, hex(payload) FROM samples WHERE topic = 'tgw/status' ORDER BY receive_ns" |
+sqlite3 -batch -noheader "$REC" "SELECT receive_ns, hex(payload) FROM samples WHERE topic = 'tgw/status' AND NOT backfilled ORDER BY receive_ns" |
     python3 -c '
 import struct, sys
 def decode(b):
@@ -185,12 +185,12 @@ a_all="$(q "SELECT COUNT(*) FROM (SELECT source_time_ns FROM log.forwarded_sampl
             WHERE source_time_ns >= $since")"
 read -r a_on_time a_rec a_mean_ms a_max_ms <<<"$(q "SELECT SUM(receive_ns - source_ns <= 1000000000), COUNT(*),
         printf('%.1f', AVG(receive_ns - source_ns) / 1e6), printf('%.1f', MAX(receive_ns - source_ns) / 1e6)
-    FROM (SELECT DISTINCT source_ns, MIN(receive_ns) AS receive_ns FROM samples
+    FROM (SELECT DISTINCT source_ns, MIN(receive_ns) AS receive_ns FROM live_samples
           WHERE topic = 'telemetry/A' AND source_ns >= $since GROUP BY source_ns)" | tr '|' ' ')"
 a_logged="$(q "SELECT group_concat(reason || ' ' || n, ', ') FROM (SELECT reason, COUNT(*) AS n
     FROM log.dropped_samples WHERE topic = 'telemetry/A' AND source_time_ns >= $since GROUP BY reason)")"
 # When A came back: the first A recorded on time whose source time is after the recovery.
-first_a_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $recover_ns) / 1e6) FROM samples
+first_a_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $recover_ns) / 1e6) FROM live_samples
     WHERE topic = 'telemetry/A' AND source_ns >= $recover_ns AND receive_ns - source_ns <= 1000000000")"
 echo
 echo "== (b) A from 1 s after recovery: $a_on_time of $a_all on time (${a_rec:-0} recorded, mean ${a_mean_ms:-?} ms," \
@@ -212,8 +212,8 @@ for t in A B C D; do
     read -r recv fwd queued ex dm ev os sd wf nr <<<"$(awk -v t="$topic" '$1 == t && NF >= 11 {
         print $2, $3, $4, $5, $6, $7, $8, $9, $10, $11 }' "$WORK/gateway.out")"
     log_fwd="$(q "SELECT COUNT(*) FROM log.forwarded_samples WHERE topic = '$topic'")"
-    recorded="$(q "SELECT COUNT(DISTINCT source_ns) FROM samples WHERE topic = '$topic'")"
-    stray="$(q "SELECT COUNT(DISTINCT source_ns) FROM samples WHERE topic = '$topic' AND source_ns NOT IN
+    recorded="$(q "SELECT COUNT(DISTINCT source_ns) FROM live_samples WHERE topic = '$topic'")"
+    stray="$(q "SELECT COUNT(DISTINCT source_ns) FROM live_samples WHERE topic = '$topic' AND source_ns NOT IN
         (SELECT source_time_ns FROM log.forwarded_samples WHERE topic = '$topic')")"
     lost=$((${fwd:-0} - recorded))
     lost_total=$((lost_total + lost))

@@ -83,7 +83,7 @@ said_down="$(grep -cE "WAN interface $veth (down|absent): nothing is sent until 
 # behind one when the link went, and expired (2026-12-06, 1 of 8 runs). Before this edge, the issue asks for all.
 EDGE_NS=300000000
 read -r a_on a_all <<<"$(a_on_time_between $((up_ns + 2000000000)) $((down_ns - EDGE_NS)))"
-first_a_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $up_ns) / 1e6) FROM samples WHERE topic = 'telemetry/A'")"
+first_a_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $up_ns) / 1e6) FROM live_samples WHERE topic = 'telemetry/A'")"
 echo "A from 2 s after the link came up until 0.3 s before it went down: $a_on of $a_all on time; the first A at the camp ${first_a_ms:-never} ms after it"
 check "the gateway said its WAN interface was down, twice (at start and mid-run)" "a == 2" "$said_down"
 check "A from 2 s after the link came up until 0.3 s before it went down: all on time" "b >= 50 && a == b" \
@@ -102,7 +102,7 @@ check "nothing forwarded into the dead interface" "a == 0" "$forwarded_while_dow
 IN_FLIGHT_MS=500
 for topic in telemetry/A telemetry/B telemetry/C telemetry/D; do
     forwarded="$(awk -v t="$topic" '$1 == t && NF >= 11 { print $3 }' "$WORK/gateway.out")"
-    recorded="$(q "SELECT COUNT(DISTINCT source_ns) FROM samples WHERE topic = '$topic'")"
+    recorded="$(q "SELECT COUNT(DISTINCT source_ns) FROM live_samples WHERE topic = '$topic'")"
     in_flight="$(q "SELECT COUNT(*) FROM log.forwarded_samples WHERE topic = '$topic'
         AND forwarded_ns > $down_ns - ${IN_FLIGHT_MS}000000 AND forwarded_ns <= $down_ns")"
     check "$topic: the gateway's forwarded = the camp's recorded, but for what was in the shaper as the link went down" \
@@ -111,7 +111,7 @@ done
 
 echo
 echo "== (c) back up"
-first_back_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $back_ns) / 1e6) FROM samples
+first_back_ms="$(q "SELECT printf('%.0f', (MIN(receive_ns) - $back_ns) / 1e6) FROM live_samples
     WHERE topic = 'telemetry/A' AND receive_ns >= $back_ns")"
 read -r c_on c_all <<<"$(a_on_time_between $((back_ns + 1000000000)) "$END_NS")"
 echo "the first A after the link came back: ${first_back_ms:-never} ms after it; A from 1 s after it: $c_on of $c_all on time"

@@ -356,14 +356,17 @@ int main(int argc, char** argv) {
                    "MiB the on-robot log may take; past it the oldest rows make room, those of samples sent first")
         ->check(tgw::base::positive())
         ->capture_default_str();
-    CLI::Option* backfill = app.add_flag(
-        "--backfill", config.backfill,
-        "experimental (docs/design/backfill.md): send the on-robot log's rows to the base camp in capacity no live "
+    // Backfill is on wherever there is an on-robot log: its rows cross to a camp that stores them (relay --out,
+    // record --out) in capacity no live sample wants (docs/design/backfill.md).
+    bool no_backfill = false;
+    CLI::Option* no_backfill_option = app.add_flag(
+        "--no-backfill", no_backfill,
+        "keep the on-robot log's rows on the robot: by default they cross to the base camp in capacity no live "
         "sample wants, until the camp acknowledges them (tm-basecamp relay --out, record --out)");
     app.add_option("--backfill-max-bps", config.backfill_max_bps,
                    "the most bit/s backfill may take (a link billed per byte); default: whatever the budget leaves")
         ->check(tgw::base::positive())
-        ->needs(backfill);
+        ->excludes(no_backfill_option);
     app.add_option("--robot-name", config.robot_name,
                    "the robot's name in a fleet: its topics appear on the WAN as rt/NAME/... (ROS 2 topics, and rq/, "
                    "rr/ services) or NAME/... (any other); letters, digits and '_'");
@@ -434,6 +437,7 @@ int main(int argc, char** argv) {
                 }
             }
             config.log_max_bytes = static_cast<std::uint64_t>(log_max_mib * (1 << 20));
+            config.backfill = !no_backfill;
         }
         if (config.compact_wan && budget_fraction->count() == 0) {
             config.scheduler.budget_fraction = tgw::core::SchedulerConfig::COMPACT_BUDGET_FRACTION;

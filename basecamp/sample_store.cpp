@@ -18,9 +18,12 @@ namespace tgw::basecamp {
 
 namespace {
 
+// synchronous=FULL: each commit (one per commit period) is on disk before the backfilled rows it holds are
+// acknowledged, since the robot frees what the camp acknowledged; NORMAL would keep it across a crash of the
+// program, not of the machine.
 constexpr const char* SCHEMA = R"sql(
 PRAGMA journal_mode=WAL;
-PRAGMA synchronous=NORMAL;
+PRAGMA synchronous=FULL;
 CREATE TABLE IF NOT EXISTS topics(
     topic TEXT PRIMARY KEY,
     type_name TEXT NOT NULL,

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include "base/time.hpp"
@@ -21,6 +22,28 @@ struct InstanceKey {
 /// What a sample says about its instance. The core schedules each kind alike; a dispose or unregister carries
 /// no payload (DDS instance lifecycle, passed through to the base camp).
 enum class SampleKind : std::uint8_t { data, dispose, unregister };
+
+/// "data", "dispose" or "unregister": the kind's name in the on-robot log.
+constexpr std::string_view to_string(SampleKind kind) {
+    switch (kind) {
+        case SampleKind::dispose:
+            return "dispose";
+        case SampleKind::unregister:
+            return "unregister";
+        case SampleKind::data:
+            break;
+    }
+    return "data";
+}
+
+/// The kind named `name` (to_string's), or nothing.
+constexpr std::optional<SampleKind> sample_kind_named(std::string_view name) {
+    for (const SampleKind kind : {SampleKind::data, SampleKind::dispose, SampleKind::unregister}) {
+        if (to_string(kind) == name)
+            return kind;
+    }
+    return std::nullopt;
+}
 
 /// One sample on its way from the robot domain to the WAN, as the core sees it: opaque bytes with times.
 struct Sample {

@@ -15,14 +15,15 @@ namespace {
 /// How long a read waits when the file is busy (the writer's checkpoint, a recovery); in WAL mode, rarely at all.
 constexpr int READ_BUSY_TIMEOUT_MS = 2000;
 
-// The partial index dropped_unacknowledged (robot_log.cpp) answers the WHERE clause without reading the rows the
-// camp has; length() reads a blob's size, not its bytes.
+// The partial index dropped_backfill_due (robot_log.cpp) answers the WHERE clause without reading the rows the
+// camp has, nor a row's kind, which stands after its payload; length() reads a blob's size, not its bytes. Only
+// data is backfilled: a dispose or unregister stays in the log.
 constexpr const char* UNACKNOWLEDGED_SQL =
     "SELECT id, topic, source_time_ns, deadline_ns, length(payload) FROM dropped_samples "
-    "WHERE acked_ns IS NULL AND id > ?1 ORDER BY id LIMIT ?2;";
+    "WHERE acked_ns IS NULL AND kind = 'data' AND id > ?1 ORDER BY id LIMIT ?2;";
 
 constexpr const char* READ_DROPPED_SQL =
-    "SELECT topic, type_name, payload, instance_key, source_time_ns, deadline_ns, reason FROM dropped_samples "
+    "SELECT topic, type_name, payload, instance_key, source_time_ns, deadline_ns, reason, kind FROM dropped_samples "
     "WHERE id = ?1;";
 
 /// Resets a statement when the read ends, however it ends: a statement left stepping would keep its read
@@ -120,6 +121,7 @@ std::optional<StoredSample> BackfillReader::read_dropped(std::int64_t row_id) no
         row.source_time = base::wall_from_ns(sqlite3_column_int64(stmt, 4));
         row.deadline = base::wall_from_ns(sqlite3_column_int64(stmt, 5));
         row.reason = column_text(stmt, 6);
+        row.kind = core::sample_kind_named(column_text(stmt, 7)).value_or(core::SampleKind::data);
         return row;
     } catch (const std::exception& e) {
         fail_read_nts(e.what());

@@ -73,16 +73,20 @@ constexpr const char* SCHEMA_SQL =
 
 /// The columns of dropped_samples that backfill added. open() adds those a file lacks with ALTER TABLE, to a new
 /// file too, so that a new file and a migrated one have the same layout.
-constexpr std::array<std::pair<const char*, const char*>, 3> BACKFILL_COLUMNS{{
+constexpr std::array<std::pair<const char*, const char*>, 4> BACKFILL_COLUMNS{{
     {"acked_ns", "INTEGER"},  // when the base camp acknowledged the row; NULL until it has it
     {"sends", "INTEGER NOT NULL DEFAULT 0"},
     {"last_sent_ns", "INTEGER"},
+    // data, dispose or unregister. Only data is backfilled: a camp records no dispose live either, and without
+    // the kind a dispose would read back as data without payload. Rows of older files were all taken as data.
+    {"kind", "TEXT NOT NULL DEFAULT 'data'"},
 }};
 
 // Backfill's two questions, the unacknowledged rows by id and the acknowledged ones oldest first (at the cap), would
 // otherwise scan the table, and read every payload on the way: the added columns stand after it in each record.
 constexpr const char* BACKFILL_INDEX_SQL =
     "CREATE INDEX IF NOT EXISTS dropped_unacknowledged ON dropped_samples (id) WHERE acked_ns IS NULL;"
+    "CREATE INDEX IF NOT EXISTS dropped_backfill_due ON dropped_samples (id) WHERE acked_ns IS NULL AND kind = 'data';"
     "CREATE INDEX IF NOT EXISTS dropped_acknowledged ON dropped_samples (id) WHERE acked_ns IS NOT NULL;";
 
 // randomblob() draws from SQLite's generator, which the OS seeds (/dev/urandom). OR IGNORE: made once, then kept.
@@ -92,7 +96,7 @@ constexpr const char* LOG_ID_SQL =
 // The id is given, not left to SQLite: see next_dropped_id_.
 constexpr const char* INSERT_SQL =
     "INSERT INTO dropped_samples (topic, type_name, payload, instance_key, source_time_ns, arrival_ns, "
-    "deadline_ns, logged_ns, reason, id) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10);";
+    "deadline_ns, logged_ns, reason, id, kind) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11);";
 
 /// The largest id dropped_samples has given, that of a pruned row included: meta's max_dropped_id, which pruning
 /// keeps, or the table's own.
@@ -142,8 +146,9 @@ struct Row {
     std::int64_t deadline_ns = 0;
     std::int64_t logged_ns = 0;  ///< dropped: when logged; forwarded: when written to the WAN; rate, marks: its time
     core::DropReason reason = core::DropReason::expired;
-    double sensed_bps = 0, budget_bps = 0;           ///< rate rows only
-    std::int64_t first_row_id = 0, last_row_id = 0;  ///< marks only: the dropped rows marked (sent: first only)
+    core::SampleKind sample_kind = core::SampleKind::data;  ///< dropped rows only
+    double sensed_bps = 0, budget_bps = 0;                  ///< rate rows only
+    std::int64_t first_row_id = 0, last_row_id = 0;         ///< marks only: the dropped rows marked (sent: first only)
 };
 
 /// What one batch's transaction committed.
@@ -272,6 +277,7 @@ class RobotLog::Impl {
             if (sample->key.valid)
                 row.key = sample->key;
             row.source_time_ns = base::to_ns(sample->source_time);
+            row.sample_kind = sample->kind;
         }
         row.arrival_ns = base::to_ns(arrival);
         row.deadline_ns = base::to_ns(deadline);
@@ -528,6 +534,8 @@ class RobotLog::Impl {
         const std::string_view reason = core::to_string(row.reason);
         sqlite3_bind_text(stmt, 9, reason.data(), static_cast<int>(reason.size()), SQLITE_STATIC);
         sqlite3_bind_int64(stmt, 10, next_dropped_id_);
+        const std::string_view kind = core::to_string(row.sample_kind);
+        sqlite3_bind_text(stmt, 11, kind.data(), static_cast<int>(kind.size()), SQLITE_STATIC);
         if (!step(stmt))
             return false;
         ++next_dropped_id_;

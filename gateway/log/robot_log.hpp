@@ -61,9 +61,8 @@ struct StoredSample {
     std::string topic;
     std::string type_name;
     std::vector<std::uint8_t> payload;
-    core::InstanceKey key;  ///< not valid when the sample had none
-    /// The table does not record the kind: always data, a dispose or unregister reading as data without payload.
-    core::SampleKind kind = core::SampleKind::data;
+    core::InstanceKey key;                           ///< not valid when the sample had none
+    core::SampleKind kind = core::SampleKind::data;  ///< dropped_samples.kind
     base::WallTime source_time;
     base::WallTime deadline;
     std::string reason;  ///< the DropReason's name, as core::to_string() gives it
@@ -71,11 +70,12 @@ struct StoredSample {
 
 /// The on-robot log: an SQLite file with one row per sample not sent (table dropped_samples: topic, type name,
 /// payload, instance key, source time, arrival, deadline, logged time, reason, and for backfill when the base camp
-/// acknowledged the row, how often it was sent and when last) and one per sample sent (table forwarded_samples: the
-/// same without payload, reason and backfill columns, with the payload's size and the time it was written), and the
-/// link's rate over time (table link_rates). The meta table names the file (log_id). Appends and backfill's marks are
-/// buffered and written in batched transactions by a background thread, so the gateway's path never waits on the
-/// disk; flush() and the destructor write everything still buffered. Backfill's reads use a connection of their own.
+/// acknowledged the row, how often it was sent and when last, and its kind: data, dispose or unregister) and one per
+/// sample sent (table forwarded_samples: the same without payload, reason and backfill columns, with the payload's size
+/// and the time it was written), and the link's rate over time (table link_rates). The meta table names the file
+/// (log_id). Appends and backfill's marks are buffered and written in batched transactions by a background thread, so
+/// the gateway's path never waits on the disk; flush() and the destructor write everything still buffered. Backfill's
+/// reads use a connection of their own.
 class RobotLog {
   public:
     /// Opens or creates `path` (WAL mode); a file written before backfill gains its columns and a log_id, and
@@ -107,7 +107,8 @@ class RobotLog {
     /// Blocks until everything appended or marked so far is committed to the file.
     void flush();
 
-    /// Up to `max_rows` committed rows of dropped_samples that the base camp has not acknowledged, with an id
+    /// Up to `max_rows` committed data rows of dropped_samples (no dispose or unregister: the camp records none)
+    /// that the base camp has not acknowledged, with an id
     /// above `after_row_id` (0: from the first; the last id returned: the next page), by id ascending. Callable
     /// from any thread: it reads the last commit on a connection of its own and never waits for the writer's
     /// batches. Never throws; on a read failure, the rows read so far (reported once on stderr).

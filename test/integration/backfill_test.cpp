@@ -47,13 +47,27 @@ class BackfillTest : public RelayTest {
     }
 
     void TearDown() override {
+        stop_camp();
+        RelayTest::TearDown();
+    }
+
+    /// Stops the relay and closes its recording, as a camp laptop that goes down.
+    void stop_camp() {
         stop_relay_.store(true);
         if (relay_thread_.joinable())
             relay_thread_.join();
         relay_.reset();
         archive_.reset();
         store_.reset();
-        RelayTest::TearDown();
+    }
+
+    /// A relay started anew on the same recording.
+    void restart_camp() {
+        stop_camp();
+        stop_relay_.store(false);
+        store_ = std::make_unique<basecamp::SampleStore>(camp_path_, "--out", 50);
+        archive_ = std::make_unique<basecamp::BackfillArchive>(*store_);
+        start_relay(store_.get(), 1s, {}, 0, false, archive_.get());
     }
 
     /// Writes `n` samples of `bytes` on `writer`, `gap` apart.
@@ -166,6 +180,38 @@ TEST_F(BackfillTest, AGatewayRestartedMidBackfillGoesOnWhereItStoppedAndTheCampS
     EXPECT_EQ(camp("SELECT COUNT(DISTINCT log_id) FROM samples WHERE backfilled = 1"), 1) << "one log, both runs";
     // A row the first gateway sent whose acknowledgement it did not hear may cross again; it is stored once.
     EXPECT_LE(store_->duplicate_backfill_rows(), 4u);
+}
+
+TEST_F(BackfillTest, ACampRestartedMidBackfillOnTheSameRecordingGetsTheRestAndStoresEachRowOnce) {
+    // 20,000 bit/s: 40 rows of 1,000 bytes take about 20 s; the camp's relay goes after a few, and comes back on
+    // the same recording.
+    start(50e6);
+    const std::string topic = topic_prefix_ + "pictures";
+    auto* writer =
+        robot_writer<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, std::chrono::milliseconds(300)));
+    ASSERT_NE(writer, nullptr);
+    ASSERT_TRUE(relay_matched_gateway_writer(topic));
+    gateway_->set_wan_link_up(false);
+    constexpr int N = 40;
+    write(writer, N, 1000);
+    ASSERT_TRUE(wait_until([&] { return counts(topic).dropped_for(core::DropReason::expired) >= N; }));
+    gateway_->set_rate(20'000);
+    gateway_->set_wan_link_up(true);
+    ASSERT_TRUE(wait_until([&] { return archive_->acknowledged() >= 3; }, 20s)) << "backfill has begun";
+
+    stop_camp();
+    const std::int64_t stored_before = query(camp_path_, "SELECT COUNT(*) FROM samples WHERE backfilled = 1");
+    ASSERT_GE(stored_before, 3);
+    ASSERT_LT(stored_before, N) << "stopped mid-backfill";
+    gateway_->set_rate(200'000);
+    restart_camp();
+
+    ASSERT_TRUE(wait_until(
+        [&] { return query(log_path_, "SELECT COUNT(*) FROM dropped_samples WHERE acked_ns IS NOT NULL") == N; }, 30s))
+        << "acknowledged in the log: "
+        << query(log_path_, "SELECT COUNT(*) FROM dropped_samples WHERE acked_ns IS NOT NULL") << " of " << N;
+    EXPECT_EQ(camp("SELECT COUNT(*) FROM samples WHERE backfilled = 1"), N) << "each row stored once";
+    EXPECT_EQ(camp("SELECT COUNT(DISTINCT row_id) FROM samples WHERE backfilled = 1"), N);
 }
 
 TEST_F(BackfillTest, AHazardWrittenWhileBackfillFillsTheLinkKeepsItsDeadline) {

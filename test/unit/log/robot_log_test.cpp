@@ -512,11 +512,11 @@ TEST_F(RobotLogTest, OpensALogFromBeforeBackfillKeepingItsRowAndAddingTheColumns
     {
         LogReader reader(path);
         EXPECT_EQ(reader.scalar("SELECT COUNT(*) FROM pragma_table_info('dropped_samples') "
-                                "WHERE name IN ('acked_ns', 'sends', 'last_sent_ns')"),
-                  "3");
-        EXPECT_EQ(reader.scalar("SELECT (acked_ns IS NULL) || ',' || sends || ',' || (last_sent_ns IS NULL) "
-                                "FROM dropped_samples"),
-                  "1,0,1");
+                                "WHERE name IN ('acked_ns', 'sends', 'last_sent_ns', 'kind')"),
+                  "4");
+        EXPECT_EQ(reader.scalar("SELECT (acked_ns IS NULL) || ',' || sends || ',' || (last_sent_ns IS NULL) || ',' "
+                                "|| kind FROM dropped_samples"),
+                  "1,0,1,data");
         EXPECT_EQ(reader.scalar("SELECT value FROM meta WHERE key = 'log_id'"), sut->log_id());
     }
     const std::vector<BackfillCandidate> rows = sut->unacknowledged(0, 10);
@@ -563,23 +563,31 @@ TEST_F(RobotLogTest, ListsTheUnacknowledgedRowsByIdAPageAtATime) {
     EXPECT_TRUE(sut->unacknowledged(0, 0).empty());
 }
 
-TEST_F(RobotLogTest, ListsASampleWithoutPayloadWithZeroBytes) {
+TEST_F(RobotLogTest, KeepsADisposeOutOfBackfillAndReadsItBackAsOne) {
     sut = std::make_unique<RobotLog>(path);
     core::Sample dispose = sample({});
     dispose.kind = core::SampleKind::dispose;
     dispose.key.valid = true;
     dispose.key.bytes.fill(0x42);
     sut->append(record(dispose));
+    append_dropped(1, 3);
     sut->flush();
 
+    // The camp records no dispose live: backfill sends the data row only.
     const std::vector<BackfillCandidate> rows = sut->unacknowledged(0, 10);
     ASSERT_EQ(rows.size(), 1u);
-    EXPECT_EQ(rows[0].payload_bytes, 0u);
-    const std::optional<StoredSample> stored = sut->read_dropped(rows[0].row_id);
+    EXPECT_EQ(rows[0].payload_bytes, 3u);
+    EXPECT_EQ(LogReader(path).scalar("SELECT group_concat(kind) FROM (SELECT kind FROM dropped_samples ORDER BY id)"),
+              "dispose,data");
+
+    const std::int64_t dispose_row = std::stoll(LogReader(path).scalar("SELECT MIN(id) FROM dropped_samples"));
+    const std::optional<StoredSample> stored = sut->read_dropped(dispose_row);
     ASSERT_TRUE(stored.has_value());
+    EXPECT_EQ(stored->kind, core::SampleKind::dispose);
     EXPECT_TRUE(stored->payload.empty());
     EXPECT_TRUE(stored->key.valid);
     EXPECT_EQ(stored->key.bytes, dispose.key.bytes);
+    EXPECT_EQ(sut->read_dropped(rows[0].row_id)->kind, core::SampleKind::data);
 }
 
 TEST_F(RobotLogTest, LeavesTheRowsTheCampAcknowledgedOutOfTheList) {

@@ -38,6 +38,7 @@ BIN=$1
 cd "$(dirname "$0")/../.."
 source test/system/system_test_lib.sh
 require_netns
+require_tools sqlite3
 start_testbed 60000 fleet3 --robots 3
 ROBOTS=3
 SHARE=18000
@@ -223,6 +224,11 @@ if [ "$PUBLISHER" = cyclone ]; then
 fi
 camera_received=$(awk '$1 == "rover2/camera/image" && (NF == 9 || NF == 10) { print $4; exit }' "$WORK/report.txt")
 echo "rover2's camera frames received: ${camera_received:-0} of $(awk '$2 == "camera/image" { print $5 }' "$WORK/camera.out")"
+# Backfill (each gateway's default): what missed its TTL crosses in the robot's own spare capacity; the others' A
+# and B on time above say that it took none of theirs.
+backfilled=$(sqlite3 -batch -noheader "$WORK/camp.db" "SELECT group_concat(robot || ' ' || n, ', ') FROM
+    (SELECT substr(topic, 1, instr(topic, '/') - 1) AS robot, COUNT(*) AS n FROM samples WHERE backfilled GROUP BY 1)")
+echo "backfilled into the camp's recording: ${backfilled:-none}"
 # The restarted gateway's exit summary: topic received forwarded ... It runs about 18 s (90 A); what it forwards
 # depends on how soon the relay matches its new writers across the busy channel: 87 and 91 in runs on an idle
 # machine, 48 in one CI run beside another system test (37 held back for want of a reader, about 7 s). The check

@@ -9,6 +9,14 @@
 
 namespace tgw::basecamp {
 
+namespace {
+
+/// Backfill's rate is what the camp acknowledged over this long: a few statuses on a slow link, the link's recent
+/// spare capacity rather than a moment of it.
+constexpr std::int64_t BACKFILL_RATE_WINDOW_NS = 30'000'000'000;
+
+}  // namespace
+
 StatusView::StatusView(base::Duration history)
     : history_ns_(std::chrono::duration_cast<std::chrono::nanoseconds>(history).count()) {}
 
@@ -29,6 +37,10 @@ void StatusView::add(SampleRecord sample) {
     gateway.rates.push_back({static_cast<std::int64_t>(status->sent_ns()), status->sensed_rate_bps()});
     while (gateway.rates.size() > 1 && gateway.rates.front().at_ns < gateway.rates.back().at_ns - history_ns_) {
         gateway.rates.pop_front();
+    }
+    gateway.acks.push_back({static_cast<std::int64_t>(status->sent_ns()), status->backfill_acknowledged()});
+    while (gateway.acks.size() > 2 && gateway.acks[1].at_ns <= gateway.acks.back().at_ns - BACKFILL_RATE_WINDOW_NS) {
+        gateway.acks.pop_front();
     }
     gateway.latest = std::move(*status);
     gateway.received_ns = sample.receive_ns;
@@ -122,6 +134,21 @@ void StatusView::render(std::ostream& out, std::int64_t now_ns, std::size_t colu
                           static_cast<unsigned long long>(s.backfill_sent()),
                           static_cast<unsigned long long>(s.backfill_acknowledged()));
             out << line;
+            const AckPoint& first = gateway.acks.front();
+            const AckPoint& last = gateway.acks.back();
+            if (last.at_ns > first.at_ns && last.acknowledged > first.acknowledged) {
+                const double rows_per_s = static_cast<double>(last.acknowledged - first.acknowledged) /
+                                          (static_cast<double>(last.at_ns - first.at_ns) / 1e9);
+                std::snprintf(line, sizeof line, "  backfill's rate: %.1f rows/s acknowledged over the last %.0f s",
+                              rows_per_s, static_cast<double>(last.at_ns - first.at_ns) / 1e9);
+                out << line;
+                if (s.backfill_rows() > 0) {
+                    std::snprintf(line, sizeof line, "; the backlog clears in about %.0f s at it",
+                                  static_cast<double>(s.backfill_rows()) / rows_per_s);
+                    out << line;
+                }
+                out << '\n';
+            }
         }
 
         // The graph ends at the latest status: each column is the last rate reported in its slice of time.

@@ -38,10 +38,16 @@ class StatusView final : public SampleConsumer {
         std::int64_t at_ns;
         double rate_bps;
     };
+    /// Backfill's acknowledged rows as one status gave them, at the gateway's time.
+    struct AckPoint {
+        std::int64_t at_ns;
+        std::uint64_t acknowledged;
+    };
     struct Gateway {
         idl::GatewayStatus latest;
         std::int64_t received_ns = 0;
         std::deque<RatePoint> rates;
+        std::deque<AckPoint> acks;  ///< the last BACKFILL_RATE_WINDOW's
     };
 
     const std::int64_t history_ns_;

@@ -111,6 +111,25 @@ TEST_F(StatusViewTest, ShowsTheBackfillBacklogOnlyWhereThereIsOne) {
         << with.str();
 }
 
+TEST_F(StatusViewTest, ShowsBackfillsRateAndWhenTheBacklogClearsAtIt) {
+    // Every 10 s, 25 more rows acknowledged and 25 fewer left: 2.5 rows/s.
+    for (int i = 0; i <= 4; ++i) {
+        SampleRecord backfilling = status_at(T0 + i * 10 * S, 26'000);
+        idl::GatewayStatus status = *decode_gateway_status(backfilling.payload);
+        status.backfill_rows(static_cast<unsigned long long>(200 - 25 * i));
+        status.backfill_sent(static_cast<unsigned long long>(30 * i));
+        status.backfill_acknowledged(static_cast<unsigned long long>(25 * i));
+        backfilling.payload = test::serialized(status);
+        sut.add(backfilling);
+    }
+    std::ostringstream out;
+    sut.render(out, T0 + 40 * S);
+    EXPECT_NE(out.str().find("backfill's rate: 2.5 rows/s acknowledged over the last 30 s; the backlog clears in "
+                             "about 40 s at it"),
+              std::string::npos)
+        << out.str();
+}
+
 TEST(SparklineTest, ScalesFromTheLowestToTheHighestBlockAndLeavesGapsBlank) {
     EXPECT_EQ(sparkline({0.0, 50.0, 100.0, std::nullopt, 200.0}, 100.0), "▁▅█ █");
 }

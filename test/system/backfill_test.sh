@@ -10,8 +10,8 @@
 #   (c) nothing backfilled reached the camp's live domain as a live sample, and the rows the camp stored are
 #       acknowledged in the robot's log;
 #   (d) `tm-basecamp merge` counts each sample once, the dropped ones as backfilled, none only on the robot.
-# MODE off runs the same with --no-backfill and checks (a) only, printing what the archive holds. WAN compact runs
-# the gateway in compact WAN mode (the relay unpacks), where the same must hold.
+# MODE off runs the same with --no-backfill and checks (a) and that nothing was backfilled, printing what the
+# archive holds. WAN compact runs the gateway in compact WAN mode (the relay unpacks), where the same must hold.
 # Needs root; skipped (77) otherwise. About 80 s with IDLE_S=40.
 #   backfill_test.sh BIN_DIR [on|off] [standard|compact]
 set -euo pipefail
@@ -72,6 +72,7 @@ twice="$(q "SELECT COUNT(*) FROM (SELECT topic, source_ns FROM samples WHERE top
     GROUP BY topic, source_ns HAVING COUNT(*) > 1)")"
 echo "in the camp's recording: $archived of $published published; $twice stored twice"
 if [ "$MODE" = off ]; then
+    check "--no-backfill: nothing backfilled" "a == 0" "$(q "SELECT COUNT(*) FROM samples WHERE backfilled")"
     exit "$fail"
 fi
 check "the archive holds >= 99.9 % of what was published" "b >= 590 && a >= 0.999 * b" "$archived" "$published"

@@ -20,7 +20,7 @@
 # MODE compact runs the gateway in compact WAN mode (--wan-mode compact; the relay unpacks), where the same must hold.
 # START absent: the robot's interface is not there at all when the gateway starts (a USB radio plugged in later, a
 # driver loaded late: here the veth goes by another name until UP_AT_S), where the same must hold.
-# Needs root; skipped (77) otherwise. About 55 s.
+# DOWN_S (default 5) sets the mid-run drop's length. Needs root; skipped (77) otherwise. About 55 s.
 #   radio_down_test.sh BIN_DIR [standard|compact] [down|absent]
 set -euo pipefail
 BIN="${1:?usage: radio_down_test.sh BIN_DIR}"
@@ -36,8 +36,8 @@ require_tools sqlite3
 RATE=40000
 UP_AT_S=4
 DOWN_AT_S=18
-DOWN_S=5
-PUBLISH_S=32
+DOWN_S=${DOWN_S:-5}  # by hand: longer than the leases (the relay's 60 s, the gateway's 120 s), e.g. DOWN_S=150
+PUBLISH_S=$((DOWN_AT_S + DOWN_S + 9))
 BOUND_S=$((PUBLISH_S + 30))  # upper bound only, should this script be killed hard
 start_testbed "$RATE" radio-down
 [ -z "${TGW_TEST_KEEP:-}" ] || trap 'mkdir -p "$TGW_TEST_KEEP" && cp -r "$WORK"/. "$TGW_TEST_KEEP"/; stop_testbed' EXIT

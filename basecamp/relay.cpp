@@ -124,43 +124,104 @@ std::shared_ptr<ChannelMeter> metered(fdds::DomainParticipantQos& qos, double up
 Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domain, fdds::DomainParticipantQos local_qos,
              SampleConsumer* store, base::Duration report_period, const std::vector<std::string>& uplink,
              double channel_bps, bool measure_channel)
-    : store_(store), report_period_(report_period), uplink_topics_(uplink, "") {
-    discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
-    auto* factory = fdds::DomainParticipantFactory::get_instance();
-    wan_qos.name("tm-basecamp relay/wan");
-    if (channel_bps > 0 && measure_channel) {
-        meter_ = metered(wan_qos, channel_bps, clock_);
-        discovery_->on_participant([meter = meter_](const auto& /*prefix*/) { meter->participant_joined(); });
-    }
-    local_qos.name("tm-basecamp relay/local");
+    : store_(store),
+      wan_domain_(wan_domain),
+      channel_bps_(channel_bps),
+      measure_channel_(measure_channel),
+      report_period_(report_period),
+      uplink_topics_(uplink, "") {
     // The WAN participant first: Fast DDS 2.9 numbers a process's participants in the order they are made, and a
     // robot announces itself to the camp's participant 0 (telemetry-gateway --wan-peer-participants 1). What
     // either discovers waits in its queue until run() takes it, so neither may find the other missing.
-    wan_ = factory->create_participant(wan_domain, wan_qos, discovery_.get(), fdds::StatusMask::none());
-    if (wan_ == nullptr) {
-        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(wan_domain));
-    }
+    make_wan(std::move(wan_qos));
+    local_qos.name("tm-basecamp relay/local");
     local_discovery_ = std::make_unique<dds::Discovery>(local_discovered_.callback());
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
     local_ = factory->create_participant(local_domain, local_qos, local_discovery_.get(), fdds::StatusMask::none());
     if (local_ == nullptr) {
+        reporter_.reset();
+        grantor_.reset();
         wan_->set_listener(nullptr);
+        wan_->delete_contained_entities();
         factory->delete_participant(wan_);
         throw base::ConfigError("--local-domain: cannot create a DDS participant on domain " +
                                 std::to_string(local_domain));
     }
-    discovery_->ignore_participant(wan_->guid().guidPrefix);
     local_discovery_->ignore_participant(local_->guid().guidPrefix);
+    make_uplink();
+}
+
+void Relay::make_wan(fdds::DomainParticipantQos wan_qos) {
+    discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
+    wan_qos.name("tm-basecamp relay/wan");
+    wan_secured_ = base::has_dds_security(wan_qos);
+    if (channel_bps_ > 0 && measure_channel_) {
+        meter_ = metered(wan_qos, channel_bps_, clock_);
+        discovery_->on_participant([meter = meter_](const auto& /*prefix*/) { meter->participant_joined(); });
+    }
+    wan_ = fdds::DomainParticipantFactory::get_instance()->create_participant(wan_domain_, wan_qos, discovery_.get(),
+                                                                              fdds::StatusMask::none());
+    if (wan_ == nullptr) {
+        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(wan_domain_));
+    }
+    discovery_->ignore_participant(wan_->guid().guidPrefix);
     if (report_period_ > base::Duration::zero()) {
         reporter_ = std::make_unique<ReceiverReporter>(wan_);
     }
-    if (!uplink_topics_.empty()) {
-        // Nothing is charged: the camp has no link budget. Its counts tell the grantor what the camp sends each robot.
-        const core::WireModel wire =
-            base::has_dds_security(wan_qos) ? core::WireModel{}.with_security() : core::WireModel{};
-        uplink_ = std::make_unique<dds::Uplink>(local_, wan_, clock_, wire, dds::Uplink::Charge{});
+    if (channel_bps_ > 0) {
+        grantor_ = std::make_unique<ChannelGrantor>(wan_, channel_bps_, clock_, meter_.get(), &tally_, store_);
     }
-    if (channel_bps > 0) {
-        grantor_ = std::make_unique<ChannelGrantor>(wan_, channel_bps, clock_, meter_.get(), &tally_, store_);
+}
+
+void Relay::make_uplink() {
+    if (uplink_topics_.empty()) {
+        return;
+    }
+    // Nothing is charged: the camp has no link budget. Its counts tell the grantor what the camp sends each robot.
+    const core::WireModel wire = wan_secured_ ? core::WireModel{}.with_security() : core::WireModel{};
+    uplink_ = std::make_unique<dds::Uplink>(local_, wan_, clock_, wire, dds::Uplink::Charge{});
+    for (const dds::DiscoveredPublisher& publisher : uplink_publishers_) {
+        route_uplink(publisher);
+    }
+}
+
+void Relay::remake_wan(fdds::DomainParticipantQos wan_qos) {
+    wan_->set_listener(nullptr);
+    {
+        // The readers first: none may take a sample into what goes next.
+        std::lock_guard<std::mutex> lock(topics_mutex_);
+        for (auto& [name, topic] : topics_) {
+            for (auto& lane : topic->lanes) {
+                dds::delete_reader_then_writer(lane->reader, nullptr);  // the local writer stays
+                lane->reader = nullptr;
+                lane->statuses = nullptr;
+            }
+        }
+        if (compact_) {
+            for (const auto& [name, n] : compact_->relayed())
+                relayed_by_earlier_unpackers_[name] += n;
+        }
+    }
+    compact_.reset();  // its WAN readers and its local writers: made anew when a gateway's bundles appear again
+    backfill_.reset();
+    uplink_.reset();
+    grantor_.reset();
+    reporter_.reset();
+    wan_subscribers_.forget();
+    wan_->delete_contained_entities();
+    fdds::DomainParticipantFactory::get_instance()->delete_participant(wan_);
+    wan_ = nullptr;
+    discovered_.take(std::chrono::milliseconds(0));  // the old participant's discoveries
+    make_wan(std::move(wan_qos));
+    make_uplink();
+    if (archive_ != nullptr) {
+        backfill_ = BackfillEndpoints::make_or_say_why(wan_, *archive_);
+    }
+    std::lock_guard<std::mutex> lock(topics_mutex_);
+    const auto status = topics_.find(dds::STATUS_TOPIC);
+    if (status != topics_.end()) {
+        for (auto& lane : status->second->lanes)
+            lane->statuses = grantor_.get();
     }
 }
 
@@ -188,12 +249,10 @@ Relay::~Relay() {
 
 std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic,
                                               std::uint16_t index) {
-    fdds::Topic* wan_topic = dds::passthrough_topic(wan_, publisher.topic, publisher.type_name, publisher.keyed);
     fdds::Topic* local_topic =
         dds::passthrough_topic(local_, publisher.topic, publisher.type_name, publisher.keyed, publisher.type_object);
-    fdds::Subscriber* subscriber = wan_subscribers_.get(wan_, publisher.qos);
     fdds::Publisher* publisher_entity = local_publishers_.get(local_, publisher.qos);
-    if (wan_topic == nullptr || local_topic == nullptr || subscriber == nullptr || publisher_entity == nullptr) {
+    if (local_topic == nullptr || publisher_entity == nullptr) {
         std::fprintf(stderr, "tm-basecamp relay: cannot create the topic '%s' (type '%s')\n", publisher.topic.c_str(),
                      publisher.type_name.c_str());
         return nullptr;
@@ -210,18 +269,25 @@ std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& pu
         dds::passthrough_writer_qos(publisher_entity->get_default_datawriter_qos(), publisher.qos, publisher.keyed,
                                     publisher.lifespan),
         &lane->writer_matches, fdds::StatusMask::publication_matched());
-    if (lane->writer != nullptr) {
-        lane->reader = subscriber->create_datareader(
-            wan_topic,
-            dds::passthrough_reader_qos(subscriber->get_default_datareader_qos(), publisher.qos, publisher.keyed),
-            lane.get(), fdds::StatusMask::all());
-    }
-    if (lane->reader == nullptr) {
+    if (lane->writer == nullptr || !attach_reader(*lane, publisher)) {
         std::fprintf(stderr, "tm-basecamp relay: cannot relay '%s' (%s)\n", publisher.topic.c_str(),
                      publisher.qos.describe().c_str());
         return nullptr;
     }
     return lane;
+}
+
+bool Relay::attach_reader(Lane& lane, const dds::DiscoveredPublisher& publisher) {
+    fdds::Topic* wan_topic = dds::passthrough_topic(wan_, publisher.topic, publisher.type_name, publisher.keyed);
+    fdds::Subscriber* subscriber = wan_subscribers_.get(wan_, publisher.qos);
+    if (wan_topic == nullptr || subscriber == nullptr) {
+        return false;
+    }
+    lane.reader = subscriber->create_datareader(
+        wan_topic,
+        dds::passthrough_reader_qos(subscriber->get_default_datareader_qos(), publisher.qos, publisher.keyed), &lane,
+        fdds::StatusMask::all());
+    return lane.reader != nullptr;
 }
 
 void Relay::relay(const dds::DiscoveredPublisher& publisher) {
@@ -244,8 +310,17 @@ void Relay::relay(const dds::DiscoveredPublisher& publisher) {
         topic = std::make_unique<Topic>();
     }
     for (std::size_t i = 0; i < topic->lanes.size(); ++i) {
-        if (topic->lanes[i]->offer == publisher.qos) {
+        Lane& lane = *topic->lanes[i];
+        if (lane.offer == publisher.qos) {
             topic->writers.assign(publisher.writer, static_cast<std::uint16_t>(i));
+            // A lane whose WAN participant was made anew reads again on the new one; its local writer never left.
+            if (lane.reader == nullptr) {
+                lock.unlock();  // entity creation may call back into discovery
+                if (!attach_reader(lane, publisher)) {
+                    std::fprintf(stderr, "tm-basecamp relay: cannot relay '%s' again (%s)\n", publisher.topic.c_str(),
+                                 publisher.qos.describe().c_str());
+                }
+            }
             return;
         }
     }
@@ -267,6 +342,11 @@ void Relay::uplink(const dds::DiscoveredPublisher& publisher) {
     if (!uplink_ || !uplink_topics_.robot_topic(publisher.topic)) {
         return;  // nothing else goes from the camp onto the WAN
     }
+    uplink_publishers_.push_back(publisher);
+    route_uplink(publisher);
+}
+
+void Relay::route_uplink(const dds::DiscoveredPublisher& publisher) {
     // The camp publisher's Lifespan goes on with its commands; without one they never expire here, and the gateway
     // gives them its own TTL.
     std::optional<dds::ResolvedTtl> ttl;
@@ -351,6 +431,9 @@ std::map<std::string, std::uint64_t> Relay::relayed() const {
         for (const auto& [name, n] : compact_->relayed()) {
             counts[name] += n;
         }
+    }
+    for (const auto& [name, n] : relayed_by_earlier_unpackers_) {
+        counts[name] += n;
     }
     return counts;
 }

@@ -76,6 +76,13 @@ class Relay {
     /// Throws base::ConfigError when DDS refuses an entity. `archive` must outlive the relay.
     void archive_backfill(BackfillArchive& archive);
 
+    /// Makes the WAN participant anew with `wan_qos` (an address that changed, a peer's name that resolves to
+    /// another): everything on the WAN goes and comes back as the gateways are discovered again, while the local
+    /// participant and the lanes' local writers stay, so the camp's programs keep their readers matched and a
+    /// latched topic's last samples. In compact mode the unpacker is made anew, its local writers with it. Not
+    /// while run() runs. Throws base::ConfigError when DDS refuses the participant.
+    void remake_wan(eprosima::fastdds::dds::DomainParticipantQos wan_qos);
+
     /// Creates lanes for topics as they are discovered, until `duration` has passed or `stop` turns true.
     void run(base::Duration duration, const std::atomic<bool>& stop);
 
@@ -105,12 +112,23 @@ class Relay {
         std::vector<std::unique_ptr<Lane>> lanes;
     };
 
+    /// The WAN participant and what lives on it alone (the reports, the grants); the uplink and backfill after.
+    void make_wan(eprosima::fastdds::dds::DomainParticipantQos wan_qos);
+    /// The uplink's routes, and the camp's publishers already routed: a remade WAN participant routes them again.
+    void make_uplink();
     void relay(const dds::DiscoveredPublisher& publisher);
-    /// Routes a camp publisher of an uplink topic onto the WAN; others are ignored.
+    /// The WAN reader of `lane`, which takes `publisher`'s topic with its QoS; false when DDS refuses it.
+    bool attach_reader(Lane& lane, const dds::DiscoveredPublisher& publisher);
+    /// Routes a camp publisher of an uplink topic onto the WAN, and remembers it; others are ignored.
     void uplink(const dds::DiscoveredPublisher& publisher);
+    void route_uplink(const dds::DiscoveredPublisher& publisher);
     std::unique_ptr<Lane> make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic, std::uint16_t index);
 
     SampleConsumer* store_;
+    const int wan_domain_;
+    const double channel_bps_;
+    const bool measure_channel_;
+    bool wan_secured_ = false;  ///< the WAN participant runs DDS Security: the uplink's wire model counts it
     DeliveryTally tally_;
     /// With --measure-channel: what the WAN transport receives (shared with it), for the grantor.
     std::shared_ptr<ChannelMeter> meter_;
@@ -132,12 +150,15 @@ class Relay {
     /// Made when a compact-mode gateway's bundles or catalog appear; before the participants go.
     std::unique_ptr<CompactUnpacker> compact_;
     base::SystemClock clock_;
-    std::unique_ptr<dds::Uplink> uplink_;          ///< with uplink topics; before the participants go
+    std::unique_ptr<dds::Uplink> uplink_;                      ///< with uplink topics; before the participants go
+    std::vector<dds::DiscoveredPublisher> uplink_publishers_;  ///< the camp's, routed onto the WAN
     std::unique_ptr<ChannelGrantor> grantor_;      ///< with a channel rate; its writer is the WAN participant's
     std::unique_ptr<BackfillEndpoints> backfill_;  ///< with an archive; before the participants go
     BackfillArchive* archive_ = nullptr;           ///< see archive_backfill; the compact unpacker's too
     mutable std::mutex topics_mutex_;              ///< run() adds to topics_, relayed() reads it
     std::map<std::string, std::unique_ptr<Topic>> topics_;
+    /// What the compact unpackers of WAN participants made anew before relayed, per topic; under topics_mutex_.
+    std::map<std::string, std::uint64_t> relayed_by_earlier_unpackers_;
 };
 
 }  // namespace tgw::basecamp

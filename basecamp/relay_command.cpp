@@ -244,14 +244,7 @@ int run_relay(const RelayOptions& options) {
         std::cout << ", Foxglove on ws://0.0.0.0:" << foxglove_server->port();
     std::cout << std::endl;
 
-    // What the relays made before the one running now relayed.
-    std::map<std::string, std::uint64_t> relayed_before;
-    const auto relayed = [&] {
-        std::map<std::string, std::uint64_t> all = relayed_before;
-        for (const auto& [topic, count] : relaying->relayed())
-            all[topic] += count;
-        return all;
-    };
+    const auto relayed = [&] { return relaying->relayed(); };
     const auto duration = options.duration_s > 0 ? base::from_seconds(options.duration_s) : base::Duration::max() / 2;
     run_with_progress(
         duration, stop_requested(),
@@ -272,10 +265,9 @@ int run_relay(const RelayOptions& options) {
             if (!why.empty()) {
                 try {
                     const auto qos = wan_qos(bound);  // before the relay goes: a lookup may fail
-                    std::cout << "tm-basecamp relay: " << why << ": the relay is made anew" << std::endl;
-                    relayed_before = relayed();
-                    relaying.reset();
-                    relaying = make_relay(qos);
+                    std::cout << "tm-basecamp relay: " << why
+                              << ": the relay's WAN participant is made anew (the camp's domain stays)" << std::endl;
+                    relaying->remake_wan(qos);
                 } catch (const base::ConfigError& error) {
                     std::cerr << "tm-basecamp relay: " << why << ", but " << error.what()
                               << ": relaying on as before\n";

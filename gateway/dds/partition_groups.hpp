@@ -33,6 +33,9 @@ class PartitionGroups {
         return group;
     }
 
+    /// Forgets every group: their participant deleted them with itself.
+    void forget() { groups_.clear(); }
+
   private:
     static Group* create(eprosima::fastdds::dds::DomainParticipant* participant,
                          const eprosima::fastdds::dds::PartitionQosPolicy& partitions) {

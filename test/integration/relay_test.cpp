@@ -152,6 +152,92 @@ TEST_F(RelayTest, ALateJoinerOnTheLocalDomainGetsALatchedTopicFromTheRelay) {
     EXPECT_EQ(relay_->relayed()[topic], 3u);
 }
 
+// The relay's WAN participant made anew (its interface's address changed, a robot's name resolved to another): the
+// camp's programs keep their readers matched to the same local writers, and samples reach them again once the
+// gateway hears the new participant.
+TEST_F(RelayTest, AWanParticipantMadeAnewKeepsTheCampsReadersMatchedToTheSameWriter) {
+    /// A camp program's reader: the samples it took, and the writers it ever matched.
+    struct CampReader final : fdds::DataReaderListener {
+        void on_data_available(fdds::DataReader* reader) override {
+            idl::KeyedReading data;
+            fdds::SampleInfo info;
+            while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK)
+                samples += info.valid_data ? 1 : 0;
+        }
+        void on_subscription_matched(fdds::DataReader*, const fdds::SubscriptionMatchedStatus& info) override {
+            matched = info.current_count;
+            writers_ever = info.total_count;
+        }
+        std::atomic<std::size_t> samples{0};
+        std::atomic<std::int32_t> matched{0};
+        std::atomic<std::int32_t> writers_ever{0};
+    };
+    start_gateway(config());
+    start_relay();
+    const std::string topic = topic_prefix_ + "remade";
+    auto* writer = robot_writer<idl::KeyedReadingPubSubType>(topic, writer_qos(false));
+    ASSERT_NE(writer, nullptr);
+    ASSERT_TRUE(relay_matched_gateway_writer(topic)) << "the relay never matched the gateway's writer";
+    auto& camp = listener<CampReader>();
+    ASSERT_NE(local_->make_reader(topic, fdds::TypeSupport(new idl::KeyedReadingPubSubType()),
+                                  local_->default_reader_qos(), &camp),
+              nullptr);
+    ASSERT_TRUE(wait_until([&] { return camp.matched.load() == 1; }));
+    const auto write = [&](std::uint32_t sensor) {
+        idl::KeyedReading r;
+        r.sensor_id(sensor);
+        r.value(sensor * 10.0);
+        return writer->write(&r);
+    };
+    for (std::uint32_t sensor = 1; sensor <= 3; ++sensor)
+        ASSERT_TRUE(write(sensor));
+    ASSERT_TRUE(wait_until([&] { return camp.samples.load() >= 3; })) << "got " << camp.samples.load() << " of 3";
+
+    stop_relay_.store(true);
+    relay_thread_.join();
+    relay_->remake_wan(TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port));
+    stop_relay_.store(false);
+    relay_thread_ = std::thread([this] { relay_->run(std::chrono::minutes(5), stop_relay_); });
+
+    // Until the gateway hears the new participant, what it writes finds no reader (or the old one): keep writing.
+    ASSERT_TRUE(wait_until([&] { return write(4) && camp.samples.load() > 3; }, 20s))
+        << "nothing reached the camp's reader after the WAN participant was made anew";
+    EXPECT_EQ(camp.matched.load(), 1);
+    EXPECT_EQ(camp.writers_ever.load(), 1) << "the camp's reader lost its writer and matched another";
+    EXPECT_GE(relay_->relayed()[topic], 4u) << "the counts go on across the remake";
+}
+
+// In compact mode the unpacker goes with the WAN participant and comes back with the gateway's catalog: samples
+// reach the camp's programs again (through a local writer made anew).
+TEST_F(RelayTest, InCompactModeAWanParticipantMadeAnewRelaysAgain) {
+    GatewayConfig c = config();
+    c.compact_wan = true;
+    start_gateway(c);
+    start_relay();
+    const std::string topic = topic_prefix_ + "remade";
+    auto& camp = listener<CollectingReader<idl::PaperMessage>>();
+    local_reader<idl::PaperMessagePubSubType>(topic, local_->default_reader_qos(), camp);
+    auto* writer = robot_writer<idl::PaperMessagePubSubType>(topic, writer_qos(false));
+    ASSERT_NE(writer, nullptr);
+    const auto write = [&] {
+        idl::PaperMessage m;
+        m.data(std::vector<std::uint8_t>(41, 7));
+        return writer->write(&m);
+    };
+    ASSERT_TRUE(wait_until([&] { return write() && camp.count() > 0; }, 20s)) << "nothing before the remake";
+
+    stop_relay_.store(true);
+    relay_thread_.join();
+    const std::uint64_t before = relay_->relayed()[topic];
+    relay_->remake_wan(TestParticipant::wan_qos(domains_.wan_reader_port, domains_.gateway_wan_port));
+    stop_relay_.store(false);
+    relay_thread_ = std::thread([this] { relay_->run(std::chrono::minutes(5), stop_relay_); });
+    EXPECT_EQ(relay_->relayed()[topic], before) << "the unpacker's counts kept";
+    const std::size_t received = camp.count();
+    ASSERT_TRUE(wait_until([&] { return write() && camp.count() > received; }, 20s))
+        << "nothing reached the camp's reader after the WAN participant was made anew";
+}
+
 // A robot publisher's TypeObject reaches the camp's domain where it describes its type by itself: tm-basecamp echo
 // and Foxglove there can decode the type. One that refers to other types stays behind; a reader whose type has a
 // TypeObject still matches, and gets the samples.

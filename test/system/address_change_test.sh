@@ -64,7 +64,7 @@ sleep $((CHANGE_AT_S - ADDRESS_AT_S))
 # When each end hears of the change: samples written before may be lost with the old address, or with the relay's
 # old participant.
 stamp_line "$WORK/gateway.out" "has $NEW_ADDR now, not $robot_addr" "$WORK/gateway-heard.ns"
-stamp_line "$WORK/record.out" "is $NEW_ADDR now: the relay is made anew" "$WORK/relay-remade.ns"
+stamp_line "$WORK/record.out" "is $NEW_ADDR now: the relay's WAN participant is made anew" "$WORK/relay-remade.ns"
 move_address robot "$veth" "$robot_addr" "$NEW_ADDR" "$camp_veth"
 # The same file: the bind mount shows it (a name server's record updated, as a DHCP server with DNS does).
 printf '127.0.0.1 localhost\n%s rover.tgw\n' "$NEW_ADDR" >"$camp_etc/hosts"
@@ -110,7 +110,7 @@ check "the gateway made its WAN participant anew on $NEW_ADDR" "a == 1" \
     "$(grep -c "has $NEW_ADDR now, not $robot_addr: the WAN participant is made anew on it" "$WORK/gateway.out" || true)"
 check "the camp heard the robot again within 5 s of the change" "a != \"\" && a <= 5000" "${first_after_ms:-}"
 check "the relay looked rover.tgw up again and was made anew announcing to $NEW_ADDR" "a == 1" \
-    "$(grep -c -- "--peer rover.tgw is $NEW_ADDR now: the relay is made anew" "$WORK/record.out" || true)"
+    "$(grep -c -- "--peer rover.tgw is $NEW_ADDR now: the relay's WAN participant is made anew" "$WORK/record.out" || true)"
 check "A from 5 s after the change: >= 99 % on time" "b >= 50 && a >= 0.99 * b" "$on_time" "$published"
 
 echo

@@ -58,7 +58,7 @@ read -r c_on c_all <<<"$(a_on_time_between $((change_ns + 5000000000)) 900000000
 echo "the first A published from 0.5 s after the change reached the camp ${first_after_ms:-never} ms after it;" \
     "A from 5 s after it: $c_on of $c_all on time"
 check "the relay was made anew on $NEW_CAMP_ADDR" "a == 1" \
-    "$(grep -c "WAN interface $camp_veth has $NEW_CAMP_ADDR now: the relay is made anew" "$WORK/record.out" ||
+    "$(grep -c "WAN interface $camp_veth has $NEW_CAMP_ADDR now: the relay's WAN participant is made anew" "$WORK/record.out" ||
         true)"
 check "the camp heard the robot again within 5 s of the change" "a != \"\" && a <= 5000" "${first_after_ms:-}"
 check "A from 5 s after the change: >= 99 % on time" "b >= 40 && a >= 0.99 * b" "$c_on" "$c_all"

@@ -186,6 +186,23 @@ void Relay::make_uplink() {
 }
 
 void Relay::remake_wan(fdds::DomainParticipantQos wan_qos) {
+    if (wan_ != nullptr) {
+        retire_wan();
+    }
+    make_wan(std::move(wan_qos));
+    make_uplink();
+    if (archive_ != nullptr) {
+        backfill_ = BackfillEndpoints::make_or_say_why(wan_, *archive_);
+    }
+    std::lock_guard<std::mutex> lock(topics_mutex_);
+    const auto status = topics_.find(dds::STATUS_TOPIC);
+    if (status != topics_.end()) {
+        for (auto& lane : status->second->lanes)
+            lane->statuses = grantor_.get();
+    }
+}
+
+void Relay::retire_wan() {
     wan_->set_listener(nullptr);
     {
         // The readers first: none may take a sample into what goes next.
@@ -212,17 +229,6 @@ void Relay::remake_wan(fdds::DomainParticipantQos wan_qos) {
     fdds::DomainParticipantFactory::get_instance()->delete_participant(wan_);
     wan_ = nullptr;
     discovered_.take(std::chrono::milliseconds(0));  // the old participant's discoveries
-    make_wan(std::move(wan_qos));
-    make_uplink();
-    if (archive_ != nullptr) {
-        backfill_ = BackfillEndpoints::make_or_say_why(wan_, *archive_);
-    }
-    std::lock_guard<std::mutex> lock(topics_mutex_);
-    const auto status = topics_.find(dds::STATUS_TOPIC);
-    if (status != topics_.end()) {
-        for (auto& lane : status->second->lanes)
-            lane->statuses = grantor_.get();
-    }
 }
 
 Relay::~Relay() {
@@ -339,11 +345,13 @@ void Relay::relay(const dds::DiscoveredPublisher& publisher) {
 }
 
 void Relay::uplink(const dds::DiscoveredPublisher& publisher) {
-    if (!uplink_ || !uplink_topics_.robot_topic(publisher.topic)) {
+    if (uplink_topics_.empty() || !uplink_topics_.robot_topic(publisher.topic)) {
         return;  // nothing else goes from the camp onto the WAN
     }
     uplink_publishers_.push_back(publisher);
-    route_uplink(publisher);
+    if (uplink_) {  // none while a WAN participant could not be made anew: routed when one is
+        route_uplink(publisher);
+    }
 }
 
 void Relay::route_uplink(const dds::DiscoveredPublisher& publisher) {

@@ -80,7 +80,8 @@ class Relay {
     /// another): everything on the WAN goes and comes back as the gateways are discovered again, while the local
     /// participant and the lanes' local writers stay, so the camp's programs keep their readers matched and a
     /// latched topic's last samples. In compact mode the unpacker is made anew, its local writers with it. Not
-    /// while run() runs. Throws base::ConfigError when DDS refuses the participant.
+    /// while run() runs. Throws base::ConfigError when DDS refuses the participant: the relay then has none on the
+    /// WAN (the camp's domain stays) until a later remake_wan() makes one.
     void remake_wan(eprosima::fastdds::dds::DomainParticipantQos wan_qos);
 
     /// Creates lanes for topics as they are discovered, until `duration` has passed or `stop` turns true.
@@ -116,6 +117,8 @@ class Relay {
     void make_wan(eprosima::fastdds::dds::DomainParticipantQos wan_qos);
     /// The uplink's routes, and the camp's publishers already routed: a remade WAN participant routes them again.
     void make_uplink();
+    /// Deletes the WAN participant and everything on it; the lanes keep their local writers.
+    void retire_wan();
     void relay(const dds::DiscoveredPublisher& publisher);
     /// The WAN reader of `lane`, which takes `publisher`'s topic with its QoS; false when DDS refuses it.
     bool attach_reader(Lane& lane, const dds::DiscoveredPublisher& publisher);

@@ -263,14 +263,22 @@ int run_relay(const RelayOptions& options) {
                     why += (why.empty() ? "--peer " : "; --peer ") + peers_now + " now";
             }
             if (!why.empty()) {
+                std::optional<eprosima::fastdds::dds::DomainParticipantQos> qos;
                 try {
-                    const auto qos = wan_qos(bound);  // before the relay goes: a lookup may fail
-                    std::cout << "tm-basecamp relay: " << why
-                              << ": the relay's WAN participant is made anew (the camp's domain stays)" << std::endl;
-                    relaying->remake_wan(qos);
+                    qos = wan_qos(bound);  // before the participant goes: a lookup may fail
                 } catch (const base::ConfigError& error) {
                     std::cerr << "tm-basecamp relay: " << why << ", but " << error.what()
                               << ": relaying on as before\n";
+                }
+                if (qos) {
+                    std::cout << "tm-basecamp relay: " << why
+                              << ": the relay's WAN participant is made anew (the camp's domain stays)" << std::endl;
+                    try {
+                        relaying->remake_wan(*qos);
+                    } catch (const base::ConfigError& error) {
+                        std::cerr << "tm-basecamp relay: " << error.what()
+                                  << ": nothing on the WAN until the next change of address or name\n";
+                    }
                 }
             }
             relaying->run(slice, stop_requested());

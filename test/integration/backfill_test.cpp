@@ -96,6 +96,22 @@ class BackfillTest : public RelayTest {
     std::unique_ptr<basecamp::SampleStore> store_;
     std::unique_ptr<basecamp::BackfillArchive> archive_;
 
+    /// `n` samples of 1,000 bytes (TTL 0.3 s) expire into the log while the link is down; the link comes back at
+    /// 20,000 bit/s, where they take about 0.5 s each, and returns once the camp has acknowledged 3.
+    void begin_backfill_of(const std::string& topic, int n) {
+        auto* writer =
+            robot_writer<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, std::chrono::milliseconds(300)));
+        ASSERT_NE(writer, nullptr);
+        ASSERT_TRUE(relay_matched_gateway_writer(topic));
+        gateway_->set_wan_link_up(false);
+        write(writer, n, 1000);
+        ASSERT_TRUE(wait_until(
+            [&] { return counts(topic).dropped_for(core::DropReason::expired) >= static_cast<std::uint64_t>(n); }));
+        gateway_->set_rate(20'000);
+        gateway_->set_wan_link_up(true);
+        ASSERT_TRUE(wait_until([&] { return archive_->acknowledged() >= 3; }, 20s)) << "backfill has begun";
+    }
+
     /// Samples expire while the link is down and go to the log; once it is up, they reach the camp's recording,
     /// and not its live domain, and the log marks them acknowledged.
     void expect_what_the_log_kept_in_the_archive();
@@ -150,18 +166,10 @@ TEST_F(BackfillTest, AGatewayRestartedMidBackfillGoesOnWhereItStoppedAndTheCampS
     // 20,000 bit/s: 40 rows of 1,000 bytes take about 20 s; the gateway is stopped after a few, and made anew on
     // the same log.
     start(50e6);
-    const std::string topic = topic_prefix_ + "pictures";
-    auto* writer =
-        robot_writer<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, std::chrono::milliseconds(300)));
-    ASSERT_NE(writer, nullptr);
-    ASSERT_TRUE(relay_matched_gateway_writer(topic));
-    gateway_->set_wan_link_up(false);
     constexpr int N = 40;
-    write(writer, N, 1000);
-    ASSERT_TRUE(wait_until([&] { return counts(topic).dropped_for(core::DropReason::expired) >= N; }));
-    gateway_->set_rate(20'000);
-    gateway_->set_wan_link_up(true);
-    ASSERT_TRUE(wait_until([&] { return archive_->acknowledged() >= 3; }, 20s)) << "backfill has begun";
+    begin_backfill_of(topic_prefix_ + "pictures", N);
+    if (HasFatalFailure())
+        return;
 
     GatewayConfig c = config();
     c.log_file = log_path_;
@@ -186,18 +194,10 @@ TEST_F(BackfillTest, ACampRestartedMidBackfillOnTheSameRecordingGetsTheRestAndSt
     // 20,000 bit/s: 40 rows of 1,000 bytes take about 20 s; the camp's relay goes after a few, and comes back on
     // the same recording.
     start(50e6);
-    const std::string topic = topic_prefix_ + "pictures";
-    auto* writer =
-        robot_writer<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, std::chrono::milliseconds(300)));
-    ASSERT_NE(writer, nullptr);
-    ASSERT_TRUE(relay_matched_gateway_writer(topic));
-    gateway_->set_wan_link_up(false);
     constexpr int N = 40;
-    write(writer, N, 1000);
-    ASSERT_TRUE(wait_until([&] { return counts(topic).dropped_for(core::DropReason::expired) >= N; }));
-    gateway_->set_rate(20'000);
-    gateway_->set_wan_link_up(true);
-    ASSERT_TRUE(wait_until([&] { return archive_->acknowledged() >= 3; }, 20s)) << "backfill has begun";
+    begin_backfill_of(topic_prefix_ + "pictures", N);
+    if (HasFatalFailure())
+        return;
 
     stop_camp();
     const std::int64_t stored_before = query(camp_path_, "SELECT COUNT(*) FROM samples WHERE backfilled = 1");

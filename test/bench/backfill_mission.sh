@@ -68,11 +68,7 @@ BOUND_S=$((MISSION_S + TAIL_S + 40))  # upper bound only, should this script be 
 start_testbed "$SLOW_RATE" backfill-mission
 [ -z "$KEEP" ] || trap 'cp -r "$WORK"/. "$KEEP"/; stop_testbed' EXIT
 
-"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --peer "$robot_addr" --interface "$basecamp_addr" \
-    --local-domain 7 --local-interface 127.0.0.1 --out "$WORK/basecamp.db" --duration "$BOUND_S" \
-    >"$WORK/record.out" 2>&1 &
-record_pid=$!
-PIDS+=("$record_pid")
+start_recording_relay "$BOUND_S"
 start_paper_gateway "$BOUND_S" --log-max-mib "$LOG_MIB"
 sleep 2
 "${tb[@]}" robot "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload paper --rate-hz "$RATE_HZ" \

@@ -31,11 +31,7 @@ BOUND_S=$((PUBLISH_S + IDLE_S + 40))  # upper bound only, should this script be 
 start_testbed "$LIVE_RATE" backfill-mix
 [ -z "${TGW_TEST_KEEP:-}" ] || trap 'mkdir -p "$TGW_TEST_KEEP" && cp -r "$WORK"/. "$TGW_TEST_KEEP"/; stop_testbed' EXIT
 
-"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --peer "$robot_addr" --interface "$basecamp_addr" \
-    --local-domain 7 --local-interface 127.0.0.1 --out "$WORK/basecamp.db" --duration "$BOUND_S" \
-    >"$WORK/record.out" 2>&1 &
-PIDS+=("$!")
-record_pid=$!
+start_recording_relay "$BOUND_S"
 "${tb[@]}" robot "$BIN/telemetry-gateway" --robot-domain 0 --wan-domain 1 --wan-peer "$basecamp_addr" \
     --wan-interface "$veth" --sensor "qdisc:$veth" --log "$WORK/robot-log.db" --idl test/system/mix \
     --duration "$BOUND_S" \

@@ -33,11 +33,7 @@ BOUND_S=$((PUBLISH_S + IDLE_S + 40))  # upper bound only, should this script be 
 start_testbed "$LIVE_RATE" backfill
 [ -z "${TGW_TEST_KEEP:-}" ] || trap 'mkdir -p "$TGW_TEST_KEEP" && cp -r "$WORK"/. "$TGW_TEST_KEEP"/; stop_testbed' EXIT
 
-"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --peer "$robot_addr" --interface "$basecamp_addr" \
-    --local-domain 7 --local-interface 127.0.0.1 --out "$WORK/basecamp.db" --duration "$BOUND_S" \
-    >"$WORK/record.out" 2>&1 &
-record_pid=$!
-PIDS+=("$record_pid")
+start_recording_relay "$BOUND_S"
 backfill=()
 [ "$MODE" = on ] || backfill=(--no-backfill)
 start_paper_gateway "$BOUND_S" --wan-mode "$WAN" "${backfill[@]}"

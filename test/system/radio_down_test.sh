@@ -46,11 +46,7 @@ link() { "${tb[@]}" robot ip link set "$veth" "$1"; }
 link down
 AWAY=radio-absent  # a name in the robot's namespace only
 [ "$START" = down ] || "${tb[@]}" robot ip link set "$veth" name "$AWAY"
-"${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --peer "$robot_addr" --interface "$basecamp_addr" \
-    --local-domain 7 --local-interface 127.0.0.1 --out "$WORK/basecamp.db" --duration "$BOUND_S" \
-    >"$WORK/record.out" 2>&1 &
-record_pid=$!
-PIDS+=("$record_pid")
+start_recording_relay "$BOUND_S"
 start_paper_gateway "$BOUND_S" --wan-mode "$MODE"
 
 sleep 2

@@ -122,6 +122,17 @@ start_paper_gateway() {
     PIDS+=("$gateway_pid")
 }
 
+# start_recording_relay SECONDS: tm-basecamp relay at the camp, as the robot's peer, recording into
+# $WORK/basecamp.db (backfill too) for at most SECONDS, the camp's domain 7 on loopback, into $WORK/record.out;
+# sets record_pid.
+start_recording_relay() {
+    "${tb[@]}" basecamp "$BIN/tm-basecamp" relay --domain 1 --peer "$robot_addr" --interface "$basecamp_addr" \
+        --local-domain 7 --local-interface 127.0.0.1 --out "$WORK/basecamp.db" --duration "$1" \
+        >"$WORK/record.out" 2>&1 &
+    record_pid=$!
+    PIDS+=("$record_pid")
+}
+
 # finish_run SIM_PID GATEWAY_PID RECORD_PID: waits for tm-robot-sim (sets sim_status); lets the gateway drain for
 # 2 s, then stops it (sets gateway_status; it logs what is still queued as 'shutdown'); gives the recorder 2 s for
 # what is in flight (the shaper's queue is at most 1 s deep), then stops it; the shaper's counters go to

@@ -92,6 +92,13 @@ FROM (
     LEFT JOIN recording.topics t ON t.topic = d.topic
     WHERE d.topic NOT IN (?1, ?2)
     UNION ALL
+    SELECT f.topic, f.type_name, f.instance, f.source_ns, length(f.payload), f.payload, 'dropped', f.drop_reason,
+           NULL, NULL, NULL, NULL, f.receive_ns, f.receive_ns - f.source_ns, COALESCE(f.lifespan_ns, t.lifespan_ns),
+           NULL, f.id, 1
+    FROM temp.backfilled_freed f
+    LEFT JOIN recording.topics t ON t.topic = f.topic
+    WHERE f.topic NOT IN (?1, ?2)
+    UNION ALL
     SELECT s.topic, s.type_name, s.instance, s.source_ns, length(s.payload), s.payload, 'received', NULL, NULL, NULL,
            NULL, NULL, s.receive_ns, s.receive_ns - s.source_ns, COALESCE(s.lifespan_ns, t.lifespan_ns), NULL, s.id, 0
     FROM temp.pairs p
@@ -105,15 +112,23 @@ constexpr const char* COUNT_FATES_SQL =
     "SELECT topic, fate, reason, robot_row IS NULL, COUNT(*), COALESCE(SUM(on_time), 0), COUNT(ttl_ns), "
     "SUM(backfilled) FROM main.mission_samples GROUP BY 1, 2, 3, 4 ORDER BY 1, 2, 3, 4";
 
-// The samples the camp's archive got from this log by backfill (docs/design/backfill.md), by the log's row: from a
-// recording and a log that know backfill, else none.
+// The samples the camp's archive got from this log by backfill (docs/design/backfill.md), by the log's row; and
+// those whose row the log no longer has: acknowledged, it was freed at the log's cap (--log-max-mib), and only the
+// recording knows the sample now, its reason included. From a recording and a log that know backfill, else none.
 constexpr const char* BACKFILLED_VIEW_SQL = R"sql(
 CREATE TEMP VIEW backfilled AS
 SELECT id, row_id, receive_ns FROM recording.samples
 WHERE backfilled = 1 AND log_id = (SELECT value FROM robot.meta WHERE key = 'log_id');
+CREATE TEMP VIEW backfilled_freed AS
+SELECT s.id, s.topic, s.type_name, s.instance, s.source_ns, s.payload, s.receive_ns, s.lifespan_ns, s.drop_reason
+FROM recording.samples s JOIN temp.backfilled b ON b.id = s.id
+WHERE b.row_id NOT IN (SELECT id FROM robot.dropped_samples);
 )sql";
 constexpr const char* NO_BACKFILLED_VIEW_SQL = R"sql(
 CREATE TEMP VIEW backfilled AS SELECT NULL AS id, NULL AS row_id, NULL AS receive_ns WHERE 0;
+CREATE TEMP VIEW backfilled_freed AS
+SELECT NULL AS id, NULL AS topic, NULL AS type_name, NULL AS instance, NULL AS source_ns, NULL AS payload,
+       NULL AS receive_ns, NULL AS lifespan_ns, NULL AS drop_reason WHERE 0;
 )sql";
 
 using DbPtr = std::unique_ptr<sqlite3, int (*)(sqlite3*)>;
@@ -365,8 +380,9 @@ class Merger {
         std::vector<Identity> robot;
         std::vector<Identity> basecamp;
         // Backfilled samples pair with the log's dropped rows, by row id, not with forwarded ones.
-        const bool backfill = has_columns("SELECT backfilled, log_id, row_id FROM recording.samples LIMIT 0") &&
-                              has_columns("SELECT key, value FROM robot.meta LIMIT 0");
+        const bool backfill =
+            has_columns("SELECT backfilled, log_id, row_id, drop_reason FROM recording.samples LIMIT 0") &&
+            has_columns("SELECT key, value FROM robot.meta LIMIT 0");
         archive_.exec(backfill ? BACKFILLED_VIEW_SQL : NO_BACKFILLED_VIEW_SQL, "cannot read the backfilled samples");
         if (!read_identities("SELECT id, topic, instance_key, source_time_ns, payload_bytes FROM "
                              "robot.forwarded_samples WHERE topic NOT IN (?1, ?2) ORDER BY id",

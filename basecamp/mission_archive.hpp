@@ -44,7 +44,10 @@ struct MergeCounts {
 /// order that depends only on the inputs, so merging again gives the same rows; plus a `meta` table naming the
 /// inputs. A forwarded row matches a recorded sample of the same topic, source time, instance key and payload
 /// size, duplicates by multiplicity; a recorded sample that matches none is kept as received with the robot's
-/// columns NULL. The gateway's own topics (tgw/status, tgw/receiver_report) are left out.
+/// columns NULL. A sample backfilled from this log is `dropped` with its row's reason and the recording's receive
+/// time, backfilled 1; one whose row the log freed once the camp had acknowledged it (at --log-max-mib) keeps the
+/// reason the recording stored, the robot's columns NULL. Another log's backfilled samples are not this robot's
+/// and are left out. The gateway's own topics (tgw/status, tgw/receiver_report) are left out.
 ///
 /// The archive is written to a temporary file next to `out` and renamed into place at the end: `out` is either
 /// the previous archive or the whole new one. When `stop` turns true the merge stops, removes its temporary file

@@ -258,6 +258,52 @@ TEST_F(MissionArchiveTest, ABackfilledSampleStaysDroppedWithItsReasonAndGainsThe
     EXPECT_EQ(c.received_unmatched, 0u) << "a backfilled sample pairs with its dropped row, not as received";
 }
 
+TEST_F(MissionArchiveTest, ABackfilledSampleWhoseRowTheLogFreedAtItsCapStaysWithTheReasonTheCampStored) {
+    // A log capped at 1 MiB: one expired row, which the camp backfills and acknowledges, then enough doomed rows
+    // to pass the cap, which frees the acknowledged row first (RobotLog's order).
+    constexpr std::size_t BIG = 10'000;
+    const core::Sample expired = sample(T0_NS, BIG, std::nullopt);
+    std::string log_id;
+    std::int64_t expired_row = 0;
+    {
+        log::RobotLog log(robot_log_, 1u << 20);
+        const base::WallTime at = expired.source_time + std::chrono::seconds(1);
+        log.append({"telemetry/D", TYPE, &expired, core::DropReason::expired, at, at, at});
+        log.flush();
+        expired_row = log.unacknowledged(0, 1).at(0).row_id;
+        log_id = log.log_id();
+        log.mark_acknowledged(expired_row, expired_row, at);
+        log.flush();
+        for (int i = 1; i <= 110; ++i) {
+            const core::Sample doomed = sample(T0_NS + i * MS, BIG, std::nullopt);
+            log.append({"telemetry/D", TYPE, &doomed, core::DropReason::doomed, at, at, at});
+            log.flush();
+        }
+    }
+    ASSERT_EQ(query(robot_log_, "SELECT COUNT(*) FROM dropped_samples WHERE id = " + std::to_string(expired_row)),
+              std::vector<std::string>{"0"})
+        << "the cap must have freed the acknowledged row";
+    SampleRecord s;
+    s.topic = "telemetry/D";
+    s.type_name = TYPE;
+    s.payload = payload(BIG);
+    s.source_ns = T0_NS;
+    s.receive_ns = T0_NS + 90'000 * MS;
+    s.backfill = BackfillOrigin{log_id, expired_row, "expired"};
+    test::write_recording(recording_, {}, {s});
+
+    const MergeCounts counts = merge(archive_);
+
+    EXPECT_EQ(archive_rows("fate, reason, backfilled, receive_ns - source_ns, robot_row IS NULL", "reason = 'expired'"),
+              std::vector<std::string>{"dropped|expired|1|90000000000|1"});
+    const TopicFates& d = fates_of(counts, "telemetry/D");
+    const auto logged = query(robot_log_, "SELECT COUNT(*) FROM dropped_samples");
+    EXPECT_EQ(d.produced(), std::stoull(logged.at(0)) + 1) << "what the log keeps, and the freed row once";
+    EXPECT_EQ(d.backfilled, 1u);
+    EXPECT_EQ(d.dropped[static_cast<std::size_t>(core::DropReason::expired)], 1u);
+    EXPECT_EQ(d.received_unmatched, 0u);
+}
+
 TEST_F(MissionArchiveTest, AReceivedSampleCarriesItsLatencyAndWhetherItCameWithinTheRecordedLifespan) {
     declare("telemetry/A", 1000 * MS);
     declare("no/lifespan", std::nullopt);

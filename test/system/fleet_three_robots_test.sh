@@ -26,6 +26,13 @@
 # the testbed's camp -> robot direction is not shaped.
 # QOS= (empty; ctest's fleet_three_robots_grants, with WAY=grants RESTART=0) runs the gateways without
 # qos/paper_workload.xml: the TTLs come from the publishers' Lifespans, and a topic is known once it publishes.
+# ROVER3=light (issue 45's fleet target, with RESTART=drop; ctest's fleet_three_robots_backfill): rover3 publishes
+# A and B only (5 Hz each), which leave room in its share, while rovers 1 and 2's whole workload needs more than
+# theirs. The 5 s its radio is down put rover3's A and B into its on-robot log; backfill (each gateway's default)
+# carries them in that room. After the run, until rover3's log has no row the camp has not acknowledged (30 s at
+# most). Checks, besides rovers 1 and 2's A and B on time: `tm-basecamp merge` of rover3's log and the camp's
+# recording has every sample rover3 published once, none only on the robot, and at most a second's worth lost in
+# flight when its radio went down.
 # PEER_PARTICIPANTS=N announces each gateway to N participants at the camp (default 1; the gateway's own default 4).
 # PUBLISHER=cyclone (issue 49's fleet target, with WAY=grants RESTART=0 QOS=): each robot's workload comes from an
 # independent Cyclone program with its defaults and Lifespan = TTL (mix_pub's paper workload), and a Cyclone reader
@@ -126,12 +133,21 @@ done
 # crosses the shaped channel before the robots publish.
 sleep "$WARMUP"
 sims=()
+ROVER3=${ROVER3:-paper}
+workload() {  # K: rover K's workload for tm-robot-sim
+    if [ "$1" = 3 ] && [ "$ROVER3" = light ]; then
+        printf 'A telemetry/A 41 1 5\nB telemetry/B 66 2 5\n' >"$WORK/light.workload"
+        echo "$WORK/light.workload"
+    else
+        echo paper
+    fi
+}
 for k in $(seq 1 "$ROBOTS"); do
     if [ "$PUBLISHER" = cyclone ]; then
         "${tb[@]}" "robot$k" env CYCLONEDDS_URI="$robot_cyclone" "$BIN/mix_pub" 0 "$DURATION" paper \
             >"$WORK/sim$k.out" 2>&1 &
     else
-        "${tb[@]}" "robot$k" "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload paper --rate-hz 5 \
+        "${tb[@]}" "robot$k" "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload "$(workload "$k")" --rate-hz 5 \
             --duration "$DURATION" --linger 0 --wait-match 10 >"$WORK/sim$k.out" 2>&1 &
     fi
     sims+=("$!")
@@ -177,6 +193,18 @@ if [ "$RESTART" = 1 ]; then
 fi
 
 for pid in "${sims[@]}" "$camera" ${commands:+"$commands"}; do wait "$pid" || true; done
+unacknowledged() {  # LOG: the rows of an on-robot log the camp has not acknowledged
+    sqlite3 -batch -noheader "file:$1?mode=ro" "SELECT COUNT(*) FROM dropped_samples WHERE acked_ns IS NULL AND
+        kind = 'data'" 2>/dev/null || echo "?"
+}
+if [ "$ROVER3" = light ]; then
+    waited=0
+    while [ "$(unacknowledged "$WORK/gateway3.db")" != 0 ] && [ "$waited" -lt 30 ]; do
+        sleep 1
+        waited=$((waited + 1))
+    done
+    echo "rover3's backlog: $(unacknowledged "$WORK/gateway3.db") rows unacknowledged $waited s after the run"
+fi
 finish_fleet "$relay" "${gateways[@]}"
 if [ "$COMMANDS" = 1 ]; then
     kill -TERM "$commands_record" 2>/dev/null || true
@@ -249,6 +277,21 @@ if [ "$RESTART" = drop ]; then
     check "rover3/telemetry/A from 1 s after its radio came back: >= 99 % on time" "b >= 50 && a >= 0.99 * b" \
         "$a_on" "$a_all"
     check "rover3's gateway had a share of the channel again within 3 s" "a != \"\" && a > 0" "${share_bps:-}"
+fi
+if [ "$ROVER3" = light ]; then
+    "$BIN/tm-basecamp" merge "$WORK/gateway3.db" "$WORK/camp.db" --out "$WORK/rover3-mission.db" >/dev/null
+    read -r produced live backfilled only_robot lost <<<"$(sqlite3 -batch -separator ' ' "$WORK/rover3-mission.db" \
+        "SELECT COUNT(*), SUM(fate = 'received' AND backfilled = 0), SUM(backfilled), SUM(fate = 'dropped' AND
+        backfilled = 0), SUM(fate = 'lost') FROM mission_samples WHERE topic LIKE 'rover3/%'")"
+    published3=$(($(published 3 telemetry/A) + $(published 3 telemetry/B)))
+    echo "rover3's mission archive (tm-basecamp merge): $produced samples of $published3 published; $live live," \
+        "$backfilled backfilled, $only_robot only on the robot, $lost lost in flight"
+    grep '^backfill on tgw/backfill' "$WORK/gateway3.out" || true
+    check "rover3's archive holds each sample it published once" "a == b" "$produced" "$published3"
+    check "rover3: its radio drop's samples backfilled, none left only on the robot" "a >= 20 && b == 0" \
+        "${backfilled:-0}" "${only_robot:-1}"
+    check "rover3: at most a second's worth lost in flight as its radio went down" "a <= 10" "${lost:-0}"
+    check "rover3's log: every row acknowledged" "a == 0" "$(unacknowledged "$WORK/gateway3.db")"
 fi
 if [ "$COMMANDS" = 1 ]; then
     written=$(awk '$2 == "rt/rover1/cmd_vel" { print $5 }' "$WORK/commands.out")

@@ -5,8 +5,10 @@
 # records. What the first half could not carry in time crosses in the second half's spare capacity.
 #
 # It prints, and checks:
-#   - the archive: per topic, published (tm-robot-sim's count) = in the camp's recording, live or backfilled, each
-#     once (>= 99.9 % of the whole), and when the last backfilled row arrived;
+#   - the archive, through `tm-basecamp merge` of the robot's log and the camp's recording: per topic, published
+#     (tm-robot-sim's count) against received live, backfilled, only on the robot, lost; >= 99.9 % of the whole
+#     received or backfilled, none only on the robot, none twice in the recording; and when the last backfilled row
+#     arrived;
 #   - live delivery: A on time outside the outage (from 2 s after the link came back) >= 99 %;
 #   - the log: the cap was reached and the rows it freed were acknowledged ones (meta's pruned_acknowledged_rows
 #     > 0, pruned_dropped_rows = 0: no row the camp lacks was freed), no unacknowledged row left;
@@ -107,23 +109,28 @@ finish_run "$sim_pid" "$gateway_pid" "$record_pid"
 show_outputs "$WORK/record.out"
 
 echo
-echo "== the archive"
+echo "== the archive (tm-basecamp merge of the robot's log and the camp's recording)"
+"$BIN/tm-basecamp" merge "$LOG" "$REC" --out "$WORK/mission.db" >"$WORK/merge.out"
 total_published=0
 total_archived=0
+total_only_robot=0
 for topic in telemetry/A telemetry/B telemetry/C telemetry/D; do
     published="$(awk -v t="$topic" '$2 == t { print $5 }' "$WORK/robot.out")"
-    read -r live backfilled archived <<<"$(q "SELECT SUM(NOT backfilled), SUM(backfilled), COUNT(*) FROM
-        (SELECT MAX(backfilled) AS backfilled FROM samples WHERE topic = '$topic' GROUP BY source_ns)" | tr '|' ' ')"
-    echo "$topic: published ${published:-?}, in the recording ${archived:-0} (live ${live:-0}," \
-        "backfilled ${backfilled:-0})"
+    read -r produced live backfilled only_robot lost <<<"$(sqlite3 -batch -separator ' ' "$WORK/mission.db" \
+        "SELECT COUNT(*), TOTAL(fate = 'received'), TOTAL(backfilled), TOTAL(fate = 'dropped' AND NOT backfilled),
+        TOTAL(fate = 'lost') FROM mission_samples WHERE topic = '$topic'" | sed 's/[.]0//g')"
+    echo "$topic: published ${published:-?}; the archive $produced: live $live, backfilled $backfilled," \
+        "only on the robot $only_robot, lost $lost"
     total_published=$((total_published + ${published:-0}))
-    total_archived=$((total_archived + ${archived:-0}))
+    total_archived=$((total_archived + live + backfilled))
+    total_only_robot=$((total_only_robot + only_robot))
 done
 twice="$(q "SELECT COUNT(*) - COUNT(DISTINCT topic || source_ns) FROM samples WHERE topic LIKE 'telemetry/%'")"
 last_ms="$(q "SELECT printf('%.0f', (MAX(receive_ns) - $fast_ns) / 1e6) FROM samples WHERE backfilled")"
-check "the recording holds >= 99.9 % of the $total_published published ($total_archived)" "b > 0 && a >= 0.999 * b" \
-    "$total_archived" "$total_published"
-check "none twice" "a == 0" "${twice:-1}"
+check "the camp's archive holds >= 99.9 % of the $total_published published ($total_archived, live or backfilled)" \
+    "b > 0 && a >= 0.999 * b" "$total_archived" "$total_published"
+check "none only on the robot" "a == 0" "$total_only_robot"
+check "none twice in the recording" "a == 0" "${twice:-1}"
 echo "the last backfilled sample reached the camp ${last_ms:-never} ms after the link went to $FAST_RATE bit/s" \
     "(the mission ended $(((end_ns - fast_ns) / 1000000)) ms after it)"
 

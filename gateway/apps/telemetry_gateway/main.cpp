@@ -353,7 +353,8 @@ int main(int argc, char** argv) {
     app.add_flag("--no-log", no_log, "keep no on-robot log: what is not sent is only counted")->excludes(log_option);
     double log_max_mib = 1024;
     app.add_option("--log-max-mib", log_max_mib,
-                   "MiB the on-robot log may take; past it the oldest rows make room, those of samples sent first")
+                   "MiB the on-robot log may take; past it the oldest rows make room: first those the camp has "
+                   "acknowledged (backfill), then those of samples sent, then the rest")
         ->check(tgw::base::positive())
         ->capture_default_str();
     // Backfill is on wherever there is an on-robot log: its rows cross to a camp that stores them (relay --out,

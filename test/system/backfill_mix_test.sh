@@ -8,8 +8,7 @@
 # message asks a user to.
 # Checks: per topic, every sample the gateway received (forwarded or logged) is in the camp's recording once, live
 # or backfilled; backfilled joints keep their instance (the log's key); backfilled images keep their bytes (equal
-# to the log's row). Needs root and the Cyclone programs; skipped (77)
-# otherwise. About 80 s. Not in ctest (the suite's time); run by hand:
+# to the log's row). Needs root and the Cyclone programs; skipped (77) otherwise. About 80 s; ctest's backfill_mix.
 #   backfill_mix_test.sh BIN_DIR
 set -euo pipefail
 BIN="${1:?usage: backfill_mix_test.sh BIN_DIR}"

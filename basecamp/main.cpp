@@ -3,12 +3,14 @@
 // the gateway's on-robot log where every missing sample went.
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "base/config_error.hpp"
+#include "base/config_file.hpp"
 #include "base/fastdds_log_reporter.hpp"
 #include "base/peer_transport.hpp"
 #include "basecamp/backfill_archive.hpp"
@@ -128,10 +130,24 @@ int main(int argc, char** argv) {
         tgw::basecamp::add_status_command(app),
     };
 
+    std::vector<tgw::base::ConfigFile*> config_files;
+    for (const tgw::basecamp::Subcommand& subcommand : subcommands) {
+        if (subcommand.config)
+            config_files.push_back(subcommand.config.get());
+    }
     try {
-        app.parse(argc, argv);
+        tgw::base::parse_with_config(app, argc, argv, config_files);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
+        if (e.get_exit_code() == 0)
+            return app.exit(e);  // --help, --version
+        app.exit(CLI::ConfigError(tgw::base::explain_config_error(e.what(), config_files)));
+        return 2;
+    }
+    for (const tgw::basecamp::Subcommand& subcommand : subcommands) {
+        if (subcommand.config && subcommand.command->parsed() && subcommand.config->print_requested()) {
+            std::fputs(subcommand.config->print().c_str(), stdout);
+            return 0;
+        }
     }
 
     try {
@@ -237,7 +253,8 @@ int main(int argc, char** argv) {
             }
         }
     } catch (const tgw::base::ConfigError& e) {
-        std::cerr << "tm-basecamp: " << e.what() << "\n";
+        // A flag's value from a file is told at its key there.
+        std::cerr << "tm-basecamp: " << tgw::base::explain_config_error(e.what(), config_files) << "\n";
         return 2;
     }
     return 0;

@@ -350,7 +350,7 @@ Subcommand add_relay_command(CLI::App& app) {
         "--foxglove-port", options->foxglove_port,
         "serve every relayed topic live to Foxglove (WebSocket, foxglove.websocket.v1) on this TCP port");
     add_idl_option(*relay, options->idl_dirs);
-    return {relay, [options] { return run_relay(*options); }};
+    return {relay, [options] { return run_relay(*options); }, std::make_shared<base::ConfigFile>(*relay)};
 }
 
 }  // namespace tgw::basecamp

@@ -6,10 +6,12 @@
 
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "base/config_file.hpp"
 #include "base/peer_transport.hpp"
 #include "base/security_files.hpp"
 
@@ -19,6 +21,8 @@ struct Subcommand {
     CLI::App* command = nullptr;
     /// Runs the parsed command and returns the exit code. May throw base::ConfigError (exit 2, message printed).
     std::function<int()> run;
+    /// Its --config file, for a command that takes one (relay); else none.
+    std::shared_ptr<base::ConfigFile> config = nullptr;
 };
 
 /// Where a live tool (stats, status, echo) subscribes: the domain, the link transport as `record` has it, and the

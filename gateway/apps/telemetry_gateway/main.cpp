@@ -15,6 +15,7 @@
 
 #include "base/cli_checks.hpp"
 #include "base/config_error.hpp"
+#include "base/config_file.hpp"
 #include "base/fastdds_log_reporter.hpp"
 #include "base/robot_namespace.hpp"
 #include "gateway/core/policy_kind.hpp"
@@ -396,10 +397,19 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     auto* trust = app.add_flag("--trust-source-clock", "deadlines from the publisher's source timestamp (default)");
     app.add_flag("--arrival-clock", arrival_clock, "deadlines from the arrival at the gateway")->excludes(trust);
+    tgw::base::ConfigFile config_file(app);
     try {
-        app.parse(argc, argv);
+        tgw::base::parse_with_config(app, argc, argv, {&config_file});
     } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
+        if (e.get_exit_code() == 0) {
+            return app.exit(e);  // --help, --version
+        }
+        app.exit(CLI::ConfigError(tgw::base::explain_config_error(e.what(), {&config_file})));
+        return 2;
+    }
+    if (config_file.print_requested()) {
+        std::fputs(config_file.print().c_str(), stdout);
+        return 0;
     }
 
     // Signals are taken by sigwait in this thread only; every thread created from here on inherits the mask.
@@ -568,7 +578,8 @@ int main(int argc, char** argv) {
         gateway.stop();
         print_summary(gateway, config.uplink_shares_link);
     } catch (const ConfigError& e) {
-        std::cerr << "telemetry-gateway: " << e.what() << '\n';
+        // A flag's value from the file is told at its key there.
+        std::cerr << "telemetry-gateway: " << config_file.explain(e.what()) << '\n';
         return 2;
     }
     return 0;

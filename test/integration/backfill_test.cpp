@@ -32,12 +32,12 @@ std::int64_t query(const std::string& path, const std::string& sql) {
 class BackfillTest : public RelayTest {
   protected:
     /// A gateway with backfill and its log, at `rate_bps`, and a relay recording into its store with an archive.
-    void start(double rate_bps, bool compact = false) {
+    void start(double rate_bps, bool compact = false, bool backfill = true) {
         GatewayConfig c = config();
         c.compact_wan = compact;
         log_path_ = temp_file("-robot.db");
         c.log_file = log_path_;
-        c.backfill = true;
+        c.backfill = backfill;
         c.scheduler.initial_rate_bps = rate_bps;
         start_gateway(c);
         camp_path_ = temp_file("-camp.db");
@@ -160,6 +160,28 @@ void BackfillTest::expect_what_the_log_kept_in_the_archive() {
     EXPECT_EQ(local.count(), 0u) << "past its TTL: never on the camp's live domain";
     EXPECT_EQ(relay_->relayed().count("tgw/backfill"), 0u);
     EXPECT_EQ(relay_->relayed()[topic], 0u);
+}
+
+TEST_F(BackfillTest, WithBackfillOffTheLogKeepsItsRowsAndSendsTheCampNone) {
+    // --no-backfill: the same rows expire into the log, and the link idles at 50 Mbit/s for 3 s after.
+    start(50e6, false, false);
+    const std::string topic = topic_prefix_ + "expiring";
+    auto* writer =
+        robot_writer<idl::PaperMessagePubSubType>(topic, robot_writer_qos(*robot_, std::chrono::milliseconds(300)));
+    ASSERT_NE(writer, nullptr);
+    ASSERT_TRUE(relay_matched_gateway_writer(topic));
+    gateway_->set_wan_link_up(false);
+    constexpr int N = 20;
+    write(writer, N, 200);
+    ASSERT_TRUE(wait_until([&] { return counts(topic).dropped_for(core::DropReason::expired) >= N; }));
+    gateway_->set_wan_link_up(true);
+    std::this_thread::sleep_for(3s);
+
+    EXPECT_FALSE(gateway_->backfill_summary().has_value()) << "no backfill sender";
+    EXPECT_EQ(archive_->received(), 0u);
+    EXPECT_EQ(camp("SELECT COUNT(*) FROM samples WHERE backfilled = 1"), 0);
+    EXPECT_EQ(query(log_path_, "SELECT COUNT(*) FROM dropped_samples WHERE acked_ns IS NULL AND sends = 0"), N)
+        << "every row still on the robot, none sent";
 }
 
 TEST_F(BackfillTest, AGatewayRestartedMidBackfillGoesOnWhereItStoppedAndTheCampStoresEachRowOnce) {

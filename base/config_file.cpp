@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <set>
 #include <sstream>
 
@@ -120,9 +121,8 @@ ConfigFile::ConfigFile(CLI::App& command, std::vector<std::string> sections)
                         "YAML file of this command's settings: a key per flag, its name in snake_case without the "
                         "dashes, a list where the flag repeats; a flag on the command line wins over the file "
                         "(docs/configuration.md)");
-    print_option_ = command_.add_flag(PRINT_FLAG, print_,
-                                      "print the configuration in force as YAML (a --config file that does the same) "
-                                      "and exit");
+    command_.add_flag(PRINT_FLAG, print_,
+                      "print the configuration in force as YAML (a --config file that does the same) and exit");
 }
 
 std::vector<std::string> ConfigFile::with_file(std::vector<std::string> args) {
@@ -167,6 +167,26 @@ void parse_with_config(CLI::App& app, int argc, const char* const* argv, const s
     }
     std::reverse(args.begin(), args.end());  // App::parse(std::vector) takes the last first
     app.parse(std::move(args));
+}
+
+std::optional<int> read_command_line(CLI::App& app, int argc, const char* const* argv,
+                                     const std::vector<ConfigFile*>& files) {
+    try {
+        parse_with_config(app, argc, argv, files);
+    } catch (const CLI::ParseError& e) {
+        if (e.get_exit_code() == 0) {
+            return app.exit(e);  // --help, --version
+        }
+        app.exit(CLI::ConfigError(explain_config_error(e.what(), files)));
+        return 2;
+    }
+    for (const ConfigFile* file : files) {
+        if (file->print_requested()) {
+            std::fputs(file->print().c_str(), stdout);
+            return 0;
+        }
+    }
+    return std::nullopt;
 }
 
 std::string explain_config_error(std::string message, const std::vector<ConfigFile*>& files) {
@@ -230,7 +250,7 @@ std::vector<std::string> ConfigFile::flags_of(const std::string& file, const std
                 flags.push_back(flag + "=" + value);
             }
         }
-        from_file_.emplace_back(flag, where);
+        from_file_.push_back(FromFile{flag, key, where});
     }
     return flags;
 }
@@ -249,18 +269,16 @@ std::vector<const CLI::Option*> ConfigFile::configurable() const {
 }
 
 std::string ConfigFile::explain(const std::string& message) const {
-    for (const auto& [flag, where] : from_file_) {
-        if (mentions(message, flag)) {
-            std::string key = flag.substr(2);
-            std::replace(key.begin(), key.end(), '-', '_');
-            return where.text() + ": key '" + key + "': " + message;
+    for (const FromFile& f : from_file_) {
+        if (mentions(message, f.flag)) {
+            return f.where.text() + ": key '" + f.key + "': " + message;
         }
     }
     return message;
 }
 
 bool ConfigFile::print_requested() const {
-    return print_option_->count() > 0 && print_;
+    return print_;
 }
 
 std::string ConfigFile::print(const std::string& extra) const {

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -65,17 +66,28 @@ class ConfigFile {
 
     CLI::App& command_;
     std::vector<std::string> sections_;
-    CLI::Option* print_option_ = nullptr;
     bool print_ = false;
     std::string file_;
     YAML::Node root_;
-    /// The options whose value came from the file: their long name and where their key is.
-    std::vector<std::pair<std::string, ConfigPlace>> from_file_;
+    /// An option whose value came from the file: its flag (--robot-domain), its key and where that is.
+    struct FromFile {
+        std::string flag;
+        std::string key;
+        ConfigPlace where;
+    };
+    std::vector<FromFile> from_file_;
 };
 
 /// Parses `argc`/`argv` into `app` as App::parse(argc, argv) does, each of `files` (of `app` or of its
 /// subcommands) adding the keys of its --config file; throws what App::parse and ConfigFile::with_file throw.
 void parse_with_config(CLI::App& app, int argc, const char* const* argv, const std::vector<ConfigFile*>& files);
+
+/// A program's command line as both programs read it: parse_with_config(), and on --help or --version what CLI11
+/// prints, on an error its message explained at the file's key (explain_config_error()), on --print-config the
+/// configuration in force of the command that has it. The exit code when the program is to stop there (0 for those,
+/// 2 for an error); none when it is to run.
+std::optional<int> read_command_line(CLI::App& app, int argc, const char* const* argv,
+                                     const std::vector<ConfigFile*>& files);
 
 /// `message` (of an error in a command's flags) explained by each of `files` (ConfigFile::explain).
 std::string explain_config_error(std::string message, const std::vector<ConfigFile*>& files);

@@ -3,9 +3,9 @@
 // the gateway's on-robot log where every missing sample went.
 #include <CLI/CLI.hpp>
 
-#include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -135,20 +135,8 @@ int main(int argc, char** argv) {
         if (subcommand.config)
             config_files.push_back(subcommand.config.get());
     }
-    try {
-        tgw::base::parse_with_config(app, argc, argv, config_files);
-    } catch (const CLI::ParseError& e) {
-        if (e.get_exit_code() == 0)
-            return app.exit(e);  // --help, --version
-        app.exit(CLI::ConfigError(tgw::base::explain_config_error(e.what(), config_files)));
-        return 2;
-    }
-    for (const tgw::basecamp::Subcommand& subcommand : subcommands) {
-        if (subcommand.config && subcommand.command->parsed() && subcommand.config->print_requested()) {
-            std::fputs(subcommand.config->print().c_str(), stdout);
-            return 0;
-        }
-    }
+    if (const std::optional<int> exit_code = tgw::base::read_command_line(app, argc, argv, config_files))
+        return *exit_code;
 
     try {
         for (const tgw::basecamp::Subcommand& subcommand : subcommands) {

@@ -96,14 +96,8 @@ end_ns=$(date +%s%N)
 
 LOG="$WORK/robot-log.db" REC="$WORK/basecamp.db"
 q() { camp_query "$1"; }
-unacknowledged() { sqlite3 -batch -noheader "file:$LOG?mode=ro" "SELECT COUNT(*) FROM dropped_samples
-    WHERE acked_ns IS NULL AND kind = 'data'" 2>/dev/null || echo "?"; }
 # The backlog the mission left, if any: a little longer, then stop.
-waited=0
-while [ "$(unacknowledged)" != 0 ] && [ "$waited" -lt "$TAIL_S" ]; do
-    sleep 1
-    waited=$((waited + 1))
-done
+wait_acknowledged "$LOG" "$TAIL_S"
 sleep 2
 finish_run "$sim_pid" "$gateway_pid" "$record_pid"
 show_outputs "$WORK/record.out"
@@ -116,9 +110,7 @@ total_archived=0
 total_only_robot=0
 for topic in telemetry/A telemetry/B telemetry/C telemetry/D; do
     published="$(awk -v t="$topic" '$2 == t { print $5 }' "$WORK/robot.out")"
-    read -r produced live backfilled only_robot lost <<<"$(sqlite3 -batch -separator ' ' "$WORK/mission.db" \
-        "SELECT COUNT(*), TOTAL(fate = 'received'), TOTAL(backfilled), TOTAL(fate = 'dropped' AND NOT backfilled),
-        TOTAL(fate = 'lost') FROM mission_samples WHERE topic = '$topic'" | sed 's/[.]0//g')"
+    read -r produced live backfilled only_robot lost <<<"$(archive_fates "$WORK/mission.db" "$topic")"
     echo "$topic: published ${published:-?}; the archive $produced: live $live, backfilled $backfilled," \
         "only on the robot $only_robot, lost $lost"
     total_published=$((total_published + ${published:-0}))
@@ -147,7 +139,7 @@ meta() { sqlite3 -batch -noheader "$LOG" "SELECT COALESCE((SELECT value FROM met
 pruned_acked="$(meta pruned_acknowledged_rows)"
 pruned_forwarded="$(meta pruned_forwarded_rows)"
 pruned_unacked="$(meta pruned_dropped_rows)"
-left="$(unacknowledged)"
+left="$(unacknowledged_rows "$LOG")"
 echo "rows freed at the cap: $pruned_acked acknowledged, $pruned_forwarded forwarded, $pruned_unacked the camp" \
     "lacked; $left unacknowledged left; $(du -k "$LOG" | cut -f1) KiB on disk"
 check "the cap was reached, and it freed acknowledged rows" "a > 0" "$pruned_acked"

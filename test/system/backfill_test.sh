@@ -91,9 +91,7 @@ check "the camp's live domain got only the live samples" "a == b" "$relayed_live
 echo
 echo "== (d) the mission archive (tm-basecamp merge)"
 "$BIN/tm-basecamp" merge "$LOG" "$REC" --out "$WORK/mission.db" | tail -4
-read -r produced only_robot lost <<<"$(sqlite3 -batch -separator ' ' "$WORK/mission.db" "SELECT COUNT(*),
-    SUM(fate = 'dropped' AND backfilled = 0), SUM(fate = 'lost') FROM mission_samples
-    WHERE topic LIKE 'telemetry/%'")"
+read -r produced _ _ only_robot lost <<<"$(archive_fates "$WORK/mission.db" 'telemetry/%')"
 echo "archive: $produced samples, $only_robot only on the robot, $lost lost on the link"
 check "the archive holds each sample published once, none only on the robot" "a == c && b == 0" \
     "$produced" "$only_robot" "$published"

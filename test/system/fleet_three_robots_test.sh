@@ -193,17 +193,9 @@ if [ "$RESTART" = 1 ]; then
 fi
 
 for pid in "${sims[@]}" "$camera" ${commands:+"$commands"}; do wait "$pid" || true; done
-unacknowledged() {  # LOG: the rows of an on-robot log the camp has not acknowledged
-    sqlite3 -batch -noheader "file:$1?mode=ro" "SELECT COUNT(*) FROM dropped_samples WHERE acked_ns IS NULL AND
-        kind = 'data'" 2>/dev/null || echo "?"
-}
 if [ "$ROVER3" = light ]; then
-    waited=0
-    while [ "$(unacknowledged "$WORK/gateway3.db")" != 0 ] && [ "$waited" -lt 30 ]; do
-        sleep 1
-        waited=$((waited + 1))
-    done
-    echo "rover3's backlog: $(unacknowledged "$WORK/gateway3.db") rows unacknowledged $waited s after the run"
+    wait_acknowledged "$WORK/gateway3.db" 30
+    echo "rover3's backlog: $(unacknowledged_rows "$WORK/gateway3.db") rows unacknowledged $waited s after the run"
 fi
 finish_fleet "$relay" "${gateways[@]}"
 if [ "$COMMANDS" = 1 ]; then
@@ -280,9 +272,7 @@ if [ "$RESTART" = drop ]; then
 fi
 if [ "$ROVER3" = light ]; then
     "$BIN/tm-basecamp" merge "$WORK/gateway3.db" "$WORK/camp.db" --out "$WORK/rover3-mission.db" >/dev/null
-    read -r produced live backfilled only_robot lost <<<"$(sqlite3 -batch -separator ' ' "$WORK/rover3-mission.db" \
-        "SELECT COUNT(*), SUM(fate = 'received' AND backfilled = 0), SUM(backfilled), SUM(fate = 'dropped' AND
-        backfilled = 0), SUM(fate = 'lost') FROM mission_samples WHERE topic LIKE 'rover3/%'")"
+    read -r produced live backfilled only_robot lost <<<"$(archive_fates "$WORK/rover3-mission.db" 'rover3/%')"
     published3=$(($(published 3 telemetry/A) + $(published 3 telemetry/B)))
     echo "rover3's mission archive (tm-basecamp merge): $produced samples of $published3 published; $live live," \
         "$backfilled backfilled, $only_robot only on the robot, $lost lost in flight"
@@ -291,7 +281,7 @@ if [ "$ROVER3" = light ]; then
     check "rover3: its radio drop's samples backfilled, none left only on the robot" "a >= 20 && b == 0" \
         "${backfilled:-0}" "${only_robot:-1}"
     check "rover3: at most a second's worth lost in flight as its radio went down" "a <= 10" "${lost:-0}"
-    check "rover3's log: every row acknowledged" "a == 0" "$(unacknowledged "$WORK/gateway3.db")"
+    check "rover3's log: every row acknowledged" "a == 0" "$(unacknowledged_rows "$WORK/gateway3.db")"
 fi
 if [ "$COMMANDS" = 1 ]; then
     written=$(awk '$2 == "rt/rover1/cmd_vel" { print $5 }' "$WORK/commands.out")

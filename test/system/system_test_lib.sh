@@ -181,6 +181,31 @@ stamp_line() {
     PIDS+=($!)
 }
 
+# unacknowledged_rows LOG: the data rows of the on-robot log LOG the camp has not acknowledged (backfill's backlog);
+# "?" while the file cannot be read.
+unacknowledged_rows() {
+    sqlite3 -batch -noheader "file:$1?mode=ro" "SELECT COUNT(*) FROM dropped_samples WHERE acked_ns IS NULL AND
+        kind = 'data'" 2>/dev/null || echo "?"
+}
+
+# wait_acknowledged LOG SECONDS: waits until LOG has no row the camp has not acknowledged, SECONDS at most; sets
+# waited to the seconds it took.
+wait_acknowledged() {
+    waited=0
+    while [ "$(unacknowledged_rows "$1")" != 0 ] && [ "$waited" -lt "$2" ]; do
+        sleep 1
+        waited=$((waited + 1))
+    done
+}
+
+# archive_fates ARCHIVE TOPIC_PATTERN: "PRODUCED LIVE BACKFILLED ONLY_ON_THE_ROBOT LOST" for the topics LIKE
+# TOPIC_PATTERN in the mission archive ARCHIVE (tm-basecamp merge).
+archive_fates() {
+    sqlite3 -batch -separator ' ' "$1" "SELECT COUNT(*), COALESCE(SUM(fate = 'received'), 0),
+        COALESCE(SUM(backfilled), 0), COALESCE(SUM(fate = 'dropped' AND NOT backfilled), 0),
+        COALESCE(SUM(fate = 'lost'), 0) FROM mission_samples WHERE topic LIKE '$2'"
+}
+
 # a_on_time_between FROM_NS TO_NS [TOPIC]: "ON_TIME PUBLISHED" for A (TOPIC: telemetry/A, or a robot's
 # rover1/telemetry/A; TTL 1 s) published in [FROM_NS, TO_NS): published as the on-robot log has them (forwarded or
 # dropped), on time as the camp's recording has them.

@@ -398,18 +398,8 @@ int main(int argc, char** argv) {
     auto* trust = app.add_flag("--trust-source-clock", "deadlines from the publisher's source timestamp (default)");
     app.add_flag("--arrival-clock", arrival_clock, "deadlines from the arrival at the gateway")->excludes(trust);
     tgw::base::ConfigFile config_file(app);
-    try {
-        tgw::base::parse_with_config(app, argc, argv, {&config_file});
-    } catch (const CLI::ParseError& e) {
-        if (e.get_exit_code() == 0) {
-            return app.exit(e);  // --help, --version
-        }
-        app.exit(CLI::ConfigError(tgw::base::explain_config_error(e.what(), {&config_file})));
-        return 2;
-    }
-    if (config_file.print_requested()) {
-        std::fputs(config_file.print().c_str(), stdout);
-        return 0;
+    if (const std::optional<int> exit_code = tgw::base::read_command_line(app, argc, argv, {&config_file})) {
+        return *exit_code;
     }
 
     // Signals are taken by sigwait in this thread only; every thread created from here on inherits the mask.

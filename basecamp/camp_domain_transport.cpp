@@ -3,11 +3,9 @@
 #include <algorithm>
 #include <memory>
 
-#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
-#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
-
 #include "base/config_error.hpp"
 #include "base/discovery_server.hpp"
+#include "base/host_transport.hpp"
 
 namespace tgw::basecamp {
 
@@ -41,25 +39,18 @@ std::optional<std::string> wan_local_address(const base::PeerTransport& wan) {
 std::vector<std::string> apply_camp_domain_transport(eprosima::fastdds::dds::DomainParticipantQos& qos,
                                                      const base::PeerTransport& local, const base::PeerTransport& wan,
                                                      int domain) {
+    std::vector<std::string> kept;
     if (!local.interface.empty()) {
-        base::apply_peer_transport(qos, local, domain);
-        return {base::resolve_ipv4(local.interface, local.interface_flag)};
+        kept = {base::resolve_ipv4(local.interface, local.interface_flag)};
+    } else {
+        const auto wan_address = wan_local_address(wan);
+        const auto host = base::interface_addresses();
+        if (wan_address && host)
+            kept = camp_addresses_off_the_wan(*host, *wan_address);
     }
-    const auto wan_address = wan_local_address(wan);
-    const auto host = base::interface_addresses();
-    if (!wan_address || !host)
-        return {};
-    const std::vector<std::string> kept = camp_addresses_off_the_wan(*host, *wan_address);
-    if (kept.empty())
-        return {};
     // A whitelist is checked once, against the interfaces running at start: a camp LAN that comes up later is
     // not used (--local-interface, or a restart). Loopback is always running.
-    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
-    udp->interfaceWhiteList = kept;
-    qos.transport().use_builtin_transports = false;
-    qos.transport().user_transports.push_back(udp);
-    qos.transport().user_transports.push_back(
-        std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>());
+    base::apply_host_transport(qos, domain, {kept});
     return kept;
 }
 

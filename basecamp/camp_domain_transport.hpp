@@ -22,10 +22,11 @@ std::vector<std::string> camp_addresses_off_the_wan(const std::vector<base::Inte
 /// to its discovery server; nullopt when none says.
 std::optional<std::string> wan_local_address(const base::PeerTransport& wan);
 
-/// Configures `qos` for the camp's domain `domain`: as `local` says when it names an interface; otherwise
-/// bound to camp_addresses_off_the_wan(this host, wan_local_address(wan)), so that camp tools on loopback or
-/// the camp's LAN hear the relay with no flags and no camp-domain discovery crosses the radio. Returns the
-/// addresses used (empty: every interface). Throws ConfigError as apply_peer_transport does.
+/// Configures `qos` for the camp's domain `domain` (base::apply_host_transport: UDP alone, so camp tools of any
+/// user reach it): on the interface `local` names; otherwise on camp_addresses_off_the_wan(this host,
+/// wan_local_address(wan)), so that camp tools on loopback or the camp's LAN hear the relay with no flags and no
+/// camp-domain discovery crosses the radio. Returns the addresses used (empty: every interface). Throws
+/// ConfigError for an interface that names no address.
 std::vector<std::string> apply_camp_domain_transport(eprosima::fastdds::dds::DomainParticipantQos& qos,
                                                      const base::PeerTransport& local, const base::PeerTransport& wan,
                                                      int domain);

@@ -5,21 +5,18 @@
 #include <iostream>
 #include <memory>
 
-#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
-#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
 #include "base/config_error.hpp"
+#include "base/host_transport.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
 
 namespace tgw::dds {
 
 namespace fdds = eprosima::fastdds::dds;
-using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
-using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
 
 namespace {
 
@@ -45,22 +42,8 @@ RobotParticipant::RobotParticipant(int domain, fdds::DomainParticipantListener* 
     fdds::DomainParticipantQos qos =
         base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
     qos.name("telemetry-gateway/robot");
-    qos.transport().use_builtin_transports = false;
-    if (transport.shm) {
-        qos.transport().user_transports.push_back(std::make_shared<SharedMemTransportDescriptor>());
-    }
-    auto udp = std::make_shared<UDPv4TransportDescriptor>();
-    udp->interfaceWhiteList = transport.interfaces;
-    udp->receiveBufferSize = transport.receive_buffer_bytes;
     warn_if_capped(transport.receive_buffer_bytes);
-    qos.transport().user_transports.push_back(udp);
-    if (transport.shm && !transport.shm_samples && qos.wire_protocol().default_unicast_locator_list.empty()) {
-        // The readers' locators: UDP alone, on every address of `interfaces` (Fast DDS expands the any-address
-        // and picks the port). Discovery keeps its shared-memory locators.
-        eprosima::fastrtps::rtps::Locator_t udp_any;
-        udp_any.kind = LOCATOR_KIND_UDPv4;
-        qos.wire_protocol().default_unicast_locator_list.push_back(udp_any);
-    }
+    base::apply_host_transport(qos, domain, {transport.interfaces, transport.shm, transport.receive_buffer_bytes});
 
     participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
         static_cast<fdds::DomainId_t>(domain), qos, listener, fdds::StatusMask::none());

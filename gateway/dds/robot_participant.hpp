@@ -19,9 +19,10 @@
 
 namespace tgw::dds {
 
-/// The gateway's participant on the robot domain. It stays on this host: shared memory and UDP bound to the
-/// loopback interface (or the addresses given). It discovers every publisher (its listener) and holds the
-/// type-agnostic readers; it writes only the uplink's commands (Uplink).
+/// The gateway's participant on the robot domain. It stays on this host: UDP on the loopback interface (or the
+/// addresses given), reaching every process of the host whatever user runs it (base::apply_host_transport). It
+/// discovers every publisher (its listener) and holds the type-agnostic readers; it writes only the uplink's commands
+/// (Uplink).
 class RobotParticipant {
   public:
     /// Throws base::ConfigError if the participant cannot be created. `listener` must outlive this object

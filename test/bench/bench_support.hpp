@@ -113,9 +113,7 @@ inline fdds::DomainParticipantQos direct_reader_qos(const BenchDomains& d) {
 /// The gateway flags a side-by-side bench can set.
 struct GatewayOptions {
     std::size_t wan_max_datagram_bytes = 0;  ///< 0: the gateway's default (one Ethernet frame)
-    /// --robot-udp-only: the publisher's UDP is on loopback, so it reaches the gateway either way.
-    bool robot_udp_only = false;
-    bool robot_shm_samples = false;
+    bool robot_shm = false;
     std::int64_t wan_coalesce_us = tgw::dds::DatagramCoalescer::DEFAULT_WINDOW.count();
 
     /// Adds the flags above, as the gateway names them, to a bench's command line.
@@ -124,21 +122,14 @@ struct GatewayOptions {
                        "the gateway's --wan-coalesce-us: how long a WAN sample that follows closely may wait to "
                        "share a datagram; 0: never")
             ->capture_default_str();
-        auto* udp_only = app.add_flag("--robot-udp-only", robot_udp_only,
-                                      "the gateway's --robot-udp-only: no shared memory on its robot side, not even "
-                                      "for discovery");
-        app.add_flag("--robot-shm-samples", robot_shm_samples,
-                     "the gateway's --robot-shm-samples: its readers offer shared memory too, so the publisher (shared "
-                     "memory and UDP) sends each sample both ways")
-            ->excludes(udp_only);
+        app.add_flag("--robot-shm", robot_shm,
+                     "the gateway's --robot-shm: its robot side offers shared memory too, so the publisher (shared "
+                     "memory and UDP) sends each sample both ways");
     }
 
     /// What the bench's header line says of the gateway.
     std::string describe() const {
-        return std::string("gateway's robot side ") +
-               (robot_udp_only      ? "UDP only"
-                : robot_shm_samples ? "samples over shared memory and UDP"
-                                    : "samples over UDP") +
+        return std::string("gateway's robot side ") + (robot_shm ? "shared memory and UDP" : "UDP") +
                ", WAN coalescing " +
                (wan_coalesce_us > 0 ? "within " + std::to_string(wan_coalesce_us) + " us" : std::string("off"));
     }
@@ -158,8 +149,7 @@ inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, const Gatew
     if (options.wan_max_datagram_bytes > 0) {
         config.scheduler.wire = tgw::core::WireModel::for_max_datagram(options.wan_max_datagram_bytes);
     }
-    config.robot.shm = !options.robot_udp_only;
-    config.robot.shm_samples = options.robot_shm_samples;
+    config.robot.shm = options.robot_shm;
     config.wan_coalesce_window = std::chrono::microseconds(options.wan_coalesce_us);
     return config;
 }

@@ -175,37 +175,21 @@ INSTANTIATE_TEST_SUITE_P(WanMaxDatagram, LargeSampleTest,
                          ::testing::Values(core::WireModel::MAX_DATAGRAM_PAYLOAD_BYTES,
                                            core::WireModel::MAX_UDP_PAYLOAD_BYTES));
 
-/// How the gateway's robot side may listen (RobotTransport).
-enum class RobotMode { shm_samples, shm_discovery, udp_only };
+/// How the gateway's robot side may listen (RobotTransport): UDP alone (the default) or with shared memory.
+enum class RobotMode { udp, shm };
 
-/// By default the gateway's robot participant discovers over shared memory and UDP, which reach a robot process
-/// with Fast DDS's default transports whatever its addresses, but its readers offer UDP alone, so that such a
-/// publisher sends each sample once, not once each way. --robot-shm-samples makes the readers offer shared
-/// memory too; --robot-udp-only drops shared memory, even for discovery. A publisher's sample arrives in each.
-class RobotTransportTest : public GatewayIntegrationTest, public ::testing::WithParamInterface<RobotMode> {
-  protected:
-    /// Fast DDS's defaults, its UDP on loopback only.
-    static fdds::DomainParticipantQos loopback_robot_qos() {
-        fdds::DomainParticipantQos qos;
-        qos.transport().use_builtin_transports = false;
-        qos.transport().user_transports.push_back(
-            std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>());
-        auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
-        udp->interfaceWhiteList.push_back("127.0.0.1");
-        qos.transport().user_transports.push_back(udp);
-        return qos;
-    }
-};
+/// By default the gateway's robot participant uses UDP alone, on loopback: a publisher with Fast DDS's default
+/// transports then reaches it over UDP whatever user runs it. --robot-shm makes its readers offer shared memory
+/// too. A publisher's sample arrives in each.
+class RobotTransportTest : public GatewayIntegrationTest, public ::testing::WithParamInterface<RobotMode> {};
 
 TEST_P(RobotTransportTest, ReadersOfferSharedMemoryOnlyWhenAskedTo) {
     const RobotMode mode = GetParam();
     ReaderLocatorWatcher watcher;
-    TestParticipant robot(domains_.robot,
-                          mode == RobotMode::udp_only ? loopback_robot_qos() : TestParticipant::robot_qos(), &watcher);
+    TestParticipant robot(domains_.robot, TestParticipant::robot_qos(), &watcher);
     ASSERT_TRUE(robot.ok());
     GatewayConfig c = config();
-    c.robot.shm = mode != RobotMode::udp_only;
-    c.robot.shm_samples = mode == RobotMode::shm_samples;
+    c.robot.shm = mode == RobotMode::shm;
     start_gateway(c);
     const std::string topic = topic_prefix_ + "robot_transport";
     auto& wan = listener<CollectingReader<idl::PaperMessage>>();
@@ -216,7 +200,7 @@ TEST_P(RobotTransportTest, ReadersOfferSharedMemoryOnlyWhenAskedTo) {
         << "the gateway's reader of " << topic << " was never discovered";
     const auto kinds = watcher.kinds(topic);
     EXPECT_EQ(kinds->count(LOCATOR_KIND_UDPv4), 1u);
-    EXPECT_EQ(kinds->count(LOCATOR_KIND_SHM), mode == RobotMode::shm_samples ? 1u : 0u);
+    EXPECT_EQ(kinds->count(LOCATOR_KIND_SHM), mode == RobotMode::shm ? 1u : 0u);
 
     idl::PaperMessage msg;
     msg.data(std::vector<std::uint8_t>(64, 0x5a));
@@ -225,19 +209,34 @@ TEST_P(RobotTransportTest, ReadersOfferSharedMemoryOnlyWhenAskedTo) {
     gateway_.reset();  // before `robot`, whose writer the gateway's reader matched
 }
 
-INSTANTIATE_TEST_SUITE_P(RobotShm, RobotTransportTest,
-                         ::testing::Values(RobotMode::shm_samples, RobotMode::shm_discovery, RobotMode::udp_only),
+INSTANTIATE_TEST_SUITE_P(RobotShm, RobotTransportTest, ::testing::Values(RobotMode::udp, RobotMode::shm),
                          [](const ::testing::TestParamInfo<RobotMode>& info) {
-                             switch (info.param) {
-                                 case RobotMode::shm_samples:
-                                     return std::string("SamplesOverSharedMemoryAndUdp");
-                                 case RobotMode::shm_discovery:
-                                     return std::string("SamplesOverUdp");
-                                 case RobotMode::udp_only:
-                                     break;
-                             }
-                             return std::string("UdpOnly");
+                             return std::string(info.param == RobotMode::shm ? "SharedMemoryAndUdp" : "UdpAlone");
                          });
+
+/// A process with UDP alone on its host's addresses (no whitelist, no shared memory) announces the host's other
+/// addresses, not 127.0.0.1, and hears discovery on the well-known port of its participant index. The gateway on
+/// loopback finds it there and answers those addresses on 127.0.0.1: the way it reaches a process of another
+/// user, whose shared memory it cannot use (test/system/cross_user_test.sh runs one).
+TEST_F(GatewayIntegrationTest, AProcessWithUdpAloneOnItsHostsAddressesIsFoundAndHeard) {
+    fdds::DomainParticipantQos udp_alone;
+    udp_alone.transport().use_builtin_transports = false;
+    udp_alone.transport().user_transports.push_back(
+        std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>());
+    TestParticipant robot(domains_.robot, udp_alone);
+    ASSERT_TRUE(robot.ok());
+    start_gateway(config());
+    const std::string topic = topic_prefix_ + "udp_alone";
+    auto& wan = listener<CollectingReader<idl::PaperMessage>>();
+    auto* writer = bridge<idl::PaperMessagePubSubType>(topic, robot_writer_qos(robot), wan, &robot);
+    ASSERT_NE(writer, nullptr);
+
+    idl::PaperMessage msg;
+    msg.data(std::vector<std::uint8_t>(64, 0x5a));
+    ASSERT_TRUE(writer->write(&msg));
+    EXPECT_TRUE(wait_until([&] { return wan.count() >= 1; })) << "the sample never arrived";
+    gateway_.reset();
+}
 
 /// By default a burst's samples share datagrams on the WAN (DatagramCoalescer): Fast DDS's receiver reads
 /// every sample of them, in order.

@@ -292,17 +292,13 @@ int main(int argc, char** argv) {
                    "more than 2 % of the sensed rate; scheduled like a sample with a TTL of 1 s); 0: none")
         ->check(tgw::base::non_negative())
         ->capture_default_str();
-    bool robot_udp_only = false;
     app.add_option("--robot-interface", config.robot.interfaces,
                    "IPv4 address or interface the robot domain's UDP uses; repeatable")
         ->capture_default_str();
-    auto* udp_only = app.add_flag("--robot-udp-only", robot_udp_only,
-                                  "no shared memory on the robot domain, not even for discovery: finds only "
-                                  "processes whose UDP discovery reaches an address of --robot-interface");
-    app.add_flag("--robot-shm-samples", config.robot.shm_samples,
-                 "take samples over shared memory too, for publishers that have nothing else; a Fast DDS "
-                 "publisher with both transports then sends every sample both ways")
-        ->excludes(udp_only);
+    app.add_flag("--robot-shm", config.robot.shm,
+                 "Fast DDS shared memory too on the robot domain, for processes that use nothing else; they must "
+                 "run as the gateway's user (others then cannot reach it), and a process with both transports "
+                 "sends every sample both ways");
     app.add_option("--robot-receive-buffer", config.robot.receive_buffer_bytes,
                    "bytes of UDP receive buffer for the robot domain: room for bursts (capped by "
                    "net.core.rmem_max)")
@@ -422,7 +418,6 @@ int main(int argc, char** argv) {
             max_datagram = tgw::dds::SECURE_MIN_DATAGRAM_BYTES;
         }
         config.scheduler.wire = tgw::core::WireModel::for_max_datagram(max_datagram);
-        config.robot.shm = !robot_udp_only;
         config.wan_coalesce_window = std::chrono::microseconds(coalesce_us);
         config.status_period = tgw::base::from_seconds(status_period_s);
         config.compact_wan = wan_mode == "compact";

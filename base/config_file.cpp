@@ -13,7 +13,7 @@ constexpr const char* CONFIG_FLAG = "--config";
 constexpr const char* PRINT_FLAG = "--print-config";
 
 ConfigPlace place_of(const std::string& file, const YAML::Mark& mark) {
-    return ConfigPlace{file, mark.line + 1, mark.column + 1};
+    return ConfigPlace::at(file, mark);
 }
 
 [[noreturn]] void fail(const ConfigPlace& where, const std::string& what) {
@@ -88,6 +88,10 @@ bool mentions(const std::string& text, const std::string& name) {
 }
 
 }  // namespace
+
+ConfigPlace ConfigPlace::at(const std::string& file, const YAML::Mark& mark) {
+    return ConfigPlace{file, mark.line + 1, mark.column + 1};
+}
 
 std::string ConfigPlace::text() const {
     return file + ":" + std::to_string(line) + ":" + std::to_string(column);
@@ -170,7 +174,8 @@ void parse_with_config(CLI::App& app, int argc, const char* const* argv, const s
 }
 
 std::optional<int> read_command_line(CLI::App& app, int argc, const char* const* argv,
-                                     const std::vector<ConfigFile*>& files) {
+                                     const std::vector<ConfigFile*>& files,
+                                     const std::function<std::string()>& sections) {
     try {
         parse_with_config(app, argc, argv, files);
     } catch (const CLI::ParseError& e) {
@@ -182,7 +187,7 @@ std::optional<int> read_command_line(CLI::App& app, int argc, const char* const*
     }
     for (const ConfigFile* file : files) {
         if (file->print_requested()) {
-            std::fputs(file->print().c_str(), stdout);
+            std::fputs(file->print(sections ? sections() : std::string()).c_str(), stdout);
             return 0;
         }
     }

@@ -10,6 +10,7 @@
 #include <yaml-cpp/yaml.h>
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -26,6 +27,8 @@ struct ConfigPlace {
 
     /// "FILE:LINE:COLUMN"
     std::string text() const;
+    /// Where `mark` (a node's, yaml-cpp's 0-based) is in `file`.
+    static ConfigPlace at(const std::string& file, const YAML::Mark& mark);
 };
 
 class ConfigFile {
@@ -84,10 +87,12 @@ void parse_with_config(CLI::App& app, int argc, const char* const* argv, const s
 
 /// A program's command line as both programs read it: parse_with_config(), and on --help or --version what CLI11
 /// prints, on an error its message explained at the file's key (explain_config_error()), on --print-config the
-/// configuration in force of the command that has it. The exit code when the program is to stop there (0 for those,
-/// 2 for an error); none when it is to run.
+/// configuration in force of the command that has it, followed by what `sections` returns (the program's own
+/// sections as YAML, read from the file; what it throws goes to the caller). The exit code when the program is to
+/// stop there (0 for those, 2 for an error); none when it is to run.
 std::optional<int> read_command_line(CLI::App& app, int argc, const char* const* argv,
-                                     const std::vector<ConfigFile*>& files);
+                                     const std::vector<ConfigFile*>& files,
+                                     const std::function<std::string()>& sections = {});
 
 /// `message` (of an error in a command's flags) explained by each of `files` (ConfigFile::explain).
 std::string explain_config_error(std::string message, const std::vector<ConfigFile*>& files);

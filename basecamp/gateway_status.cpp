@@ -27,7 +27,7 @@ std::optional<idl::GatewayStatus> decode_gateway_status(const std::vector<std::u
 
 std::uint64_t logged_on_robot(const idl::TopicStatus& topic) {
     return topic.expired() + topic.doomed() + topic.evicted() + topic.oversize() + topic.shutdown() +
-           topic.write_failed() + topic.no_reader();
+           topic.write_failed() + topic.no_reader() + topic.rate_capped() + topic.superseded();
 }
 
 }  // namespace tgw::basecamp

@@ -172,20 +172,22 @@ void StatusView::render(std::ostream& out, std::int64_t now_ns, std::size_t colu
         std::snprintf(line, sizeof line, "  sensed rate, last %.0f min (top %.0f bit/s): |", history_ns_ / 60e9, max);
         out << line << sparkline(values, max) << "|\n";
 
-        std::snprintf(line, sizeof line, "  %-26s %6s %7s %9s %9s %9s %8s %7s %7s %8s %8s %6s %9s %7s\n", "topic",
-                      "ttl_s", "queued", "queued_B", "received", "forwarded", "expired", "doomed", "evicted",
-                      "oversize", "shutdown", "failed", "no_reader", "readers");
+        std::snprintf(line, sizeof line, "  %-26s %6s %7s %9s %9s %9s %8s %7s %7s %8s %8s %6s %9s %6s %10s %7s\n",
+                      "topic", "ttl_s", "queued", "queued_B", "received", "forwarded", "expired", "doomed", "evicted",
+                      "oversize", "shutdown", "failed", "no_reader", "capped", "superseded", "readers");
         out << line;
         for (const idl::TopicStatus& t : s.topics()) {
             std::snprintf(
                 line, sizeof line,
-                "  %-26s %6.3g %7u %9llu %9llu %9llu %8llu %7llu %7llu %8llu %8llu %6llu %9llu %7d\n", t.name().c_str(),
-                t.ttl_ms() / 1e3, t.queued_samples(), static_cast<unsigned long long>(t.queued_bytes()),
-                static_cast<unsigned long long>(t.received()), static_cast<unsigned long long>(t.forwarded()),
-                static_cast<unsigned long long>(t.expired()), static_cast<unsigned long long>(t.doomed()),
-                static_cast<unsigned long long>(t.evicted()), static_cast<unsigned long long>(t.oversize()),
-                static_cast<unsigned long long>(t.shutdown()), static_cast<unsigned long long>(t.write_failed()),
-                static_cast<unsigned long long>(t.no_reader()), t.matched_readers());
+                "  %-26s %6.3g %7u %9llu %9llu %9llu %8llu %7llu %7llu %8llu %8llu %6llu %9llu %6llu %10llu %7d\n",
+                t.name().c_str(), t.ttl_ms() / 1e3, t.queued_samples(),
+                static_cast<unsigned long long>(t.queued_bytes()), static_cast<unsigned long long>(t.received()),
+                static_cast<unsigned long long>(t.forwarded()), static_cast<unsigned long long>(t.expired()),
+                static_cast<unsigned long long>(t.doomed()), static_cast<unsigned long long>(t.evicted()),
+                static_cast<unsigned long long>(t.oversize()), static_cast<unsigned long long>(t.shutdown()),
+                static_cast<unsigned long long>(t.write_failed()), static_cast<unsigned long long>(t.no_reader()),
+                static_cast<unsigned long long>(t.rate_capped()), static_cast<unsigned long long>(t.superseded()),
+                t.matched_readers());
             out << line;
         }
         out << '\n';

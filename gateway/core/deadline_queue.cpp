@@ -93,6 +93,7 @@ void DeadlineQueue::release_slot(Slot slot) {
     Record& r = record(slot);
     r.payload = {};
     r.lane_and_flags = 0;
+    r.sequence = FREE_SEQUENCE;
     r.next_free = free_head_;
     free_head_ = slot;
 }
@@ -136,7 +137,14 @@ bool DeadlineQueue::before(Slot a, Slot b) const {
 
 // ---- operations ----
 
-void DeadlineQueue::push(Sample&& sample, std::int64_t rank) {
+bool DeadlineQueue::holds(Slot slot, std::uint64_t sequence) const {
+    if (slot >= allocated_)
+        return false;
+    const Record& r = record(slot);
+    return r.sequence == sequence && (r.lane_and_flags & DEAD) == 0;
+}
+
+DeadlineQueue::Slot DeadlineQueue::push(Sample&& sample, std::int64_t rank) {
     const LaneId lane_id = lane_for(sample.topic, rank);
     const Slot slot = allocate();
     Record& r = record(slot);
@@ -166,6 +174,7 @@ void DeadlineQueue::push(Sample&& sample, std::int64_t rank) {
             head_by_urgency_.set(key);
         head_by_deadline_.set(Key{0, key.deadline, key.sequence, lane_id});
     }
+    return slot;
 }
 
 void DeadlineQueue::park(TopicId topic, bool parked) {

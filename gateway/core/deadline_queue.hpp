@@ -67,7 +67,10 @@ class DeadlineQueue {
     /// overhead are not included.
     static constexpr std::size_t BOOKKEEPING_BYTES = sizeof(Record) + sizeof(Slot);
 
-    void push(Sample&& sample, std::int64_t rank);
+    /// Queues the sample; its slot holds it until it is taken (holds()).
+    Slot push(Sample&& sample, std::int64_t rank);
+    /// Whether `slot` still holds the sample of `sequence` push() put there: not taken since, whatever came after.
+    bool holds(Slot slot, std::uint64_t sequence) const;
 
     bool empty() const { return size_ == 0; }
     std::size_t size() const { return size_; }
@@ -107,6 +110,8 @@ class DeadlineQueue {
     static constexpr std::size_t CHUNK_BITS = 12;
     static constexpr std::size_t CHUNK_SIZE = std::size_t{1} << CHUNK_BITS;
     static constexpr Slot NO_SLOT = 0xffffffffu;
+    /// The sequence of a free slot's record: no sample's (Scheduler counts them up from 0).
+    static constexpr std::uint64_t FREE_SEQUENCE = ~std::uint64_t{0};
 
     /// Order of samples: (rank, deadline, sequence), the lane breaking the remaining ties.
     struct Key {

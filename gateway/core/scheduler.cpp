@@ -73,7 +73,7 @@ TopicId Scheduler::add_topic(const TopicConfig& topic) {
         add_topic_at(slot, topic);
         return slot;
     }
-    topics_.push_back(TopicState{topic, {}, {}, 0, false, 0, DecayingRate{}, true, false});
+    topics_.push_back(fresh_topic(topic));
     return static_cast<TopicId>(topics_.size() - 1);
 }
 
@@ -83,8 +83,16 @@ bool Scheduler::add_topic_at(TopicId slot, const TopicConfig& topic) {
     }
     free_topics_.erase(std::remove(free_topics_.begin(), free_topics_.end(), slot), free_topics_.end());
     --retired_slots_;
-    topics_[slot] = TopicState{topic, {}, {}, 0, false, 0, DecayingRate{}, true, false};
+    topics_[slot] = fresh_topic(topic);
     return true;
+}
+
+Scheduler::TopicState Scheduler::fresh_topic(const TopicConfig& topic) {
+    TopicState state;
+    state.config = topic;
+    if (topic.max_rate_hz > 0.0)
+        state.rate_cap.emplace(topic.max_rate_hz);
+    return state;
 }
 
 std::optional<TopicCounters> Scheduler::retire_topic(TopicId topic, bool reusable) {
@@ -95,7 +103,12 @@ std::optional<TopicCounters> Scheduler::retire_topic(TopicId topic, bool reusabl
     const TopicCounters final_counts = t.counters;
     retired_counters_ += final_counts;
     queue_.park(topic, false);
-    t = TopicState{TopicConfig{{}, t.config.ttl, false}, {}, {}, 0, false, 0, DecayingRate{}, true, true};
+    if (t.config.latest_only)
+        latest_.forget_topic(topic);
+    TopicState emptied;
+    emptied.config.ttl = t.config.ttl;
+    emptied.retired = true;
+    t = std::move(emptied);
     ++retired_slots_;
     if (reusable) {
         free_topics_.push_back(topic);
@@ -209,6 +222,11 @@ void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_
         topic.last_origin = origin;
     }
     sample.deadline = origin + topic.config.ttl;
+    // The operator's rule before any scheduling: a thinned-out sample is no part of the topic's demand.
+    if (topic.rate_cap && sample.kind == SampleKind::data && !topic.rate_cap->admit(now)) {
+        drop(std::move(sample), DropReason::rate_capped, sink);
+        return;
+    }
     const std::uint64_t wire_bits = alone_wire_bits(sample);
     const bool same_limit = topic.protect_epoch == protect_epoch_ && topic.last_wire_bits == wire_bits;
     topic.last_arrival = now;
@@ -233,11 +251,25 @@ void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_
         return;
     }
     const std::int64_t rank = rank_of(sample.topic);
+    const bool latest_only = topic.config.latest_only && sample.kind == SampleKind::data;
+    if (latest_only)
+        supersede(sample, sink);
+    const TopicId id = sample.topic;
+    const InstanceKey key = sample.key;
+    const std::uint64_t sequence = sample.sequence;
     topic.counters.queued_payload_bytes += sample.payload.size();
     queued_first_ += topic.config.first ? 1 : 0;
-    queue_.push(std::move(sample), rank);
+    const DeadlineQueue::Slot slot = queue_.push(std::move(sample), rank);
+    if (latest_only)
+        latest_.remember(id, key, {slot, sequence});
     ++topic.counters.queued;
     evict_over_cap(sink);
+}
+
+void Scheduler::supersede(const Sample& newer, SampleSink& sink) {
+    const std::optional<LatestSamples::Queued> older = latest_.find(newer.topic, newer.key);
+    if (older && queue_.holds(older->slot, older->sequence))
+        drop(take(older->slot), DropReason::superseded, sink);
 }
 
 std::uint64_t Scheduler::alone_wire_bits(const Sample& sample) const {

@@ -10,8 +10,10 @@
 #include "gateway/core/deadline_queue.hpp"
 #include "gateway/core/decaying_rate.hpp"
 #include "gateway/core/idle_source.hpp"
+#include "gateway/core/latest_samples.hpp"
 #include "gateway/core/link_budget.hpp"
 #include "gateway/core/policy_kind.hpp"
+#include "gateway/core/rate_cap.hpp"
 #include "gateway/core/repair_queue.hpp"
 #include "gateway/core/sample_sink.hpp"
 #include "gateway/core/topic_counters.hpp"
@@ -73,6 +75,12 @@ struct TopicConfig {
     /// it arrived too old to yield just when its bytes cost the most (three robots: A 193 to 200 of 200 on time,
     /// against 199 to 200 yielding within 5 s).
     base::Duration yields_within = base::Duration::zero();
+    /// At most this many of its samples a second are taken in (RateCap); the rest go to the log as
+    /// DropReason::rate_capped. 0: no cap.
+    double max_rate_hz = 0.0;
+    /// A newer data sample of an instance (the topic, for an unkeyed one) replaces the one still queued, which goes
+    /// to the log as DropReason::superseded: a state topic (pose, battery) sends its latest value, not a backlog.
+    bool latest_only = false;
 };
 
 /// The scheduling core: a pure step machine with no clock and no threads of its own. Samples come in with
@@ -211,7 +219,12 @@ class Scheduler {
         /// The last sample's source time and the steady time it was taken to be born at (push).
         base::WallTime last_source_time{};
         base::SteadyTime last_origin{};
+        std::optional<RateCap> rate_cap;  ///< config.max_rate_hz's
     };
+
+    static TopicState fresh_topic(const TopicConfig& topic);
+    /// latest_only: the queued data sample of `newer`'s instance goes to the log as superseded.
+    void supersede(const Sample& newer, SampleSink& sink);
 
     /// The two active topics with the least room (TTL less their own sample's last wire time), and their ranks: a
     /// sample may hold the link at most the least room of the topics no less urgent than its own, itself aside.
@@ -330,6 +343,7 @@ class Scheduler {
     std::size_t queued_first_ = 0;  ///< samples of `first` topics in queue_
     TopicCounters retired_counters_;
     DeadlineQueue queue_;
+    LatestSamples latest_;
     double sensed_rate_bps_;
     LinkBudget budget_;
     double reserve_bits_ = 0.0;  ///< saved for charge_link, as of reserve_time_

@@ -140,7 +140,7 @@ struct Gateway::WanCallbackLink {
 Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     : config_(std::move(config)),
       clock_(clock),
-      filter_(config_.allow, config_.deny),
+      filter_(config_.allow, config_.deny, config_.topic_rules),
       types_(types::TypeLibrary::project_and(config_.idl_dirs, "--idl")),
       wan_callbacks_(std::make_shared<WanCallbackLink>()),
       uplink_topics_(config_.uplink, config_.robot_name) {
@@ -811,7 +811,7 @@ void Gateway::bridge_gathered_nts() {
     std::vector<std::pair<base::Duration, DiscoveredPublisher>> by_ttl;
     by_ttl.reserve(gathered_.size());
     for (DiscoveredPublisher& pub : gathered_) {
-        const base::Duration ttl = ttl_for(pub).ttl;
+        const base::Duration ttl = ttl_for(pub.topic, pub.lifespan).ttl;
         by_ttl.emplace_back(ttl, std::move(pub));
     }
     gathered_.clear();
@@ -821,12 +821,16 @@ void Gateway::bridge_gathered_nts() {
     }
 }
 
-ResolvedTtl Gateway::ttl_for(const DiscoveredPublisher& pub) const {
+ResolvedTtl Gateway::ttl_for(const std::string& topic, std::optional<base::Duration> publisher_lifespan) const {
+    std::optional<base::Duration> rule_ttl;
+    if (const TopicRule* rule = config_.topic_rules.rule_for(topic)) {
+        rule_ttl = rule->ttl;
+    }
     std::optional<base::Duration> profile_lifespan;
-    if (auto profile = wan_->writer_profile(pub.topic)) {
+    if (auto profile = wan_->writer_profile(topic)) {
         profile_lifespan = to_duration(profile->lifespan().duration);
     }
-    return resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl);
+    return resolve_ttl(rule_ttl, profile_lifespan, publisher_lifespan, config_.default_ttl);
 }
 
 void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
@@ -840,8 +844,13 @@ void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
         }
         return;
     }
-    const ResolvedTtl ttl = ttl_for(pub);
-    const core::TopicId id = add_topic_nts(core::TopicConfig{pub.topic, ttl.ttl, false});
+    const ResolvedTtl ttl = ttl_for(pub.topic, pub.lifespan);
+    core::TopicConfig topic{pub.topic, ttl.ttl};
+    if (const TopicRule* rule = config_.topic_rules.rule_for(pub.topic)) {
+        topic.max_rate_hz = rule->max_rate_hz;
+        topic.latest_only = rule->latest_only;
+    }
+    const core::TopicId id = add_topic_nts(topic);
     const std::string wan_name = base::namespaced_topic(config_.robot_name, pub.topic);
     {
         // Its WAN writers' announcements go in its urgency (RepairDesk::hold_writer_announcement).
@@ -895,13 +904,8 @@ void Gateway::route_uplink_nts(const DiscoveredPublisher& pub, const std::string
     if (!uplink_) {
         return;  // stopping
     }
-    // The same rule as the robot's topics: a --qos profile named after the robot's topic, the publisher's
-    // Lifespan, --default-ttl.
-    std::optional<base::Duration> profile_lifespan;
-    if (auto profile = wan_->writer_profile(robot_topic)) {
-        profile_lifespan = to_duration(profile->lifespan().duration);
-    }
-    uplink_->route(pub, robot_topic, resolve_ttl(profile_lifespan, pub.lifespan, config_.default_ttl));
+    // The same rule as the robot's topics, by the robot's name of the topic.
+    uplink_->route(pub, robot_topic, ttl_for(robot_topic, pub.lifespan));
 }
 
 std::vector<UplinkCount> Gateway::uplink_counts() const {
@@ -1197,6 +1201,8 @@ void Gateway::publish_status_nts() {
         t.shutdown(c.dropped_for(core::DropReason::shutdown));
         t.write_failed(c.dropped_for(core::DropReason::write_failed));
         t.no_reader(c.dropped_for(core::DropReason::no_reader));
+        t.rate_capped(c.dropped_for(core::DropReason::rate_capped));
+        t.superseded(c.dropped_for(core::DropReason::superseded));
         t.matched_readers(row.matched_readers);
         t.active_ms(active_ms(c, status_made));
         all_readers += t.matched_readers();

@@ -37,6 +37,7 @@
 #include "gateway/dds/robot_transport.hpp"
 #include "gateway/dds/topic_bridge.hpp"
 #include "gateway/dds/topic_filter.hpp"
+#include "gateway/dds/topic_rules.hpp"
 #include "gateway/dds/ttl_resolver.hpp"
 #include "gateway/dds/uplink.hpp"
 #include "gateway/dds/uplink_topics.hpp"
@@ -81,6 +82,9 @@ struct GatewayConfig {
     std::uint64_t log_max_bytes = 0;  ///< the log's cap (RobotLog); 0: none
     std::vector<std::string> allow;   ///< topic globs; empty: all
     std::vector<std::string> deny;
+    /// The configuration file's `topics:` rules: a topic's first match sets its TTL, whether it is bridged (before
+    /// allow and deny), its rate cap and latest_only. Their uplink topics are in `uplink` too.
+    TopicRules topic_rules;
     /// --uplink: robot topics (by the robot's own names) the base camp may publish into the robot domain, each
     /// under its WAN name (base::namespaced_topic); empty: nothing flows from the WAN into the robot domain.
     std::vector<std::string> uplink;
@@ -306,7 +310,8 @@ class Gateway {
     void bridge_gathered_nts();
     /// The TTL the gateway gives `pub`'s samples: its topic's --qos profile's Lifespan, else the publisher's, else
     /// --default-ttl.
-    ResolvedTtl ttl_for(const DiscoveredPublisher& pub) const;
+    /// `topic`'s TTL: its rule's, a --qos profile's named after it, `publisher_lifespan`, --default-ttl.
+    ResolvedTtl ttl_for(const std::string& topic, std::optional<base::Duration> publisher_lifespan) const;
     /// A publisher left: if it was its lane's last, the lane is retired once its queued samples are past.
     void forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer);
     /// Retires the lane, then the topic if that was its last lane (retire_topic_nts). The worker thread only.

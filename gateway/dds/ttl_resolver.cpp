@@ -12,6 +12,8 @@ bool applies(const std::optional<base::Duration>& lifespan) {
 
 std::string_view to_string(TtlSource source) {
     switch (source) {
+        case TtlSource::rule:
+            return "rule";
         case TtlSource::profile:
             return "profile";
         case TtlSource::publisher:
@@ -31,6 +33,14 @@ ResolvedTtl resolve_ttl(std::optional<base::Duration> profile_lifespan,
         return {*publisher_lifespan, TtlSource::publisher};
     }
     return {default_ttl, TtlSource::fallback};
+}
+
+ResolvedTtl resolve_ttl(std::optional<base::Duration> rule_ttl, std::optional<base::Duration> profile_lifespan,
+                        std::optional<base::Duration> publisher_lifespan, base::Duration default_ttl) {
+    if (applies(rule_ttl)) {
+        return {*rule_ttl, TtlSource::rule};
+    }
+    return resolve_ttl(profile_lifespan, publisher_lifespan, default_ttl);
 }
 
 }  // namespace tgw::dds

@@ -3,6 +3,7 @@
 // The fixture of the gateway's integration tests: a robot participant, a base-camp participant and the Gateway
 // between them, in one process, on domains of this process.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <atomic>
 #include <cstdio>
@@ -160,6 +161,21 @@ class GatewayIntegrationTest : public ::testing::Test {
         }
         wait_for_bridge(topic, writer_matches, wan.matched);
         return HasFatalFailure() ? nullptr : writer;
+    }
+
+    /// Rows of the on-robot log `log_file` logged with `reason`.
+    static std::int64_t logged_with_reason(const std::string& log_file, const std::string& reason) {
+        sqlite3* db = nullptr;
+        EXPECT_EQ(sqlite3_open_v2(log_file.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+        sqlite3_stmt* stmt = nullptr;
+        EXPECT_EQ(sqlite3_prepare_v2(db, "SELECT COUNT(*) FROM dropped_samples WHERE reason = ?1", -1, &stmt, nullptr),
+                  SQLITE_OK);
+        sqlite3_bind_text(stmt, 1, reason.c_str(), -1, SQLITE_TRANSIENT);
+        EXPECT_EQ(sqlite3_step(stmt), SQLITE_ROW);
+        const std::int64_t n = sqlite3_column_int64(stmt, 0);
+        sqlite3_finalize(stmt);
+        sqlite3_close(db);
+        return n;
     }
 
     void expect_balanced() const {

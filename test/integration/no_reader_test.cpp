@@ -1,7 +1,6 @@
 // Nothing is sent to no one: while no base-camp reader matches a topic, the gateway holds its samples until their
 // deadline and then logs them as no_reader (real participants, a real on-robot log).
 #include <gtest/gtest.h>
-#include <sqlite3.h>
 
 #include <optional>
 #include <string>
@@ -46,20 +45,6 @@ class NoReaderTest : public GatewayIntegrationTest {
             return std::nullopt;
         }
         return id;
-    }
-
-    std::int64_t logged_with_reason(const std::string& log_file, const std::string& reason) {
-        sqlite3* db = nullptr;
-        EXPECT_EQ(sqlite3_open_v2(log_file.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
-        sqlite3_stmt* stmt = nullptr;
-        EXPECT_EQ(sqlite3_prepare_v2(db, "SELECT COUNT(*) FROM dropped_samples WHERE reason = ?1", -1, &stmt, nullptr),
-                  SQLITE_OK);
-        sqlite3_bind_text(stmt, 1, reason.c_str(), -1, SQLITE_TRANSIENT);
-        EXPECT_EQ(sqlite3_step(stmt), SQLITE_ROW);
-        const std::int64_t n = sqlite3_column_int64(stmt, 0);
-        sqlite3_finalize(stmt);
-        sqlite3_close(db);
-        return n;
     }
 };
 

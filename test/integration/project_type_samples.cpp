@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
                              "received": "300", "forwarded": "298", "forwarded_wire_bytes": "0", "forwarded_bytes": "19072",
                              "expired": "2",
                              "doomed": "0", "evicted": "0", "oversize": "0", "shutdown": "0", "write_failed": "0",
-                             "no_reader": "0",
+                             "no_reader": "0", "rate_capped": "0", "superseded": "0",
                              "matched_readers": 1, "active_ms": 60000}],
                  "uplink_topics": ["rt/rover1/cmd_vel"], "uplink_charged": true, "uplink_wire_bytes": "9680",
                  "backfill_rows": "120", "backfill_bytes": "90000", "backfill_oldest_ns": "1795559900000000000",

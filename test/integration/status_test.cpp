@@ -73,7 +73,8 @@ TEST_F(StatusTest, SaysWhatTheGatewayCountsAboutEachTopic) {
     EXPECT_EQ(t.forwarded_wire_bytes(), counters.forwarded_wire_bytes);
     EXPECT_EQ(t.queued_samples(), 0u);
     EXPECT_EQ(t.queued_bytes(), 0u);
-    EXPECT_EQ(t.expired() + t.doomed() + t.evicted() + t.oversize() + t.shutdown() + t.write_failed() + t.no_reader(),
+    EXPECT_EQ(t.expired() + t.doomed() + t.evicted() + t.oversize() + t.shutdown() + t.write_failed() + t.no_reader() +
+                  t.rate_capped() + t.superseded(),
               0u);
     EXPECT_EQ(t.ttl_ms(), 5000u);
     EXPECT_EQ(t.matched_readers(), 1);

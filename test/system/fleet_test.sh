@@ -54,9 +54,9 @@ for k in 1 2; do
     "$BIN/tm-basecamp" report "$WORK/camp.db" --robot-log "$WORK/rover$k.db" --offered "rover$k/telemetry/A=${published:-0}" \
         >"$WORK/report$k.txt" 2>&1 || true
     # report's accounting row: topic offered received on_time late expired ... unaccounted matched
-    row=$(awk -v t="rover$k/telemetry/A" '$1 == t && NF == 15 { print; exit }' "$WORK/report$k.txt")
+    row=$(awk -v t="rover$k/telemetry/A" '$1 == t && NF == 17 { print; exit }' "$WORK/report$k.txt")
     read -r _ offered received on_time _ <<<"${row:-x 0 0 0}"
-    unaccounted=$(awk -v t="rover$k/telemetry/A" '$1 == t && NF == 15 { print $14; exit }' "$WORK/report$k.txt")
+    unaccounted=$(awk -v t="rover$k/telemetry/A" '$1 == t && NF == 17 { print $16; exit }' "$WORK/report$k.txt")
     check "rover$k: tm-robot-sim published telemetry/A ($published)" "a >= 90" "${published:-0}"
     check "rover$k/telemetry/A at the base camp: $on_time of $offered on time" "b > 0 && a >= 0.99 * b" "$on_time" "$offered"
     check "rover$k/telemetry/A: nothing unaccounted" "a == 0" "${unaccounted:-1}"

@@ -139,7 +139,7 @@ a_on_time=$(sqlite3 -batch -noheader "$WORK/camp.db" "SELECT COUNT(*) FROM (SELE
     WHERE receive_ns - source_ns <= 1000000000")
 check "rover1/telemetry/A at the base camp, outside the outage: ${a_on_time:-0} of ${a_offered:-0} on time" \
     "b > 80 && a >= 0.99 * b" "${a_on_time:-0}" "${a_offered:-0}"
-logged=$(awk '$1 == "rover1/telemetry/D" && NF == 15 { print $6 + $7; exit }' "$WORK/camp-report.txt")
+logged=$(awk '$1 == "rover1/telemetry/D" && NF == 17 { print $6 + $7; exit }' "$WORK/camp-report.txt")
 echo "the link was saturated: D samples the gateway dropped for the link: ${logged:-?}"
 
 cat "$WORK/commands-report.txt"

@@ -18,6 +18,7 @@
 #include "base/config_file.hpp"
 #include "base/fastdds_log_reporter.hpp"
 #include "base/robot_namespace.hpp"
+#include "gateway/apps/telemetry_gateway/topic_rules_file.hpp"
 #include "gateway/core/policy_kind.hpp"
 #include "gateway/dds/gateway.hpp"
 #include "gateway/dds/rate_poller.hpp"
@@ -393,9 +394,24 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     auto* trust = app.add_flag("--trust-source-clock", "deadlines from the publisher's source timestamp (default)");
     app.add_flag("--arrival-clock", arrival_clock, "deadlines from the arrival at the gateway")->excludes(trust);
-    tgw::base::ConfigFile config_file(app);
-    if (const std::optional<int> exit_code = tgw::base::read_command_line(app, argc, argv, {&config_file})) {
-        return *exit_code;
+    tgw::base::ConfigFile config_file(app, {"topics"});
+    const auto read_topic_rules = [&] {
+        config.topic_rules = tgw::gateway_app::read_topic_rules(config_file.section("topics"), config_file.file());
+        return tgw::gateway_app::topic_rules_yaml(config.topic_rules);
+    };
+    try {
+        if (const std::optional<int> exit_code =
+                tgw::base::read_command_line(app, argc, argv, {&config_file}, read_topic_rules)) {
+            return *exit_code;
+        }
+        read_topic_rules();
+    } catch (const ConfigError& e) {
+        std::cerr << "telemetry-gateway: " << e.what() << '\n';
+        return 2;
+    }
+    for (const tgw::dds::TopicRule& rule : config.topic_rules.rules()) {
+        if (rule.uplink && std::find(config.uplink.begin(), config.uplink.end(), rule.match) == config.uplink.end())
+            config.uplink.push_back(rule.match);
     }
 
     // Signals are taken by sigwait in this thread only; every thread created from here on inherits the mask.

@@ -311,7 +311,7 @@ TEST_F(DropAccountingTest, PrintsTheAccountingTable) {
     EXPECT_NE(text.find("lost_link"), std::string::npos) << text;
     EXPECT_NE(text.find("unaccounted"), std::string::npos) << text;
     // topic, offered 3, received 1, on time 1, late 0, expired 0, doomed 1, evicted/oversize/shutdown/write_failed/
-    // no_reader 0, lost 1*
+    // no_reader/rate_capped/superseded 0, lost 1*
     std::istringstream lines(text);
     std::string line;
     bool found = false;
@@ -320,16 +320,17 @@ TEST_F(DropAccountingTest, PrintsTheAccountingTable) {
         std::vector<std::string> f;
         for (std::string x; fields >> x;)
             f.push_back(x);
-        if (f.size() == 15 && f[0] == "telemetry/A") {
+        if (f.size() == 17 && f[0] == "telemetry/A") {
             found = true;
             EXPECT_EQ(f[1], "3");
             EXPECT_EQ(f[2], "1");
             EXPECT_EQ(f[6], "1");    // doomed
             EXPECT_EQ(f[10], "0");   // write_failed
             EXPECT_EQ(f[11], "0");   // no_reader
-            EXPECT_EQ(f[12], "1*");  // lost on the link, inferred
-            EXPECT_EQ(f[13], "0");   // unaccounted
-            EXPECT_EQ(f[14], "sequence");
+            EXPECT_EQ(f[13], "0");   // superseded
+            EXPECT_EQ(f[14], "1*");  // lost on the link, inferred
+            EXPECT_EQ(f[15], "0");   // unaccounted
+            EXPECT_EQ(f[16], "sequence");
         }
     }
     EXPECT_TRUE(found) << text;

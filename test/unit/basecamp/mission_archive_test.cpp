@@ -332,12 +332,13 @@ TEST_F(MissionArchiveTest, KeepsEveryDropReasonOfTheRobotLogByName) {
 
     const MergeCounts counts = write_and_merge();
 
-    EXPECT_EQ(archive_rows("reason"), (std::vector<std::string>{"expired", "doomed", "evicted", "oversize", "shutdown",
-                                                                "write_failed", "no_reader"}));
+    EXPECT_EQ(archive_rows("reason"),
+              (std::vector<std::string>{"expired", "doomed", "evicted", "oversize", "shutdown", "write_failed",
+                                        "no_reader", "rate_capped", "superseded"}));
     for (std::size_t i = 0; i < core::DROP_REASON_COUNT; ++i)
         EXPECT_EQ(fates_of(counts, "telemetry/D").dropped[i], 1u) << core::DROP_REASON_NAMES[i];
     EXPECT_EQ(archive_rows("COUNT(*)", "payload_bytes = length(payload) AND logged_ns IS NOT NULL"),
-              (std::vector<std::string>{"7"}));
+              (std::vector<std::string>{"9"}));
 }
 
 TEST_F(MissionArchiveTest, MatchesIdenticalSamplesByMultiplicity) {

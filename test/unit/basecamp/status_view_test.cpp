@@ -81,7 +81,7 @@ TEST_F(StatusViewTest, SaysWhenTheDeliveredRateCheckCapsTheRate) {
     sut.add(status_at(T0 - 10 * S, 26'000));
     std::ostringstream before;
     sut.render(before, T0);
-    EXPECT_EQ(before.str().find("capped"), std::string::npos) << before.str();
+    EXPECT_EQ(before.str().find("(capped at"), std::string::npos) << before.str();
     sut.add(capped);
     std::ostringstream after;
     sut.render(after, T0 + S);

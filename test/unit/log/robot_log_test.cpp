@@ -354,7 +354,7 @@ TEST_F(RobotLogTest, StoresEveryReasonByName) {
     for (const auto& row : rows)
         reasons.push_back(row.reason);
     EXPECT_EQ(reasons, (std::vector<std::string>{"expired", "doomed", "evicted", "oversize", "shutdown", "write_failed",
-                                                 "no_reader"}));
+                                                 "no_reader", "rate_capped", "superseded"}));
 }
 
 TEST_F(RobotLogTest, FlushReturnsOnlyOnceEverythingAppendedIsInTheFile) {

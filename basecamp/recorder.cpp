@@ -129,7 +129,7 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
     qos.resource_limits().max_samples_per_instance = 1000;
     qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
     qos.data_sharing().off();
-    // Cyclone DDS 0.10 refuses readers that expect inline QoS (DESIGN section 7).
+    // Cyclone DDS 0.10 refuses readers that expect inline QoS (docs/design.md §7).
     qos.expects_inline_qos(false);
 
     auto reader = std::make_unique<TopicReader>(publisher, store_, tally_);

@@ -41,7 +41,7 @@ class RateSensor {
     virtual std::string describe() const = 0;
 };
 
-/// Builds a sensor from a SPEC of DESIGN section 6 (`fixed:BPS`, `trace:FILE`, ...). Throws base::ConfigError
+/// Builds a sensor from a SPEC of docs/design.md §6 (`fixed:BPS`, `trace:FILE`, ...). Throws base::ConfigError
 /// naming the spec, file and line when it is malformed or the sensor cannot start.
 std::unique_ptr<RateSensor> make_sensor(const std::string& spec, const base::Clock& clock);
 

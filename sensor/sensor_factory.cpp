@@ -1,4 +1,4 @@
-// make_sensor(): the one place that turns a SPEC of DESIGN section 6 into a sensor.
+// make_sensor(): the one place that turns a SPEC of docs/design.md §6 into a sensor.
 #include <optional>
 #include <string_view>
 

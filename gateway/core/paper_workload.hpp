@@ -17,7 +17,7 @@ struct MessageStream {
     double rate_hz = 5.0;
 };
 
-/// The 2001 paper's four message types (DESIGN section 2): 41, 66, 266 and 1016 bytes, TTL 1, 2, 5, 20 s,
+/// The 2001 paper's four message types (docs/design.md §2): 41, 66, 266 and 1016 bytes, TTL 1, 2, 5, 20 s,
 /// 5 Hz each.
 std::vector<MessageStream> paper_workload(double rate_hz = 5.0);
 

@@ -5,7 +5,7 @@
 
 namespace tgw::core {
 
-/// The scheduling policies of DESIGN section 4.
+/// The scheduling policies of docs/design.md §4.
 enum class PolicyKind {
     ttl,    ///< the default: shortest TTL first, nearest deadline among equals, budgeted, early drop
     edf,    ///< nearest deadline first across all topics, budgeted, early drop: the textbook baseline

@@ -916,7 +916,7 @@ std::vector<Sample> Scheduler::fill_bundle(base::SteadyTime start, BundleBuilder
                 }
             }
             const base::Duration tx = budget_.transmit_time(bundle.wire_bits(bytes));
-            // Joining must cost no entry its deadline, nor the most urgent topic its own (DESIGN section 4).
+            // Joining must cost no entry its deadline, nor the most urgent topic its own (docs/design.md §4).
             if (bytes > max_bytes || start + tx + config_.link_latency > std::min(earliest_deadline, peek.deadline) ||
                 tx > std::min(limit, protect_limit_for(peek.topic))) {
                 passed_over = true;

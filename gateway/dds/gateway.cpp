@@ -209,7 +209,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         config_.scheduler.wire = config_.scheduler.wire.with_security();
     }
     // Discovery, heartbeats, repairs, copies to further readers: charged as they leave, so that the budget
-    // counts every byte the WAN participant puts on the link (DESIGN section 3).
+    // counts every byte the WAN participant puts on the link (docs/design.md §3).
     wan.on_unscheduled = [link = wan_callbacks_](std::uint64_t frame_bytes) {
         std::lock_guard<std::mutex> lock(link->mutex);
         if (link->gateway != nullptr) {

@@ -60,7 +60,7 @@ class RobotParticipant;
 class TopicTable;
 class WanRouter;
 
-/// Everything the telemetry-gateway program's flags set (DESIGN section 6).
+/// Everything the telemetry-gateway program's flags set (docs/design.md §6).
 struct GatewayConfig {
     int robot_domain = 0;
     int wan_domain = 1;

@@ -19,7 +19,7 @@ namespace tgw::dds {
 
 /// What a robot-domain publisher offers that decides which readers may match it: the gateway reads it with a
 /// reader that asks for exactly this, and republishes through a WAN writer that offers exactly this, so any
-/// base-camp reader that would have matched the publisher matches the gateway (DESIGN section 3). History
+/// base-camp reader that would have matched the publisher matches the gateway (docs/design.md §3). History
 /// depth and Lifespan are not part of it: they are the gateway's. Publishers of one topic that offer the same
 /// OfferedQos share a lane of the topic: one robot reader, one WAN writer.
 struct OfferedQos {
@@ -36,7 +36,7 @@ struct OfferedQos {
     bool xcdr2 = false;  ///< the publisher writes XCDR2 (its first data representation)
     /// The robot reader must ask for inline QoS to learn each sample's instance: a keyed Fast DDS writer sends
     /// the key hash only to readers that do, and a type-agnostic reader cannot compute it. Cyclone DDS
-    /// refuses to match such readers (DESIGN section 7), but sends the key hash anyway.
+    /// refuses to match such readers (docs/design.md §7), but sends the key hash anyway.
     bool needs_inline_key_hash = false;
 
     /// Reads the offer from a discovered writer's QoS; `fast_dds_keyed`: the writer is a Fast DDS writer of a

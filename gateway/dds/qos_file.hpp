@@ -22,7 +22,7 @@ inline constexpr const char* WAN_PARTICIPANT_PROFILE = "tgw_wan_participant";
 void load_qos_file(const std::string& path);
 
 /// The Lifespan of the data_writer profile named `topic` in the loaded files: the operator's TTL for the topic
-/// (DESIGN section 4). nullopt when there is no such profile or it sets no finite Lifespan. Needs no participant.
+/// (docs/design.md §4). nullopt when there is no such profile or it sets no finite Lifespan. Needs no participant.
 std::optional<base::Duration> writer_profile_lifespan(const std::string& topic);
 
 /// A topic the --qos file names with its type (a data_writer profile whose <topic> has a <dataType>): the

@@ -7,7 +7,7 @@
 
 namespace tgw::dds {
 
-/// Where a topic's TTL came from (DESIGN section 4), first that applies.
+/// Where a topic's TTL came from (docs/design.md §4), first that applies.
 enum class TtlSource {
     rule,       ///< the topic's rule in the configuration file (TopicRule::ttl)
     profile,    ///< a data_writer profile named after the topic in the --qos file: the operator's intent
@@ -22,7 +22,7 @@ struct ResolvedTtl {
     TtlSource source = TtlSource::fallback;
 };
 
-/// Pure rule of DESIGN section 4. A lifespan that is absent, infinite or not positive does not apply.
+/// Pure rule of docs/design.md §4. A lifespan that is absent, infinite or not positive does not apply.
 ResolvedTtl resolve_ttl(std::optional<base::Duration> profile_lifespan,
                         std::optional<base::Duration> publisher_lifespan, base::Duration default_ttl);
 /// The same, a rule's TTL (when it has one) first.

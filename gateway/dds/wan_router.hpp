@@ -57,7 +57,7 @@ struct WanConfig {
     std::uint16_t listen_port = 0;
     /// SPDP, unless a participant profile is given: how long the peer keeps us without hearing from us, and
     /// how often we announce. Fast DDS's
-    /// 20 s / 3 s put 5,300 bit/s on the link with one idle peer (DESIGN section 4); these cut that ~7x.
+    /// 20 s / 3 s put 5,300 bit/s on the link with one idle peer (docs/design.md §4); these cut that ~7x.
     std::chrono::seconds lease_duration{120};
     std::chrono::seconds announcement_period{20};
     /// The UDP transport the participant sends through, under its coalescer; its maxMessageSize is set to

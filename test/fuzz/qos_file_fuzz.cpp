@@ -1,6 +1,6 @@
 // An operator's --qos file decides each topic's TTL: any text loads into profiles or gives a ConfigError naming
 // the file (and the line where there is one), and every topic it declares resolves to a TTL that is a finite,
-// positive duration, the profile's Lifespan exactly when that applies (DESIGN section 4). Each input is written
+// positive duration, the profile's Lifespan exactly when that applies (docs/design.md §4). Each input is written
 // to a file of its own (Fast DDS loads a path once) and the profiles are cleared after it.
 #include <unistd.h>
 

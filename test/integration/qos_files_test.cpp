@@ -1,4 +1,4 @@
-// Every XML file in qos/ loads into Fast DDS, and the paper workload's profiles say what DESIGN section 2 says.
+// Every XML file in qos/ loads into Fast DDS, and the paper workload's profiles say what docs/design.md §2 says.
 #include <gtest/gtest.h>
 #include <unistd.h>
 

@@ -12,6 +12,9 @@ namespace tgw::base {
 
 namespace rtps = eprosima::fastrtps::rtps;
 
+namespace {
+
+/// True if `locator` is a UDPv4 locator holding one of this host's interfaces' addresses now.
 bool is_address_of_this_host(const rtps::Locator_t& locator) {
     if (locator.kind != LOCATOR_KIND_UDPv4)
         return false;
@@ -22,6 +25,8 @@ bool is_address_of_this_host(const rtps::Locator_t& locator) {
     return std::any_of(host->begin(), host->end(),
                        [&](const InterfaceAddress& each) { return each.address == address; });
 }
+
+}  // namespace
 
 LoopbackTransportDescriptor::LoopbackTransportDescriptor(
     std::shared_ptr<eprosima::fastdds::rtps::UDPv4TransportDescriptor> udp)

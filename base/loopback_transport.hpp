@@ -49,7 +49,4 @@ class LoopbackTransport : public eprosima::fastdds::rtps::ChainingTransport {
     LoopbackTransportDescriptor descriptor_;
 };
 
-/// True if `locator` is a UDPv4 locator holding one of this host's interfaces' addresses now.
-bool is_address_of_this_host(const eprosima::fastrtps::rtps::Locator_t& locator);
-
 }  // namespace tgw::base

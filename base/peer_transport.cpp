@@ -19,15 +19,15 @@ namespace {
 using eprosima::fastrtps::rtps::IPLocator;
 using eprosima::fastrtps::rtps::Locator_t;
 
-Locator_t udp_locator(const std::string& address, std::uint16_t port = 0) {
+}  // namespace
+
+Locator_t udp_locator(const std::string& address, std::uint32_t port) {
     Locator_t locator;
     locator.kind = LOCATOR_KIND_UDPv4;
     IPLocator::setIPv4(locator, address);
     locator.port = port;
     return locator;
 }
-
-}  // namespace
 
 std::string resolve_ipv4(const std::string& name_or_addr, const std::string& flag) {
     if (is_ipv4(name_or_addr))

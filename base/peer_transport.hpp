@@ -25,6 +25,9 @@ struct PeerTransport {
     std::string discovery_server_flag = "--discovery-server";
 };
 
+/// A UDPv4 locator of `address` (dotted) and `port`; port 0 lets Fast DDS fill in the well-known one.
+eprosima::fastrtps::rtps::Locator_t udp_locator(const std::string& address, std::uint32_t port = 0);
+
 /// The IPv4 address of `name_or_addr`: an address as given, or the first IPv4 address of the interface so
 /// named. Throws ConfigError naming `flag` when it is neither.
 std::string resolve_ipv4(const std::string& name_or_addr, const std::string& flag);

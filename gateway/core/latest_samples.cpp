@@ -1,5 +1,7 @@
 #include "gateway/core/latest_samples.hpp"
 
+#include <utility>
+
 namespace tgw::core {
 
 std::size_t LatestSamples::InstanceHash::operator()(const Instance& instance) const {
@@ -20,15 +22,11 @@ LatestSamples::Instance LatestSamples::instance_of(TopicId topic, const Instance
     return instance;
 }
 
-std::optional<LatestSamples::Queued> LatestSamples::find(TopicId topic, const InstanceKey& key) const {
-    const auto it = queued_.find(instance_of(topic, key));
-    if (it == queued_.end())
+std::optional<LatestSamples::Queued> LatestSamples::exchange(TopicId topic, const InstanceKey& key, Queued newer) {
+    const auto [it, inserted] = queued_.try_emplace(instance_of(topic, key), newer);
+    if (inserted)
         return std::nullopt;
-    return it->second;
-}
-
-void LatestSamples::remember(TopicId topic, const InstanceKey& key, Queued queued) {
-    queued_[instance_of(topic, key)] = queued;
+    return std::exchange(it->second, newer);
 }
 
 void LatestSamples::forget_topic(TopicId topic) {

@@ -21,10 +21,9 @@ class LatestSamples {
         std::uint64_t sequence;
     };
 
-    /// The sample of `topic` and `key`'s instance last remembered, if any.
-    std::optional<Queued> find(TopicId topic, const InstanceKey& key) const;
-    /// `queued` is the latest sample of `topic` and `key`'s instance now.
-    void remember(TopicId topic, const InstanceKey& key, Queued queued);
+    /// Remembers `newer` as the latest sample of `topic` and `key`'s instance; returns the one it replaces there,
+    /// if any.
+    std::optional<Queued> exchange(TopicId topic, const InstanceKey& key, Queued newer);
     /// Forgets every instance of `topic`.
     void forget_topic(TopicId topic);
 

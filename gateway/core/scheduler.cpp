@@ -252,24 +252,20 @@ void Scheduler::push(Sample&& sample, base::SteadyTime now, base::WallTime wall_
     }
     const std::int64_t rank = rank_of(sample.topic);
     const bool latest_only = topic.config.latest_only && sample.kind == SampleKind::data;
-    if (latest_only)
-        supersede(sample, sink);
     const TopicId id = sample.topic;
     const InstanceKey key = sample.key;
     const std::uint64_t sequence = sample.sequence;
     topic.counters.queued_payload_bytes += sample.payload.size();
     queued_first_ += topic.config.first ? 1 : 0;
     const DeadlineQueue::Slot slot = queue_.push(std::move(sample), rank);
-    if (latest_only)
-        latest_.remember(id, key, {slot, sequence});
     ++topic.counters.queued;
+    if (latest_only) {
+        // The instance's older sample, if it still waits, is replaced by this one.
+        const std::optional<LatestSamples::Queued> older = latest_.exchange(id, key, {slot, sequence});
+        if (older && queue_.holds(older->slot, older->sequence))
+            drop(take(older->slot), DropReason::superseded, sink);
+    }
     evict_over_cap(sink);
-}
-
-void Scheduler::supersede(const Sample& newer, SampleSink& sink) {
-    const std::optional<LatestSamples::Queued> older = latest_.find(newer.topic, newer.key);
-    if (older && queue_.holds(older->slot, older->sequence))
-        drop(take(older->slot), DropReason::superseded, sink);
 }
 
 std::uint64_t Scheduler::alone_wire_bits(const Sample& sample) const {

@@ -223,8 +223,6 @@ class Scheduler {
     };
 
     static TopicState fresh_topic(const TopicConfig& topic);
-    /// latest_only: the queued data sample of `newer`'s instance goes to the log as superseded.
-    void supersede(const Sample& newer, SampleSink& sink);
 
     /// The two active topics with the least room (TTL less their own sample's last wire time), and their ranks: a
     /// sample may hold the link at most the least room of the topics no less urgent than its own, itself aside.

@@ -1,7 +1,7 @@
 #include "gateway/apps/telemetry_gateway/topic_rules_file.hpp"
 
 #include <algorithm>
-#include <iterator>
+#include <utility>
 #include <vector>
 
 #include "base/config_error.hpp"
@@ -11,20 +11,23 @@ namespace tgw::gateway_app {
 
 namespace {
 
+/// The keys a rule may have.
+const std::vector<std::string> TOPIC_RULE_KEYS = {"match",  "ttl",         "allow",      "deny",
+                                                  "uplink", "max_rate_hz", "latest_only"};
+
 /// Reads one rule, each message starting with its place and "topics[INDEX]".
 class RuleReader {
   public:
-    RuleReader(const YAML::Node& node, const std::string& file, std::size_t index)
-        : node_(node), file_(file), name_("topics[" + std::to_string(index) + "]") {}
+    RuleReader(YAML::Node node, std::string file, std::size_t index)
+        : node_(std::move(node)), file_(std::move(file)), name_("topics[" + std::to_string(index) + "]") {}
 
     dds::TopicRule read() {
         if (!node_.IsMap())
             fail(node_, "expected a rule: a map with 'match' (a glob of topic names) and what it sets");
-        const std::vector<std::string> known(std::begin(TOPIC_RULE_KEYS), std::end(TOPIC_RULE_KEYS));
         for (const auto& entry : node_) {
             const std::string key = entry.first.Scalar();
-            if (std::find(known.begin(), known.end(), key) == known.end()) {
-                const std::string near = base::nearest_key(key, known);
+            if (std::find(TOPIC_RULE_KEYS.begin(), TOPIC_RULE_KEYS.end(), key) == TOPIC_RULE_KEYS.end()) {
+                const std::string near = base::nearest_key(key, TOPIC_RULE_KEYS);
                 fail(entry.first,
                      "unknown key '" + key + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)"));
             }
@@ -77,8 +80,8 @@ class RuleReader {
         return flag;
     }
 
-    const YAML::Node& node_;
-    const std::string& file_;
+    YAML::Node node_;
+    std::string file_;
     std::string name_;
 };
 

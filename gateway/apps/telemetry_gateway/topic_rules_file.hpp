@@ -9,10 +9,6 @@
 
 namespace tgw::gateway_app {
 
-/// The keys a rule may have.
-inline constexpr const char* TOPIC_RULE_KEYS[] = {"match",  "ttl",         "allow",      "deny",
-                                                  "uplink", "max_rate_hz", "latest_only"};
-
 /// The rules of `section` (ConfigFile::section("topics") of `file`): a list of maps, each with `match` (a glob)
 /// and what it sets. Undefined or null: none. Throws base::ConfigError naming the file, line, column, rule and key
 /// of anything else: not a list, an unknown key (with the nearest known), a value of the wrong kind, allow with

@@ -7,12 +7,16 @@
 #include <vector>
 
 #include "gateway/core/bundle_builder.hpp"
+#include "gateway/core/chunk_planning.hpp"
 #include "gateway/core/deadline_queue.hpp"
 #include "gateway/core/decaying_rate.hpp"
 #include "gateway/core/idle_source.hpp"
 #include "gateway/core/latest_samples.hpp"
 #include "gateway/core/link_budget.hpp"
+#include "gateway/core/link_reserve.hpp"
+#include "gateway/core/paper_filter.hpp"
 #include "gateway/core/policy_kind.hpp"
+#include "gateway/core/protected_topics.hpp"
 #include "gateway/core/rate_cap.hpp"
 #include "gateway/core/repair_queue.hpp"
 #include "gateway/core/sample_sink.hpp"
@@ -223,39 +227,10 @@ class Scheduler {
     };
 
     static TopicState fresh_topic(const TopicConfig& topic);
-
-    /// The two active topics with the least room (TTL less their own sample's last wire time), and their ranks: a
-    /// sample may hold the link at most the least room of the topics no less urgent than its own, itself aside.
-    /// What is more urgent goes first anyway; a topic without room (its own sample longer than its TTL) is not
-    /// protected at all. Kept between releases and brought up to date on push; rebuilt over all topics only when
-    /// one of the two goes inactive, the rate or a TTL changes. Two are kept, not all: a third, more urgent, topic
-    /// behind two less urgent ones with less room goes unprotected (less protection, never a stop).
-    struct ProtectedTopics {
-        static constexpr TopicId NONE = static_cast<TopicId>(-1);
-        struct Guard {
-            TopicId topic = NONE;
-            base::Duration limit = base::Duration::max();  ///< its room
-            std::int64_t rank = std::numeric_limits<std::int64_t>::max();
-        };
-        Guard first;  ///< the least room
-        Guard second;
-
-        void offer(const Guard& guard);
-        /// False if the two can no longer be told without a rebuild.
-        bool update(const Guard& guard);
-        /// The protected topic that bounds a sample of `candidate`, of `rank`; nullptr for none.
-        const Guard* guard_for(TopicId candidate, std::int64_t rank) const {
-            if (first.topic != candidate && first.rank <= rank)
-                return &first;
-            if (second.topic != candidate && second.rank <= rank)
-                return &second;
-            return nullptr;
-        }
-        base::Duration limit_for(TopicId candidate, std::int64_t rank) const {
-            const Guard* guard = guard_for(candidate, rank);
-            return guard == nullptr ? base::Duration::max() : guard->limit;
-        }
-    };
+    /// A queued sample as a bundle entry, to size it without taking it from the queue.
+    static BundleBuilder::Entry peeked_entry(const DeadlineQueue::Peek& peek) {
+        return BundleBuilder::Entry::of(peek.topic, peek.route, peek.source_time, *peek.payload, peek.keyed);
+    }
 
     bool active(TopicId topic, base::SteadyTime now) const;
     base::Duration protect_limit(TopicId topic) const;
@@ -287,17 +262,8 @@ class Scheduler {
     /// deadlines and `limit` (the non-preemptive rule) allow. False when not even a small one fits.
     bool add_chunk(base::SteadyTime start, base::SteadyTime earliest_deadline, base::Duration limit,
                    BundleBuilder& bundle, std::vector<Sample>& samples);
-    /// A sample that does not fit the room left may fill it with its first chunk when its rest fits one more
-    /// bundle, and two full bundles from `start` leave before its deadline.
-    bool fits_two_bundles(const DeadlineQueue::Peek& sample) const;
-    bool arrives_in_two_bundles(const DeadlineQueue::Peek& sample, base::SteadyTime start) const;
     /// Compact mode: the budget's rate less what the topics more urgent than `rank` spent of the link lately.
     double rate_left_bps(std::int64_t rank, base::SteadyTime at) const;
-    /// When the last chunk of a sample of `payload_bytes` started at `start` arrives, given `rate_bps` of the link
-    /// left to it lately (planned on with a margin); SteadyTime::max() for none.
-    base::SteadyTime chunks_arrive_by(std::size_t payload_bytes, base::SteadyTime start, double rate_bps) const;
-    /// The least a sample of `payload_bytes` puts on the link in chunks: the whole link its own, a chunk a bundle.
-    std::uint64_t chunk_bits(std::size_t payload_bytes) const;
     /// The chunked sample goes to the log with `reason`; its chunks already sent are wasted.
     void abandon_chunks(DropReason reason, SampleSink& sink);
     /// Whether the sample of a `first` topic at the head of the queue yields the send from `start` to the most
@@ -344,11 +310,9 @@ class Scheduler {
     LatestSamples latest_;
     double sensed_rate_bps_;
     LinkBudget budget_;
-    double reserve_bits_ = 0.0;  ///< saved for charge_link, as of reserve_time_
-    base::SteadyTime reserve_time_{};
+    LinkReserve reserve_;  ///< for charge_link
     std::uint64_t next_sequence_ = 0;
-    base::SteadyTime next_paper_period_{};
-    bool paper_started_ = false;
+    PaperFilter paper_;  ///< `paper` only
     ProtectedTopics protect_;
     bool protect_valid_ = false;
     std::uint64_t protect_epoch_ = 0;
@@ -368,7 +332,8 @@ class Scheduler {
         std::size_t sent_bytes = 0;
     };
     std::optional<ChunkedSample> chunked_;
-    IdleSource* idle_ = nullptr;  ///< see set_idle_source
+    std::optional<ChunkPlanning> chunk_planning_;  ///< compact WAN mode's
+    IdleSource* idle_ = nullptr;                   ///< see set_idle_source
     TopicId idle_topic_ = 0;
     std::uint32_t next_chunk_id_ = 0;
 

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
-#include <set>
 #include <utility>
 
 #include "BackfillPubSubTypes.h"
@@ -12,7 +11,6 @@
 #include "base/config_error.hpp"
 #include "base/discovery_server.hpp"
 #include "base/robot_namespace.hpp"
-#include "gateway/compact/zstd_frame.hpp"
 #include "gateway/core/granted_rate.hpp"
 #include "gateway/dds/backfill_topics.hpp"
 #include "gateway/dds/compact_wan.hpp"
@@ -22,6 +20,7 @@
 #include "gateway/dds/qos_file.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
 #include "gateway/dds/robot_participant.hpp"
+#include "gateway/dds/status_message.hpp"
 #include "gateway/dds/status_topic.hpp"
 #include "gateway/dds/topic_table.hpp"
 #include "gateway/dds/wan_address.hpp"
@@ -32,9 +31,6 @@ namespace tgw::dds {
 
 namespace {
 
-// Fast DDS accepts domain ids whose well-known ports fit in 16 bits.
-constexpr int MAX_DOMAIN_ID = 232;
-
 // The on-robot log's link_rates: a row when the rate changes by this fraction, else one a period at most.
 constexpr double RATE_LOG_CHANGE = 0.02;
 constexpr auto RATE_LOG_PERIOD = std::chrono::seconds(1);
@@ -43,94 +39,7 @@ constexpr auto RATE_LOG_PERIOD = std::chrono::seconds(1);
 // queued (Scheduler::set_reachable); they start to flow within this of a reader matching.
 constexpr auto REACHABILITY_POLL = std::chrono::milliseconds(100);
 
-void check_domain(const char* flag, int domain) {
-    if (domain < 0 || domain > MAX_DOMAIN_ID) {
-        throw base::ConfigError(std::string(flag) + " " + std::to_string(domain) + ": must be 0 to " +
-                                std::to_string(MAX_DOMAIN_ID));
-    }
-}
-
 }  // namespace
-
-void GatewayConfig::validate() const {
-    check_domain("--robot-domain", robot_domain);
-    check_domain("--wan-domain", wan_domain);
-    if (!robot_name.empty()) {
-        if (const std::string problem = base::robot_name_problem(robot_name); !problem.empty()) {
-            throw base::ConfigError("--robot-name '" + robot_name + "': " + problem);
-        }
-    }
-    if (backfill && log_file.empty()) {
-        throw base::ConfigError("backfill needs the on-robot log, whose rows it sends (drop --no-log)");
-    }
-    if (backfill_max_bps > 0 && !backfill) {
-        throw base::ConfigError("--backfill-max-bps: backfill is off (--no-log keeps no rows to send)");
-    }
-    if (robot_domain == wan_domain) {
-        // One domain would make the gateway read its own WAN writers back.
-        throw base::ConfigError("--wan-domain " + std::to_string(wan_domain) + ": must differ from --robot-domain");
-    }
-    const std::size_t datagram = scheduler.wire.max_datagram_bytes;
-    if (datagram < core::WireModel::MIN_DATAGRAM_PAYLOAD_BYTES || datagram > core::WireModel::MAX_UDP_PAYLOAD_BYTES) {
-        throw base::ConfigError("--wan-max-datagram " + std::to_string(datagram) + ": expected " +
-                                std::to_string(core::WireModel::MIN_DATAGRAM_PAYLOAD_BYTES) + " to " +
-                                std::to_string(core::WireModel::MAX_UDP_PAYLOAD_BYTES) + " bytes");
-    }
-    if (!wan_security.empty() && datagram < SECURE_MIN_DATAGRAM_BYTES) {
-        throw base::ConfigError("--wan-max-datagram " + std::to_string(datagram) + ": with --wan-security at least " +
-                                std::to_string(SECURE_MIN_DATAGRAM_BYTES) +
-                                " bytes, or Fast DDS cannot send its authentication handshake");
-    }
-    if (robot.receive_buffer_bytes < RobotTransport::MIN_RECEIVE_BUFFER_BYTES ||
-        robot.receive_buffer_bytes > RobotTransport::MAX_RECEIVE_BUFFER_BYTES) {
-        throw base::ConfigError("--robot-receive-buffer " + std::to_string(robot.receive_buffer_bytes) + ": expected " +
-                                std::to_string(RobotTransport::MIN_RECEIVE_BUFFER_BYTES) + " to " +
-                                std::to_string(RobotTransport::MAX_RECEIVE_BUFFER_BYTES) + " bytes");
-    }
-    if (wan_coalesce_window < std::chrono::microseconds::zero() || wan_coalesce_window > MAX_COALESCE_WINDOW) {
-        throw base::ConfigError("--wan-coalesce-us " + std::to_string(wan_coalesce_window.count()) +
-                                ": expected 0 to " + std::to_string(MAX_COALESCE_WINDOW.count()) + " microseconds");
-    }
-    if (wan_peer_participants < 1 || wan_peer_participants > MAX_WAN_PEER_PARTICIPANTS) {
-        throw base::ConfigError("--wan-peer-participants " + std::to_string(wan_peer_participants) +
-                                ": expected 1 to " + std::to_string(MAX_WAN_PEER_PARTICIPANTS));
-    }
-    if (compact_wan && scheduler.policy != core::PolicyKind::ttl && scheduler.policy != core::PolicyKind::edf) {
-        throw base::ConfigError("--wan-mode compact: bundles need --policy ttl or edf, not " +
-                                std::string(core::to_string(scheduler.policy)));
-    }
-    if (wan_compress && !compact_wan) {
-        throw base::ConfigError("--wan-compress: compresses bundles, so it needs --wan-mode compact");
-    }
-    if (default_ttl <= base::Duration::zero()) {
-        throw base::ConfigError("--default-ttl: must be positive");
-    }
-    for (const std::string& peer : wan_peers) {
-        parse_wan_peer(peer, wan_domain);
-    }
-    UplinkTopics(uplink, robot_name);  // throws naming --uplink
-    for (const auto* globs : {&allow, &deny}) {
-        for (const std::string& glob : *globs) {
-            if (glob.empty()) {
-                throw base::ConfigError(std::string(globs == &allow ? "--allow" : "--deny") + ": empty glob");
-            }
-        }
-    }
-    if (!wan_discovery_server.empty()) {
-        base::parse_discovery_server(wan_discovery_server, "--wan-discovery-server");
-        if (!wan_peers.empty()) {
-            throw base::ConfigError(
-                "--wan-discovery-server excludes --wan-peer: the server tells the gateway of the "
-                "base camp's participants");
-        }
-    } else if (wan_peers.empty()) {
-        // The WAN participant announces itself only to its peers (multicast costs the radio and rarely crosses
-        // it), so without one no base camp would ever hear of this gateway, and it would run sending nothing.
-        throw base::ConfigError(
-            "--wan-peer: missing: give the base camp's host, IPv4[:PORT] (repeatable), or --wan-discovery-server "
-            "ADDR:PORT; the gateway announces itself to no one else");
-    }
-}
 
 struct Gateway::WanCallbackLink {
     std::mutex mutex;
@@ -314,18 +223,18 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
 
     discovery_ = std::make_unique<Discovery>(
         [this](DiscoveredPublisher&& pub) {
-            post([this, pub = std::move(pub)]() mutable { gather_nts(std::move(pub)); });
+            worker_.post([this, pub = std::move(pub)]() mutable { gather_nts(std::move(pub)); });
         },
         [this](const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
-            post([this, topic, writer] { forget_writer_nts(topic, writer); });
+            worker_.post([this, topic, writer] { forget_writer_nts(topic, writer); });
         });
     discovery_->ignore_participant(wan_->guid_prefix());
-    post([this] { poll_reachability_nts(); });
+    worker_.post([this] { poll_reachability_nts(); });
     if (config_.status_period > base::Duration::zero()) {
         // The first after one period: by then the sensor has been described and read.
-        post_at(std::chrono::steady_clock::now() +
-                    std::chrono::duration_cast<std::chrono::steady_clock::duration>(config_.status_period),
-                [this] { publish_status_nts(); });
+        worker_.post_at(std::chrono::steady_clock::now() +
+                            std::chrono::duration_cast<std::chrono::steady_clock::duration>(config_.status_period),
+                        [this] { publish_status_nts(); });
     }
     try {
         RobotTransport transport = config_.robot;
@@ -343,7 +252,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
                 pub.keyed = declared.keyed;
                 pub.lifespan = declared.lifespan;
                 pub.qos = OfferedQos::from_writer(declared.qos, declared.keyed);
-                post([this, pub = std::move(pub)] { bridge_nts(pub, true); });
+                worker_.post([this, pub = std::move(pub)] { bridge_nts(pub, true); });
             }
         }
         // Discovery starts inside the participant's creation, and what it finds is posted to the worker: the
@@ -352,7 +261,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
                                                     participant_profile(ROBOT_PARTICIPANT_PROFILE));
         discovery_->ignore_participant(robot_->guid_prefix());
         make_uplink();
-        worker_ = std::thread([this] { run_worker(); });
+        worker_.start();
         if (named_peers) {
             peer_lookup_ = std::thread([this] { run_peer_lookup(); });
         }
@@ -394,7 +303,7 @@ void Gateway::stop() {
     if (backfill_acks_) {
         backfill_acks_->close();
     }
-    stop_worker();
+    worker_.stop();
     if (robot_) {
         for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
             bridge->close_readers();
@@ -527,7 +436,7 @@ void Gateway::post_wan_remake(std::function<void()> remake) {
     // bound to it (what was written meanwhile would be counted forwarded and never arrive).
     rebinding_wan_.store(true);
     apply_rate();
-    post(std::move(remake));
+    worker_.post(std::move(remake));
 }
 
 void Gateway::rebind_wan_nts(const std::string& address) {
@@ -636,56 +545,6 @@ std::optional<double> Gateway::granted_bps() const {
     return grants_ ? grants_->current() : std::nullopt;
 }
 
-void Gateway::post(std::function<void()> task) {
-    {
-        std::lock_guard<std::mutex> lock(events_mutex_);
-        events_.push_back(std::move(task));
-    }
-    events_changed_.notify_one();
-}
-
-void Gateway::post_at(std::chrono::steady_clock::time_point at, std::function<void()> task) {
-    {
-        std::lock_guard<std::mutex> lock(events_mutex_);
-        timers_.emplace(at, std::move(task));
-    }
-    events_changed_.notify_one();
-}
-
-void Gateway::stop_worker() {
-    {
-        std::lock_guard<std::mutex> lock(events_mutex_);
-        worker_stopping_ = true;
-    }
-    events_changed_.notify_all();
-    if (worker_.joinable()) {
-        worker_.join();
-    }
-}
-
-void Gateway::run_worker() {
-    std::unique_lock<std::mutex> lock(events_mutex_);
-    while (!worker_stopping_) {
-        std::function<void()> task;
-        if (!events_.empty()) {
-            task = std::move(events_.front());
-            events_.pop_front();
-        } else if (!timers_.empty() && timers_.begin()->first <= std::chrono::steady_clock::now()) {
-            task = std::move(timers_.begin()->second);
-            timers_.erase(timers_.begin());
-        } else if (!timers_.empty()) {
-            events_changed_.wait_until(lock, timers_.begin()->first);
-            continue;
-        } else {
-            events_changed_.wait(lock);
-            continue;
-        }
-        lock.unlock();
-        task();
-        lock.lock();
-    }
-}
-
 void Gateway::poll_reachability_nts() {
     const auto reachable = [this](core::TopicId id, bool reaches) {
         if (id >= reachable_.size()) {
@@ -707,7 +566,7 @@ void Gateway::poll_reachability_nts() {
         // A camp that stores backfill and acknowledges it reads the topic (tm-basecamp relay --out, record).
         reachable(*backfill_topic_, backfill_writer_->matched_readers() > 0);
     }
-    post_at(std::chrono::steady_clock::now() + REACHABILITY_POLL, [this] { poll_reachability_nts(); });
+    worker_.post_at(std::chrono::steady_clock::now() + REACHABILITY_POLL, [this] { poll_reachability_nts(); });
 }
 
 void Gateway::forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
@@ -723,8 +582,8 @@ void Gateway::forget_writer_nts(const std::string& topic, const eprosima::fastrt
     // What the publisher sent is still the base camp's due: the lane stays until its queued samples are past
     // their TTL. A publisher of the same offer that comes back meanwhile keeps it.
     const auto ttl = std::chrono::duration_cast<std::chrono::steady_clock::duration>(bridge->ttl().ttl);
-    post_at(std::chrono::steady_clock::now() + ttl + LANE_LINGER,
-            [this, weak = std::weak_ptr<TopicBridge>(bridge), lane = *lane] { retire_lane_nts(weak, lane); });
+    worker_.post_at(std::chrono::steady_clock::now() + ttl + LANE_LINGER,
+                    [this, weak = std::weak_ptr<TopicBridge>(bridge), lane = *lane] { retire_lane_nts(weak, lane); });
 }
 
 void Gateway::retire_lane_nts(const std::weak_ptr<TopicBridge>& weak, std::uint16_t lane) {
@@ -750,7 +609,7 @@ void Gateway::retire_topic_nts(const std::weak_ptr<TopicBridge>& weak) {
             topics_->remove(bridge->name());
             std::lock_guard<std::mutex> topics_lock(wan_topics_mutex_);
             wan_topics_.erase(bridge->wan_name());
-            keep_retired_nts(bridge->name(), bridge->ttl(), *counts);
+            retired_.keep(bridge->name(), bridge->ttl(), *counts);
             if (compact_) {
                 compact_slots_[bridge->name()] = bridge->id();
             }
@@ -759,28 +618,13 @@ void Gateway::retire_topic_nts(const std::weak_ptr<TopicBridge>& weak) {
     }
     if (!retired) {
         // Its readers are gone, so nothing more comes; what is queued is sent or logged by its deadline.
-        post_at(std::chrono::steady_clock::now() + RETIRE_RETRY, [this, weak] { retire_topic_nts(weak); });
+        worker_.post_at(std::chrono::steady_clock::now() + RETIRE_RETRY, [this, weak] { retire_topic_nts(weak); });
         return;
     }
     if (bridge->id() < reachable_.size()) {
         reachable_[bridge->id()] = -1;
     }
     // The bridge, its listeners and its WAN writers go here, or after a write that holds the bridge now.
-}
-
-void Gateway::keep_retired_nts(const std::string& name, const ResolvedTtl& ttl, const core::TopicCounters& counts) {
-    retired_total_ += counts;
-    auto it = retired_.find(name);
-    if (it == retired_.end() && retired_.size() >= MAX_RETIRED_TOPICS) {
-        other_retired_.counters += counts;
-        other_retired_.ttl = ttl;
-        return;
-    }
-    if (it == retired_.end()) {
-        it = retired_.emplace(name, RetiredTopic{}).first;
-    }
-    it->second.counters += counts;
-    it->second.ttl = ttl;
 }
 
 core::TopicId Gateway::add_topic_nts(const core::TopicConfig& topic) {
@@ -803,7 +647,7 @@ core::TopicId Gateway::add_topic_nts(const core::TopicConfig& topic) {
 void Gateway::gather_nts(DiscoveredPublisher&& pub) {
     gathered_.push_back(std::move(pub));
     if (gathered_.size() == 1) {
-        post_at(std::chrono::steady_clock::now() + DISCOVERY_GATHERING, [this] { bridge_gathered_nts(); });
+        worker_.post_at(std::chrono::steady_clock::now() + DISCOVERY_GATHERING, [this] { bridge_gathered_nts(); });
     }
 }
 
@@ -897,7 +741,8 @@ void Gateway::remote_publisher_discovered(DiscoveredPublisher&& pub) {
     if (!robot_topic) {
         return;  // nothing else flows from the WAN into the robot domain
     }
-    post([this, pub = std::move(pub), robot_topic = std::move(*robot_topic)] { route_uplink_nts(pub, robot_topic); });
+    worker_.post(
+        [this, pub = std::move(pub), robot_topic = std::move(*robot_topic)] { route_uplink_nts(pub, robot_topic); });
 }
 
 void Gateway::route_uplink_nts(const DiscoveredPublisher& pub, const std::string& robot_topic) {
@@ -934,31 +779,12 @@ std::size_t Gateway::wan_topics() const {
 
 std::vector<TopicCount> Gateway::topic_counts() const {
     std::lock_guard<std::mutex> lock(retired_mutex_);
-    std::vector<TopicCount> out;
-    std::set<std::string> bridged;
+    std::vector<TopicCount> bridged;
     for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
-        TopicCount row;
-        row.name = bridge->name();
-        row.ttl = bridge->ttl();
-        row.counters = loop_->counters(bridge->id());
-        row.bridged = true;
-        row.matched_readers = bridge->matched_readers();
-        // A topic that came back: its earlier bridges' counts too.
-        if (const auto it = retired_.find(row.name); it != retired_.end()) {
-            row.counters += it->second.counters;
-        }
-        bridged.insert(row.name);
-        out.push_back(std::move(row));
+        bridged.push_back(
+            TopicCount{bridge->name(), bridge->ttl(), loop_->counters(bridge->id()), true, bridge->matched_readers()});
     }
-    for (const auto& [name, retired] : retired_) {
-        if (bridged.count(name) == 0) {
-            out.push_back(TopicCount{name, retired.ttl, retired.counters, false, 0});
-        }
-    }
-    if (other_retired_.counters.received > 0) {
-        out.push_back(TopicCount{OTHER_RETIRED_TOPICS, other_retired_.ttl, other_retired_.counters, false, 0});
-    }
-    return out;
+    return retired_.with(std::move(bridged));
 }
 
 std::optional<BridgedTopic> Gateway::find_topic(const std::string& name) const {
@@ -1039,7 +865,7 @@ void Gateway::charge_link(std::uint64_t frame_bytes) {
     pending_unscheduled_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
     // One task charges whatever has come by the time it runs: a burst of copies costs one hand-off, not one each.
     if (!unscheduled_charge_posted_.exchange(true)) {
-        post([this] {
+        worker_.post([this] {
             unscheduled_charge_posted_.store(false);
             loop_->charge_link(8u * pending_unscheduled_bytes_.exchange(0));
         });
@@ -1073,46 +899,14 @@ std::vector<TopicCount> Gateway::status_rows() const {
     return rows;
 }
 
-namespace {
-
-/// A row's TTL as the status carries it: whole milliseconds, zero for the retired topics' row.
-std::uint32_t status_ttl_ms(const TopicCount& row) {
-    return row.bridged
-               ? static_cast<std::uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(row.ttl.ttl).count())
-               : 0u;
-}
-
-/// The rows as the base camp's grantor reads them from the status.
-/// How long `c`'s topic has had samples at `now`, in whole milliseconds as the status tells it; 0 before any.
-std::uint32_t active_ms(const core::TopicCounters& c, base::SteadyTime now) {
-    if (!c.first_received || *c.first_received > now) {
-        return 0;
-    }
-    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now - *c.first_received).count();
-    return static_cast<std::uint32_t>(std::min<std::int64_t>(ms, std::numeric_limits<std::uint32_t>::max()));
-}
-
-std::vector<core::TopicLoad> loads_of(const std::vector<TopicCount>& rows, base::SteadyTime now) {
-    std::vector<core::TopicLoad> loads;
-    for (const TopicCount& row : rows) {
-        const core::TopicCounters& c = row.counters;
-        loads.push_back(core::TopicLoad{row.name, std::chrono::milliseconds(status_ttl_ms(row)), c.received,
-                                        c.forwarded, c.forwarded_wire_bytes, c.queued, c.queued_payload_bytes,
-                                        c.forwarded_payload_bytes, std::chrono::milliseconds(active_ms(c, now))});
-    }
-    return loads;
-}
-
-}  // namespace
-
 void Gateway::publish_status_nts() {
     // Looked at every status period, made once the spacing the rate allows now has passed since the last: a
     // spacing fixed when a status was made during an outage (minutes at 1,000 bit/s) would silence it for as long
     // after the link came back. With --channel-grants also when the robot's demand has moved away from what the
     // base camp was last told (DemandWatch): its share follows within a status period, not a spacing.
     const auto now = std::chrono::steady_clock::now();
-    post_at(now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(config_.status_period),
-            [this] { publish_status_nts(); });
+    worker_.post_at(now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(config_.status_period),
+                    [this] { publish_status_nts(); });
     const double rate = loop_->rate_bps();
     std::optional<std::vector<TopicCount>> rows;
     bool due =
@@ -1178,57 +972,16 @@ void Gateway::publish_status_nts() {
         status.backfill_sent(counts.sent);
         status.backfill_acknowledged(counts.acknowledged);
     }
-    std::int32_t all_readers = 0;
     if (!rows) {
         rows = status_rows();
     }
-    for (const TopicCount& row : *rows) {
-        const core::TopicCounters& c = row.counters;
-        idl::TopicStatus t;
-        // The base camp's name of the topic: what it records it as.
-        t.name(row.bridged ? base::namespaced_topic(config_.robot_name, row.name) : row.name);
-        t.ttl_ms(status_ttl_ms(row));
-        t.queued_samples(static_cast<std::uint32_t>(c.queued));
-        t.queued_bytes(c.queued_payload_bytes);
-        t.received(c.received);
-        t.forwarded(c.forwarded);
-        t.forwarded_wire_bytes(c.forwarded_wire_bytes);
-        t.forwarded_bytes(c.forwarded_payload_bytes);
-        t.expired(c.dropped_for(core::DropReason::expired));
-        t.doomed(c.dropped_for(core::DropReason::doomed));
-        t.evicted(c.dropped_for(core::DropReason::evicted));
-        t.oversize(c.dropped_for(core::DropReason::oversize));
-        t.shutdown(c.dropped_for(core::DropReason::shutdown));
-        t.write_failed(c.dropped_for(core::DropReason::write_failed));
-        t.no_reader(c.dropped_for(core::DropReason::no_reader));
-        t.rate_capped(c.dropped_for(core::DropReason::rate_capped));
-        t.superseded(c.dropped_for(core::DropReason::superseded));
-        t.matched_readers(row.matched_readers);
-        t.active_ms(active_ms(c, status_made));
-        all_readers += t.matched_readers();
-        status.topics().push_back(std::move(t));
-    }
+    const std::int32_t all_readers = add_topic_rows(status, *rows, config_.robot_name, status_made);
     status.matched_readers(compact_ ? compact_->matched_readers() : all_readers + status_writer_->matched_readers());
 
     idl::GatewayStatusPubSubType type;
     core::Sample sample;
-    // In compact mode one zstd frame (the relay decompresses it; the catalog says so): its counters are mostly
-    // zeros and small numbers, 664 bytes of a paper robot's status became 159 to 240. Made twice: its period, a
-    // field of its own, follows from its size.
-    const auto make_sample = [&] {
-        if (!keyed_sample(type, status, sample)) {
-            return false;
-        }
-        if (!compact_) {
-            return true;
-        }
-        std::vector<std::uint8_t> frame;
-        if (!compact::zstd_frame(sample.payload.data(), sample.payload.size(), frame)) {
-            return false;
-        }
-        sample.payload = std::move(frame);
-        return true;
-    };
+    // Made twice: its period, a field of its own, follows from its size.
+    const auto make_sample = [&] { return status_sample(status, compact_ != nullptr, sample); };
     bool made = make_sample();
     const std::size_t bytes = made ? sample.payload.size() : type.getSerializedSizeProvider(&status)();
     const double wire_bits = static_cast<double>(config_.scheduler.wire.wire_bits(bytes));
@@ -1268,7 +1021,7 @@ std::uint64_t Gateway::forwarded_robot_samples() const {
         return compact_->stats().bundles;  // what the relay counts in compact mode
     }
     std::lock_guard<std::mutex> lock(retired_mutex_);
-    std::uint64_t forwarded = retired_total_.forwarded;
+    std::uint64_t forwarded = retired_.total().forwarded;
     for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
         forwarded += loop_->counters(bridge->id()).forwarded;
     }

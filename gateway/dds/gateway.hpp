@@ -17,6 +17,7 @@
 
 #include <fastdds/rtps/transport/TransportDescriptorInterface.h>
 #include "base/clock.hpp"
+#include "base/event_loop.hpp"
 #include "base/quiet_discovery_ports.hpp"
 #include "gateway/core/demand_watch.hpp"
 #include "gateway/core/forwarding_loop.hpp"
@@ -30,11 +31,13 @@
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/discovery.hpp"
+#include "gateway/dds/gateway_config.hpp"
 #include "gateway/dds/grant_reader.hpp"
 #include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/receiver_report_reader.hpp"
 #include "gateway/dds/repair_desk.hpp"
 #include "gateway/dds/robot_transport.hpp"
+#include "gateway/dds/topic_accounting.hpp"
 #include "gateway/dds/topic_bridge.hpp"
 #include "gateway/dds/topic_filter.hpp"
 #include "gateway/dds/topic_rules.hpp"
@@ -59,91 +62,6 @@ class GatewaySink;
 class RobotParticipant;
 class TopicTable;
 class WanRouter;
-
-/// Everything the telemetry-gateway program's flags set (docs/design.md §6).
-struct GatewayConfig {
-    int robot_domain = 0;
-    int wan_domain = 1;
-    std::vector<std::string> wan_peers;  ///< ADDR or ADDR:PORT, see parse_wan_peer
-    /// ADDR:PORT of a Fast DDS Discovery Server (--wan-discovery-server): discovery through it instead of
-    /// announcements to wan_peers, which it excludes.
-    std::string wan_discovery_server;
-    /// A peer given without a port gets the announcements at the ports of this many participants (peer_ports).
-    int wan_peer_participants = 4;
-    static constexpr int MAX_WAN_PEER_PARTICIPANTS = 32;
-    std::string wan_interface;   ///< interface name or IPv4 address; empty: every interface
-    std::uint16_t wan_port = 0;  ///< own metatraffic port on the WAN; 0: Fast DDS's well-known port
-    RobotTransport robot;
-    std::string qos_file;  ///< Fast DDS XML; empty: none
-    /// --idl: directories of IDL files; a keyed type found there gets its key hash computed from the payload
-    /// when its publisher sends none (types::KeyHasher).
-    std::vector<std::string> idl_dirs;
-    std::string log_file;             ///< on-robot SQLite log; empty: none
-    std::uint64_t log_max_bytes = 0;  ///< the log's cap (RobotLog); 0: none
-    std::vector<std::string> allow;   ///< topic globs; empty: all
-    std::vector<std::string> deny;
-    /// The configuration file's `topics:` rules: a topic's first match sets its TTL, whether it is bridged (before
-    /// allow and deny), its rate cap and latest_only. Their uplink topics are in `uplink` too.
-    TopicRules topic_rules;
-    /// --uplink: robot topics (by the robot's own names) the base camp may publish into the robot domain, each
-    /// under its WAN name (base::namespaced_topic); empty: nothing flows from the WAN into the robot domain.
-    std::vector<std::string> uplink;
-    /// --duplex half: the radio carries both directions on one channel, so the uplink's bytes are charged to the
-    /// budget as traffic outside the schedule (and told in the status: a base camp's grants leave room for them);
-    /// false (full): they are only counted.
-    bool uplink_shares_link = true;
-    /// --robot-name: the robot's topics appear on the WAN under this name (base::namespaced_topic); empty: under
-    /// their own names. Allow, deny and --qos profiles go by the robot's own names.
-    std::string robot_name;
-    base::Duration default_ttl = std::chrono::seconds(5);
-    core::SchedulerConfig scheduler;
-    /// Compact WAN mode (--wan-mode compact): what the scheduler releases together leaves as one bundle, and the
-    /// base camp's relay unpacks it; needs a scheduler.bundles limit (set from the wire model when missing).
-    bool compact_wan = false;
-    /// Compact WAN mode: zstd-compress a bundle's entries where that makes it smaller (--wan-compress).
-    bool wan_compress = false;
-    /// An identity directory made by scripts/make-certs (--wan-security): DDS Security on the WAN participant only;
-    /// empty: none. Its files are checked before the participant is created (base::SecurityFiles::load).
-    std::string wan_security;
-    std::chrono::seconds wan_lease{120};
-    std::chrono::seconds wan_announcement_period{20};
-    /// Read the base camp's receiver reports (tgw/receiver_report), see receiver_report().
-    bool receiver_reports = false;
-    /// --channel-grants: budget for the lower of the sensor's rate and the base camp's grant for this gateway
-    /// (tgw/grant) while it is valid: a fleet's shared channel.
-    bool channel_grants = false;
-    /// WanConfig::coalesce_window: how long a WAN sample may wait to share a datagram; 0: never.
-    std::chrono::microseconds wan_coalesce_window = DatagramCoalescer::DEFAULT_WINDOW;
-    /// See WanConfig::datagram_transport.
-    std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> wan_datagram_transport;
-    /// See WanConfig::heartbeat_spacing_bytes.
-    std::uint32_t wan_heartbeat_bytes = DEFAULT_HEARTBEAT_SPACING_BYTES;
-    static constexpr std::chrono::microseconds MAX_COALESCE_WINDOW{100'000};
-    /// How often the gateway publishes its status (STATUS_TOPIC) at most; zero: never (telemetry-gateway's
-    /// --status-period defaults to 1 s). On a slow link it comes less often, so that it takes at most
-    /// STATUS_RATE_SHARE of the sensed rate.
-    base::Duration status_period = base::Duration::zero();
-    /// Backfill (docs/design/backfill.md): the on-robot log's rows cross to the base camp in capacity no live
-    /// sample wants, until the camp acknowledges them. Needs a log. telemetry-gateway turns it on wherever it keeps
-    /// one (--no-backfill).
-    bool backfill = false;
-    /// The most bit/s backfill may take (--backfill-max-bps); 0: only the budget bounds it.
-    double backfill_max_bps = 0.0;
-
-    /// Throws base::ConfigError naming the flag at fault. Checks what needs no file or network.
-    void validate() const;
-};
-
-/// One row of the gateway's per-topic accounting (Gateway::topic_counts): a topic bridged now, one retired, or
-/// the retired topics past Gateway::MAX_RETIRED_TOPICS together (named Gateway::OTHER_RETIRED_TOPICS).
-struct TopicCount {
-    std::string name;
-    ResolvedTtl ttl;  ///< the latest bridge's
-    /// Every bridge the topic had, summed: received = forwarded + queued + dropped holds for each, so for the sum.
-    core::TopicCounters counters;
-    bool bridged = false;              ///< bridged now
-    std::int32_t matched_readers = 0;  ///< base-camp readers matched now, when bridged
-};
 
 /// The whole gateway in one object (main stays thin; integration tests create it in-process): the on-robot
 /// log, the WAN participant, the ForwardingLoop with its sink, and the robot participant whose discovery
@@ -279,9 +197,6 @@ class Gateway {
     /// A topic whose last lane was retired with samples still queued (their deadline later than its TTL from
     /// then: a source clock ahead) is looked at again this often, until they are sent or logged.
     static constexpr std::chrono::seconds RETIRE_RETRY{1};
-    /// Retired topics whose counts are kept by name; those of more go into one row, OTHER_RETIRED_TOPICS.
-    static constexpr std::size_t MAX_RETIRED_TOPICS = 4096;
-    static constexpr const char* OTHER_RETIRED_TOPICS = "(other retired topics)";
     /// The status's row of every retired topic's counts together.
     static constexpr const char* RETIRED_TOPICS_ROW = "(retired topics)";
 
@@ -292,12 +207,6 @@ class Gateway {
     void log_rate(double sensed_bps, double rate_bps);
     struct WanCallbackLink;
 
-    /// Runs `task` in the worker thread, after those posted before it.
-    void post(std::function<void()> task);
-    /// Runs `task` in the worker thread once the steady clock reaches `at` (a real-time wait, whatever clock
-    /// the scheduler runs on: it is about DDS entities).
-    void post_at(std::chrono::steady_clock::time_point at, std::function<void()> task);
-    void run_worker();
     /// Bridges `pub`'s topic, or finds or makes its lane; `declared`: from a --qos profile, no publisher yet.
     void bridge_nts(const DiscoveredPublisher& pub, bool declared = false);  // the worker thread only
     /// A publisher discovered: bridged with those found within DISCOVERY_GATHERING of the first, most urgent first
@@ -322,9 +231,6 @@ class Gateway {
     /// The scheduler slot for a new topic: in compact mode the one its name had before, if any (its catalog
     /// entry says so already), else a free or new one. `reachable_` starts at "no reader". The worker thread only.
     core::TopicId add_topic_nts(const core::TopicConfig& topic);
-    /// Adds `counts` to the retired record of `name`. Under retired_mutex_.
-    void keep_retired_nts(const std::string& name, const ResolvedTtl& ttl, const core::TopicCounters& counts);
-    void stop_worker();
     /// Samples of the robot's topics written to the WAN so far: what base-camp receiver reports count (the
     /// status is not among them); in compact mode the bundles, which the relay counts.
     std::uint64_t forwarded_robot_samples() const;
@@ -393,12 +299,8 @@ class Gateway {
     std::unique_ptr<core::ForwardingLoop> loop_;
     std::unique_ptr<Discovery> discovery_;
 
-    std::mutex events_mutex_;
-    std::condition_variable events_changed_;
-    std::deque<std::function<void()>> events_;
-    std::multimap<std::chrono::steady_clock::time_point, std::function<void()>> timers_;
-    bool worker_stopping_ = false;
-    std::thread worker_;
+    /// The worker thread: every *_nts function runs there, and DDS entities are made and deleted there only.
+    base::EventLoop worker_;
 
     std::unique_ptr<RobotParticipant> robot_;
     std::unique_ptr<Uplink> uplink_;  ///< with --uplink; closed by stop(), before robot_ goes
@@ -445,17 +347,10 @@ class Gateway {
     std::mutex stop_mutex_;
     bool stopped_ = false;
 
-    /// What a retired topic left: its counts over every bridge it had, and its last TTL.
-    struct RetiredTopic {
-        core::TopicCounters counters;
-        ResolvedTtl ttl;
-    };
     /// Held while a topic is retired and while the counts are read, so that a topic's counts are never seen in
     /// both its slot and its record, nor in neither.
     mutable std::mutex retired_mutex_;
-    std::map<std::string, RetiredTopic> retired_;  // under retired_mutex_
-    RetiredTopic other_retired_;                   ///< beyond MAX_RETIRED_TOPICS; under retired_mutex_
-    core::TopicCounters retired_total_;            ///< every retired record together; under retired_mutex_
+    RetiredTopics retired_;  // under retired_mutex_
     /// Compact WAN mode: the scheduler slot (the catalog's topic id) of each topic ever bridged and now retired,
     /// taken again by the same name only, so that an id in the catalog never changes its topic. The worker only.
     std::map<std::string, core::TopicId> compact_slots_;

@@ -163,13 +163,13 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     sink_->set_compact(compact_.get());
     sink_->set_repair_desk(wan_->repair_desk());
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
+    lifecycle_ = std::make_unique<TopicLifecycle>(
+        config_, filter_, types_, TopicLifecycle::Ends{*wan_, *loop_, *topics_, worker_, clock_, compact_.get()});
     if (RepairDesk* desk = wan_->repair_desk()) {
         desk->set_submit([loop = loop_.get()](const core::Repair& repair) { loop->submit_repair(repair); });
         desk->pace_fragments(core::paces_fragments_at(config_.scheduler.initial_rate_bps));
-        desk->set_topic_lookup([this](std::string_view wan_topic) -> std::optional<RepairDesk::ScheduledTopic> {
-            std::lock_guard<std::mutex> lock(wan_topics_mutex_);
-            const auto it = wan_topics_.find(std::string(wan_topic));
-            return it != wan_topics_.end() ? std::optional(it->second) : std::nullopt;
+        desk->set_topic_lookup([lifecycle = lifecycle_.get()](std::string_view wan_topic) {
+            return lifecycle->scheduled_topic(wan_topic);
         });
     }
     if (config_.status_period > base::Duration::zero()) {
@@ -223,10 +223,10 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
 
     discovery_ = std::make_unique<Discovery>(
         [this](DiscoveredPublisher&& pub) {
-            worker_.post([this, pub = std::move(pub)]() mutable { gather_nts(std::move(pub)); });
+            worker_.post([this, pub = std::move(pub)]() mutable { lifecycle_->gather_nts(std::move(pub)); });
         },
         [this](const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
-            worker_.post([this, topic, writer] { forget_writer_nts(topic, writer); });
+            worker_.post([this, topic, writer] { lifecycle_->forget_writer_nts(topic, writer); });
         });
     discovery_->ignore_participant(wan_->guid_prefix());
     worker_.post([this] { poll_reachability_nts(); });
@@ -252,7 +252,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
                 pub.keyed = declared.keyed;
                 pub.lifespan = declared.lifespan;
                 pub.qos = OfferedQos::from_writer(declared.qos, declared.keyed);
-                worker_.post([this, pub = std::move(pub)] { bridge_nts(pub, true); });
+                worker_.post([this, pub = std::move(pub)] { lifecycle_->bridge_nts(pub, true); });
             }
         }
         // Discovery starts inside the participant's creation, and what it finds is posted to the worker: the
@@ -260,6 +260,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         robot_ = std::make_unique<RobotParticipant>(config_.robot_domain, discovery_.get(), transport,
                                                     participant_profile(ROBOT_PARTICIPANT_PROFILE));
         discovery_->ignore_participant(robot_->guid_prefix());
+        lifecycle_->set_robot(*robot_);
         make_uplink();
         worker_.start();
         if (named_peers) {
@@ -546,194 +547,16 @@ std::optional<double> Gateway::granted_bps() const {
 }
 
 void Gateway::poll_reachability_nts() {
-    const auto reachable = [this](core::TopicId id, bool reaches) {
-        if (id >= reachable_.size()) {
-            reachable_.resize(static_cast<std::size_t>(id) + 1, -1);
-        }
-        const signed char now = reaches ? 1 : 0;
-        if (reachable_[id] != now) {
-            reachable_[id] = now;
-            loop_->set_reachable(id, now == 1);
-        }
-    };
-    for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
-        reachable(bridge->id(), bridge->reaches_anyone());
-    }
+    lifecycle_->poll_reachability_nts();
     if (status_topic_) {
-        reachable(*status_topic_, (compact_ ? compact_->matched_readers() : status_writer_->matched_readers()) > 0);
+        lifecycle_->set_reachable_nts(*status_topic_,
+                                      (compact_ ? compact_->matched_readers() : status_writer_->matched_readers()) > 0);
     }
     if (backfill_topic_) {
         // A camp that stores backfill and acknowledges it reads the topic (tm-basecamp relay --out, record).
-        reachable(*backfill_topic_, backfill_writer_->matched_readers() > 0);
+        lifecycle_->set_reachable_nts(*backfill_topic_, backfill_writer_->matched_readers() > 0);
     }
     worker_.post_at(std::chrono::steady_clock::now() + REACHABILITY_POLL, [this] { poll_reachability_nts(); });
-}
-
-void Gateway::forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
-    // Gone before it was bridged: it gets no lane, which would wait for it for ever.
-    gathered_.erase(std::remove_if(gathered_.begin(), gathered_.end(),
-                                   [&](const DiscoveredPublisher& pub) { return pub.writer == writer; }),
-                    gathered_.end());
-    const std::shared_ptr<TopicBridge> bridge = topics_->find(topic);
-    const std::optional<std::uint16_t> lane = bridge != nullptr ? bridge->release(writer) : std::nullopt;
-    if (!lane) {
-        return;
-    }
-    // What the publisher sent is still the base camp's due: the lane stays until its queued samples are past
-    // their TTL. A publisher of the same offer that comes back meanwhile keeps it.
-    const auto ttl = std::chrono::duration_cast<std::chrono::steady_clock::duration>(bridge->ttl().ttl);
-    worker_.post_at(std::chrono::steady_clock::now() + ttl + LANE_LINGER,
-                    [this, weak = std::weak_ptr<TopicBridge>(bridge), lane = *lane] { retire_lane_nts(weak, lane); });
-}
-
-void Gateway::retire_lane_nts(const std::weak_ptr<TopicBridge>& weak, std::uint16_t lane) {
-    if (const std::shared_ptr<TopicBridge> bridge = weak.lock()) {
-        bridge->retire(lane);
-        retire_topic_nts(weak);
-    }
-}
-
-void Gateway::retire_topic_nts(const std::weak_ptr<TopicBridge>& weak) {
-    const std::shared_ptr<TopicBridge> bridge = weak.lock();
-    // A publisher that came back meanwhile has a lane again; a bridge already retired is no longer in the table.
-    if (bridge == nullptr || !bridge->idle() || topics_->find(bridge->name()) != bridge) {
-        return;
-    }
-    bool retired = false;
-    {
-        std::lock_guard<std::mutex> lock(retired_mutex_);
-        // In compact mode the slot is the topic's id in the catalog, whose entry stays on the WAN (see
-        // compact_slots_): only the same name takes it again.
-        const std::optional<core::TopicCounters> counts = loop_->retire_topic(bridge->id(), compact_ == nullptr);
-        if (counts) {
-            topics_->remove(bridge->name());
-            std::lock_guard<std::mutex> topics_lock(wan_topics_mutex_);
-            wan_topics_.erase(bridge->wan_name());
-            retired_.keep(bridge->name(), bridge->ttl(), *counts);
-            if (compact_) {
-                compact_slots_[bridge->name()] = bridge->id();
-            }
-            retired = true;
-        }
-    }
-    if (!retired) {
-        // Its readers are gone, so nothing more comes; what is queued is sent or logged by its deadline.
-        worker_.post_at(std::chrono::steady_clock::now() + RETIRE_RETRY, [this, weak] { retire_topic_nts(weak); });
-        return;
-    }
-    if (bridge->id() < reachable_.size()) {
-        reachable_[bridge->id()] = -1;
-    }
-    // The bridge, its listeners and its WAN writers go here, or after a write that holds the bridge now.
-}
-
-core::TopicId Gateway::add_topic_nts(const core::TopicConfig& topic) {
-    core::TopicId id = 0;
-    const auto kept = compact_slots_.find(topic.name);
-    if (kept != compact_slots_.end() && loop_->add_topic_at(kept->second, topic)) {
-        id = kept->second;
-    } else {
-        id = loop_->add_topic(topic);
-    }
-    // Held until a base-camp reader matches its WAN writer, which takes discovery a moment at least.
-    loop_->set_reachable(id, false);
-    if (id >= reachable_.size()) {
-        reachable_.resize(static_cast<std::size_t>(id) + 1, -1);
-    }
-    reachable_[id] = 0;
-    return id;
-}
-
-void Gateway::gather_nts(DiscoveredPublisher&& pub) {
-    gathered_.push_back(std::move(pub));
-    if (gathered_.size() == 1) {
-        worker_.post_at(std::chrono::steady_clock::now() + DISCOVERY_GATHERING, [this] { bridge_gathered_nts(); });
-    }
-}
-
-void Gateway::bridge_gathered_nts() {
-    std::vector<std::pair<base::Duration, DiscoveredPublisher>> by_ttl;
-    by_ttl.reserve(gathered_.size());
-    for (DiscoveredPublisher& pub : gathered_) {
-        const base::Duration ttl = ttl_for(pub.topic, pub.lifespan).ttl;
-        by_ttl.emplace_back(ttl, std::move(pub));
-    }
-    gathered_.clear();
-    std::stable_sort(by_ttl.begin(), by_ttl.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (const auto& [ttl, pub] : by_ttl) {
-        bridge_nts(pub);
-    }
-}
-
-ResolvedTtl Gateway::ttl_for(const std::string& topic, std::optional<base::Duration> publisher_lifespan) const {
-    std::optional<base::Duration> rule_ttl;
-    if (const TopicRule* rule = config_.topic_rules.rule_for(topic)) {
-        rule_ttl = rule->ttl;
-    }
-    std::optional<base::Duration> profile_lifespan;
-    if (auto profile = wan_->writer_profile(topic)) {
-        profile_lifespan = to_duration(profile->lifespan().duration);
-    }
-    return resolve_ttl(rule_ttl, profile_lifespan, publisher_lifespan, config_.default_ttl);
-}
-
-void Gateway::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
-    // The worker starts after robot_ is set, and stop() joins it before resetting robot_.
-    if (!filter_.admits(pub.topic)) {
-        return;
-    }
-    if (const std::shared_ptr<TopicBridge> bridge = topics_->find(pub.topic)) {
-        if (!bridge->admit(pub, declared)) {
-            refused_lanes_.fetch_add(1, std::memory_order_relaxed);
-        }
-        return;
-    }
-    const ResolvedTtl ttl = ttl_for(pub.topic, pub.lifespan);
-    core::TopicConfig topic{pub.topic, ttl.ttl};
-    if (const TopicRule* rule = config_.topic_rules.rule_for(pub.topic)) {
-        topic.max_rate_hz = rule->max_rate_hz;
-        topic.latest_only = rule->latest_only;
-    }
-    const core::TopicId id = add_topic_nts(topic);
-    const std::string wan_name = base::namespaced_topic(config_.robot_name, pub.topic);
-    {
-        // Its WAN writers' announcements go in its urgency (RepairDesk::hold_writer_announcement).
-        std::lock_guard<std::mutex> lock(wan_topics_mutex_);
-        wan_topics_[wan_name] = RepairDesk::ScheduledTopic{id, ttl.ttl};
-    }
-    auto bridge = std::make_shared<TopicBridge>(id, pub.topic, wan_name, pub.type_name, pub.keyed, ttl,
-                                                TopicBridge::Ends{*robot_, *wan_, *loop_, clock_, compact_.get()},
-                                                key_hasher_for(pub));
-    if (bridge->admit(pub, declared)) {
-        topics_->add(std::move(bridge));
-        return;
-    }
-    {
-        std::lock_guard<std::mutex> lock(wan_topics_mutex_);
-        wan_topics_.erase(wan_name);
-    }
-    // Fast DDS refused the WAN writer or the robot reader (admit logged which): nothing of the topic stays, so that
-    // the next publisher of it gets one bridge, made afresh. No reader was made, so nothing of it is queued.
-    refused_lanes_.fetch_add(1, std::memory_order_relaxed);
-    std::lock_guard<std::mutex> lock(retired_mutex_);
-    loop_->retire_topic(id, compact_ == nullptr);
-    if (compact_) {
-        compact_slots_[pub.topic] = id;  // its catalog entry may have been written
-    }
-}
-
-std::shared_ptr<const types::KeyHasher> Gateway::key_hasher_for(const DiscoveredPublisher& pub) const {
-    if (!pub.keyed || types_.find(pub.type_name) == nullptr) {
-        return nullptr;
-    }
-    std::string why;
-    std::optional<types::KeyHasher> hasher = types::KeyHasher::for_type(types_, pub.type_name, why);
-    if (!hasher) {
-        std::cerr << "telemetry-gateway: " << pub.topic << ": its IDL gives no key hash (" << why
-                  << "); a publisher that sends none has its samples kept as one instance\n";
-        return nullptr;
-    }
-    return std::make_shared<const types::KeyHasher>(std::move(*hasher));
 }
 
 void Gateway::remote_publisher_discovered(DiscoveredPublisher&& pub) {
@@ -750,7 +573,7 @@ void Gateway::route_uplink_nts(const DiscoveredPublisher& pub, const std::string
         return;  // stopping
     }
     // The same rule as the robot's topics, by the robot's name of the topic.
-    uplink_->route(pub, robot_topic, ttl_for(robot_topic, pub.lifespan));
+    uplink_->route(pub, robot_topic, lifecycle_->ttl_for(robot_topic, pub.lifespan));
 }
 
 std::vector<UplinkCount> Gateway::uplink_counts() const {
@@ -778,13 +601,7 @@ std::size_t Gateway::wan_topics() const {
 }
 
 std::vector<TopicCount> Gateway::topic_counts() const {
-    std::lock_guard<std::mutex> lock(retired_mutex_);
-    std::vector<TopicCount> bridged;
-    for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
-        bridged.push_back(
-            TopicCount{bridge->name(), bridge->ttl(), loop_->counters(bridge->id()), true, bridge->matched_readers()});
-    }
-    return retired_.with(std::move(bridged));
+    return lifecycle_->topic_counts();
 }
 
 std::optional<BridgedTopic> Gateway::find_topic(const std::string& name) const {
@@ -886,7 +703,7 @@ std::vector<TopicCount> Gateway::status_rows() const {
     // stays small whatever came and went, and its sums never go down.
     core::TopicCounters retired;
     std::vector<TopicCount> rows;
-    for (TopicCount& row : topic_counts()) {
+    for (TopicCount& row : lifecycle_->topic_counts()) {
         if (row.bridged) {
             rows.push_back(std::move(row));
         } else {
@@ -1020,12 +837,7 @@ std::uint64_t Gateway::forwarded_robot_samples() const {
     if (compact_) {
         return compact_->stats().bundles;  // what the relay counts in compact mode
     }
-    std::lock_guard<std::mutex> lock(retired_mutex_);
-    std::uint64_t forwarded = retired_.total().forwarded;
-    for (const std::shared_ptr<TopicBridge>& bridge : topics_->all()) {
-        forwarded += loop_->counters(bridge->id()).forwarded;
-    }
-    return forwarded;
+    return lifecycle_->forwarded();
 }
 
 std::optional<Gateway::BackfillSummary> Gateway::backfill_summary() const {

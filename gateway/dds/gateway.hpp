@@ -40,6 +40,7 @@
 #include "gateway/dds/topic_accounting.hpp"
 #include "gateway/dds/topic_bridge.hpp"
 #include "gateway/dds/topic_filter.hpp"
+#include "gateway/dds/topic_lifecycle.hpp"
 #include "gateway/dds/topic_rules.hpp"
 #include "gateway/dds/ttl_resolver.hpp"
 #include "gateway/dds/uplink.hpp"
@@ -64,14 +65,10 @@ class TopicTable;
 class WanRouter;
 
 /// The whole gateway in one object (main stays thin; integration tests create it in-process): the on-robot
-/// log, the WAN participant, the ForwardingLoop with its sink, and the robot participant whose discovery
-/// makes one TopicBridge per admitted topic, with a lane per QoS its publishers offer: a type-agnostic reader
-/// that asks for that QoS and a WAN writer that offers it. A lane whose last publisher left is retired a TTL later
-/// (plus LANE_LINGER), so base-camp readers see its writer go, unless it was declared in the --qos file. A topic whose
-/// last lane was retired is retired too once nothing of it is queued: its bridge, its scheduler slot and WAN topic
-/// go, and its counts are kept by name (topic_counts()), so that topics that come and go cost no memory for good.
-/// A publisher that comes back gets a new bridge. Entities are created and deleted in a worker thread of its own,
-/// never in Fast DDS's callbacks.
+/// log, the WAN participant, the ForwardingLoop with its sink, and the robot participant whose discovery feeds
+/// the TopicLifecycle (one TopicBridge per admitted topic, with a lane per QoS its publishers offer). It wires them,
+/// applies the rate, publishes the status and stops them in order. Entities are created and deleted in a worker
+/// thread of its own (base::EventLoop), never in Fast DDS's callbacks.
 class Gateway {
   public:
     /// Starts everything. Throws base::ConfigError (bad flag, file, or a participant that cannot be created).
@@ -133,7 +130,7 @@ class Gateway {
     std::size_t wan_topics() const;
     /// Lanes Fast DDS refused to make (their WAN writer or robot reader; each logged when it happened): their
     /// publishers' samples are not bridged, and nothing of the refused lane stays.
-    std::uint64_t refused_lanes() const { return refused_lanes_.load(); }
+    std::uint64_t refused_lanes() const { return lifecycle_->refused_lanes(); }
     /// Per topic name, what became of its samples, over every bridge it had: the topics bridged now, by name, then
     /// the retired ones, by name.
     std::vector<TopicCount> topic_counts() const;
@@ -190,13 +187,6 @@ class Gateway {
     /// to the return of the WAN DataWriter's write (time queued for the link budget included).
     core::LatencyHistogram::Snapshot processing_latency() const;
 
-    /// How long a lane whose last publisher left outlives the TTL of its samples still queued.
-    static constexpr std::chrono::seconds LANE_LINGER{1};
-    /// Publishers discovered within this of the first of them are bridged together, most urgent first.
-    static constexpr std::chrono::milliseconds DISCOVERY_GATHERING{20};
-    /// A topic whose last lane was retired with samples still queued (their deadline later than its TTL from
-    /// then: a source clock ahead) is looked at again this often, until they are sent or logged.
-    static constexpr std::chrono::seconds RETIRE_RETRY{1};
     /// The status's row of every retired topic's counts together.
     static constexpr const char* RETIRED_TOPICS_ROW = "(retired topics)";
 
@@ -207,30 +197,6 @@ class Gateway {
     void log_rate(double sensed_bps, double rate_bps);
     struct WanCallbackLink;
 
-    /// Bridges `pub`'s topic, or finds or makes its lane; `declared`: from a --qos profile, no publisher yet.
-    void bridge_nts(const DiscoveredPublisher& pub, bool declared = false);  // the worker thread only
-    /// A publisher discovered: bridged with those found within DISCOVERY_GATHERING of the first, most urgent first
-    /// (bridge_gathered_nts). The worker thread only.
-    void gather_nts(DiscoveredPublisher&& pub);
-    /// Bridges the publishers gathered, shortest TTL first: a new WAN writer's announcement (SEDP) crosses the link
-    /// at once, and a base camp hears of it, matches and takes its samples only after. A robot program's
-    /// publishers come together, in any order: bridged in the order found, the announcements of a picture's and a
-    /// log's writers went ahead of the hazard's, and the hazard's first sample waited for a match past its deadline.
-    void bridge_gathered_nts();
-    /// The TTL the gateway gives `pub`'s samples: its topic's --qos profile's Lifespan, else the publisher's, else
-    /// --default-ttl.
-    /// `topic`'s TTL: its rule's, a --qos profile's named after it, `publisher_lifespan`, --default-ttl.
-    ResolvedTtl ttl_for(const std::string& topic, std::optional<base::Duration> publisher_lifespan) const;
-    /// A publisher left: if it was its lane's last, the lane is retired once its queued samples are past.
-    void forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer);
-    /// Retires the lane, then the topic if that was its last lane (retire_topic_nts). The worker thread only.
-    void retire_lane_nts(const std::weak_ptr<TopicBridge>& bridge, std::uint16_t lane);
-    /// Retires an idle bridge's topic once nothing of it is queued (else looks again after RETIRE_RETRY): the bridge
-    /// leaves the table, its scheduler slot is freed and its counts are kept by name. The worker thread only.
-    void retire_topic_nts(const std::weak_ptr<TopicBridge>& bridge);
-    /// The scheduler slot for a new topic: in compact mode the one its name had before, if any (its catalog
-    /// entry says so already), else a free or new one. `reachable_` starts at "no reader". The worker thread only.
-    core::TopicId add_topic_nts(const core::TopicConfig& topic);
     /// Samples of the robot's topics written to the WAN so far: what base-camp receiver reports count (the
     /// status is not among them); in compact mode the bundles, which the relay counts.
     std::uint64_t forwarded_robot_samples() const;
@@ -259,8 +225,6 @@ class Gateway {
     void remote_publisher_discovered(DiscoveredPublisher&& pub);  // Fast DDS's discovery thread
     /// Routes a listed topic's base-camp publisher into the robot domain. The worker thread only.
     void route_uplink_nts(const DiscoveredPublisher& pub, const std::string& robot_topic);
-    /// For a keyed topic whose type types_ declares: what computes the key hashes its publishers do not send.
-    std::shared_ptr<const types::KeyHasher> key_hasher_for(const DiscoveredPublisher& pub) const;
     /// The uplink's readers on the WAN participant and writers on the robot's, with --uplink.
     void make_uplink();
     void rebind_wan_nts(const std::string& address);
@@ -297,6 +261,7 @@ class Gateway {
     std::unique_ptr<TopicTable> topics_;   ///< after wan_: its bridges hold WAN writers
     std::unique_ptr<GatewaySink> sink_;
     std::unique_ptr<core::ForwardingLoop> loop_;
+    std::unique_ptr<TopicLifecycle> lifecycle_;  ///< after loop_ and topics_, which it uses
     std::unique_ptr<Discovery> discovery_;
 
     /// The worker thread: every *_nts function runs there, and DDS entities are made and deleted there only.
@@ -324,9 +289,7 @@ class Gateway {
     std::optional<core::TopicId> status_topic_;  ///< with a status period
     std::shared_ptr<WanWriter> backfill_writer_;
     std::optional<core::TopicId> backfill_topic_;  ///< with backfill
-    std::vector<signed char> reachable_;           ///< per topic, as last told to the loop; -1: not yet
     std::atomic<std::uint64_t> statuses_published_{0};
-    std::atomic<std::uint64_t> refused_lanes_{0};
     std::mutex sensor_mutex_;
     std::string sensor_description_;
     std::string sensor_detail_;
@@ -346,18 +309,6 @@ class Gateway {
     std::atomic<bool> unscheduled_charge_posted_{false};
     std::mutex stop_mutex_;
     bool stopped_ = false;
-
-    /// Held while a topic is retired and while the counts are read, so that a topic's counts are never seen in
-    /// both its slot and its record, nor in neither.
-    mutable std::mutex retired_mutex_;
-    RetiredTopics retired_;  // under retired_mutex_
-    /// Compact WAN mode: the scheduler slot (the catalog's topic id) of each topic ever bridged and now retired,
-    /// taken again by the same name only, so that an id in the catalog never changes its topic. The worker only.
-    std::map<std::string, core::TopicId> compact_slots_;
-    std::vector<DiscoveredPublisher> gathered_;  ///< publishers discovered, to be bridged (gather_nts)
-    /// The bridged topics by their names on the WAN, for the RepairDesk's writer announcements.
-    std::mutex wan_topics_mutex_;
-    std::unordered_map<std::string, RepairDesk::ScheduledTopic> wan_topics_;
 };
 
 }  // namespace tgw::dds

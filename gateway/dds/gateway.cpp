@@ -1,39 +1,29 @@
 #include "gateway/dds/gateway.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <iostream>
-#include <limits>
 #include <utility>
 
 #include "BackfillPubSubTypes.h"
 #include "GatewayStatusPubSubTypes.h"
 #include "base/config_error.hpp"
-#include "base/discovery_server.hpp"
-#include "base/robot_namespace.hpp"
-#include "gateway/core/granted_rate.hpp"
 #include "gateway/dds/backfill_topics.hpp"
 #include "gateway/dds/compact_wan.hpp"
-#include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway_sink.hpp"
-#include "gateway/dds/keyed_sample.hpp"
 #include "gateway/dds/qos_file.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
 #include "gateway/dds/robot_participant.hpp"
-#include "gateway/dds/status_message.hpp"
+#include "gateway/dds/status_publisher.hpp"
 #include "gateway/dds/status_topic.hpp"
 #include "gateway/dds/topic_table.hpp"
 #include "gateway/dds/wan_address.hpp"
 #include "gateway/dds/wan_router.hpp"
+#include "gateway/dds/wan_setup.hpp"
 #include "gateway/log/robot_log.hpp"
 
 namespace tgw::dds {
 
 namespace {
-
-// The on-robot log's link_rates: a row when the rate changes by this fraction, else one a period at most.
-constexpr double RATE_LOG_CHANGE = 0.02;
-constexpr auto RATE_LOG_PERIOD = std::chrono::seconds(1);
 
 // How often the worker looks whether base-camp readers matched or left. A topic nobody reads keeps its samples
 // queued (Scheduler::set_reachable); they start to flow within this of a reader matching.
@@ -67,56 +57,10 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         load_qos_file(config_.qos_file);
     }
 
-    WanConfig wan;
-    wan.domain = config_.wan_domain;
-    wan.security = std::move(security);
-    bool named_peers = false;
-    for (const std::string& text : config_.wan_peers) {
-        peer_specs_.push_back(parse_wan_peer(text, config_.wan_domain));
-        named_peers = named_peers || !peer_specs_.back().host.empty();
-    }
-    peer_specs_ = resolve_peer_names(std::move(peer_specs_));
-    for (const WanPeer& peer : peer_specs_) {
-        if (!peer.host.empty()) {
-            std::cerr << "telemetry-gateway: --wan-peer " << peer.host << ": "
-                      << (peer.address.empty() ? "does not resolve yet" : peer.address) << "; looked up again every "
-                      << std::chrono::duration_cast<std::chrono::seconds>(PEER_LOOKUP_PERIOD).count() << " s\n";
-        }
-    }
-    wan.peers = announcement_peers(peer_specs_, config_.wan_domain, config_.wan_peer_participants);
-
-    if (!config_.wan_interface.empty()) {
-        wan.interface_address = initial_wan_address(config_.wan_interface);
-    }
-    wan.listen_port = config_.wan_port;
-    if (!config_.wan_discovery_server.empty()) {
-        wan.discovery_server = base::parse_discovery_server(config_.wan_discovery_server, "--wan-discovery-server");
-    }
-    wan.lease_duration = config_.wan_lease;
-    wan.announcement_period = config_.wan_announcement_period;
-    wan.max_datagram_bytes = config_.scheduler.wire.max_datagram_bytes;
-    wan.coalesce_window = config_.wan_coalesce_window;
-    wan.heartbeat_spacing_bytes = config_.wan_heartbeat_bytes;
-    wan.datagram_transport = config_.wan_datagram_transport;
+    peer_specs_ = wan_peers_of(config_);
     // The camp's datagrams (its commands) come as its Fast DDS sends them, whatever this end strips from its own.
-    camp_wire_ = wan.security ? config_.scheduler.wire.with_security() : config_.scheduler.wire;
-    if (config_.compact_wan) {
-        // Only the relay reads this participant's samples, and nothing at all reads the statistics submessage:
-        // 60 bytes less in every datagram, bundles and discovery alike.
-        wan.strip_statistics = true;
-        config_.scheduler.wire = config_.scheduler.wire.without_statistics();
-        if (!wan.security) {
-            // ... and, in a message to the relay alone, the 16 bytes that name it (security signs them), and a
-            // bundle's INFO_TS, 12 bytes: the bundle holds its write time. Only bundles are scheduled here.
-            wan.strip_destination = true;
-            wan.strip_timestamp = true;
-            config_.scheduler.wire = config_.scheduler.wire.without_destination().without_timestamp();
-        }
-    }
-    if (wan.security) {
-        // Every message signed, every sample's submessages and payload encrypted (WireModel::with_security).
-        config_.scheduler.wire = config_.scheduler.wire.with_security();
-    }
+    camp_wire_ = security ? config_.scheduler.wire.with_security() : config_.scheduler.wire;
+    WanConfig wan = wan_config_for(config_, std::move(security), peer_specs_);
     // Discovery, heartbeats, repairs, copies to further readers: charged as they leave, so that the budget
     // counts every byte the WAN participant puts on the link (docs/design.md §3).
     wan.on_unscheduled = [link = wan_callbacks_](std::uint64_t frame_bytes) {
@@ -134,14 +78,6 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         };
         wan.discovery_role = base::DiscoveryRole::super_client;
     }
-    // Standard mode: a reliable reader's repair of a sample waits for the schedule, in that sample's urgency
-    // (RepairDesk). Compact mode's bundles are charged as they are repaired, as before.
-    wan.schedule_repairs = !config_.compact_wan;
-    // ... and so does a large sample's every fragment after its first (not readable under security's protection).
-    config_.scheduler.paced_fragments = !config_.compact_wan && !wan.security;
-    // Both modes: the participant's periodic announcements, a copy to each base-camp port, one at a time in the
-    // schedule rather than all at once.
-    wan.schedule_announcements = true;
     wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
     if (base::QuietDiscoveryPorts::worth_it(wan.interface_address)) {
         // Once the WAN participant has its own port: a base camp announcing itself to the others (Cyclone's
@@ -163,6 +99,8 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     sink_->set_compact(compact_.get());
     sink_->set_repair_desk(wan_->repair_desk());
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
+    rate_ = std::make_unique<RateControl>(*loop_, *wan_, log_.get(), config_.scheduler.budget_fraction,
+                                          config_.scheduler.initial_rate_bps, clock_);
     lifecycle_ = std::make_unique<TopicLifecycle>(
         config_, filter_, types_, TopicLifecycle::Ends{*wan_, *loop_, *topics_, worker_, clock_, compact_.get()});
     if (RepairDesk* desk = wan_->repair_desk()) {
@@ -194,10 +132,14 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
             }
         }
         sink_->set_status_route(*status_topic_, status_writer_);
-        if (config_.channel_grants) {
-            // The grantor's own wire model (the default one): the watch works the demand out as the grantor does.
-            demand_watch_.emplace(core::DemandWatch::Config{}, core::WireModel{});
-        }
+        StatusPublisher::Config status{config_.status_period,  config_.robot_name,
+                                       config_.compact_wan,    config_.channel_grants,
+                                       config_.scheduler.wire, config_.scheduler.budget_fraction};
+        status_ = std::make_unique<StatusPublisher>(
+            status, *loop_, *status_topic_, clock_,
+            StatusPublisher::Sources{[this] { return status_rows(); },
+                                     [this](idl::GatewayStatus& s, std::int32_t readers) { fill_status(s, readers); },
+                                     [this](double least_share_bps) { rate_->set_least_share(least_share_bps); }});
     }
     if (config_.backfill) {
         start_backfill();
@@ -212,10 +154,10 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         }
     }
     // Until the sensor's first reading: what a grant, or the WAN link coming up, applies again.
-    sensed_rate_bps_.store(config_.scheduler.initial_rate_bps);
     if (config_.channel_grants) {
         // A grant applies as it comes; the sensor's next reading applies it again, or without it once it ran out.
-        grants_ = std::make_unique<GrantReader>(wan_->guid_prefix(), clock_, [this] { apply_rate(); });
+        grants_ = std::make_unique<GrantReader>(wan_->guid_prefix(), clock_, [this] { rate_->apply(); });
+        rate_->set_grants(grants_.get());
         if (!wan_->subscribe_grants(grants_.get())) {
             throw base::ConfigError("--channel-grants: cannot subscribe to the base camp's grants");
         }
@@ -263,8 +205,12 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         lifecycle_->set_robot(*robot_);
         make_uplink();
         worker_.start();
-        if (named_peers) {
-            peer_lookup_ = std::thread([this] { run_peer_lookup(); });
+        if (std::any_of(peer_specs_.begin(), peer_specs_.end(), [](const WanPeer& p) { return !p.host.empty(); })) {
+            peer_lookup_ = std::make_unique<PeerLookup>(peer_specs_, [this](const std::vector<WanPeer>& now) {
+                const std::vector<WanPeer> peers =
+                    announcement_peers(now, config_.wan_domain, config_.wan_peer_participants);
+                post_wan_remake([this, peers] { remake_wan_nts(wan_->interface_address(), peers); });
+            });
         }
     } catch (...) {
         stop();
@@ -285,13 +231,8 @@ void Gateway::stop() {
         return;
     }
     stopped_ = true;
-    if (peer_lookup_.joinable()) {
-        {
-            std::lock_guard<std::mutex> lookup_lock(peer_lookup_mutex_);
-            peer_lookup_stopping_ = true;
-        }
-        peer_lookup_wake_.notify_all();
-        peer_lookup_.join();
+    if (peer_lookup_) {
+        peer_lookup_->stop();
     }
     if (reports_) {
         // Reports keep coming until the WAN participant goes, after the loop and the topics they are counted
@@ -384,31 +325,12 @@ void Gateway::apply_reading(const sensor::RateReading& reading) {
     }
 }
 
-void Gateway::log_rate(double sensed_bps, double rate_bps) {
-    if (!log_)
-        return;
-    // Every change of 2 % or more, and once a second otherwise: the link's history at a row a second or so.
-    const auto now = base::SteadyClock::now();
-    {
-        std::lock_guard<std::mutex> lock(sensor_mutex_);
-        const auto moved = [](double is, double was) { return std::abs(is - was) >= RATE_LOG_CHANGE * was; };
-        const bool changed = moved(sensed_bps, logged_sensed_bps_) || moved(rate_bps, logged_rate_bps_);
-        if (!changed && now - logged_rate_at_ < RATE_LOG_PERIOD)
-            return;
-        logged_sensed_bps_ = sensed_bps;
-        logged_rate_bps_ = rate_bps;
-        logged_rate_at_ = now;
-    }
-    log_->append_rate({base::WallClock::now(), sensed_bps, rate_bps * config_.scheduler.budget_fraction});
-}
-
 double Gateway::rate_bps() const {
     return loop_->rate_bps();
 }
 
 void Gateway::set_rate(double rate_bps) {
-    sensed_rate_bps_.store(rate_bps);
-    apply_rate();
+    rate_->sensed(rate_bps);
 }
 
 void Gateway::make_uplink() {
@@ -420,7 +342,7 @@ void Gateway::make_uplink() {
         // Outside the schedule, as discovery is: so the status tells the base camp's grantor, and a robot's
         // grant leaves room for the commands the camp sends it on the shared channel.
         charge = [this](std::uint64_t frame_bytes) {
-            commands_charged_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
+            rate_->commands_charged(frame_bytes);
             charge_unscheduled(frame_bytes);
         };
     }
@@ -435,45 +357,16 @@ void Gateway::rebind_wan(const std::string& address) {
 void Gateway::post_wan_remake(std::function<void()> remake) {
     // At once: a link that comes up with the new address must not be given a rate before the participant is
     // bound to it (what was written meanwhile would be counted forwarded and never arrive).
-    rebinding_wan_.store(true);
-    apply_rate();
+    rate_->set_rebinding(true);
     worker_.post(std::move(remake));
 }
 
 void Gateway::rebind_wan_nts(const std::string& address) {
     if (address.empty() || address == wan_->interface_address()) {
-        rebinding_wan_.store(false);
-        apply_rate();
+        rate_->set_rebinding(false);
         return;
     }
     remake_wan_nts(address, wan_->peers());
-}
-
-void Gateway::run_peer_lookup() {
-    std::vector<WanPeer> known = peer_specs_;
-    std::unique_lock<std::mutex> lock(peer_lookup_mutex_);
-    while (!peer_lookup_wake_.wait_for(lock, PEER_LOOKUP_PERIOD, [this] { return peer_lookup_stopping_; })) {
-        lock.unlock();
-        std::vector<WanPeer> now = resolve_peer_names(peer_specs_);  // the resolver may take seconds
-        lock.lock();
-        for (std::size_t i = 0; i < now.size(); ++i) {
-            if (now[i].address.empty()) {
-                now[i].address = known[i].address;  // a resolver that fails for a while changes nothing
-            }
-        }
-        if (now == known) {
-            continue;
-        }
-        for (std::size_t i = 0; i < now.size(); ++i) {
-            if (now[i] != known[i]) {
-                std::cerr << "telemetry-gateway: --wan-peer " << now[i].host << " is " << now[i].address
-                          << " now: the WAN participant is made anew to announce to it\n";
-            }
-        }
-        known = now;
-        const std::vector<WanPeer> peers = announcement_peers(now, config_.wan_domain, config_.wan_peer_participants);
-        post_wan_remake([this, peers] { remake_wan_nts(wan_->interface_address(), peers); });
-    }
 }
 
 void Gateway::remake_wan_nts(const std::string& address, const std::vector<WanPeer>& peers) {
@@ -505,8 +398,7 @@ void Gateway::remake_wan_nts(const std::string& address, const std::vector<WanPe
         }
         wan_rebinds_.fetch_add(1);
     }
-    rebinding_wan_.store(false);
-    apply_rate();
+    rate_->set_rebinding(false);
 }
 
 std::string Gateway::wan_interface_address() const {
@@ -514,32 +406,10 @@ std::string Gateway::wan_interface_address() const {
 }
 
 void Gateway::set_wan_link_up(bool up) {
-    const bool was_up = wan_link_up_.exchange(up);
-    apply_rate();
+    const bool was_up = rate_->set_link_up(up);
     if (up && !was_up) {
         wan_->announce_again();
     }
-}
-
-void Gateway::apply_rate() {
-    // Logged here, not where a reading comes: under grants the rate the gateway goes by moves with each grant.
-    const double sensed = sensed_rate_bps_.load();
-    double rate = grants_ ? core::granted_rate_bps(sensed, grants_->view(), least_share_bps_.load()) : sensed;
-    if (!wan_link_up_.load() || rebinding_wan_.load()) {
-        rate = 0;  // a sensor may still read the shaper's or the radio's last rate
-    }
-    double commands_bps = 0;
-    {
-        // The camp's commands take their part of the rate steadily, as long as they come (half duplex).
-        std::lock_guard<std::mutex> lock(commands_mutex_);
-        commands_rate_.update(clock_.now(), commands_charged_bytes_.load(std::memory_order_relaxed));
-        commands_bps = commands_rate_.bps(clock_.now());
-    }
-    loop_->set_rate(rate, commands_bps);
-    if (RepairDesk* desk = wan_->repair_desk()) {
-        desk->pace_fragments(core::paces_fragments_at(rate));
-    }
-    log_rate(sensed, rate);
 }
 
 std::optional<double> Gateway::granted_bps() const {
@@ -689,15 +559,6 @@ void Gateway::charge_link(std::uint64_t frame_bytes) {
     }
 }
 
-base::Duration Gateway::status_spacing(double rate_bps, double wire_bits) const {
-    // At most STATUS_RATE_SHARE of the rate: a status and its headers on the wire, alone in a datagram.
-    if (rate_bps <= 0) {
-        return config_.status_period;
-    }
-    return std::max(config_.status_period,
-                    std::chrono::duration_cast<base::Duration>(status_rate_spacing(wire_bits, rate_bps)));
-}
-
 std::vector<TopicCount> Gateway::status_rows() const {
     // The topics bridged now, each with its earlier bridges' counts, and the retired ones in one row: the status
     // stays small whatever came and went, and its sums never go down.
@@ -717,51 +578,15 @@ std::vector<TopicCount> Gateway::status_rows() const {
 }
 
 void Gateway::publish_status_nts() {
-    // Looked at every status period, made once the spacing the rate allows now has passed since the last: a
-    // spacing fixed when a status was made during an outage (minutes at 1,000 bit/s) would silence it for as long
-    // after the link came back. With --channel-grants also when the robot's demand has moved away from what the
-    // base camp was last told (DemandWatch): its share follows within a status period, not a spacing.
     const auto now = std::chrono::steady_clock::now();
     worker_.post_at(now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(config_.status_period),
                     [this] { publish_status_nts(); });
-    const double rate = loop_->rate_bps();
-    std::optional<std::vector<TopicCount>> rows;
-    bool due =
-        !last_status_at_ || now - *last_status_at_ >= std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                          status_spacing(rate, last_status_bits_));
-    std::vector<core::TopicLoad> loads;
-    if (demand_watch_) {
-        if (demand_watch_->pending()) {
-            // The last status left, or was dropped (past its TTL in the queue), since it was made.
-            const core::TopicCounters c = status_counters();
-            if (c.forwarded > status_forwarded_seen_) {
-                demand_watch_->delivered(true, now);
-            } else if (c.received - c.forwarded - c.queued > status_dropped_seen_) {
-                demand_watch_->delivered(false, now);
-            }
-        }
-        rows = status_rows();
-        loads = loads_of(*rows, clock_.now());
-        due = demand_watch_->changed(now, loads, rate) || due;  // changed() sees every period's counts
-    }
-    if (!due) {
-        return;
-    }
-    if (demand_watch_) {
-        const core::TopicCounters c = status_counters();
-        status_forwarded_seen_ = c.forwarded;
-        status_dropped_seen_ = c.received - c.forwarded - c.queued;
-    }
+    status_->look(now);
+}
 
-    idl::GatewayStatus status;
-    const base::SteadyTime status_made = clock_.now();
+void Gateway::fill_status(idl::GatewayStatus& status, std::int32_t rows_readers) const {
     const auto prefix = wan_->guid_prefix();
     std::copy(std::begin(prefix.value), std::end(prefix.value), status.gateway_prefix().begin());
-    status.robot_name(config_.robot_name);
-    status.compact_wan(config_.compact_wan);
-    status.sent_ns(static_cast<std::uint64_t>(base::to_ns(clock_.wall_now())));
-    status.sensed_rate_bps(rate);
-    status.budget_bps(rate * config_.scheduler.budget_fraction);
     {
         std::lock_guard<std::mutex> lock(sensor_mutex_);
         status.sensor(sensor_description_);
@@ -789,48 +614,7 @@ void Gateway::publish_status_nts() {
         status.backfill_sent(counts.sent);
         status.backfill_acknowledged(counts.acknowledged);
     }
-    if (!rows) {
-        rows = status_rows();
-    }
-    const std::int32_t all_readers = add_topic_rows(status, *rows, config_.robot_name, status_made);
-    status.matched_readers(compact_ ? compact_->matched_readers() : all_readers + status_writer_->matched_readers());
-
-    idl::GatewayStatusPubSubType type;
-    core::Sample sample;
-    // Made twice: its period, a field of its own, follows from its size.
-    const auto make_sample = [&] { return status_sample(status, compact_ != nullptr, sample); };
-    bool made = make_sample();
-    const std::size_t bytes = made ? sample.payload.size() : type.getSerializedSizeProvider(&status)();
-    const double wire_bits = static_cast<double>(config_.scheduler.wire.wire_bits(bytes));
-    status.status_period_s(base::to_seconds(status_spacing(rate, wire_bits)));
-    made = made && make_sample();
-    last_status_at_ = now;
-    last_status_bits_ = wire_bits;
-    if (demand_watch_) {
-        demand_watch_->sent(now, loads, wire_bits);
-        // Before the status goes to the loop: a grant too small for it would keep the base camp from ever
-        // hearing of the demand that should raise the grant. Once over, as the base camp grants it (the rule
-        // doubles it before the first grant: core::granted_rate_bps). Not with the traffic outside the schedule
-        // over the last status period, as the grantor adds it over 2 s: a burst of repairs made this floor, and
-        // the gateway's rate, exceed its grant (ChannelGrantTest: two gateways 31,016 bit/s of a 30,000 channel).
-        // The status as serialized, not as compressed: with the floor of a compressed one (4,176 bit/s for a
-        // paper robot) a robot that starts publishing after the others had its B expire for the 2 s until its
-        // demand reached the base camp (three robots, measured channel: B 190 and 192 of 200 in 2 of 5 runs); the
-        // floor of the serialized one (about 10,000) carries a robot's A and B meanwhile.
-        least_share_bps_.store(core::least_share_bps(loads, type.getSerializedSizeProvider(&status)(), STATUS_TTL,
-                                                     core::AloneWire{config_.scheduler.wire, config_.compact_wan},
-                                                     config_.scheduler.budget_fraction));
-        apply_rate();
-    }
-
-    if (made) {
-        sample.topic = *status_topic_;
-        sample.source_time = clock_.wall_now();
-        loop_->submit(std::move(sample));
-        statuses_published_.fetch_add(1, std::memory_order_relaxed);
-    } else if (demand_watch_) {
-        demand_watch_->delivered(false, now);  // never queued: no count would ever say what became of it
-    }
+    status.matched_readers(compact_ ? compact_->matched_readers() : rows_readers + status_writer_->matched_readers());
 }
 
 std::uint64_t Gateway::forwarded_robot_samples() const {

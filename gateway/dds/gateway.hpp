@@ -34,9 +34,12 @@
 #include "gateway/dds/gateway_config.hpp"
 #include "gateway/dds/grant_reader.hpp"
 #include "gateway/dds/offered_qos.hpp"
+#include "gateway/dds/peer_lookup.hpp"
+#include "gateway/dds/rate_control.hpp"
 #include "gateway/dds/receiver_report_reader.hpp"
 #include "gateway/dds/repair_desk.hpp"
 #include "gateway/dds/robot_transport.hpp"
+#include "gateway/dds/status_publisher.hpp"
 #include "gateway/dds/topic_accounting.hpp"
 #include "gateway/dds/topic_bridge.hpp"
 #include "gateway/dds/topic_filter.hpp"
@@ -88,7 +91,7 @@ class Gateway {
     /// whatever the sensor says: samples wait for the link, or go to the on-robot log as their TTL passes, and
     /// none is written into a dead interface and counted as forwarded. Up by default.
     void set_wan_link_up(bool up);
-    bool wan_link_up() const { return wan_link_up_.load(); }
+    bool wan_link_up() const { return rate_->link_up(); }
     /// The WAN interface has `address` now, another than the WAN participant's (a DHCP lease, a mesh radio): the
     /// participant is made anew on it (WanRouter::rebind), nothing scheduled meanwhile, and the uplink and the
     /// readers of reports and grants follow it. From any thread; done in the gateway's own, soon after.
@@ -104,7 +107,7 @@ class Gateway {
     /// The sensor's SPEC, for the status.
     void set_sensor_description(std::string description);
     /// Status samples made so far (each goes through the schedule; status_counters() says what became of them).
-    std::uint64_t statuses_published() const { return statuses_published_.load(); }
+    std::uint64_t statuses_published() const { return status_ ? status_->published() : 0; }
     /// The status topic's counters in the schedule; all zero without --status-period.
     core::TopicCounters status_counters() const;
     /// What backfill did: its topic's counters in the schedule (each sample sent counts as forwarded), the sender's
@@ -191,23 +194,17 @@ class Gateway {
     static constexpr const char* RETIRED_TOPICS_ROW = "(retired topics)";
 
   private:
-    /// Writes the sensor's rate and the budget of the rate the gateway goes by (`rate_bps`: under grants its
-    /// grant, not the sensor's) to the on-robot log's link_rates, when there is a log, at most once a second
-    /// unless either changed.
-    void log_rate(double sensed_bps, double rate_bps);
     struct WanCallbackLink;
 
     /// Samples of the robot's topics written to the WAN so far: what base-camp receiver reports count (the
     /// status is not among them); in compact mode the bundles, which the relay counts.
     std::uint64_t forwarded_robot_samples() const;
-    /// Writes the status when its spacing has passed (or the demand moved, DemandWatch), and looks again after a
-    /// status period.
+    /// Has the StatusPublisher look whether a status is due, and looks again after a status period.
     void publish_status_nts();  // the worker thread only
+    /// The status's fields that the gateway knows beyond its rows (StatusPublisher::Sources::fill).
+    void fill_status(idl::GatewayStatus& status, std::int32_t rows_readers) const;
     /// The status's rows: the topics bridged now, and the retired ones in one row.
     std::vector<TopicCount> status_rows() const;
-    /// The time between statuses at `rate_bps` for a status of `wire_bits` on the wire: the status period, longer
-    /// where a status would take more than STATUS_RATE_SHARE of the rate.
-    base::Duration status_spacing(double rate_bps, double wire_bits) const;
     /// The backfill topic, its WAN writer, the sender reading the log and the reader of the camp's
     /// acknowledgements (GatewayConfig::backfill). Before the loop starts.
     void start_backfill();
@@ -218,9 +215,6 @@ class Gateway {
     void charge_unscheduled(std::uint64_t frame_bytes);
     /// Has the worker charge `frame_bytes` that crossed the link outside the schedule to the loop's budget.
     void charge_link(std::uint64_t frame_bytes);
-    /// Gives the loop the sensor's rate, or with --channel-grants core::granted_rate_bps: the grant (never below
-    /// least_share_bps_), or a newcomer's share before the first.
-    void apply_rate();
     /// A base-camp writer discovered on the WAN: routed to the robot domain if its topic is on the uplink list.
     void remote_publisher_discovered(DiscoveredPublisher&& pub);  // Fast DDS's discovery thread
     /// Routes a listed topic's base-camp publisher into the robot domain. The worker thread only.
@@ -232,8 +226,6 @@ class Gateway {
     void post_wan_remake(std::function<void()> remake);
     /// The WAN participant made anew on `address`, announcing to `peers`; in the gateway's own thread.
     void remake_wan_nts(const std::string& address, const std::vector<WanPeer>& peers);
-    /// Looks the --wan-peer host names up every PEER_LOOKUP_PERIOD; a change makes the participant anew.
-    void run_peer_lookup();
 
     GatewayConfig config_;
     const base::Clock& clock_;
@@ -261,6 +253,7 @@ class Gateway {
     std::unique_ptr<TopicTable> topics_;   ///< after wan_: its bridges hold WAN writers
     std::unique_ptr<GatewaySink> sink_;
     std::unique_ptr<core::ForwardingLoop> loop_;
+    std::unique_ptr<RateControl> rate_;          ///< after loop_, which it sets the rate of
     std::unique_ptr<TopicLifecycle> lifecycle_;  ///< after loop_ and topics_, which it uses
     std::unique_ptr<Discovery> discovery_;
 
@@ -268,42 +261,19 @@ class Gateway {
     base::EventLoop worker_;
 
     std::unique_ptr<RobotParticipant> robot_;
-    std::unique_ptr<Uplink> uplink_;  ///< with --uplink; closed by stop(), before robot_ goes
-    std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};
-    /// Of them, the camp's commands (--duplex half), and their rate lately: the schedule leaves it to them.
-    std::atomic<std::uint64_t> commands_charged_bytes_{0};
-    std::mutex commands_mutex_;
-    core::SentRate commands_rate_;            // under commands_mutex_
-    std::atomic<double> sensed_rate_bps_{0};  ///< the sensor's last rate; the initial rate before the first
-    std::atomic<bool> wan_link_up_{true};
-    std::atomic<bool> rebinding_wan_{false};
-    /// How often --wan-peer host names are looked up again: a camp laptop on DHCP, a name that resolves late.
-    static constexpr std::chrono::seconds PEER_LOOKUP_PERIOD{5};
-    std::vector<WanPeer> peer_specs_;  ///< --wan-peer as given, names resolved at start
-    std::thread peer_lookup_;
-    std::mutex peer_lookup_mutex_;
-    std::condition_variable peer_lookup_wake_;
-    bool peer_lookup_stopping_ = false;  // under peer_lookup_mutex_
+    std::unique_ptr<Uplink> uplink_;                        ///< with --uplink; closed by stop(), before robot_ goes
+    std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};  ///< the camp's commands (--duplex half) among them
+    std::vector<WanPeer> peer_specs_;                       ///< --wan-peer as given, names resolved at start
+    std::unique_ptr<PeerLookup> peer_lookup_;  ///< with --wan-peer host names: a change makes the participant anew
     std::atomic<std::uint64_t> wan_rebinds_{0};
     std::shared_ptr<WanWriter> status_writer_;   ///< standard WAN mode
     std::optional<core::TopicId> status_topic_;  ///< with a status period
+    std::unique_ptr<StatusPublisher> status_;    ///< with a status period
     std::shared_ptr<WanWriter> backfill_writer_;
     std::optional<core::TopicId> backfill_topic_;  ///< with backfill
-    std::atomic<std::uint64_t> statuses_published_{0};
-    std::mutex sensor_mutex_;
+    mutable std::mutex sensor_mutex_;
     std::string sensor_description_;
     std::string sensor_detail_;
-    std::optional<std::chrono::steady_clock::time_point> last_status_at_;  ///< the worker thread only
-    double last_status_bits_ = 0.0;  ///< the last status's size on the wire; the worker thread only
-    /// The least share the gateway budgets for under a grant (core::least_share_bps of its last status): room
-    /// for its next status and its most urgent sample. With --channel-grants and a status.
-    std::atomic<double> least_share_bps_{0.0};
-    std::optional<core::DemandWatch> demand_watch_;
-    std::uint64_t status_forwarded_seen_ = 0;  ///< the status topic's counts when the last status was made
-    std::uint64_t status_dropped_seen_ = 0;    ///< with --channel-grants and a status; the worker thread only
-    double logged_sensed_bps_ = -1.0;          ///< the last row written to the log's link_rates
-    double logged_rate_bps_ = -1.0;
-    base::SteadyTime logged_rate_at_{};
     double delivered_cap_bps_ = 0.0;                           ///< 0: the delivered-rate check does not cap
     std::atomic<std::uint64_t> pending_unscheduled_bytes_{0};  ///< reported, not yet charged to the loop
     std::atomic<bool> unscheduled_charge_posted_{false};

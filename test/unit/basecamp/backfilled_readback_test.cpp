@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "basecamp/recording_reader.hpp"
-#include "basecamp/report.hpp"
-#include "basecamp/sample_consumer.hpp"
+#include "basecamp/analysis/report.hpp"
+#include "basecamp/recording/recording_reader.hpp"
+#include "basecamp/sample/sample_consumer.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
 #include "test/unit/basecamp/scratch_dir.hpp"
 

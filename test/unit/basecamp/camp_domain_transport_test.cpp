@@ -1,4 +1,4 @@
-#include "basecamp/camp_domain_transport.hpp"
+#include "basecamp/relay/camp_domain_transport.hpp"
 
 #include <gtest/gtest.h>
 

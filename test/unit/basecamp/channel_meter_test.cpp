@@ -1,5 +1,5 @@
 // ChannelMeter: what it counts of the datagrams the relay's WAN transport receives.
-#include "basecamp/channel_meter.hpp"
+#include "basecamp/channel/channel_meter.hpp"
 
 #include <gtest/gtest.h>
 

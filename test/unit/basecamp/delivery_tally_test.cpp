@@ -1,4 +1,4 @@
-#include "basecamp/delivery_tally.hpp"
+#include "basecamp/capture/delivery_tally.hpp"
 
 #include <gtest/gtest.h>
 

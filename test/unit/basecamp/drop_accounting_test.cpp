@@ -1,6 +1,6 @@
 // tm-basecamp report --robot-log: a base-camp recording and a gateway on-robot log, both real SQLite files written
 // by the classes that write them in the field (SampleStore, RobotLog), matched sample by sample.
-#include "basecamp/drop_accounting.hpp"
+#include "basecamp/analysis/drop_accounting.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "basecamp/report.hpp"
-#include "basecamp/sample_store.hpp"
+#include "basecamp/analysis/report.hpp"
+#include "basecamp/recording/sample_store.hpp"
 #include "gateway/log/robot_log.hpp"
 #include "test/fakes/config_error_of.hpp"
 #include "test/unit/basecamp/recording_file.hpp"

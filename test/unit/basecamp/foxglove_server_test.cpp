@@ -2,7 +2,7 @@
 // it serves is checked with Foxglove's own client (foxglove_live_view).
 #include <gtest/gtest.h>
 
-#include "basecamp/foxglove_server.hpp"
+#include "basecamp/live/foxglove_server.hpp"
 #include "test/fakes/config_error_of.hpp"
 
 namespace tgw::test {

@@ -1,12 +1,12 @@
 // tm-basecamp report's grants: the rounds the relay recorded (SampleStore's SQLite file), per robot.
-#include "basecamp/grant_summary.hpp"
+#include "basecamp/analysis/grant_summary.hpp"
 
 #include <gtest/gtest.h>
 
 #include <sstream>
 #include <string>
 
-#include "basecamp/sample_store.hpp"
+#include "basecamp/recording/sample_store.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
 #include "test/unit/basecamp/scratch_dir.hpp"
 

@@ -11,9 +11,9 @@
 #include "GatewayStatus.h"
 #include "RobotPose.h"
 
-#include "basecamp/link_map.hpp"
-#include "basecamp/link_map_render.hpp"
-#include "basecamp/recording_reader.hpp"
+#include "basecamp/analysis/link_map.hpp"
+#include "basecamp/analysis/link_map_render.hpp"
+#include "basecamp/recording/recording_reader.hpp"
 #include "test/fakes/config_error_of.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
 #include "test/unit/types/cdr_test_payloads.hpp"

@@ -1,6 +1,6 @@
 // tm-basecamp merge: an on-robot log and a base-camp recording, both real SQLite files written by the classes that
 // write them in the field (RobotLog, SampleStore), merged into the mission archive and read back with SQL.
-#include "basecamp/mission_archive.hpp"
+#include "basecamp/analysis/mission_archive.hpp"
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "basecamp/sample_store.hpp"
+#include "basecamp/recording/sample_store.hpp"
 #include "gateway/log/robot_log.hpp"
 #include "test/fakes/config_error_of.hpp"
 #include "test/unit/basecamp/recording_file.hpp"

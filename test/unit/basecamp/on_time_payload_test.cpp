@@ -1,6 +1,6 @@
 // tm-basecamp report --link-rate: the on-time payload of a real recording (SampleStore's SQLite file) over the
 // steady window, against the link's rate.
-#include "basecamp/on_time_payload.hpp"
+#include "basecamp/analysis/on_time_payload.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "basecamp/report.hpp"
+#include "basecamp/analysis/report.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
 #include "test/unit/basecamp/scratch_dir.hpp"
 

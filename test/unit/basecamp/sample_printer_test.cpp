@@ -8,9 +8,9 @@
 #include "KeyedReading.h"
 
 #include "base/utc_text.hpp"
-#include "basecamp/sample_printer.hpp"
-#include "basecamp/value_json.hpp"
-#include "basecamp/value_text.hpp"
+#include "basecamp/decode/sample_printer.hpp"
+#include "basecamp/decode/value_json.hpp"
+#include "basecamp/decode/value_text.hpp"
 #include "test/unit/types/cdr_test_payloads.hpp"
 
 namespace tgw::test {

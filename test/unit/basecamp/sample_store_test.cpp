@@ -1,6 +1,6 @@
 // The camp's recording (SampleStore's SQLite file) with backfill: rows from the on-robot log stored once, flagged,
 // and acknowledged only after their commit; live samples as before; an older recording migrated when opened.
-#include "basecamp/sample_store.hpp"
+#include "basecamp/recording/sample_store.hpp"
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>

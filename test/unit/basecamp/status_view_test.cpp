@@ -1,10 +1,10 @@
-#include "basecamp/status_view.hpp"
+#include "basecamp/live/status_view.hpp"
 
 #include <gtest/gtest.h>
 
 #include <sstream>
 
-#include "basecamp/gateway_status.hpp"
+#include "basecamp/status/gateway_status.hpp"
 #include "gateway/dds/status_topic.hpp"
 #include "status_samples.hpp"
 

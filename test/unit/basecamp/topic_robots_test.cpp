@@ -1,15 +1,15 @@
 // The robot of each topic at the base camp, from the gateways' status: TopicRobots itself, and the robot column
 // of `tm-basecamp report`, `stats` and the status view for a fleet (and its absence for a single unnamed robot).
-#include "basecamp/topic_robots.hpp"
+#include "basecamp/status/topic_robots.hpp"
 
 #include <gtest/gtest.h>
 
 #include <iterator>
 #include <sstream>
 
-#include "basecamp/report.hpp"
-#include "basecamp/status_view.hpp"
-#include "basecamp/topic_stats.hpp"
+#include "basecamp/analysis/report.hpp"
+#include "basecamp/live/status_view.hpp"
+#include "basecamp/live/topic_stats.hpp"
 #include "gateway/dds/status_topic.hpp"
 #include "status_samples.hpp"
 #include "test/unit/basecamp/recording_file.hpp"

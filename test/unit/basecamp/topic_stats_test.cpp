@@ -1,4 +1,4 @@
-#include "basecamp/topic_stats.hpp"
+#include "basecamp/live/topic_stats.hpp"
 
 #include <gtest/gtest.h>
 

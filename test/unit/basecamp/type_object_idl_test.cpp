@@ -10,7 +10,7 @@
 #include "AnnouncedTypes.h"
 #include "AnnouncedTypesTypeObject.h"
 
-#include "basecamp/value_json.hpp"
+#include "basecamp/decode/value_json.hpp"
 #include "gateway/dds/type_object_idl.hpp"
 #include "test/unit/types/cdr_test_payloads.hpp"
 #include "types/cdr_decoder.hpp"

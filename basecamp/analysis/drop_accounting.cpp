@@ -7,14 +7,12 @@
 #include <set>
 
 #include "base/config_error.hpp"
-#include "basecamp/analysis/report.hpp"
+#include "basecamp/analysis/paper_message.hpp"
 #include "basecamp/recording/read_only_db.hpp"
 
 namespace tgw::basecamp {
 
 namespace {
-
-constexpr const char* PAPER_MESSAGE_TYPE = "tgw::idl::PaperMessage";
 
 /// Source timestamps to the microsecond: the gateway republishes with the source timestamp it was given, but
 /// each RTPS hop converts it to 2^-32 s fractions and back, so the two files may differ by a nanosecond.

@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <memory>
 
-#include "base/byte_order.hpp"
 #include "base/config_error.hpp"
+#include "basecamp/analysis/paper_message.hpp"
 #include "basecamp/recording/read_only_db.hpp"
 #include "basecamp/status/gateway_status.hpp"
 #include "basecamp/status/topic_robots.hpp"
@@ -17,8 +17,6 @@
 namespace tgw::basecamp {
 
 namespace {
-
-constexpr const char* PAPER_MESSAGE_TYPE = "tgw::idl::PaperMessage";
 
 /// Welford's running mean and variance: one pass, no catastrophic cancellation.
 struct RunningStats {
@@ -48,13 +46,6 @@ struct Accumulator {
 };
 
 }  // namespace
-
-std::optional<std::uint32_t> paper_message_sequence(const std::uint8_t* payload, std::size_t size) {
-    // Encapsulation (2 bytes representation id, 2 options), then generated_ns (8), then sequence (4).
-    if (payload == nullptr || size < 16 || payload[0] != 0x00 || payload[1] > 0x01)
-        return std::nullopt;
-    return base::load_unsigned<std::uint32_t>(payload + 12, payload[1] == 0x01);
-}
 
 std::vector<TopicReport> read_report(const std::string& path, const ReportOptions& options) {
     const ReadOnlyDb db = open_read_only(path, "report");

@@ -49,10 +49,6 @@ struct ReportOptions {
 /// base::ConfigError naming the file if it cannot.
 std::vector<TopicReport> read_report(const std::string& path, const ReportOptions& options);
 
-/// Sequence number of a serialized tgw::idl::PaperMessage (encapsulation, generated_ns, sequence, data),
-/// or nothing when the payload is too short or not CDR.
-std::optional<std::uint32_t> paper_message_sequence(const std::uint8_t* payload, std::size_t size);
-
 /// The per-topic table, and the accounting table when the reports have one.
 void print_report(std::ostream& out, const std::vector<TopicReport>& reports);
 

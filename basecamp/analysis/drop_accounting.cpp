@@ -7,6 +7,7 @@
 #include <set>
 
 #include "base/config_error.hpp"
+#include "base/sqlite_handles.hpp"
 #include "basecamp/analysis/paper_message.hpp"
 #include "basecamp/recording/read_only_db.hpp"
 
@@ -52,8 +53,6 @@ std::optional<std::size_t> reason_index(const std::string& reason) {
             return i;
     return std::nullopt;
 }
-
-using Stmt = std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)>;
 
 }  // namespace
 
@@ -124,7 +123,7 @@ DropAccounting account_topic(const std::vector<ReceivedSample>& received, const 
 }
 
 std::vector<LoggedSample> read_robot_log(const std::string& path, const std::string& flag, std::int64_t since_ns) {
-    const ReadOnlyDb db = open_read_only(path, flag);
+    const base::DbPtr db = open_read_only(path, flag);
     sqlite3_stmt* stmt_raw = nullptr;
     if (sqlite3_prepare_v2(db.get(),
                            "SELECT topic, type_name, payload, source_time_ns, reason FROM dropped_samples "
@@ -132,7 +131,7 @@ std::vector<LoggedSample> read_robot_log(const std::string& path, const std::str
                            -1, &stmt_raw, nullptr) != SQLITE_OK)
         throw base::ConfigError(flag + ": '" + path +
                                 "' is not an on-robot log (table dropped_samples): " + sqlite3_errmsg(db.get()));
-    Stmt stmt(stmt_raw, sqlite3_finalize);
+    base::StmtPtr stmt(stmt_raw);
     sqlite3_bind_int64(stmt.get(), 1, since_ns);
     std::vector<LoggedSample> rows;
     int rc = SQLITE_ROW;

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "base/config_error.hpp"
+#include "base/sqlite_handles.hpp"
 #include "basecamp/recording/read_only_db.hpp"
 
 namespace tgw::basecamp {
@@ -17,7 +18,8 @@ std::string cannot_read(const std::string& path) {
 }
 
 bool has_table(sqlite3* db, const std::string& path, const char* table) {
-    Statement stmt = prepare(db, "SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = ?1", cannot_read(path));
+    base::StmtPtr stmt =
+        prepare(db, "SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = ?1", cannot_read(path));
     sqlite3_bind_text(stmt.get(), 1, table, -1, SQLITE_STATIC);
     return sqlite3_step(stmt.get()) == SQLITE_ROW;
 }
@@ -25,15 +27,15 @@ bool has_table(sqlite3* db, const std::string& path, const char* table) {
 }  // namespace
 
 std::optional<GrantSummary> read_grant_summary(const std::string& path) {
-    const ReadOnlyDb owned = open_read_only(path, "report");
+    const base::DbPtr owned = open_read_only(path, "report");
     sqlite3* db = owned.get();
     if (!has_table(db, path, "channel") || !has_table(db, path, "grants"))
         return std::nullopt;
     GrantSummary summary;
-    Statement channel = prepare(db,
-                                "SELECT COUNT(*), MIN(channel_bps), AVG(channel_bps), MAX(channel_bps), "
-                                "COUNT(verdict) FROM channel",
-                                cannot_read(path));
+    base::StmtPtr channel = prepare(db,
+                                    "SELECT COUNT(*), MIN(channel_bps), AVG(channel_bps), MAX(channel_bps), "
+                                    "COUNT(verdict) FROM channel",
+                                    cannot_read(path));
     if (sqlite3_step(channel.get()) != SQLITE_ROW || sqlite3_column_int64(channel.get(), 0) == 0)
         return std::nullopt;
     summary.rounds = static_cast<std::uint64_t>(sqlite3_column_int64(channel.get(), 0));
@@ -42,7 +44,7 @@ std::optional<GrantSummary> read_grant_summary(const std::string& path) {
     summary.max_channel_bps = sqlite3_column_double(channel.get(), 3);
     summary.measured = sqlite3_column_int64(channel.get(), 4) > 0;
     // A robot restarted has two gateways: its name holds both. The last grant is its newest round's.
-    Statement robots =
+    base::StmtPtr robots =
         prepare(db,
                 "SELECT COALESCE(robot, gateway) AS who, COUNT(*), MIN(rate_bps), AVG(rate_bps), "
                 "MAX(rate_bps), (SELECT g2.rate_bps FROM grants g2 WHERE COALESCE(g2.robot, g2.gateway) = "

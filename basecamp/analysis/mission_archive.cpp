@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "base/config_error.hpp"
+#include "base/sqlite_handles.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
 #include "gateway/dds/status_topic.hpp"
 
@@ -130,9 +131,6 @@ CREATE TEMP VIEW backfilled_freed AS
 SELECT NULL AS id, NULL AS topic, NULL AS type_name, NULL AS instance, NULL AS source_ns, NULL AS payload,
        NULL AS receive_ns, NULL AS lifespan_ns, NULL AS drop_reason WHERE 0;
 )sql";
-
-using DbPtr = std::unique_ptr<sqlite3, int (*)(sqlite3*)>;
-using StmtPtr = std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)>;
 
 /// A file as the error messages name it: "on-robot log 'robot.db'".
 std::string named(const std::string& what, const std::string& path) {
@@ -265,7 +263,7 @@ void require_replaceable(const std::string& out, const std::string& robot_log, c
     }
     sqlite3* raw = nullptr;
     const int rc = sqlite3_open_v2(out.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
-    DbPtr db(raw, sqlite3_close_v2);
+    base::DbPtr db(raw);
     sqlite3_stmt* stmt = nullptr;
     // The table's columns are not checked: a mission_samples table and the meta key are no accident.
     const bool archive = rc == SQLITE_OK &&
@@ -339,7 +337,7 @@ class TemporaryArchive {
 
     std::string out_;
     std::string path_;
-    DbPtr db_{nullptr, sqlite3_close_v2};
+    base::DbPtr db_;
     bool committed_ = false;
 };
 
@@ -408,11 +406,11 @@ class Merger {
   private:
     bool stopped() const { return stop_ != nullptr && stop_->load(); }
 
-    StmtPtr prepare(const char* sql, const std::string& who) const {
+    base::StmtPtr prepare(const char* sql, const std::string& who) const {
         sqlite3_stmt* raw = nullptr;
         if (sqlite3_prepare_v2(db_, sql, -1, &raw, nullptr) != SQLITE_OK)
             throw base::ConfigError(who + ": " + sqlite3_errmsg(db_));
-        return StmtPtr(raw, sqlite3_finalize);
+        return base::StmtPtr(raw);
     }
 
     /// Binds the gateway's own topics, which the archive leaves out, to ?1 and ?2.
@@ -423,7 +421,7 @@ class Merger {
 
     void attach(const std::string& path, const char* schema, const std::string& what) {
         const std::string sql = std::string("ATTACH DATABASE ?1 AS ") + schema;
-        StmtPtr stmt = prepare(sql.c_str(), named(what, path));
+        base::StmtPtr stmt = prepare(sql.c_str(), named(what, path));
         const std::string uri = read_only_uri(path);
         sqlite3_bind_text(stmt.get(), 1, uri.c_str(), -1, SQLITE_TRANSIENT);
         if (sqlite3_step(stmt.get()) != SQLITE_DONE)
@@ -450,7 +448,7 @@ class Merger {
 
     /// Reads id, topic, instance, source time and payload size of every row `sql` selects; false when stopped.
     bool read_identities(const char* sql, const std::string& who, std::vector<Identity>& into) {
-        StmtPtr stmt = prepare(sql, who);
+        base::StmtPtr stmt = prepare(sql, who);
         bind_own_topics(stmt.get());
         int rc = SQLITE_ROW;
         while ((rc = sqlite3_step(stmt.get())) == SQLITE_ROW) {
@@ -478,7 +476,7 @@ class Merger {
     }
 
     bool write_pairs(const std::vector<Pair>& pairs) {
-        StmtPtr insert = prepare("INSERT INTO temp.pairs (robot_row, basecamp_row) VALUES (?1, ?2)", "archive");
+        base::StmtPtr insert = prepare("INSERT INTO temp.pairs (robot_row, basecamp_row) VALUES (?1, ?2)", "archive");
         std::size_t written = 0;
         for (const Pair& p : pairs) {
             if (p.robot_row)
@@ -500,7 +498,7 @@ class Merger {
     }
 
     bool fill_archive() {
-        StmtPtr fill = prepare(FILL_ARCHIVE_SQL, "archive");
+        base::StmtPtr fill = prepare(FILL_ARCHIVE_SQL, "archive");
         bind_own_topics(fill.get());
         const int rc = sqlite3_step(fill.get());
         if (rc == SQLITE_INTERRUPT || stopped())
@@ -532,13 +530,13 @@ class Merger {
 
     bool has_table(const std::string& schema, const char* table) const {
         const std::string sql = "SELECT 1 FROM " + schema + ".sqlite_master WHERE type = 'table' AND name = ?1";
-        StmtPtr stmt = prepare(sql.c_str(), schema);
+        base::StmtPtr stmt = prepare(sql.c_str(), schema);
         sqlite3_bind_text(stmt.get(), 1, table, -1, SQLITE_STATIC);
         return sqlite3_step(stmt.get()) == SQLITE_ROW;
     }
 
     MergeCounts count_fates() {
-        StmtPtr stmt = prepare(COUNT_FATES_SQL, "archive");
+        base::StmtPtr stmt = prepare(COUNT_FATES_SQL, "archive");
         std::map<std::string, TopicFates> by_topic;
         std::set<std::string> ttl_known;
         while (sqlite3_step(stmt.get()) == SQLITE_ROW) {
@@ -589,7 +587,7 @@ class Merger {
     }
 
     void write_meta() {
-        StmtPtr insert = prepare("INSERT INTO main.meta (key, value) VALUES (?1, ?2)", "archive");
+        base::StmtPtr insert = prepare("INSERT INTO main.meta (key, value) VALUES (?1, ?2)", "archive");
         const std::vector<std::pair<std::string, std::string>> rows = {
             {"archive_schema_version", std::to_string(ARCHIVE_SCHEMA_VERSION)},
             {"robot_log", robot_log_},

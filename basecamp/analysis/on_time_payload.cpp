@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "base/config_error.hpp"
+#include "base/sqlite_handles.hpp"
 #include "basecamp/recording/read_only_db.hpp"
 
 namespace tgw::basecamp {
@@ -36,14 +37,14 @@ std::optional<OnTimePayload> read_on_time_payload(const std::string& path, const
             ttl_ns[r.topic] = static_cast<std::int64_t>(*r.ttl_s * 1e9);
         }
     }
-    const ReadOnlyDb db = open_read_only(path, "report");
+    const base::DbPtr db = open_read_only(path, "report");
     sqlite3_stmt* stmt = nullptr;
     if (sqlite3_prepare_v2(db.get(),
                            "SELECT topic, source_ns, receive_ns, length(payload) FROM samples WHERE source_ns >= ?1",
                            -1, &stmt, nullptr) != SQLITE_OK) {
         throw base::ConfigError(path + ": not a tm-basecamp recording: " + sqlite3_errmsg(db.get()));
     }
-    const std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)> rows(stmt, sqlite3_finalize);
+    const base::StmtPtr rows(stmt);
     sqlite3_bind_int64(rows.get(), 1, since_ns);
 
     std::vector<Arrival> arrivals;

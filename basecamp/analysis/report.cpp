@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "base/config_error.hpp"
+#include "base/sqlite_handles.hpp"
 #include "basecamp/analysis/paper_message.hpp"
 #include "basecamp/recording/read_only_db.hpp"
 #include "basecamp/status/gateway_status.hpp"
@@ -48,11 +49,11 @@ struct Accumulator {
 }  // namespace
 
 std::vector<TopicReport> read_report(const std::string& path, const ReportOptions& options) {
-    const ReadOnlyDb db = open_read_only(path, "report");
+    const base::DbPtr db = open_read_only(path, "report");
 
     std::map<std::string, Accumulator> topics;
     const std::string not_a_recording = path + ": not a tm-basecamp recording";
-    Statement declared = prepare(db.get(), "SELECT topic, type_name, lifespan_ns FROM topics", not_a_recording);
+    base::StmtPtr declared = prepare(db.get(), "SELECT topic, type_name, lifespan_ns FROM topics", not_a_recording);
     while (sqlite3_step(declared.get()) == SQLITE_ROW) {
         Accumulator& acc = topics[reinterpret_cast<const char*>(sqlite3_column_text(declared.get(), 0))];
         acc.report.type_name = reinterpret_cast<const char*>(sqlite3_column_text(declared.get(), 1));
@@ -64,7 +65,7 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
     const std::string select = std::string("SELECT topic, type_name, source_ns, receive_ns, lifespan_ns, payload, ") +
                                (has_column(db.get(), "samples", "backfilled") ? "backfilled" : "0") +
                                " FROM samples WHERE source_ns >= ?1 ORDER BY id";
-    Statement rows = prepare(db.get(), select.c_str(), not_a_recording);
+    base::StmtPtr rows = prepare(db.get(), select.c_str(), not_a_recording);
     sqlite3_bind_int64(rows.get(), 1, options.since_ns);
     std::map<std::string, std::vector<double>> transits;
     TopicRobots robots;  // from the gateways' status samples among the rows

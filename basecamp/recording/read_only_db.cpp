@@ -6,14 +6,14 @@
 
 namespace tgw::basecamp {
 
-ReadOnlyDb open_read_only(const std::string& path, const std::string& who) {
+base::DbPtr open_read_only(const std::string& path, const std::string& who) {
     sqlite3* raw = nullptr;
     if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
         const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
         sqlite3_close(raw);
         throw base::ConfigError(who + ": cannot open '" + path + "': " + why);
     }
-    return ReadOnlyDb(raw, sqlite3_close);
+    return base::DbPtr(raw);
 }
 
 bool has_column(sqlite3* db, const std::string& table, const std::string& column) {
@@ -24,11 +24,11 @@ bool has_column(sqlite3* db, const std::string& table, const std::string& column
     return has;
 }
 
-Statement prepare(sqlite3* db, const char* sql, const std::string& what) {
+base::StmtPtr prepare(sqlite3* db, const char* sql, const std::string& what) {
     sqlite3_stmt* stmt = nullptr;
     if (sqlite3_prepare_v2(db, sql, -1, &stmt, nullptr) != SQLITE_OK)
         throw base::ConfigError(what + ": " + sqlite3_errmsg(db));
-    return Statement(stmt, sqlite3_finalize);
+    return base::StmtPtr(stmt);
 }
 
 }  // namespace tgw::basecamp

@@ -5,13 +5,12 @@
 #include <memory>
 
 #include "base/config_error.hpp"
+#include "base/sqlite_handles.hpp"
 #include "basecamp/recording/read_only_db.hpp"
 
 namespace tgw::basecamp {
 
 namespace {
-
-using Statement = std::unique_ptr<sqlite3_stmt, decltype(&sqlite3_finalize)>;
 
 std::string text_column(sqlite3_stmt* stmt, int column) {
     const auto* text = sqlite3_column_text(stmt, column);
@@ -32,7 +31,7 @@ std::vector<std::uint8_t> blob_column(sqlite3_stmt* stmt, int column) {
 bool has_table(sqlite3* db, const char* name) {
     sqlite3_stmt* raw = nullptr;
     sqlite3_prepare_v2(db, "SELECT 1 FROM sqlite_master WHERE type='table' AND name=?", -1, &raw, nullptr);
-    Statement stmt(raw, &sqlite3_finalize);
+    base::StmtPtr stmt(raw);
     sqlite3_bind_text(raw, 1, name, -1, SQLITE_STATIC);
     return sqlite3_step(raw) == SQLITE_ROW;
 }
@@ -40,32 +39,28 @@ bool has_table(sqlite3* db, const char* name) {
 }  // namespace
 
 RecordingReader::RecordingReader(const std::string& path, const std::string& flag) : path_(path), flag_(flag) {
-    const int opened = sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr);
+    sqlite3* raw = nullptr;
+    const int opened = sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
+    db_.reset(raw);
     if (opened != SQLITE_OK) {
-        const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
-        sqlite3_close(db_);
+        const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
         throw base::ConfigError(flag + ": cannot open '" + path + "': " + why);
     }
-    archive_ = has_table(db_, "mission_samples");
-    if (!archive_ && (!has_table(db_, "topics") || !has_table(db_, "samples"))) {
-        sqlite3_close(db_);
+    archive_ = has_table(db_.get(), "mission_samples");
+    if (!archive_ && (!has_table(db_.get(), "topics") || !has_table(db_.get(), "samples"))) {
         throw base::ConfigError(flag + ": '" + path +
                                 "' is not a recording of tm-basecamp record (no topics and samples tables) nor a "
                                 "mission archive of merge");
     }
 }
 
-RecordingReader::~RecordingReader() {
-    sqlite3_close(db_);
-}
-
 std::vector<std::pair<std::int64_t, double>> RecordingReader::link_rates() const {
     std::vector<std::pair<std::int64_t, double>> rates;
-    if (!archive_ || !has_table(db_, "link_rates"))
+    if (!archive_ || !has_table(db_.get(), "link_rates"))
         return rates;
     sqlite3_stmt* raw = nullptr;
-    sqlite3_prepare_v2(db_, "SELECT time_ns, sensed_bps FROM link_rates ORDER BY time_ns", -1, &raw, nullptr);
-    Statement rows(raw, &sqlite3_finalize);
+    sqlite3_prepare_v2(db_.get(), "SELECT time_ns, sensed_bps FROM link_rates ORDER BY time_ns", -1, &raw, nullptr);
+    base::StmtPtr rows(raw);
     while (sqlite3_step(raw) == SQLITE_ROW)
         rates.emplace_back(sqlite3_column_int64(raw, 0), sqlite3_column_double(raw, 1));
     return rates;
@@ -79,14 +74,14 @@ std::uint64_t RecordingReader::read_archive(SampleConsumer& into) {
     sqlite3_stmt* raw = nullptr;
     // A backfilled sample takes its place in the mission at its source time (archives made before backfill have
     // none).
-    const std::string backfilled = has_column(db_, "mission_samples", "backfilled") ? "backfilled" : "0";
+    const std::string backfilled = has_column(db_.get(), "mission_samples", "backfilled") ? "backfilled" : "0";
     const std::string select =
         "SELECT topic, type_name, payload, source_ns, fate, reason, receive_ns, logged_ns, forwarded_ns, ttl_ns, "
         "instance_key, " +
         backfilled + " AS backfilled FROM mission_samples ORDER BY COALESCE(CASE WHEN " + backfilled +
         " THEN source_ns END, receive_ns, logged_ns, forwarded_ns, source_ns), id";
-    sqlite3_prepare_v2(db_, select.c_str(), -1, &raw, nullptr);
-    Statement rows(raw, &sqlite3_finalize);
+    sqlite3_prepare_v2(db_.get(), select.c_str(), -1, &raw, nullptr);
+    base::StmtPtr rows(raw);
     std::uint64_t count = 0;
     int step = SQLITE_ROW;
     while ((step = sqlite3_step(raw)) == SQLITE_ROW) {
@@ -122,12 +117,12 @@ std::uint64_t RecordingReader::read_archive(SampleConsumer& into) {
         ++count;
     }
     if (step != SQLITE_DONE)
-        throw base::ConfigError(flag_ + ": reading '" + path_ + "' failed: " + sqlite3_errmsg(db_));
+        throw base::ConfigError(flag_ + ": reading '" + path_ + "' failed: " + sqlite3_errmsg(db_.get()));
     return count;
 }
 
 std::uint64_t RecordingReader::read_recording(SampleConsumer& into) {
-    sqlite3* raw_db = db_;
+    sqlite3* raw_db = db_.get();
 
     // Recordings made before the table existed have no announced types.
     const std::string topics_query =
@@ -137,7 +132,7 @@ std::uint64_t RecordingReader::read_recording(SampleConsumer& into) {
             : "SELECT topic, type_name, lifespan_ns, keyed, reliable, discovered_ns, NULL FROM topics ORDER BY topic";
     sqlite3_stmt* raw = nullptr;
     sqlite3_prepare_v2(raw_db, topics_query.c_str(), -1, &raw, nullptr);
-    Statement topics(raw, &sqlite3_finalize);
+    base::StmtPtr topics(raw);
     while (sqlite3_step(raw) == SQLITE_ROW) {
         TopicRecord topic;
         topic.topic = text_column(raw, 0);
@@ -158,7 +153,7 @@ std::uint64_t RecordingReader::read_recording(SampleConsumer& into) {
                                backfill_columns +
                                " FROM samples ORDER BY CASE WHEN backfilled THEN source_ns ELSE receive_ns END, id";
     sqlite3_prepare_v2(raw_db, select.c_str(), -1, &raw, nullptr);
-    Statement samples(raw, &sqlite3_finalize);
+    base::StmtPtr samples(raw);
     std::uint64_t count = 0;
     int step = SQLITE_ROW;
     while ((step = sqlite3_step(raw)) == SQLITE_ROW) {

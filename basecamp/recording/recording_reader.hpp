@@ -8,9 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "base/sqlite_handles.hpp"
 #include "basecamp/sample/sample_consumer.hpp"
-
-struct sqlite3;
 
 namespace tgw::basecamp {
 
@@ -19,7 +18,6 @@ class RecordingReader {
     /// Opens the recording or mission archive at `path` read-only. Throws base::ConfigError naming `flag` and the
     /// file when it cannot, or the file is neither.
     RecordingReader(const std::string& path, const std::string& flag);
-    ~RecordingReader();
     RecordingReader(const RecordingReader&) = delete;
     RecordingReader& operator=(const RecordingReader&) = delete;
 
@@ -43,7 +41,7 @@ class RecordingReader {
 
     std::string path_;
     std::string flag_;
-    sqlite3* db_ = nullptr;
+    base::DbPtr db_;
     bool archive_ = false;
 };
 

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "base/config_error.hpp"
+#include "base/sqlite_handles.hpp"
 
 namespace tgw::basecamp {
 
@@ -119,45 +120,46 @@ void bind_sample(sqlite3_stmt* stmt, const SampleRecord& s) {
 class SampleStore::Impl {
   public:
     Impl(const std::string& path, const std::string& flag, int commit_period_ms) : period_(commit_period_ms) {
-        if (sqlite3_open(path.c_str(), &db_) != SQLITE_OK) {
-            const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
-            sqlite3_close(db_);
+        sqlite3* raw = nullptr;
+        const int opened = sqlite3_open(path.c_str(), &raw);
+        db_.reset(raw);
+        if (opened != SQLITE_OK) {
+            const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
             throw base::ConfigError(flag + ": cannot open '" + path + "': " + why);
         }
         char* error = nullptr;
-        if (sqlite3_exec(db_, SCHEMA, nullptr, nullptr, &error) != SQLITE_OK) {
+        if (sqlite3_exec(db_.get(), SCHEMA, nullptr, nullptr, &error) != SQLITE_OK) {
             const std::string why = error ? error : "unknown error";
             sqlite3_free(error);
-            sqlite3_close(db_);
             throw base::ConfigError(flag + ": cannot create tables in '" + path + "': " + why);
         }
         if (const std::string why = add_backfill_columns(); !why.empty()) {
-            sqlite3_close(db_);
             throw base::ConfigError(flag + ": cannot add the backfill columns to '" + path + "': " + why);
         }
         // A statement that did not prepare would crash the writer (sqlite3_clear_bindings takes no NULL).
         std::string why;
-        const auto prepare = [&](const char* sql, sqlite3_stmt** stmt) {
-            if (sqlite3_prepare_v2(db_, sql, -1, stmt, nullptr) != SQLITE_OK && why.empty())
-                why = sqlite3_errmsg(db_);
+        const auto prepare = [&](const char* sql, base::StmtPtr& stmt) {
+            sqlite3_stmt* raw_stmt = nullptr;
+            if (sqlite3_prepare_v2(db_.get(), sql, -1, &raw_stmt, nullptr) != SQLITE_OK && why.empty())
+                why = sqlite3_errmsg(db_.get());
+            stmt.reset(raw_stmt);
         };
         prepare(
             "INSERT INTO samples(topic, type_name, payload, source_ns, receive_ns, lifespan_ns, instance) "
             "VALUES(?,?,?,?,?,?,?)",
-            &insert_sample_);
-        prepare(INSERT_BACKFILL_SQL, &insert_backfill_);
+            insert_sample_);
+        prepare(INSERT_BACKFILL_SQL, insert_backfill_);
         prepare(
             "INSERT OR REPLACE INTO topics(topic, type_name, lifespan_ns, keyed, reliable, discovered_ns) "
             "VALUES(?,?,?,?,?,?)",
-            &insert_topic_);
-        prepare("INSERT OR REPLACE INTO announced_types(type_name, idl) VALUES(?,?)", &insert_announced_type_);
+            insert_topic_);
+        prepare("INSERT OR REPLACE INTO announced_types(type_name, idl) VALUES(?,?)", insert_announced_type_);
         prepare(
             "INSERT INTO channel(time_ns, channel_bps, newcomer_bps, verdict, delivered_bps, queueing_ns) "
             "VALUES(?,?,?,?,?,?)",
-            &insert_channel_);
-        prepare("INSERT INTO grants(time_ns, gateway, robot, rate_bps) VALUES(?,?,?,?)", &insert_grant_);
+            insert_channel_);
+        prepare("INSERT INTO grants(time_ns, gateway, robot, rate_bps) VALUES(?,?,?,?)", insert_grant_);
         if (!why.empty()) {
-            close();
             throw base::ConfigError(flag + ": cannot write to '" + path + "': " + why);
         }
         writer_ = std::thread([this] { write_loop(); });
@@ -170,7 +172,6 @@ class SampleStore::Impl {
         }
         wake_.notify_all();
         writer_.join();
-        close();
     }
 
     void add_topic(TopicRecord topic) { enqueue(topics_, std::move(topic)); }
@@ -195,21 +196,14 @@ class SampleStore::Impl {
     std::atomic<std::uint64_t> duplicate_backfill_rows{0};
 
   private:
-    void close() {
-        for (sqlite3_stmt* stmt :
-             {insert_sample_, insert_backfill_, insert_topic_, insert_announced_type_, insert_channel_, insert_grant_})
-            sqlite3_finalize(stmt);
-        sqlite3_close(db_);
-    }
-
     /// Adds the BACKFILL_COLUMNS that samples lacks, and their index, in one transaction. Returns why it failed, or
     /// an empty string.
     std::string add_backfill_columns() {
         std::string why;
         const auto exec = [&](const std::string& sql) {
             char* error = nullptr;
-            if (why.empty() && sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK)
-                why = error ? error : sqlite3_errmsg(db_);
+            if (why.empty() && sqlite3_exec(db_.get(), sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK)
+                why = error ? error : sqlite3_errmsg(db_.get());
             sqlite3_free(error);
         };
         // IMMEDIATE: of two programs opening one old recording at once, one adds the columns, the other finds them.
@@ -217,7 +211,8 @@ class SampleStore::Impl {
         if (!why.empty())
             return why;
         sqlite3_stmt* has_column = nullptr;
-        sqlite3_prepare_v2(db_, "SELECT 1 FROM pragma_table_info('samples') WHERE name = ?", -1, &has_column, nullptr);
+        sqlite3_prepare_v2(db_.get(), "SELECT 1 FROM pragma_table_info('samples') WHERE name = ?", -1, &has_column,
+                           nullptr);
         for (const auto& [name, definition] : BACKFILL_COLUMNS) {
             sqlite3_reset(has_column);
             sqlite3_bind_text(has_column, 1, name, -1, SQLITE_STATIC);
@@ -225,13 +220,13 @@ class SampleStore::Impl {
             if (found == SQLITE_DONE)
                 exec(std::string("ALTER TABLE samples ADD COLUMN ") + name + " " + definition);
             else if (found != SQLITE_ROW && why.empty())
-                why = std::string("cannot read the columns of samples: ") + sqlite3_errmsg(db_);
+                why = std::string("cannot read the columns of samples: ") + sqlite3_errmsg(db_.get());
         }
         sqlite3_finalize(has_column);
         exec(BACKFILL_INDEX_SQL);
         exec("COMMIT");
         if (!why.empty())
-            sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+            sqlite3_exec(db_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
         return why;
     }
 
@@ -270,19 +265,19 @@ class SampleStore::Impl {
                      const std::vector<ChannelRecord>& channels) {
         if (topics.empty() && samples.empty() && channels.empty())
             return;
-        sqlite3_exec(db_, "BEGIN", nullptr, nullptr, nullptr);
+        sqlite3_exec(db_.get(), "BEGIN", nullptr, nullptr, nullptr);
         for (const TopicRecord& t : topics) {
-            sqlite3_bind_text(insert_topic_, 1, t.topic.c_str(), -1, SQLITE_TRANSIENT);
-            sqlite3_bind_text(insert_topic_, 2, t.type_name.c_str(), -1, SQLITE_TRANSIENT);
-            bind_optional(insert_topic_, 3, t.lifespan_ns);
-            sqlite3_bind_int(insert_topic_, 4, t.keyed ? 1 : 0);
-            sqlite3_bind_int(insert_topic_, 5, t.reliable ? 1 : 0);
-            sqlite3_bind_int64(insert_topic_, 6, t.discovered_ns);
-            step(insert_topic_);
+            sqlite3_bind_text(insert_topic_.get(), 1, t.topic.c_str(), -1, SQLITE_TRANSIENT);
+            sqlite3_bind_text(insert_topic_.get(), 2, t.type_name.c_str(), -1, SQLITE_TRANSIENT);
+            bind_optional(insert_topic_.get(), 3, t.lifespan_ns);
+            sqlite3_bind_int(insert_topic_.get(), 4, t.keyed ? 1 : 0);
+            sqlite3_bind_int(insert_topic_.get(), 5, t.reliable ? 1 : 0);
+            sqlite3_bind_int64(insert_topic_.get(), 6, t.discovered_ns);
+            step(insert_topic_.get());
             if (!t.announced_idl.empty()) {
-                sqlite3_bind_text(insert_announced_type_, 1, t.type_name.c_str(), -1, SQLITE_TRANSIENT);
-                sqlite3_bind_text(insert_announced_type_, 2, t.announced_idl.c_str(), -1, SQLITE_TRANSIENT);
-                step(insert_announced_type_);
+                sqlite3_bind_text(insert_announced_type_.get(), 1, t.type_name.c_str(), -1, SQLITE_TRANSIENT);
+                sqlite3_bind_text(insert_announced_type_.get(), 2, t.announced_idl.c_str(), -1, SQLITE_TRANSIENT);
+                step(insert_announced_type_.get());
             }
         }
         for (const SampleRecord& s : samples) {
@@ -290,47 +285,47 @@ class SampleStore::Impl {
                 write_backfilled(s);
                 continue;
             }
-            bind_sample(insert_sample_, s);
-            if (step(insert_sample_))
+            bind_sample(insert_sample_.get(), s);
+            if (step(insert_sample_.get()))
                 ++rows_written;
         }
         for (const ChannelRecord& c : channels) {
-            sqlite3_bind_int64(insert_channel_, 1, c.time_ns);
-            sqlite3_bind_double(insert_channel_, 2, c.channel_bps);
-            sqlite3_bind_double(insert_channel_, 3, c.newcomer_bps);
-            bind_text_or_null(insert_channel_, 4, c.verdict);
-            bind_optional(insert_channel_, 5, c.delivered_bps);
-            bind_optional(insert_channel_, 6, c.queueing_ns);
-            step(insert_channel_);
+            sqlite3_bind_int64(insert_channel_.get(), 1, c.time_ns);
+            sqlite3_bind_double(insert_channel_.get(), 2, c.channel_bps);
+            sqlite3_bind_double(insert_channel_.get(), 3, c.newcomer_bps);
+            bind_text_or_null(insert_channel_.get(), 4, c.verdict);
+            bind_optional(insert_channel_.get(), 5, c.delivered_bps);
+            bind_optional(insert_channel_.get(), 6, c.queueing_ns);
+            step(insert_channel_.get());
             for (const GrantRecord& g : c.grants) {
-                sqlite3_bind_int64(insert_grant_, 1, c.time_ns);
-                sqlite3_bind_text(insert_grant_, 2, g.gateway.c_str(), -1, SQLITE_TRANSIENT);
-                bind_text_or_null(insert_grant_, 3, g.robot);
-                sqlite3_bind_double(insert_grant_, 4, g.rate_bps);
-                step(insert_grant_);
+                sqlite3_bind_int64(insert_grant_.get(), 1, c.time_ns);
+                sqlite3_bind_text(insert_grant_.get(), 2, g.gateway.c_str(), -1, SQLITE_TRANSIENT);
+                bind_text_or_null(insert_grant_.get(), 3, g.robot);
+                sqlite3_bind_double(insert_grant_.get(), 4, g.rate_bps);
+                step(insert_grant_.get());
             }
         }
-        if (sqlite3_exec(db_, "COMMIT", nullptr, nullptr, nullptr) == SQLITE_OK) {
+        if (sqlite3_exec(db_.get(), "COMMIT", nullptr, nullptr, nullptr) == SQLITE_OK) {
             acknowledge();
             return;
         }
         report_error("commit");
         // Rolled back: the robot sends the rows again. Otherwise the transaction is still open (SQLITE_BUSY) and the
         // next batch's COMMIT holds these rows too, so their acknowledgements wait for it.
-        if (sqlite3_get_autocommit(db_))
+        if (sqlite3_get_autocommit(db_.get()))
             unacknowledged_.clear();
     }
 
     /// Inserts a backfilled sample unless its row is stored already; either way its acknowledgement waits for the
     /// commit.
     void write_backfilled(const SampleRecord& s) {
-        bind_sample(insert_backfill_, s);
-        sqlite3_bind_text(insert_backfill_, 8, s.backfill->log_id.c_str(), -1, SQLITE_TRANSIENT);
-        sqlite3_bind_int64(insert_backfill_, 9, s.backfill->row_id);
-        bind_text_or_null(insert_backfill_, 10, s.backfill->reason);
-        if (!step(insert_backfill_))
+        bind_sample(insert_backfill_.get(), s);
+        sqlite3_bind_text(insert_backfill_.get(), 8, s.backfill->log_id.c_str(), -1, SQLITE_TRANSIENT);
+        sqlite3_bind_int64(insert_backfill_.get(), 9, s.backfill->row_id);
+        bind_text_or_null(insert_backfill_.get(), 10, s.backfill->reason);
+        if (!step(insert_backfill_.get()))
             return;
-        if (sqlite3_changes(db_) > 0)
+        if (sqlite3_changes(db_.get()) > 0)
             ++rows_written;
         else
             ++duplicate_backfill_rows;
@@ -357,16 +352,17 @@ class SampleStore::Impl {
     void report_error(const char* what) {
         if (write_errors++ == 0)
             std::fprintf(stderr, "tm-basecamp: SQLite %s failed: %s (further errors only counted)\n", what,
-                         sqlite3_errmsg(db_));
+                         sqlite3_errmsg(db_.get()));
     }
 
-    sqlite3* db_ = nullptr;
-    sqlite3_stmt* insert_sample_ = nullptr;
-    sqlite3_stmt* insert_backfill_ = nullptr;
-    sqlite3_stmt* insert_topic_ = nullptr;
-    sqlite3_stmt* insert_announced_type_ = nullptr;  ///< the IDL a type's TypeObject gave, for export --mcap
-    sqlite3_stmt* insert_channel_ = nullptr;
-    sqlite3_stmt* insert_grant_ = nullptr;
+    // The statements are finalized before the connection closes: declared after it.
+    base::DbPtr db_;
+    base::StmtPtr insert_sample_;
+    base::StmtPtr insert_backfill_;
+    base::StmtPtr insert_topic_;
+    base::StmtPtr insert_announced_type_;  ///< the IDL a type's TypeObject gave, for export --mcap
+    base::StmtPtr insert_channel_;
+    base::StmtPtr insert_grant_;
     std::chrono::milliseconds period_;
     std::mutex mutex_;
     std::condition_variable wake_;

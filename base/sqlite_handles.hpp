@@ -4,9 +4,10 @@
 
 #include <memory>
 
-namespace tgw::log {
+namespace tgw::base {
 
-/// Owners of SQLite's connection and statement handles, for the log's writer and its reader.
+/// Owners of SQLite's connection and statement handles: the on-robot log's writer and reader, the base camp's
+/// recordings and reports.
 struct DbCloser {
     void operator()(sqlite3* db) const { sqlite3_close_v2(db); }
 };
@@ -26,4 +27,4 @@ inline StmtPtr prepare_persistent(sqlite3* db, const char* sql) {
     return StmtPtr(raw);
 }
 
-}  // namespace tgw::log
+}  // namespace tgw::base

@@ -6,7 +6,7 @@
 
 #include "basecamp/status/gateway_status.hpp"
 #include "gateway/dds/status_topic.hpp"
-#include "status_samples.hpp"
+#include "test/unit/basecamp/status_samples.hpp"
 
 namespace tgw::basecamp {
 namespace {

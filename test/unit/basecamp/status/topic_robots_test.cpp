@@ -11,9 +11,9 @@
 #include "basecamp/live/status_view.hpp"
 #include "basecamp/live/topic_stats.hpp"
 #include "gateway/dds/status_topic.hpp"
-#include "status_samples.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
 #include "test/unit/basecamp/scratch_dir.hpp"
+#include "test/unit/basecamp/status_samples.hpp"
 
 namespace tgw::basecamp {
 namespace {

@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "gateway/dds/status_topic.hpp"
-#include "status_samples.hpp"
+#include "test/unit/basecamp/status_samples.hpp"
 
 namespace tgw::basecamp {
 namespace {

@@ -57,8 +57,8 @@ BackfillReader::BackfillReader(const std::string& path) : path_(path) {
     if (rc == SQLITE_OK) {
         sqlite3_extended_result_codes(db_.get(), 1);
         sqlite3_busy_timeout(db_.get(), READ_BUSY_TIMEOUT_MS);
-        unacknowledged_ = prepare_persistent(db_.get(), UNACKNOWLEDGED_SQL);
-        read_dropped_ = prepare_persistent(db_.get(), READ_DROPPED_SQL);
+        unacknowledged_ = base::prepare_persistent(db_.get(), UNACKNOWLEDGED_SQL);
+        read_dropped_ = base::prepare_persistent(db_.get(), READ_DROPPED_SQL);
     }
     if (unacknowledged_ == nullptr || read_dropped_ == nullptr)
         throw base::ConfigError("on-robot log " + path_ + ": cannot open it for backfill's reads: " +

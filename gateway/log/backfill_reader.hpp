@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "base/sqlite_handles.hpp"
 #include "gateway/log/robot_log.hpp"
-#include "gateway/log/sqlite_handles.hpp"
 
 namespace tgw::log {
 
@@ -37,9 +37,9 @@ class BackfillReader {
 
     const std::string path_;
     std::mutex mutex_;
-    DbPtr db_;
-    StmtPtr unacknowledged_;
-    StmtPtr read_dropped_;
+    base::DbPtr db_;
+    base::StmtPtr unacknowledged_;
+    base::StmtPtr read_dropped_;
     bool failure_reported_ = false;
 };
 

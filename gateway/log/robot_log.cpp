@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "base/config_error.hpp"
+#include "base/sqlite_handles.hpp"
 #include "gateway/log/backfill_reader.hpp"
-#include "gateway/log/sqlite_handles.hpp"
 
 namespace tgw::log {
 
@@ -346,7 +346,7 @@ class RobotLog::Impl {
         sqlite3_stmt* raw_stmt = nullptr;
         if (sqlite3_prepare_v2(db_.get(), "PRAGMA journal_mode=WAL;", -1, &raw_stmt, nullptr) != SQLITE_OK)
             fail_open("cannot open");
-        StmtPtr wal(raw_stmt);
+        base::StmtPtr wal(raw_stmt);
         if (sqlite3_step(wal.get()) != SQLITE_ROW)
             fail_open("cannot switch to WAL mode");
         const auto* mode = reinterpret_cast<const char*>(sqlite3_column_text(wal.get(), 0));
@@ -383,8 +383,8 @@ class RobotLog::Impl {
         mark_acknowledged_ = prepare_or_fail(MARK_ACKNOWLEDGED_SQL);
     }
 
-    StmtPtr prepare_or_fail(const char* sql) {
-        StmtPtr stmt = prepare_persistent(db_.get(), sql);
+    base::StmtPtr prepare_or_fail(const char* sql) {
+        base::StmtPtr stmt = base::prepare_persistent(db_.get(), sql);
         if (stmt == nullptr)
             fail_open("cannot prepare a statement");
         return stmt;
@@ -395,7 +395,7 @@ class RobotLog::Impl {
         sqlite3_stmt* raw = nullptr;
         if (sqlite3_prepare_v2(db_.get(), "SELECT value FROM meta WHERE key = ?1;", -1, &raw, nullptr) != SQLITE_OK)
             fail_open(std::string("cannot read ") + key);
-        StmtPtr stmt(raw);
+        base::StmtPtr stmt(raw);
         sqlite3_bind_text(stmt.get(), 1, key, -1, SQLITE_STATIC);
         if (sqlite3_step(stmt.get()) != SQLITE_ROW)
             fail_open(std::string("cannot read ") + key);
@@ -416,7 +416,7 @@ class RobotLog::Impl {
         if (sqlite3_prepare_v2(db_.get(), "SELECT COUNT(*) FROM pragma_table_info('dropped_samples') WHERE name = ?1;",
                                -1, &raw, nullptr) != SQLITE_OK)
             fail_open("cannot read the columns of dropped_samples");
-        StmtPtr has_column(raw);
+        base::StmtPtr has_column(raw);
         for (const auto& [name, definition] : BACKFILL_COLUMNS) {
             sqlite3_reset(has_column.get());
             sqlite3_bind_text(has_column.get(), 1, name, -1, SQLITE_STATIC);
@@ -585,7 +585,7 @@ class RobotLog::Impl {
         sqlite3_stmt* raw = nullptr;
         if (sqlite3_prepare_v2(db_.get(), sql, -1, &raw, nullptr) != SQLITE_OK)
             return std::nullopt;
-        StmtPtr stmt(raw);
+        base::StmtPtr stmt(raw);
         if (sqlite3_step(stmt.get()) != SQLITE_ROW)
             return std::nullopt;
         return sqlite3_column_int64(stmt.get(), 0);
@@ -673,12 +673,12 @@ class RobotLog::Impl {
     /// camp too), so it is never given twice, even once its row is pruned: SQLite would give the largest id left
     /// plus one, and pruning the acknowledged rows first can take the newest.
     std::int64_t next_dropped_id_ = 1;
-    DbPtr db_;
-    StmtPtr insert_;
-    StmtPtr insert_forwarded_;
-    StmtPtr insert_rate_;
-    StmtPtr mark_sent_;
-    StmtPtr mark_acknowledged_;
+    base::DbPtr db_;
+    base::StmtPtr insert_;
+    base::StmtPtr insert_forwarded_;
+    base::StmtPtr insert_rate_;
+    base::StmtPtr mark_sent_;
+    base::StmtPtr mark_acknowledged_;
     std::string log_id_;
     std::unique_ptr<BackfillReader> reader_;
 

@@ -9,8 +9,8 @@
 #include "PaperWorkload.h"
 #include "RosString.h"
 
-#include "basecamp/sample_printer.hpp"
-#include "basecamp/value_json.hpp"
+#include "basecamp/decode/sample_printer.hpp"
+#include "basecamp/decode/value_json.hpp"
 #include "test/fuzz/fuzz_target.hpp"
 #include "test/unit/types/cdr_test_payloads.hpp"
 #include "types/cdr_decoder.hpp"

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "PaperWorkloadPubSubTypes.h"
-#include "basecamp/backfill_archive.hpp"
-#include "basecamp/sample_store.hpp"
+#include "basecamp/capture/backfill_archive.hpp"
+#include "basecamp/recording/sample_store.hpp"
 #include "test/integration/relay_fixture.hpp"
 
 namespace tgw::test {

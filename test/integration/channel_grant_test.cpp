@@ -16,7 +16,7 @@
 
 #include "ChannelGrantPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
-#include "basecamp/sample_store.hpp"
+#include "basecamp/recording/sample_store.hpp"
 #include "gateway/core/granted_rate.hpp"
 #include "gateway/dds/channel_grant_topic.hpp"
 #include "gateway/dds/dds_time.hpp"

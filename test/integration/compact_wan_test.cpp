@@ -10,7 +10,7 @@
 #include "GatewayStatusPubSubTypes.h"
 #include "KeyedReadingPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
-#include "basecamp/compact_unpacker.hpp"
+#include "basecamp/relay/compact_unpacker.hpp"
 #include "gateway/compact/bundle_codec.hpp"
 #include "gateway/dds/compact_topics.hpp"
 #include "gateway/dds/dds_time.hpp"

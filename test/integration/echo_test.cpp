@@ -11,7 +11,7 @@
 #include "AnnouncedTypesTypeObject.h"
 #include "GatewayStatusPubSubTypes.h"
 
-#include "basecamp/echo.hpp"
+#include "basecamp/live/echo.hpp"
 #include "gateway/dds/wan_address.hpp"
 #include "test/integration/child_process.hpp"
 #include "test/integration/dds_test_support.hpp"

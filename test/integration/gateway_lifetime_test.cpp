@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "PaperWorkloadPubSubTypes.h"
-#include "basecamp/receiver_reporter.hpp"
+#include "basecamp/capture/receiver_reporter.hpp"
 #include "test/integration/gateway_fixture.hpp"
 
 namespace tgw::test {

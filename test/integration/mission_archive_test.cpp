@@ -11,9 +11,9 @@
 #include "KeyedReadingPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
 #include "base/peer_transport.hpp"
-#include "basecamp/mission_archive.hpp"
-#include "basecamp/recorder.hpp"
-#include "basecamp/sample_store.hpp"
+#include "basecamp/analysis/mission_archive.hpp"
+#include "basecamp/capture/recorder.hpp"
+#include "basecamp/recording/sample_store.hpp"
 #include "test/integration/gateway_fixture.hpp"
 
 namespace tgw::test {

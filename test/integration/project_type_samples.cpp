@@ -15,7 +15,7 @@
 #include "RobotPose.h"
 #include "RosString.h"
 
-#include "basecamp/sample_store.hpp"
+#include "basecamp/recording/sample_store.hpp"
 #include "test/unit/types/cdr_test_payloads.hpp"
 
 namespace {

@@ -7,9 +7,9 @@
 #include <string>
 #include <thread>
 
-#include "basecamp/backfill_archive.hpp"
-#include "basecamp/relay.hpp"
-#include "basecamp/sample_store.hpp"
+#include "basecamp/capture/backfill_archive.hpp"
+#include "basecamp/recording/sample_store.hpp"
+#include "basecamp/relay/relay.hpp"
 #include "test/integration/gateway_fixture.hpp"
 
 namespace tgw::test {

@@ -19,7 +19,7 @@
 #include "ReceiverReportPubSubTypes.h"
 #include "RosStringPubSubTypes.h"
 
-#include "basecamp/sample_store.hpp"
+#include "basecamp/recording/sample_store.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
 #include "test/integration/relay_fixture.hpp"
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "basecamp/sample_store.hpp"
+#include "basecamp/recording/sample_store.hpp"
 
 namespace tgw::test {
 

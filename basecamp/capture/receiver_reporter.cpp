@@ -3,13 +3,13 @@
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
-#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "ReceiverReportPubSubTypes.h"
 #include "base/config_error.hpp"
 #include "base/time.hpp"
+#include "basecamp/capture/latest_per_gateway_qos.hpp"
 #include "gateway/dds/receiver_report_topic.hpp"
 
 namespace tgw::basecamp {
@@ -25,15 +25,8 @@ ReceiverReporter::ReceiverReporter(fdds::DomainParticipant* participant) {
     fdds::Publisher* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     if (topic == nullptr || publisher == nullptr)
         throw base::ConfigError(std::string("cannot create the topic ") + dds::RECEIVER_REPORT_TOPIC);
-    fdds::DataWriterQos qos = publisher->get_default_datawriter_qos();
-    // Reliable, so a camp tool's reliable reader (ROS 2's default) matches; the gateways' best-effort readers
-    // match it too. Keep last 1 per gateway: counts are cumulative, only the newest matters.
-    qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-    qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
-    qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = 1;
-    qos.data_sharing().off();
-    writer_ = publisher->create_datawriter(topic, qos);
+    // Counts are cumulative: only the newest per gateway matters.
+    writer_ = publisher->create_datawriter(topic, latest_per_gateway_qos(*publisher));
     if (writer_ == nullptr)
         throw base::ConfigError(std::string("cannot create the writer of ") + dds::RECEIVER_REPORT_TOPIC);
 }

@@ -15,8 +15,8 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "base/config_error.hpp"
-#include "base/dds_security.hpp"
 #include "basecamp/capture/backfill_endpoints.hpp"
+#include "basecamp/capture/camp_participant.hpp"
 #include "basecamp/capture/receiver_reporter.hpp"
 #include "basecamp/capture/wan_capture.hpp"
 #include "gateway/dds/backfill_topics.hpp"
@@ -65,17 +65,7 @@ Recorder::Recorder(int domain, const base::PeerTransport& transport, SampleConsu
                    base::Duration report_period, const std::optional<base::SecurityFiles>& security)
     : store_(store), report_period_(report_period) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
-    auto* factory = fdds::DomainParticipantFactory::get_instance();
-    fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
-    qos.name("tm-basecamp");
-    base::apply_peer_transport(qos, transport, domain);
-    if (security)
-        base::apply_dds_security(qos, *security);
-    participant_ = factory->create_participant(domain, qos, discovery_.get(), fdds::StatusMask::none());
-    if (participant_ == nullptr)
-        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain) +
-                                (security ? " (see Fast DDS's log about --security)" : ""));
-    discovery_->ignore_participant(participant_->guid().guidPrefix);
+    participant_ = create_camp_participant(domain, transport, security, "tm-basecamp", *discovery_);
     subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (subscriber_ == nullptr)
         throw base::ConfigError("cannot create a DDS subscriber");

@@ -8,13 +8,13 @@
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
-#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "ChannelGrantPubSubTypes.h"
 #include "GatewayStatusPubSubTypes.h"
 #include "base/config_error.hpp"
+#include "basecamp/capture/latest_per_gateway_qos.hpp"
 #include "gateway/dds/channel_grant_topic.hpp"
 #include "gateway/dds/status_topic.hpp"
 
@@ -67,16 +67,8 @@ ChannelGrantor::ChannelGrantor(fdds::DomainParticipant* wan, double channel_bps,
         publisher = wan_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     }
     if (topic != nullptr && publisher != nullptr) {
-        fdds::DataWriterQos qos = publisher->get_default_datawriter_qos();
-        // The latest per gateway: each grant says all there is, and the next comes within a second. Reliable, as a
-        // camp tool's reader (ROS 2's default) asks, and keep last, so that a write never waits; the gateways'
-        // best-effort readers match it too.
-        qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-        qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
-        qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-        qos.history().depth = 1;
-        qos.data_sharing().off();
-        writer_ = publisher->create_datawriter(topic, qos);
+        // The latest per gateway: each grant says all there is, and the next comes within a second.
+        writer_ = publisher->create_datawriter(topic, latest_per_gateway_qos(*publisher));
     }
     if (writer_ == nullptr)
         throw base::ConfigError("--channel-rate: cannot create the writer of " + std::string(dds::CHANNEL_GRANT_TOPIC));

@@ -13,7 +13,7 @@
 #include <fastdds/dds/topic/Topic.hpp>
 
 #include "base/config_error.hpp"
-#include "base/dds_security.hpp"
+#include "basecamp/capture/camp_participant.hpp"
 #include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/passthrough_qos.hpp"
 #include "gateway/dds/passthrough_type.hpp"
@@ -76,17 +76,7 @@ Echo::Echo(int domain, const base::PeerTransport& transport, std::string topic, 
            SamplePrinter::Format format, std::ostream& out, const std::optional<base::SecurityFiles>& security)
     : topic_(std::move(topic)), types_(std::move(types)), format_(format), out_(out) {
     discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
-    auto* factory = fdds::DomainParticipantFactory::get_instance();
-    fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
-    qos.name("tm-basecamp echo");
-    base::apply_peer_transport(qos, transport, domain);
-    if (security)
-        base::apply_dds_security(qos, *security);
-    participant_ = factory->create_participant(domain, qos, discovery_.get(), fdds::StatusMask::none());
-    if (participant_ == nullptr)
-        throw base::ConfigError("--domain: cannot create a DDS participant on domain " + std::to_string(domain) +
-                                (security ? " (see Fast DDS's log about --security)" : ""));
-    discovery_->ignore_participant(participant_->guid().guidPrefix);
+    participant_ = create_camp_participant(domain, transport, security, "tm-basecamp echo", *discovery_);
 }
 
 Echo::~Echo() {

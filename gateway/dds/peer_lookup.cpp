@@ -6,47 +6,42 @@
 namespace tgw::dds {
 
 PeerLookup::PeerLookup(std::vector<WanPeer> peers, Changed changed)
-    : given_(std::move(peers)), changed_(std::move(changed)), thread_([this] { run(); }) {}
+    : given_(std::move(peers)), changed_(std::move(changed)), known_(given_) {
+    loop_.start();
+    look_later();
+}
 
 PeerLookup::~PeerLookup() {
     stop();
 }
 
 void PeerLookup::stop() {
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        stopping_ = true;
-    }
-    wake_.notify_all();
-    if (thread_.joinable()) {
-        thread_.join();
-    }
+    loop_.stop();
 }
 
-void PeerLookup::run() {
-    std::vector<WanPeer> known = given_;
-    std::unique_lock<std::mutex> lock(mutex_);
-    while (!wake_.wait_for(lock, PERIOD, [this] { return stopping_; })) {
-        lock.unlock();
-        std::vector<WanPeer> now = resolve_peer_names(given_);  // the resolver may take seconds
-        lock.lock();
-        for (std::size_t i = 0; i < now.size(); ++i) {
-            if (now[i].address.empty()) {
-                now[i].address = known[i].address;  // a resolver that fails for a while changes nothing
-            }
+void PeerLookup::look_later() {
+    loop_.post_at(std::chrono::steady_clock::now() + PERIOD, [this] { look(); });
+}
+
+void PeerLookup::look() {
+    look_later();
+    std::vector<WanPeer> now = resolve_peer_names(given_);  // the resolver may take seconds
+    for (std::size_t i = 0; i < now.size(); ++i) {
+        if (now[i].address.empty()) {
+            now[i].address = known_[i].address;  // a resolver that fails for a while changes nothing
         }
-        if (now == known) {
-            continue;
-        }
-        for (std::size_t i = 0; i < now.size(); ++i) {
-            if (now[i] != known[i]) {
-                std::cerr << "telemetry-gateway: --wan-peer " << now[i].host << " is " << now[i].address
-                          << " now: the WAN participant is made anew to announce to it\n";
-            }
-        }
-        known = now;
-        changed_(now);
     }
+    if (now == known_) {
+        return;
+    }
+    for (std::size_t i = 0; i < now.size(); ++i) {
+        if (now[i] != known_[i]) {
+            std::cerr << "telemetry-gateway: --wan-peer " << now[i].host << " is " << now[i].address
+                      << " now: the WAN participant is made anew to announce to it\n";
+        }
+    }
+    known_ = now;
+    changed_(now);
 }
 
 }  // namespace tgw::dds

@@ -3,24 +3,22 @@
 #pragma once
 
 #include <chrono>
-#include <condition_variable>
 #include <functional>
-#include <mutex>
-#include <thread>
 #include <vector>
 
+#include "base/event_loop.hpp"
 #include "gateway/dds/wan_address.hpp"
 
 namespace tgw::dds {
 
-/// Looks the peers' host names up every PERIOD in a thread of its own and tells `changed` the peers with their
-/// new addresses when one moved. A resolver that fails for a while changes nothing: the last address stays.
+/// Looks the peers' host names up every PERIOD in a thread of its own (a base::EventLoop) and tells `changed` the peers
+/// with their new addresses when one moved. A resolver that fails for a while changes nothing: the last address stays.
 class PeerLookup {
   public:
     using Changed = std::function<void(const std::vector<WanPeer>& peers)>;
     static constexpr std::chrono::seconds PERIOD{5};
 
-    /// `peers` as resolved at start; starts the thread.
+    /// `peers` as resolved at start; starts the thread, whose first lookup is PERIOD away.
     PeerLookup(std::vector<WanPeer> peers, Changed changed);
     /// Stops.
     ~PeerLookup();
@@ -31,14 +29,14 @@ class PeerLookup {
     void stop();
 
   private:
-    void run();
+    /// One lookup, and the next one PERIOD later.
+    void look();
+    void look_later();
 
     const std::vector<WanPeer> given_;
-    Changed changed_;
-    std::mutex mutex_;
-    std::condition_variable wake_;
-    bool stopping_ = false;  // under mutex_
-    std::thread thread_;
+    const Changed changed_;
+    std::vector<WanPeer> known_;  // in the loop's thread only
+    base::EventLoop loop_;
 };
 
 }  // namespace tgw::dds

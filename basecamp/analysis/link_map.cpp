@@ -6,8 +6,8 @@
 
 #include "base/config_error.hpp"
 #include "basecamp/status/gateway_status.hpp"
-#include "gateway/dds/status_topic.hpp"
 #include "types/cdr_decoder.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -112,7 +112,7 @@ void LinkMapBuilder::add(SampleRecord sample) {
                                          : "a " + sample.type_name + " has no number '" +
                                                (x ? pose_.field_y : pose_.field_x) + "'";
         }
-    } else if (sample.topic == dds::STATUS_TOPIC) {
+    } else if (sample.topic == wire::STATUS_TOPIC) {
         const auto status = decode_gateway_status(sample.payload);
         if (!status)
             return;
@@ -138,7 +138,7 @@ LinkMap LinkMapBuilder::build(const std::string& pose_flag, const std::string& f
                                            (pose_error_.empty() ? "" : ": " + pose_error_)));
     }
     if (statuses_.empty() && logged_rates_.empty()) {
-        throw base::ConfigError(file + ": no " + std::string(dds::STATUS_TOPIC) +
+        throw base::ConfigError(file + ": no " + std::string(wire::STATUS_TOPIC) +
                                 " sample to colour the path with (the gateway's --status-period must be above 0)");
     }
     std::vector<MapPoint> poses = poses_;

@@ -17,8 +17,8 @@
 
 #include "base/config_error.hpp"
 #include "base/sqlite_handles.hpp"
-#include "gateway/dds/receiver_report_topic.hpp"
-#include "gateway/dds/status_topic.hpp"
+#include "wire/receiver_report_topic.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -415,8 +415,8 @@ class Merger {
 
     /// Binds the gateway's own topics, which the archive leaves out, to ?1 and ?2.
     static void bind_own_topics(sqlite3_stmt* stmt) {
-        sqlite3_bind_text(stmt, 1, dds::STATUS_TOPIC, -1, SQLITE_STATIC);
-        sqlite3_bind_text(stmt, 2, dds::RECEIVER_REPORT_TOPIC, -1, SQLITE_STATIC);
+        sqlite3_bind_text(stmt, 1, wire::STATUS_TOPIC, -1, SQLITE_STATIC);
+        sqlite3_bind_text(stmt, 2, wire::RECEIVER_REPORT_TOPIC, -1, SQLITE_STATIC);
     }
 
     void attach(const std::string& path, const char* schema, const std::string& what) {

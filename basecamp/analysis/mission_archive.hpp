@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "gateway/core/drop_reason.hpp"
+#include "core/drop_reason.hpp"
 
 namespace tgw::basecamp {
 

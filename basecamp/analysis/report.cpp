@@ -13,7 +13,7 @@
 #include "basecamp/recording/read_only_db.hpp"
 #include "basecamp/status/gateway_status.hpp"
 #include "basecamp/status/topic_robots.hpp"
-#include "gateway/dds/status_topic.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -90,7 +90,7 @@ std::vector<TopicReport> read_report(const std::string& path, const ReportOption
             }
             continue;
         }
-        if (topic == dds::STATUS_TOPIC) {
+        if (topic == wire::STATUS_TOPIC) {
             if (const auto status = decode_gateway_status(std::vector<std::uint8_t>(payload, payload + payload_size)))
                 robots.take(*status);
         }

@@ -1,6 +1,6 @@
 #include "basecamp/capture/backfill_archive.hpp"
 
-#include "gateway/dds/backfill_codec.hpp"
+#include "wire/backfill_codec.hpp"
 
 namespace tgw::basecamp {
 
@@ -23,12 +23,12 @@ void BackfillArchive::take(const idl::BackfillSample& sample, std::int64_t recei
         record.instance.assign(sample.instance().begin(), sample.instance().end());
     }
     record.backfill =
-        BackfillOrigin{dds::log_id_hex(sample.log_id()), static_cast<std::int64_t>(sample.row_id()), sample.reason()};
+        BackfillOrigin{wire::log_id_hex(sample.log_id()), static_cast<std::int64_t>(sample.row_id()), sample.reason()};
     store_.add(std::move(record));
 }
 
 void BackfillArchive::stored(const std::string& log_id, std::int64_t row_id) {
-    const std::optional<std::array<std::uint8_t, 16>> octets = dds::log_id_octets(log_id);
+    const std::optional<std::array<std::uint8_t, 16>> octets = wire::log_id_octets(log_id);
     if (!octets) {
         return;  // never one the camp was sent: take() writes only well-formed ids
     }
@@ -47,7 +47,7 @@ std::vector<idl::BackfillAck> BackfillArchive::take_acks(std::uint64_t sent_ns) 
         acknowledged_.fetch_add(rows.size(), std::memory_order_relaxed);
         idl::BackfillAck ack;
         ack.log_id(log_id);
-        for (const auto& [first, last] : dds::row_ranges(std::move(rows))) {
+        for (const auto& [first, last] : wire::row_ranges(std::move(rows))) {
             idl::BackfillRowRange range;
             range.first_row_id(static_cast<std::uint64_t>(first));
             range.last_row_id(static_cast<std::uint64_t>(last));

@@ -15,8 +15,8 @@
 
 #include "base/config_error.hpp"
 #include "base/time.hpp"
-#include "gateway/dds/backfill_topics.hpp"
-#include "gateway/dds/guarded_type.hpp"
+#include "passthrough/guarded_type.hpp"
+#include "wire/backfill_topics.hpp"
 
 namespace tgw::basecamp {
 
@@ -36,11 +36,11 @@ fdds::Topic* make_topic(fdds::DomainParticipant* participant, const char* name, 
 }  // namespace
 
 BackfillEndpoints::BackfillEndpoints(fdds::DomainParticipant* wan, BackfillArchive& archive) : archive_(archive) {
-    fdds::Topic* acks =
-        make_topic(wan, dds::BACKFILL_ACK_TOPIC, fdds::TypeSupport(new dds::GuardedType<idl::BackfillAckPubSubType>()));
+    fdds::Topic* acks = make_topic(wan, wire::BACKFILL_ACK_TOPIC,
+                                   fdds::TypeSupport(new passthrough::GuardedType<idl::BackfillAckPubSubType>()));
     fdds::Publisher* publisher = wan->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     if (publisher == nullptr)
-        throw base::ConfigError(std::string("cannot create a publisher for ") + dds::BACKFILL_ACK_TOPIC);
+        throw base::ConfigError(std::string("cannot create a publisher for ") + wire::BACKFILL_ACK_TOPIC);
     fdds::DataWriterQos writer_qos = publisher->get_default_datawriter_qos();
     // Reliable: an acknowledgement tells only what is new since the last, and the robot frees nothing without one.
     // A few kept per log, as the gateway's reader keeps them.
@@ -51,13 +51,13 @@ BackfillEndpoints::BackfillEndpoints(fdds::DomainParticipant* wan, BackfillArchi
     writer_qos.data_sharing().off();
     writer_ = publisher->create_datawriter(acks, writer_qos);
     if (writer_ == nullptr)
-        throw base::ConfigError(std::string("cannot create the writer of ") + dds::BACKFILL_ACK_TOPIC);
+        throw base::ConfigError(std::string("cannot create the writer of ") + wire::BACKFILL_ACK_TOPIC);
 
-    fdds::Topic* samples =
-        make_topic(wan, dds::BACKFILL_TOPIC, fdds::TypeSupport(new dds::GuardedType<idl::BackfillSamplePubSubType>()));
+    fdds::Topic* samples = make_topic(wan, wire::BACKFILL_TOPIC,
+                                      fdds::TypeSupport(new passthrough::GuardedType<idl::BackfillSamplePubSubType>()));
     fdds::Subscriber* subscriber = wan->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (subscriber == nullptr)
-        throw base::ConfigError(std::string("cannot create a subscriber for ") + dds::BACKFILL_TOPIC);
+        throw base::ConfigError(std::string("cannot create a subscriber for ") + wire::BACKFILL_TOPIC);
     fdds::DataReaderQos reader_qos = subscriber->get_default_datareader_qos();
     reader_qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
     reader_qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
@@ -65,7 +65,7 @@ BackfillEndpoints::BackfillEndpoints(fdds::DomainParticipant* wan, BackfillArchi
     reader_qos.data_sharing().off();
     reader_ = subscriber->create_datareader(samples, reader_qos, this);
     if (reader_ == nullptr)
-        throw base::ConfigError(std::string("cannot create the reader of ") + dds::BACKFILL_TOPIC);
+        throw base::ConfigError(std::string("cannot create the reader of ") + wire::BACKFILL_TOPIC);
 }
 
 std::unique_ptr<BackfillEndpoints> BackfillEndpoints::make_or_say_why(fdds::DomainParticipant* wan,
@@ -76,7 +76,7 @@ std::unique_ptr<BackfillEndpoints> BackfillEndpoints::make_or_say_why(fdds::Doma
         std::fprintf(stderr,
                      "tm-basecamp: %s: the gateways' backfill is not archived (with DDS Security, the camp's "
                      "permissions must allow publishing %s)\n",
-                     error.what(), dds::BACKFILL_ACK_TOPIC);
+                     error.what(), wire::BACKFILL_ACK_TOPIC);
         return nullptr;
     }
 }

@@ -17,8 +17,8 @@ class DomainParticipant;
 
 namespace tgw::basecamp {
 
-/// Reads dds::BACKFILL_TOPIC into a BackfillArchive (best effort, as the gateways write it: the acknowledgements
-/// make it reliable) and writes the archive's acknowledgements on dds::BACKFILL_ACK_TOPIC (reliable, a few kept
+/// Reads wire::BACKFILL_TOPIC into a BackfillArchive (best effort, as the gateways write it: the acknowledgements
+/// make it reliable) and writes the archive's acknowledgements on wire::BACKFILL_ACK_TOPIC (reliable, a few kept
 /// per log). Made with the relay's WAN participant, which owns the entities; a gateway sends backfill only while
 /// such a reader matches its writer.
 class BackfillEndpoints final : public eprosima::fastdds::dds::DataReaderListener {

@@ -12,7 +12,7 @@ namespace fdds = eprosima::fastdds::dds;
 
 fdds::DomainParticipant* create_camp_participant(int domain, const base::PeerTransport& transport,
                                                  const std::optional<base::SecurityFiles>& security,
-                                                 const std::string& name, dds::Discovery& discovery) {
+                                                 const std::string& name, passthrough::Discovery& discovery) {
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
     qos.name(name);

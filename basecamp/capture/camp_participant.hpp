@@ -6,7 +6,7 @@
 
 #include "base/peer_transport.hpp"
 #include "base/security_files.hpp"
-#include "gateway/dds/discovery.hpp"
+#include "passthrough/discovery.hpp"
 
 namespace eprosima::fastdds::dds {
 class DomainParticipant;
@@ -19,6 +19,7 @@ namespace tgw::basecamp {
 /// base::ConfigError naming --domain when Fast DDS refuses it.
 eprosima::fastdds::dds::DomainParticipant* create_camp_participant(int domain, const base::PeerTransport& transport,
                                                                    const std::optional<base::SecurityFiles>& security,
-                                                                   const std::string& name, dds::Discovery& discovery);
+                                                                   const std::string& name,
+                                                                   passthrough::Discovery& discovery);
 
 }  // namespace tgw::basecamp

@@ -7,16 +7,16 @@
 #include <mutex>
 #include <vector>
 
-#include "gateway/dds/discovery.hpp"
+#include "passthrough/discovery.hpp"
 
 namespace tgw::basecamp {
 
 /// Entities must not be created in Fast DDS's callbacks: the discovery thread pushes, the owner's thread takes.
 class DiscoveryQueue {
   public:
-    /// For dds::Discovery: queues the publisher and wakes take().
-    dds::Discovery::Callback callback() {
-        return [this](dds::DiscoveredPublisher&& publisher) {
+    /// For passthrough::Discovery: queues the publisher and wakes take().
+    passthrough::Discovery::Callback callback() {
+        return [this](passthrough::DiscoveredPublisher&& publisher) {
             {
                 std::lock_guard<std::mutex> lock(mutex_);
                 queued_.push_back(std::move(publisher));
@@ -26,11 +26,11 @@ class DiscoveryQueue {
     }
 
     /// What was discovered since the last call, in order; waits up to `timeout` for the first.
-    std::vector<dds::DiscoveredPublisher> take(std::chrono::milliseconds timeout) {
+    std::vector<passthrough::DiscoveredPublisher> take(std::chrono::milliseconds timeout) {
         std::unique_lock<std::mutex> lock(mutex_);
         wake_.wait_for(lock, timeout, [this] { return !queued_.empty(); });
-        std::vector<dds::DiscoveredPublisher> out(std::make_move_iterator(queued_.begin()),
-                                                  std::make_move_iterator(queued_.end()));
+        std::vector<passthrough::DiscoveredPublisher> out(std::make_move_iterator(queued_.begin()),
+                                                          std::make_move_iterator(queued_.end()));
         queued_.clear();
         return out;
     }
@@ -38,7 +38,7 @@ class DiscoveryQueue {
   private:
     std::mutex mutex_;
     std::condition_variable wake_;
-    std::deque<dds::DiscoveredPublisher> queued_;
+    std::deque<passthrough::DiscoveredPublisher> queued_;
 };
 
 }  // namespace tgw::basecamp

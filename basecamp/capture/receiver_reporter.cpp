@@ -10,7 +10,7 @@
 #include "base/config_error.hpp"
 #include "base/time.hpp"
 #include "basecamp/capture/latest_per_gateway_qos.hpp"
-#include "gateway/dds/receiver_report_topic.hpp"
+#include "wire/receiver_report_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -21,14 +21,14 @@ ReceiverReporter::ReceiverReporter(fdds::DomainParticipant* participant) {
     if (type.register_type(participant) != ReturnCode_t::RETCODE_OK)
         throw base::ConfigError("cannot register the receiver report type");
     fdds::Topic* topic =
-        participant->create_topic(dds::RECEIVER_REPORT_TOPIC, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+        participant->create_topic(wire::RECEIVER_REPORT_TOPIC, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
     fdds::Publisher* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     if (topic == nullptr || publisher == nullptr)
-        throw base::ConfigError(std::string("cannot create the topic ") + dds::RECEIVER_REPORT_TOPIC);
+        throw base::ConfigError(std::string("cannot create the topic ") + wire::RECEIVER_REPORT_TOPIC);
     // Counts are cumulative: only the newest per gateway matters.
     writer_ = publisher->create_datawriter(topic, latest_per_gateway_qos(*publisher));
     if (writer_ == nullptr)
-        throw base::ConfigError(std::string("cannot create the writer of ") + dds::RECEIVER_REPORT_TOPIC);
+        throw base::ConfigError(std::string("cannot create the writer of ") + wire::RECEIVER_REPORT_TOPIC);
 }
 
 bool ReceiverReporter::publish(const std::map<ParticipantPrefix, DeliveryTotals>& totals) {

@@ -11,7 +11,7 @@ class DataWriter;
 
 namespace tgw::basecamp {
 
-/// Publishes a DeliveryTally's totals on dds::RECEIVER_REPORT_TOPIC, one instance per gateway (sending
+/// Publishes a DeliveryTally's totals on wire::RECEIVER_REPORT_TOPIC, one instance per gateway (sending
 /// participant), reliable keep last 1 so a camp tool's reliable reader matches: each report holds every count, so
 /// only the newest matters.
 class ReceiverReporter {

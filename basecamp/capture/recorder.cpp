@@ -19,10 +19,10 @@
 #include "basecamp/capture/camp_participant.hpp"
 #include "basecamp/capture/receiver_reporter.hpp"
 #include "basecamp/capture/wan_capture.hpp"
-#include "gateway/dds/backfill_topics.hpp"
-#include "gateway/dds/dds_time.hpp"
-#include "gateway/dds/passthrough_type.hpp"
-#include "gateway/dds/receiver_report_topic.hpp"
+#include "passthrough/dds_time.hpp"
+#include "passthrough/passthrough_type.hpp"
+#include "wire/backfill_topics.hpp"
+#include "wire/receiver_report_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -31,11 +31,11 @@ namespace fdds = eprosima::fastdds::dds;
 /// The reader of one topic and its listener: takes every sample and hands it to the store.
 class Recorder::TopicReader final : public fdds::DataReaderListener {
   public:
-    TopicReader(const dds::DiscoveredPublisher& publisher, SampleConsumer& store, DeliveryTally& tally)
+    TopicReader(const passthrough::DiscoveredPublisher& publisher, SampleConsumer& store, DeliveryTally& tally)
         : topic_(topic_record(publisher)), store_(store), tally_(tally) {}
 
     void on_data_available(fdds::DataReader* reader) override {
-        dds::PassthroughData data;
+        passthrough::PassthroughData data;
         fdds::SampleInfo info;
         while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
             if (!info.valid_data)
@@ -64,7 +64,7 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
 Recorder::Recorder(int domain, const base::PeerTransport& transport, SampleConsumer& store,
                    base::Duration report_period, const std::optional<base::SecurityFiles>& security)
     : store_(store), report_period_(report_period) {
-    discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
+    discovery_ = std::make_unique<passthrough::Discovery>(discovered_.callback());
     participant_ = create_camp_participant(domain, transport, security, "tm-basecamp", *discovery_);
     subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (subscriber_ == nullptr)
@@ -91,15 +91,16 @@ void Recorder::stop() {
     }
 }
 
-void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
+void Recorder::subscribe(const passthrough::DiscoveredPublisher& publisher) {
     // Other receivers' reports are for their gateways, not a recording. Backfill is read by its own endpoints
     // (archive_backfill), or not at all: a plain reader would have the gateway send rows no one acknowledges.
-    if (readers_.count(publisher.topic) != 0 || publisher.topic == dds::RECEIVER_REPORT_TOPIC ||
-        dds::is_backfill_topic(publisher.topic))
+    if (readers_.count(publisher.topic) != 0 || publisher.topic == wire::RECEIVER_REPORT_TOPIC ||
+        wire::is_backfill_topic(publisher.topic))
         return;
     if (!only_.empty() && std::find(only_.begin(), only_.end(), publisher.topic) == only_.end())
         return;
-    fdds::Topic* topic = dds::passthrough_topic(participant_, publisher.topic, publisher.type_name, publisher.keyed);
+    fdds::Topic* topic =
+        passthrough::passthrough_topic(participant_, publisher.topic, publisher.type_name, publisher.keyed);
     if (topic == nullptr) {
         std::fprintf(stderr, "tm-basecamp: cannot create topic '%s' (type '%s')\n", publisher.topic.c_str(),
                      publisher.type_name.c_str());
@@ -135,7 +136,7 @@ void Recorder::subscribe(const dds::DiscoveredPublisher& publisher) {
 void Recorder::run(base::Duration duration, const std::atomic<bool>& stop) {
     const auto end = base::SteadyClock::now() + duration;
     while (!stop.load() && base::SteadyClock::now() < end) {
-        for (const dds::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
+        for (const passthrough::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
             subscribe(publisher);
         }
         if (backfill_) {

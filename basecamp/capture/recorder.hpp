@@ -17,7 +17,7 @@
 #include "basecamp/capture/delivery_tally.hpp"
 #include "basecamp/capture/discovery_queue.hpp"
 #include "basecamp/sample/sample_consumer.hpp"
-#include "gateway/dds/discovery.hpp"
+#include "passthrough/discovery.hpp"
 
 namespace eprosima::fastdds::dds {
 class DomainParticipant;
@@ -31,7 +31,7 @@ class BackfillArchive;
 class BackfillEndpoints;
 class ReceiverReporter;
 
-/// Subscribes to every topic that appears on a domain, whatever its type (tgw::dds::PassthroughType), and
+/// Subscribes to every topic that appears on a domain, whatever its type (tgw::passthrough::PassthroughType), and
 /// hands each received sample to a SampleConsumer (a recording, live statistics). Every `report_period` it tells each
 /// sending gateway what arrived and what was lost on the way (ReceiverReporter, DeliveryTally).
 class Recorder {
@@ -71,7 +71,7 @@ class Recorder {
   private:
     class TopicReader;
 
-    void subscribe(const dds::DiscoveredPublisher& publisher);
+    void subscribe(const passthrough::DiscoveredPublisher& publisher);
 
     SampleConsumer& store_;
     DeliveryTally tally_;
@@ -79,7 +79,7 @@ class Recorder {
     /// Kept across run() calls, so that a caller may run in slices.
     base::SteadyTime next_report_ = base::SteadyClock::now() + report_period_;
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
-    std::unique_ptr<dds::Discovery> discovery_;
+    std::unique_ptr<passthrough::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
     eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
     mutable std::mutex readers_mutex_;  ///< readers_ is filled by run() and read from other threads

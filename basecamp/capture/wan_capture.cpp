@@ -4,13 +4,13 @@
 #include <iterator>
 
 #include "base/time.hpp"
-#include "gateway/dds/dds_time.hpp"
-#include "gateway/dds/status_topic.hpp"
-#include "gateway/dds/type_object_idl.hpp"
+#include "passthrough/dds_time.hpp"
+#include "passthrough/type_object_idl.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 
-TopicRecord topic_record(const dds::DiscoveredPublisher& publisher) {
+TopicRecord topic_record(const passthrough::DiscoveredPublisher& publisher) {
     TopicRecord record;
     record.topic = publisher.topic;
     record.type_name = publisher.type_name;
@@ -20,7 +20,8 @@ TopicRecord topic_record(const dds::DiscoveredPublisher& publisher) {
     record.reliable = publisher.qos.reliable;
     record.discovered_ns = base::to_ns(base::WallClock::now());
     if (publisher.type_object) {
-        const dds::TypeObjectIdl announced = dds::type_object_idl(*publisher.type_object, publisher.type_name, {});
+        const passthrough::TypeObjectIdl announced =
+            passthrough::type_object_idl(*publisher.type_object, publisher.type_name, {});
         if (announced.ok())
             record.announced_idl = announced.text;
     }
@@ -33,7 +34,7 @@ SampleRecord sample_record(const TopicRecord& topic, std::vector<std::uint8_t> p
     record.topic = topic.topic;
     record.type_name = topic.type_name;
     record.payload = std::move(payload);
-    const auto source = dds::to_wall_time(info.source_timestamp);
+    const auto source = passthrough::to_wall_time(info.source_timestamp);
     record.source_ns = source ? base::to_ns(*source) : 0;
     record.receive_ns = receive_ns(info);
     record.lifespan_ns = topic.lifespan_ns;
@@ -46,7 +47,7 @@ SampleRecord sample_record(const TopicRecord& topic, std::vector<std::uint8_t> p
 
 void tally_sample(DeliveryTally& tally, const TopicRecord& topic, const eprosima::fastdds::dds::SampleInfo& info,
                   std::size_t payload_bytes) {
-    if (topic.topic == dds::STATUS_TOPIC) {
+    if (topic.topic == wire::STATUS_TOPIC) {
         return;
     }
     tally.add(writer_guid(info), info.sample_identity.sequence_number().to64long(), payload_bytes);
@@ -69,12 +70,12 @@ ParticipantPrefix writer_prefix(const eprosima::fastdds::dds::SampleInfo& info) 
 }
 
 std::int64_t receive_ns(const eprosima::fastdds::dds::SampleInfo& info) {
-    const auto reception = dds::to_wall_time(info.reception_timestamp);
+    const auto reception = passthrough::to_wall_time(info.reception_timestamp);
     return base::to_ns(reception ? *reception : base::WallClock::now());
 }
 
 std::optional<base::Duration> one_way_delay(const eprosima::fastdds::dds::SampleInfo& info) {
-    const auto source = dds::to_wall_time(info.source_timestamp);
+    const auto source = passthrough::to_wall_time(info.source_timestamp);
     if (!source)
         return std::nullopt;
     return std::chrono::nanoseconds(receive_ns(info) - base::to_ns(*source));

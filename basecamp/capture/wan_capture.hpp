@@ -12,12 +12,12 @@
 #include "base/time.hpp"
 #include "basecamp/capture/delivery_tally.hpp"
 #include "basecamp/recording/sample_store.hpp"
-#include "gateway/dds/discovery.hpp"
+#include "passthrough/discovery.hpp"
 
 namespace tgw::basecamp {
 
 /// The recording's description of a topic as its WAN writer announced it.
-TopicRecord topic_record(const dds::DiscoveredPublisher& publisher);
+TopicRecord topic_record(const passthrough::DiscoveredPublisher& publisher);
 
 /// One recording row: `payload` as received, the writer's source timestamp, the reception time, and the
 /// instance of a keyed topic.

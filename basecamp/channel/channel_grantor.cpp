@@ -15,8 +15,8 @@
 #include "GatewayStatusPubSubTypes.h"
 #include "base/config_error.hpp"
 #include "basecamp/capture/latest_per_gateway_qos.hpp"
-#include "gateway/dds/channel_grant_topic.hpp"
-#include "gateway/dds/status_topic.hpp"
+#include "wire/channel_grant_topic.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -63,7 +63,7 @@ ChannelGrantor::ChannelGrantor(fdds::DomainParticipant* wan, double channel_bps,
     fdds::Topic* topic = nullptr;
     fdds::Publisher* publisher = nullptr;
     if (wan_->register_type(type) == ReturnCode_t::RETCODE_OK) {
-        topic = wan_->create_topic(dds::CHANNEL_GRANT_TOPIC, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+        topic = wan_->create_topic(wire::CHANNEL_GRANT_TOPIC, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
         publisher = wan_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     }
     if (topic != nullptr && publisher != nullptr) {
@@ -71,7 +71,8 @@ ChannelGrantor::ChannelGrantor(fdds::DomainParticipant* wan, double channel_bps,
         writer_ = publisher->create_datawriter(topic, latest_per_gateway_qos(*publisher));
     }
     if (writer_ == nullptr)
-        throw base::ConfigError("--channel-rate: cannot create the writer of " + std::string(dds::CHANNEL_GRANT_TOPIC));
+        throw base::ConfigError("--channel-rate: cannot create the writer of " +
+                                std::string(wire::CHANNEL_GRANT_TOPIC));
     next_grant_ = clock_.now();
 }
 
@@ -152,7 +153,7 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload, std::
     // Its next status may come later than it said: its spacing follows its rate, and the grant is its rate now.
     base::Duration spacing = period;
     if (const auto granted = last_grants_.find(key); granted != last_grants_.end() && granted->second > 0) {
-        spacing = std::max(spacing, std::chrono::duration_cast<base::Duration>(dds::status_rate_spacing(
+        spacing = std::max(spacing, std::chrono::duration_cast<base::Duration>(wire::status_rate_spacing(
                                         8.0 * static_cast<double>(status_wire_bytes), granted->second)));
     }
     // Its floor (core::least_share_bps): room for its next status (this one's size as serialized, as the gateway
@@ -167,7 +168,7 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload, std::
     const double budget_fraction = status.sensed_rate_bps() > 0 ? status.budget_bps() / status.sensed_rate_bps() : 1.0;
     now.budget_fraction = budget_fraction > 0 && budget_fraction <= 1.0 ? budget_fraction : 1.0;
     const double floor_bps =
-        core::least_share_bps(now.topics, payload.size(), dds::STATUS_TTL, alone, budget_fraction, unscheduled_bps);
+        core::least_share_bps(now.topics, payload.size(), wire::STATUS_TTL, alone, budget_fraction, unscheduled_bps);
     shares_.report(key,
                    core::grantable_demand(core::urgency_demand(before, now.topics, elapsed, wire_), unscheduled_bps,
                                           budget_fraction),
@@ -178,10 +179,10 @@ void ChannelGrantor::take_status(const std::vector<std::uint8_t>& payload, std::
     status_heard_.store(true);
 }
 
-void ChannelGrantor::commands_sent(const std::vector<dds::UplinkCount>& counts) {
+void ChannelGrantor::commands_sent(const std::vector<passthrough::UplinkCount>& counts) {
     const base::SteadyTime now = clock_.now();
     std::lock_guard<std::mutex> lock(mutex_);
-    for (const dds::UplinkCount& up : counts) {
+    for (const passthrough::UplinkCount& up : counts) {
         Sent& sent = sent_[up.from_topic];
         sent.rate.update(now, up.wire_bytes);
         sent.ttl = up.ttl ? std::optional<base::Duration>(up.ttl->ttl) : std::nullopt;
@@ -279,7 +280,7 @@ void ChannelGrantor::poll() {
     }
     // Not more: several gateways may join at once (a fleet starting). Granting them also what the robots known
     // left unclaimed (all of the channel at the start) let three newcomers send three channels' worth at once.
-    write_grant(dds::NEWCOMER_PREFIX, core::JOIN_SHARE * channel_bps_, sent_ns);
+    write_grant(wire::NEWCOMER_PREFIX, core::JOIN_SHARE * channel_bps_, sent_ns);
     if (record_ != nullptr)
         record_->add_channel(round);
 }
@@ -303,7 +304,7 @@ void ChannelGrantor::write_grant(const Prefix& prefix, double bps, std::uint64_t
     idl::ChannelGrant grant;
     std::copy(prefix.begin(), prefix.end(), grant.gateway_prefix().begin());
     grant.rate_bps(bps);
-    grant.valid_ms(static_cast<std::uint32_t>(dds::GRANT_VALIDITY.count()));
+    grant.valid_ms(static_cast<std::uint32_t>(wire::GRANT_VALIDITY.count()));
     grant.sent_ns(sent_ns);
     writer_->write(&grant);
 }

@@ -14,12 +14,12 @@
 #include "basecamp/capture/delivery_tally.hpp"
 #include "basecamp/channel/channel_meter.hpp"
 #include "basecamp/sample/sample_consumer.hpp"
-#include "gateway/core/channel_shares.hpp"
-#include "gateway/core/demand_watch.hpp"
-#include "gateway/core/granted_rate.hpp"
-#include "gateway/core/sent_rate.hpp"
-#include "gateway/core/urgency_demand.hpp"
-#include "gateway/dds/uplink.hpp"
+#include "core/channel_shares.hpp"
+#include "core/demand_watch.hpp"
+#include "core/granted_rate.hpp"
+#include "core/sent_rate.hpp"
+#include "core/urgency_demand.hpp"
+#include "passthrough/uplink.hpp"
 
 namespace eprosima::fastdds::dds {
 class DataWriter;
@@ -31,9 +31,9 @@ namespace tgw::basecamp {
 /// Reads each gateway's status as the relay takes it off the WAN, works out from two in a row what the robot needs
 /// by urgency (core::urgency_demand), and once a GRANT_PERIOD grants each gateway its share of the channel
 /// (core::split_channel: a floor, each robot's own where it needs more (core::least_share_bps: room for its
-/// status and its most urgent sample), then the fleet's shortest TTLs first) on dds::CHANNEL_GRANT_TOPIC, keyed
+/// status and its most urgent sample), then the fleet's shortest TTLs first) on wire::CHANNEL_GRANT_TOPIC, keyed
 /// by the gateway's prefix. core::JOIN_SHARE of the channel is kept out of them and granted to any gateway without
-/// a grant of its own (the newcomers' share, dds::NEWCOMER_PREFIX). A gateway silent for long (STALE_AFTER) has no
+/// a grant of its own (the newcomers' share, wire::NEWCOMER_PREFIX). A gateway silent for long (STALE_AFTER) has no
 /// share until its next status, and meanwhile budgets for the newcomers' share. A status of a named robot from a
 /// new gateway (restarted) ends the old gateway's share at once. With a ChannelMeter, the channel's rate is measured
 /// (what arrives, what is lost and how long it took) with --channel-rate its upper bound.
@@ -72,7 +72,7 @@ class ChannelGrantor {
     /// of its floor and before any telemetry, from the next round on: they take the air whatever it is granted, and
     /// a grant without room for them starved its telemetry and the statuses that would have asked for more (rover1
     /// at 11,506 bit/s with 12,320 of commands: 37 of 200 A on time). The relay's thread, before poll().
-    void commands_sent(const std::vector<dds::UplinkCount>& counts);
+    void commands_sent(const std::vector<passthrough::UplinkCount>& counts);
 
     /// Writes the grants when GRANT_PERIOD has passed since the last, or a status came since: a robot whose demand
     /// rose hears its grant at once (its gateway sends a status when its demand moves); the relay's thread.
@@ -80,7 +80,7 @@ class ChannelGrantor {
 
     /// The grants last written, by gateway prefix (hex).
     core::ChannelGrants last_grants() const;
-    /// The newcomers' share it writes (dds::NEWCOMER_PREFIX): core::JOIN_SHARE of the channel.
+    /// The newcomers' share it writes (wire::NEWCOMER_PREFIX): core::JOIN_SHARE of the channel.
     double newcomer_share() const;
     /// What its meter found; nullopt when it does not measure the channel.
     std::optional<ChannelReading> channel_reading() const;

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <string>
 
-#include "gateway/core/wire_model.hpp"
-#include "gateway/dds/rtps_datagram.hpp"
-#include "gateway/dds/send_stamp.hpp"
+#include "core/wire_model.hpp"
+#include "wire/rtps_datagram.hpp"
+#include "wire/send_stamp.hpp"
 
 namespace tgw::basecamp {
 
@@ -21,10 +21,10 @@ ChannelMeter::ChannelMeter(double upper_bps, const base::Clock& clock)
     : clock_(clock), estimate_(upper_bps, core::ChannelEstimateConfig{}, clock) {}
 
 void ChannelMeter::datagram(const std::uint8_t* bytes, std::size_t size, const SourceAddress& from) {
-    const std::optional<ParticipantPrefix> sender = dds::RtpsDatagram::sender(bytes, size);
+    const std::optional<ParticipantPrefix> sender = wire::RtpsDatagram::sender(bytes, size);
     if (!sender)
         return;
-    const std::optional<dds::SendStamp> stamp = dds::read_send_stamp(bytes, size);
+    const std::optional<wire::SendStamp> stamp = wire::read_send_stamp(bytes, size);
     const base::WallTime now = clock_.wall_now();
     std::lock_guard<std::mutex> lock(mutex_);
     if (gateways_.count(*sender) != 0) {

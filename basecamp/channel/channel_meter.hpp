@@ -12,7 +12,7 @@
 
 #include "base/clock.hpp"
 #include "basecamp/capture/delivery_tally.hpp"
-#include "gateway/core/channel_estimate.hpp"
+#include "core/channel_estimate.hpp"
 
 namespace tgw::basecamp {
 
@@ -40,7 +40,7 @@ class ChannelMeter {
     /// names a participant known by gateway() or stamped_sample()) crossed the channel, and so did any other from an
     /// address a gateway sent from (a robot's host: a gateway restarted there before its first status, its discovery
     /// a burst on the channel): its bytes count as delivered, and where its sender's transport stamped it
-    /// (dds::read_send_stamp: a standard-mode gateway's every datagram) its delay and its place in the sender's
+    /// (wire::read_send_stamp: a standard-mode gateway's every datagram) its delay and its place in the sender's
     /// sequence count too. Any other's did not cross it, and counts for nothing: Debian's fast-discovery-server
     /// beside the relay stamps its datagrams too, took no time, and hid a standing queue of 800 ms while the
     /// estimate grew to 87,565 bit/s on a channel of 60,000. A gateway on the camp's own host makes the camp's

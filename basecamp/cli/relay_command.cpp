@@ -18,6 +18,7 @@
 #include "base/dds_security.hpp"
 #include "base/interface_addresses.hpp"
 #include "base/peer_transport.hpp"
+#include "base/wan_address.hpp"
 #include "basecamp/capture/backfill_archive.hpp"
 #include "basecamp/cli/progress_line.hpp"
 #include "basecamp/live/foxglove_server.hpp"
@@ -26,7 +27,6 @@
 #include "basecamp/relay/compact_unpacker.hpp"
 #include "basecamp/relay/relay.hpp"
 #include "basecamp/sample/consumer_fan_out.hpp"
-#include "gateway/dds/wan_address.hpp"
 #include "sensor/link_state_watch.hpp"
 #include "types/type_library.hpp"
 
@@ -57,7 +57,7 @@ struct RelayOptions {
 class WanAddressFollower {
   public:
     WanAddressFollower(const std::string& name_or_address, std::string bound)
-        : interface_(dds::resolve_interface_name(name_or_address)),
+        : interface_(base::resolve_interface_name(name_or_address)),
           bound_(std::move(bound)),
           watch_(interface_, [this](const sensor::LinkState& state) { on_change(state); }) {
         watch_.start();
@@ -172,7 +172,7 @@ void print_summary(const Relay& relaying, const std::map<std::string, std::uint6
                   << core::to_string(channel->verdict) << "), " << channel->datagrams << " datagrams received ("
                   << channel->stamped_datagrams << " stamped by their sender, " << channel->lost_datagrams
                   << " lost on the way)\n";
-    for (const dds::UplinkCount& up : relaying.uplink_counts())
+    for (const passthrough::UplinkCount& up : relaying.uplink_counts())
         std::cout << "  uplink " << up.from_topic << ": " << up.received << " commands taken from the camp, "
                   << up.delivered << " onto the WAN, " << up.no_reader << " written while no gateway listened (lost), "
                   << up.expired << " past their Lifespan (dropped), " << up.failed << " failed\n";

@@ -14,7 +14,7 @@
 #include "basecamp/analysis/grant_summary.hpp"
 #include "basecamp/analysis/on_time_payload.hpp"
 #include "basecamp/analysis/report.hpp"
-#include "gateway/dds/qos_file.hpp"
+#include "passthrough/qos_file.hpp"
 
 namespace tgw::basecamp {
 
@@ -59,9 +59,9 @@ int run_report(const ReportCommandOptions& command) {
     ReportOptions options;
     options.ttl_s = parse_assignments<double>(command.ttls, "--ttl");
     if (!command.qos_file.empty()) {
-        dds::load_qos_file(command.qos_file);
+        passthrough::load_qos_file(command.qos_file);
         options.profile_ttl_s = [](const std::string& topic) -> std::optional<double> {
-            const auto lifespan = dds::writer_profile_lifespan(topic);
+            const auto lifespan = passthrough::writer_profile_lifespan(topic);
             return lifespan ? std::optional<double>(base::to_seconds(*lifespan)) : std::nullopt;
         };
     }

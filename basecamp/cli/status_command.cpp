@@ -6,7 +6,7 @@
 #include "basecamp/capture/recorder.hpp"
 #include "basecamp/cli/live_screen.hpp"
 #include "basecamp/live/status_view.hpp"
-#include "gateway/dds/status_topic.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -23,7 +23,7 @@ int run_status(const StatusOptions& options) {
     StatusView view(base::from_seconds(60.0 * options.minutes));
     Recorder subscriber(options.domain, options.transport, view, base::Duration::zero(),
                         security_files(options.security_dir));
-    subscriber.only({dds::STATUS_TOPIC});
+    subscriber.only({wire::STATUS_TOPIC});
     stop_on_signals();
     const auto now_ns = [] { return base::to_ns(base::WallClock::now()); };
     if (options.once) {
@@ -33,7 +33,7 @@ int run_status(const StatusOptions& options) {
             subscriber.run(std::chrono::milliseconds(200), stop_requested());
         }
         if (view.statuses() == 0) {
-            std::cerr << "tm-basecamp status: no status on " << dds::STATUS_TOPIC << " of domain " << options.domain
+            std::cerr << "tm-basecamp status: no status on " << wire::STATUS_TOPIC << " of domain " << options.domain
                       << " within " << options.timeout_s << " s (--timeout)\n";
             return 1;
         }

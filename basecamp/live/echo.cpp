@@ -14,10 +14,10 @@
 
 #include "base/config_error.hpp"
 #include "basecamp/capture/camp_participant.hpp"
-#include "gateway/dds/dds_time.hpp"
-#include "gateway/dds/passthrough_qos.hpp"
-#include "gateway/dds/passthrough_type.hpp"
-#include "gateway/dds/type_object_idl.hpp"
+#include "passthrough/dds_time.hpp"
+#include "passthrough/passthrough_qos.hpp"
+#include "passthrough/passthrough_type.hpp"
+#include "passthrough/type_object_idl.hpp"
 
 namespace tgw::basecamp {
 
@@ -42,7 +42,7 @@ class Echo::Lane final : public fdds::DataReaderListener {
     }
 
     void on_data_available(fdds::DataReader* from) override {
-        dds::PassthroughData data;
+        passthrough::PassthroughData data;
         fdds::SampleInfo info;
         while (from->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
             // Disposes and unregisters carry no sample to print.
@@ -50,8 +50,8 @@ class Echo::Lane final : public fdds::DataReaderListener {
                 continue;
             ReceivedSample sample;
             sample.payload = std::move(data.payload);
-            sample.source = dds::to_wall_time(info.source_timestamp);
-            if (echo_.keyed_ && info.instance_handle == dds::PassthroughType::UNKNOWN_INSTANCE) {
+            sample.source = passthrough::to_wall_time(info.source_timestamp);
+            if (echo_.keyed_ && info.instance_handle == passthrough::PassthroughType::UNKNOWN_INSTANCE) {
                 sample.instance = "unknown (the writer sent no key hash)";
             } else if (echo_.keyed_ && info.instance_handle.isDefined()) {
                 // The handle's value holds a flag after the 16 bytes of the key hash.
@@ -65,7 +65,7 @@ class Echo::Lane final : public fdds::DataReaderListener {
     }
 
     fdds::DataReader* reader = nullptr;
-    dds::OfferedQos offer;
+    passthrough::OfferedQos offer;
 
   private:
     Echo& echo_;
@@ -75,7 +75,7 @@ class Echo::Lane final : public fdds::DataReaderListener {
 Echo::Echo(int domain, const base::PeerTransport& transport, std::string topic, types::TypeLibrary types,
            SamplePrinter::Format format, std::ostream& out, const std::optional<base::SecurityFiles>& security)
     : topic_(std::move(topic)), types_(std::move(types)), format_(format), out_(out) {
-    discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
+    discovery_ = std::make_unique<passthrough::Discovery>(discovered_.callback());
     participant_ = create_camp_participant(domain, transport, security, "tm-basecamp echo", *discovery_);
 }
 
@@ -93,7 +93,7 @@ std::string Echo::type_name() const {
     return type_name_;
 }
 
-void Echo::subscribe(const dds::DiscoveredPublisher& publisher) {
+void Echo::subscribe(const passthrough::DiscoveredPublisher& publisher) {
     if (publisher.topic != topic_)
         return;
     if (!printer_) {
@@ -117,13 +117,13 @@ void Echo::subscribe(const dds::DiscoveredPublisher& publisher) {
         }
     }
     const auto index = static_cast<std::uint16_t>(lanes_.size());
-    fdds::Topic* topic = dds::passthrough_topic(participant_, topic_, type_name_, keyed_);
+    fdds::Topic* topic = passthrough::passthrough_topic(participant_, topic_, type_name_, keyed_);
     fdds::Subscriber* subscriber = subscribers_.get(participant_, publisher.qos);
     auto lane = std::make_unique<Lane>(*this, index);
     lane->offer = publisher.qos;
     if (topic != nullptr && subscriber != nullptr) {
         lane->reader = subscriber->create_datareader(
-            topic, dds::passthrough_reader_qos(subscriber->get_default_datareader_qos(), publisher.qos, keyed_),
+            topic, passthrough::passthrough_reader_qos(subscriber->get_default_datareader_qos(), publisher.qos, keyed_),
             lane.get(), fdds::StatusMask::data_available());
     }
     if (lane->reader == nullptr) {
@@ -135,7 +135,7 @@ void Echo::subscribe(const dds::DiscoveredPublisher& publisher) {
     lanes_.push_back(std::move(lane));
 }
 
-std::string Echo::learn_announced_type(const dds::DiscoveredPublisher& publisher) {
+std::string Echo::learn_announced_type(const passthrough::DiscoveredPublisher& publisher) {
     if (types_.find(publisher.type_name) != nullptr)
         return "";
     const std::string no_idl = "no IDL for it, samples print as size and hex (--idl DIR adds IDL files)";
@@ -143,7 +143,7 @@ std::string Echo::learn_announced_type(const dds::DiscoveredPublisher& publisher
         return ": " + no_idl;
     // Types it refers to by hash: only those this process has registered. Fast DDS 2.9 asks a publisher for them
     // (TypeLookup) only where the publisher serves it, which is off by default.
-    const dds::TypeObjectIdl announced = dds::type_object_idl(
+    const passthrough::TypeObjectIdl announced = passthrough::type_object_idl(
         *publisher.type_object, publisher.type_name, [](const eprosima::fastrtps::types::TypeIdentifier& id) {
             return eprosima::fastrtps::types::TypeObjectFactory::get_instance()->get_type_object(&id);
         });
@@ -185,7 +185,8 @@ std::uint64_t Echo::run(std::uint64_t count, base::Duration duration, const std:
     std::uint64_t printed = 0;
     while (!stop.load() && base::SteadyClock::now() < end && (count == 0 || printed < count)) {
         // Before the first publisher, wait on discovery; after it, on samples.
-        for (const dds::DiscoveredPublisher& publisher : discovered_.take(milliseconds(lanes_.empty() ? 100 : 0)))
+        for (const passthrough::DiscoveredPublisher& publisher :
+             discovered_.take(milliseconds(lanes_.empty() ? 100 : 0)))
             subscribe(publisher);
         for (const ReceivedSample& sample : take(milliseconds(lanes_.empty() ? 0 : 100))) {
             if (count != 0 && printed == count)

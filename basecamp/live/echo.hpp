@@ -17,9 +17,9 @@
 #include "base/time.hpp"
 #include "basecamp/capture/discovery_queue.hpp"
 #include "basecamp/decode/sample_printer.hpp"
-#include "gateway/dds/discovery.hpp"
-#include "gateway/dds/lane_assignment.hpp"
-#include "gateway/dds/partition_groups.hpp"
+#include "passthrough/discovery.hpp"
+#include "passthrough/lane_assignment.hpp"
+#include "passthrough/partition_groups.hpp"
 #include "types/type_library.hpp"
 
 namespace eprosima::fastdds::dds {
@@ -29,8 +29,8 @@ class Subscriber;
 
 namespace tgw::basecamp {
 
-/// Subscribes to one topic on a domain, whatever its type (tgw::dds::PassthroughType), and prints each sample as
-/// it arrives (SamplePrinter): decoded when `types` has the IDL of the type its publishers announce, or else the
+/// Subscribes to one topic on a domain, whatever its type (tgw::passthrough::PassthroughType), and prints each sample
+/// as it arrives (SamplePrinter): decoded when `types` has the IDL of the type its publishers announce, or else the
 /// first publisher announced an XTypes TypeObject of it (type_object_idl()); as size and hex otherwise. Each QoS its
 /// publishers offer gets a reader asking for exactly that (one lane, as the relay has them), and each sample is printed
 /// once, from its writer's lane.
@@ -55,10 +55,10 @@ class Echo {
   private:
     class Lane;
 
-    void subscribe(const dds::DiscoveredPublisher& publisher);
+    void subscribe(const passthrough::DiscoveredPublisher& publisher);
     /// Adds the IDL of the type the first publisher announced in its TypeObject, when `types_` lacks it; what
     /// echo tells the operator about how samples will print.
-    std::string learn_announced_type(const dds::DiscoveredPublisher& publisher);
+    std::string learn_announced_type(const passthrough::DiscoveredPublisher& publisher);
     /// For the lanes' listeners (Fast DDS's threads): queues a sample for run().
     void push(ReceivedSample&& sample);
     /// What arrived since the last call; waits up to `timeout` for the first.
@@ -73,10 +73,10 @@ class Echo {
     std::optional<SamplePrinter> printer_;
 
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
-    std::unique_ptr<dds::Discovery> discovery_;
+    std::unique_ptr<passthrough::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
-    dds::PartitionGroups<eprosima::fastdds::dds::Subscriber> subscribers_;
-    dds::LaneAssignment writers_;
+    passthrough::PartitionGroups<eprosima::fastdds::dds::Subscriber> subscribers_;
+    passthrough::LaneAssignment writers_;
     std::vector<std::unique_ptr<Lane>> lanes_;
 
     mutable std::mutex mutex_;

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "basecamp/status/gateway_status.hpp"
-#include "gateway/dds/status_topic.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -21,7 +21,7 @@ StatusView::StatusView(base::Duration history)
     : history_ns_(std::chrono::duration_cast<std::chrono::nanoseconds>(history).count()) {}
 
 void StatusView::add(SampleRecord sample) {
-    if (sample.topic != dds::STATUS_TOPIC) {
+    if (sample.topic != wire::STATUS_TOPIC) {
         return;
     }
     std::optional<idl::GatewayStatus> status = decode_gateway_status(sample.payload);

@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "basecamp/status/gateway_status.hpp"
-#include "gateway/dds/status_topic.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -20,7 +20,7 @@ void TopicStats::add_topic(TopicRecord topic) {
 
 void TopicStats::add(SampleRecord sample) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (sample.topic == dds::STATUS_TOPIC) {
+    if (sample.topic == wire::STATUS_TOPIC) {
         take_status_nts(sample);
     }
     Topic& topic = topics_[sample.topic];

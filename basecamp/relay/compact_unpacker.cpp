@@ -19,17 +19,17 @@
 #include "basecamp/capture/backfill_archive.hpp"
 #include "basecamp/capture/wan_capture.hpp"
 #include "basecamp/channel/channel_grantor.hpp"
-#include "gateway/compact/zstd_frame.hpp"
-#include "gateway/dds/backfill_codec.hpp"
-#include "gateway/dds/backfill_topics.hpp"
-#include "gateway/dds/compact_topics.hpp"
-#include "gateway/dds/dds_time.hpp"
-#include "gateway/dds/guarded_type.hpp"
-#include "gateway/dds/offered_qos.hpp"
-#include "gateway/dds/passthrough_qos.hpp"
-#include "gateway/dds/passthrough_type.hpp"
-#include "gateway/dds/status_topic.hpp"
-#include "gateway/dds/writer_match_counter.hpp"
+#include "compact/zstd_frame.hpp"
+#include "passthrough/dds_time.hpp"
+#include "passthrough/guarded_type.hpp"
+#include "passthrough/offered_qos.hpp"
+#include "passthrough/passthrough_qos.hpp"
+#include "passthrough/passthrough_type.hpp"
+#include "passthrough/writer_match_counter.hpp"
+#include "wire/backfill_codec.hpp"
+#include "wire/backfill_topics.hpp"
+#include "wire/compact_topics.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -50,14 +50,14 @@ std::optional<base::Duration> duration_or_infinite(std::int64_t ns) {
     return std::chrono::duration_cast<base::Duration>(std::chrono::nanoseconds(ns));
 }
 
-dds::OfferedQos offered_qos(const wan::LaneOffer& lane) {
-    dds::OfferedQos offer;
+passthrough::OfferedQos offered_qos(const wan::LaneOffer& lane) {
+    passthrough::OfferedQos offer;
     offer.reliable = lane.reliable();
     offer.transient_local = lane.transient_local();
     offer.partitions = lane.partitions();
     std::sort(offer.partitions.begin(), offer.partitions.end());
     offer.deadline = duration_or_infinite(lane.deadline_ns());
-    offer.liveliness = static_cast<dds::OfferedQos::Liveliness>(std::min<std::uint8_t>(lane.liveliness(), 2));
+    offer.liveliness = static_cast<passthrough::OfferedQos::Liveliness>(std::min<std::uint8_t>(lane.liveliness(), 2));
     offer.liveliness_lease = duration_or_infinite(lane.liveliness_lease_ns());
     offer.exclusive_ownership = lane.exclusive_ownership();
     offer.ownership_strength = lane.ownership_strength();
@@ -75,7 +75,7 @@ struct CompactUnpacker::LocalLane {
         }
     }
     fdds::DataWriter* writer = nullptr;
-    dds::WriterMatchCounter matches;
+    passthrough::WriterMatchCounter matches;
     std::uint64_t relayed = 0;  // under mutex_
 };
 
@@ -111,7 +111,7 @@ class TakingListener final : public fdds::DataReaderListener {
 }  // namespace
 
 CompactUnpacker::CompactUnpacker(fdds::DomainParticipant* wan, fdds::DomainParticipant* local,
-                                 dds::PartitionGroups<fdds::Publisher>& publishers, DeliveryTally& tally,
+                                 passthrough::PartitionGroups<fdds::Publisher>& publishers, DeliveryTally& tally,
                                  SampleConsumer* store, ChannelGrantor* statuses, BackfillArchive* backfill)
     : wan_(wan),
       local_(local),
@@ -143,17 +143,17 @@ CompactUnpacker::CompactUnpacker(fdds::DomainParticipant* wan, fdds::DomainParti
                   statuses_->arrived(writer_prefix(info), *one_way, BUNDLE_ENVELOPE_BYTES + bundle.bytes().size());
               on_bundle(writer_prefix(info), error, decoded, bundle.bytes().size(), received_ns);
           })) {
-    fdds::TypeSupport catalog_type(new dds::GuardedType<wan::CatalogEntryPubSubType>());
-    fdds::TypeSupport bundle_type(new dds::GuardedType<wan::BundlePubSubType>());
+    fdds::TypeSupport catalog_type(new passthrough::GuardedType<wan::CatalogEntryPubSubType>());
+    fdds::TypeSupport bundle_type(new passthrough::GuardedType<wan::BundlePubSubType>());
     fdds::Subscriber* subscriber = wan_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (subscriber == nullptr || catalog_type.register_type(wan_) != ReturnCode_t::RETCODE_OK ||
         bundle_type.register_type(wan_) != ReturnCode_t::RETCODE_OK) {
         throw base::ConfigError("--domain: cannot subscribe to the compact WAN mode's topics");
     }
     fdds::Topic* catalog_topic =
-        wan_->create_topic(dds::COMPACT_CATALOG_TOPIC, catalog_type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+        wan_->create_topic(wire::COMPACT_CATALOG_TOPIC, catalog_type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
     fdds::Topic* bundle_topic =
-        wan_->create_topic(dds::COMPACT_BUNDLE_TOPIC, bundle_type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+        wan_->create_topic(wire::COMPACT_BUNDLE_TOPIC, bundle_type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
 
     // The catalog: reliable and transient-local, so that every entry the gateways wrote reaches a late joiner.
     fdds::DataReaderQos catalog_qos = subscriber->get_default_datareader_qos();
@@ -177,8 +177,8 @@ CompactUnpacker::CompactUnpacker(fdds::DomainParticipant* wan, fdds::DomainParti
                                                        fdds::StatusMask::data_available());
     }
     if (catalog_reader_ == nullptr || bundle_reader_ == nullptr) {
-        throw base::ConfigError("--domain: cannot subscribe to " + std::string(dds::COMPACT_BUNDLE_TOPIC) + " and " +
-                                dds::COMPACT_CATALOG_TOPIC);
+        throw base::ConfigError("--domain: cannot subscribe to " + std::string(wire::COMPACT_BUNDLE_TOPIC) + " and " +
+                                wire::COMPACT_CATALOG_TOPIC);
     }
 }
 
@@ -270,7 +270,7 @@ bool CompactUnpacker::reassemble_nts(const ParticipantPrefix& gateway, compact::
 
 void CompactUnpacker::archive_backfill_nts(const compact::BundleEntry& entry, std::int64_t receive_ns) {
     const std::optional<idl::BackfillSample> sample =
-        entry.kind == compact::EntryKind::data ? dds::decode_backfill(entry.payload) : std::nullopt;
+        entry.kind == compact::EntryKind::data ? wire::decode_backfill(entry.payload) : std::nullopt;
     if (!sample) {
         ++counts_.undecodable_entries;
         return;
@@ -283,7 +283,7 @@ void CompactUnpacker::archive_backfill_nts(const compact::BundleEntry& entry, st
 bool CompactUnpacker::deliver_nts(const ParticipantPrefix& gateway, compact::BundleEntry& entry,
                                   std::int64_t receive_ns) {
     const auto it = streams_.find({gateway, entry.topic_id});
-    if (it != streams_.end() && it->second->entry.topic() == dds::BACKFILL_TOPIC) {
+    if (it != streams_.end() && it->second->entry.topic() == wire::BACKFILL_TOPIC) {
         archive_backfill_nts(entry, receive_ns);  // past its TTL: the archive's, never the local domain's
         return true;
     }
@@ -292,7 +292,7 @@ bool CompactUnpacker::deliver_nts(const ParticipantPrefix& gateway, compact::Bun
     }
     Stream& stream = *it->second;
     LocalLane& lane = *stream.lanes[entry.lane];
-    dds::PassthroughData data;
+    passthrough::PassthroughData data;
     fdds::InstanceHandle_t handle = fdds::HANDLE_NIL;
     if (stream.entry.keyed()) {
         if (entry.keyed) {
@@ -300,11 +300,11 @@ bool CompactUnpacker::deliver_nts(const ParticipantPrefix& gateway, compact::Bun
                 data.key.value[i] = entry.key[i];
             }
         }
-        handle = data.key.isDefined() ? data.key : dds::PassthroughType::UNKNOWN_INSTANCE;
+        handle = data.key.isDefined() ? data.key : passthrough::PassthroughType::UNKNOWN_INSTANCE;
     }
     const base::WallTime source{
         std::chrono::duration_cast<base::WallTime::duration>(std::chrono::nanoseconds(entry.source_ns))};
-    const eprosima::fastrtps::Time_t stamp = dds::to_dds_time(source);
+    const eprosima::fastrtps::Time_t stamp = passthrough::to_dds_time(source);
     ReturnCode_t rc = ReturnCode_t::RETCODE_OK;
     switch (entry.kind) {
         case compact::EntryKind::data: {
@@ -337,7 +337,7 @@ bool CompactUnpacker::deliver_nts(const ParticipantPrefix& gateway, compact::Bun
                     record.instance.assign(entry.key.begin(), entry.key.end());
                 store_->add(std::move(record));
             }
-            if (statuses_ != nullptr && stream.record.topic == dds::STATUS_TOPIC) {
+            if (statuses_ != nullptr && stream.record.topic == wire::STATUS_TOPIC) {
                 statuses_->take_status(entry.payload, sent_bytes);
             }
             data.payload = std::move(entry.payload);
@@ -381,7 +381,7 @@ void CompactUnpacker::poll() {
             lanes_made = stream->lanes.size();
             stream->entry = entry;
         }
-        if (entry.topic() == dds::BACKFILL_TOPIC) {
+        if (entry.topic() == wire::BACKFILL_TOPIC) {
             continue;  // no local writer: its samples go into the archive (archive_backfill_nts)
         }
         // Streams are only added, and only this thread adds lanes: `stream` stays valid, and its lanes past
@@ -391,7 +391,7 @@ void CompactUnpacker::poll() {
         record.type_name = entry.type_name();
         record.keyed = entry.keyed();
         record.discovered_ns = base::to_ns(base::WallClock::now());
-        fdds::Topic* topic = dds::passthrough_topic(local_, entry.topic(), entry.type_name(), entry.keyed());
+        fdds::Topic* topic = passthrough::passthrough_topic(local_, entry.topic(), entry.type_name(), entry.keyed());
         for (std::size_t i = 0; i < entry.lanes().size(); ++i) {
             const wan::LaneOffer& offer = entry.lanes()[i];
             const auto lifespan = duration_or_infinite(offer.lifespan_ns());
@@ -403,13 +403,14 @@ void CompactUnpacker::poll() {
             if (i < lanes_made && stream->lanes[i]) {
                 continue;
             }
-            const dds::OfferedQos qos = offered_qos(offer);
+            const passthrough::OfferedQos qos = offered_qos(offer);
             fdds::Publisher* publisher = publishers_.get(local_, qos);
             auto lane = std::make_unique<LocalLane>();
             if (topic != nullptr && publisher != nullptr) {
                 lane->writer = publisher->create_datawriter(
                     topic,
-                    dds::passthrough_writer_qos(publisher->get_default_datawriter_qos(), qos, entry.keyed(), lifespan),
+                    passthrough::passthrough_writer_qos(publisher->get_default_datawriter_qos(), qos, entry.keyed(),
+                                                        lifespan),
                     &lane->matches, fdds::StatusMask::publication_matched());
             }
             if (lane->writer == nullptr) {
@@ -472,7 +473,7 @@ std::map<std::string, std::uint64_t> CompactUnpacker::relayed() const {
     std::lock_guard<std::mutex> lock(mutex_);
     std::map<std::string, std::uint64_t> out;
     for (const auto& [key, stream] : streams_) {
-        if (stream->entry.topic() == dds::BACKFILL_TOPIC)
+        if (stream->entry.topic() == wire::BACKFILL_TOPIC)
             continue;  // archived, never relayed
         std::uint64_t& n = out[stream->entry.topic()];
         for (const auto& lane : stream->lanes) {

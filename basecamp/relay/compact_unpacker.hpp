@@ -16,8 +16,8 @@
 #include "base/time.hpp"
 #include "basecamp/capture/delivery_tally.hpp"
 #include "basecamp/sample/sample_consumer.hpp"
-#include "gateway/compact/bundle_codec.hpp"
-#include "gateway/dds/partition_groups.hpp"
+#include "compact/bundle_codec.hpp"
+#include "passthrough/partition_groups.hpp"
 
 namespace eprosima::fastdds::dds {
 class DataReader;
@@ -71,7 +71,7 @@ class CompactUnpacker {
     /// backfilled samples go (never onto the local domain), or nullptr to drop them. Throws base::ConfigError when
     /// DDS refuses a reader.
     CompactUnpacker(eprosima::fastdds::dds::DomainParticipant* wan, eprosima::fastdds::dds::DomainParticipant* local,
-                    dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers, DeliveryTally& tally,
+                    passthrough::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers, DeliveryTally& tally,
                     SampleConsumer* store, ChannelGrantor* statuses = nullptr, BackfillArchive* backfill = nullptr);
     ~CompactUnpacker();
     CompactUnpacker(const CompactUnpacker&) = delete;
@@ -109,14 +109,14 @@ class CompactUnpacker {
     /// A bundle of `bytes` as it decoded (`error`), its entries taken from `bundle`.
     void on_bundle(const ParticipantPrefix& gateway, compact::BundleError error, compact::Bundle& bundle,
                    std::size_t bytes, std::int64_t receive_ns);
-    /// A backfilled sample (dds::BACKFILL_TOPIC's entry) into the archive. mutex_ held.
+    /// A backfilled sample (wire::BACKFILL_TOPIC's entry) into the archive. mutex_ held.
     void archive_backfill_nts(const compact::BundleEntry& entry, std::int64_t receive_ns);
     /// Writes the entry on the local domain if its lane's writer exists; false if it must wait. mutex_ held.
     bool deliver_nts(const ParticipantPrefix& gateway, compact::BundleEntry& entry, std::int64_t receive_ns);
 
     eprosima::fastdds::dds::DomainParticipant* wan_;
     eprosima::fastdds::dds::DomainParticipant* local_;
-    dds::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers_;
+    passthrough::PartitionGroups<eprosima::fastdds::dds::Publisher>& publishers_;
     DeliveryTally& tally_;
     SampleConsumer* store_;
     ChannelGrantor* statuses_;   ///< takes the gateways' statuses (tm-basecamp relay --channel-rate), or nullptr

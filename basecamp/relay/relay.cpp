@@ -22,14 +22,14 @@
 #include "basecamp/capture/wan_capture.hpp"
 #include "basecamp/relay/compact_unpacker.hpp"
 #include "basecamp/relay/metered_transport.hpp"
-#include "gateway/dds/backfill_topics.hpp"
-#include "gateway/dds/compact_topics.hpp"
-#include "gateway/dds/pass_on.hpp"
-#include "gateway/dds/passthrough_qos.hpp"
-#include "gateway/dds/passthrough_type.hpp"
-#include "gateway/dds/receiver_report_topic.hpp"
-#include "gateway/dds/status_topic.hpp"
-#include "gateway/dds/writer_match_counter.hpp"
+#include "passthrough/pass_on.hpp"
+#include "passthrough/passthrough_qos.hpp"
+#include "passthrough/passthrough_type.hpp"
+#include "passthrough/writer_match_counter.hpp"
+#include "wire/backfill_topics.hpp"
+#include "wire/compact_topics.hpp"
+#include "wire/receiver_report_topic.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 
@@ -40,7 +40,7 @@ namespace fdds = eprosima::fastdds::dds;
 class Relay::Lane final : public fdds::DataReaderListener {
   public:
     /// `store`: where --out records, or nullptr.
-    Lane(const dds::LaneAssignment& writers, std::uint16_t index, TopicRecord topic, DeliveryTally& tally,
+    Lane(const passthrough::LaneAssignment& writers, std::uint16_t index, TopicRecord topic, DeliveryTally& tally,
          SampleConsumer* store)
         : writers_(writers),
           index_(index),
@@ -49,10 +49,10 @@ class Relay::Lane final : public fdds::DataReaderListener {
           tally_(tally),
           store_(store) {}
 
-    ~Lane() override { dds::delete_reader_then_writer(reader, writer); }
+    ~Lane() override { passthrough::delete_reader_then_writer(reader, writer); }
 
     void on_data_available(fdds::DataReader* from) override {
-        dds::PassthroughData data;
+        passthrough::PassthroughData data;
         fdds::SampleInfo info;
         while (from->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
             if (!writers_.carries(info.publication_handle, index_)) {
@@ -72,7 +72,7 @@ class Relay::Lane final : public fdds::DataReaderListener {
             }
             // SampleInfo carries the RTPS time type; the writers take the DDS one.
             const eprosima::fastrtps::Time_t stamp(info.source_timestamp.seconds(), info.source_timestamp.nanosec());
-            const ReturnCode_t rc = dds::pass_on(*writer, data, info, keyed_, stamp);
+            const ReturnCode_t rc = passthrough::pass_on(*writer, data, info, keyed_, stamp);
             if (rc == ReturnCode_t::RETCODE_OK) {
                 relayed.fetch_add(1, std::memory_order_relaxed);
             } else if (failures.fetch_add(1, std::memory_order_relaxed) == 0) {
@@ -84,14 +84,14 @@ class Relay::Lane final : public fdds::DataReaderListener {
 
     fdds::DataReader* reader = nullptr;
     fdds::DataWriter* writer = nullptr;
-    ChannelGrantor* statuses = nullptr;      ///< the lanes of tgw/status, with a channel rate
-    dds::WriterMatchCounter writer_matches;  ///< the local readers it has matched
-    dds::OfferedQos offer;
+    ChannelGrantor* statuses = nullptr;              ///< the lanes of tgw/status, with a channel rate
+    passthrough::WriterMatchCounter writer_matches;  ///< the local readers it has matched
+    passthrough::OfferedQos offer;
     std::atomic<std::uint64_t> relayed{0};
     std::atomic<std::uint64_t> failures{0};
 
   private:
-    const dds::LaneAssignment& writers_;
+    const passthrough::LaneAssignment& writers_;
     const std::uint16_t index_;
     const bool keyed_;
     const TopicRecord topic_;
@@ -135,7 +135,7 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
     // either discovers waits in its queue until run() takes it, so neither may find the other missing.
     make_wan(std::move(wan_qos));
     local_qos.name("tm-basecamp relay/local");
-    local_discovery_ = std::make_unique<dds::Discovery>(local_discovered_.callback());
+    local_discovery_ = std::make_unique<passthrough::Discovery>(local_discovered_.callback());
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     local_ = factory->create_participant(local_domain, local_qos, local_discovery_.get(), fdds::StatusMask::none());
     if (local_ == nullptr) {
@@ -152,7 +152,7 @@ Relay::Relay(int wan_domain, fdds::DomainParticipantQos wan_qos, int local_domai
 }
 
 void Relay::make_wan(fdds::DomainParticipantQos wan_qos) {
-    discovery_ = std::make_unique<dds::Discovery>(discovered_.callback());
+    discovery_ = std::make_unique<passthrough::Discovery>(discovered_.callback());
     wan_qos.name("tm-basecamp relay/wan");
     wan_secured_ = base::has_dds_security(wan_qos);
     if (channel_bps_ > 0 && measure_channel_) {
@@ -179,8 +179,8 @@ void Relay::make_uplink() {
     }
     // Nothing is charged: the camp has no link budget. Its counts tell the grantor what the camp sends each robot.
     const core::WireModel wire = wan_secured_ ? core::WireModel{}.with_security() : core::WireModel{};
-    uplink_ = std::make_unique<dds::Uplink>(local_, wan_, clock_, wire, dds::Uplink::Charge{});
-    for (const dds::DiscoveredPublisher& publisher : uplink_publishers_) {
+    uplink_ = std::make_unique<passthrough::Uplink>(local_, wan_, clock_, wire, passthrough::Uplink::Charge{});
+    for (const passthrough::DiscoveredPublisher& publisher : uplink_publishers_) {
         route_uplink(publisher);
     }
 }
@@ -195,7 +195,7 @@ void Relay::remake_wan(fdds::DomainParticipantQos wan_qos) {
         backfill_ = BackfillEndpoints::make_or_say_why(wan_, *archive_);
     }
     std::lock_guard<std::mutex> lock(topics_mutex_);
-    const auto status = topics_.find(dds::STATUS_TOPIC);
+    const auto status = topics_.find(wire::STATUS_TOPIC);
     if (status != topics_.end()) {
         for (auto& lane : status->second->lanes)
             lane->statuses = grantor_.get();
@@ -209,7 +209,7 @@ void Relay::retire_wan() {
         std::lock_guard<std::mutex> lock(topics_mutex_);
         for (auto& [name, topic] : topics_) {
             for (auto& lane : topic->lanes) {
-                dds::delete_reader_then_writer(lane->reader, nullptr);  // the local writer stays
+                passthrough::delete_reader_then_writer(lane->reader, nullptr);  // the local writer stays
                 lane->reader = nullptr;
                 lane->statuses = nullptr;
             }
@@ -253,10 +253,10 @@ Relay::~Relay() {
     }
 }
 
-std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic,
+std::unique_ptr<Relay::Lane> Relay::make_lane(const passthrough::DiscoveredPublisher& publisher, Topic& topic,
                                               std::uint16_t index) {
-    fdds::Topic* local_topic =
-        dds::passthrough_topic(local_, publisher.topic, publisher.type_name, publisher.keyed, publisher.type_object);
+    fdds::Topic* local_topic = passthrough::passthrough_topic(local_, publisher.topic, publisher.type_name,
+                                                              publisher.keyed, publisher.type_object);
     fdds::Publisher* publisher_entity = local_publishers_.get(local_, publisher.qos);
     if (local_topic == nullptr || publisher_entity == nullptr) {
         std::fprintf(stderr, "tm-basecamp relay: cannot create the topic '%s' (type '%s')\n", publisher.topic.c_str(),
@@ -265,15 +265,15 @@ std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& pu
     }
     auto lane = std::make_unique<Lane>(topic.writers, index, topic_record(publisher), tally_, store_);
     lane->offer = publisher.qos;
-    if (publisher.topic == dds::STATUS_TOPIC) {
+    if (publisher.topic == wire::STATUS_TOPIC) {
         lane->statuses = grantor_.get();
     }
     // The writer first, so that nothing the reader takes finds no writer. Its Lifespan is the gateway's (TTL, or
     // none on a latched topic): with the source timestamp kept, a sample expires here when it would have there.
     lane->writer = publisher_entity->create_datawriter(
         local_topic,
-        dds::passthrough_writer_qos(publisher_entity->get_default_datawriter_qos(), publisher.qos, publisher.keyed,
-                                    publisher.lifespan),
+        passthrough::passthrough_writer_qos(publisher_entity->get_default_datawriter_qos(), publisher.qos,
+                                            publisher.keyed, publisher.lifespan),
         &lane->writer_matches, fdds::StatusMask::publication_matched());
     if (lane->writer == nullptr || !attach_reader(*lane, publisher)) {
         std::fprintf(stderr, "tm-basecamp relay: cannot relay '%s' (%s)\n", publisher.topic.c_str(),
@@ -283,27 +283,28 @@ std::unique_ptr<Relay::Lane> Relay::make_lane(const dds::DiscoveredPublisher& pu
     return lane;
 }
 
-bool Relay::attach_reader(Lane& lane, const dds::DiscoveredPublisher& publisher) {
-    fdds::Topic* wan_topic = dds::passthrough_topic(wan_, publisher.topic, publisher.type_name, publisher.keyed);
+bool Relay::attach_reader(Lane& lane, const passthrough::DiscoveredPublisher& publisher) {
+    fdds::Topic* wan_topic =
+        passthrough::passthrough_topic(wan_, publisher.topic, publisher.type_name, publisher.keyed);
     fdds::Subscriber* subscriber = wan_subscribers_.get(wan_, publisher.qos);
     if (wan_topic == nullptr || subscriber == nullptr) {
         return false;
     }
     lane.reader = subscriber->create_datareader(
         wan_topic,
-        dds::passthrough_reader_qos(subscriber->get_default_datareader_qos(), publisher.qos, publisher.keyed), &lane,
-        fdds::StatusMask::all());
+        passthrough::passthrough_reader_qos(subscriber->get_default_datareader_qos(), publisher.qos, publisher.keyed),
+        &lane, fdds::StatusMask::all());
     return lane.reader != nullptr;
 }
 
-void Relay::relay(const dds::DiscoveredPublisher& publisher) {
+void Relay::relay(const passthrough::DiscoveredPublisher& publisher) {
     // Receivers' reports are for the gateways, not the camp. Backfill is past its TTL: the archive's, never the
     // camp's live domain (archive_backfill).
-    if (publisher.topic == dds::RECEIVER_REPORT_TOPIC || dds::is_backfill_topic(publisher.topic)) {
+    if (publisher.topic == wire::RECEIVER_REPORT_TOPIC || wire::is_backfill_topic(publisher.topic)) {
         return;
     }
     // A compact-mode gateway: its bundles are unpacked, each sample republished on its own topic.
-    if (publisher.topic == dds::COMPACT_BUNDLE_TOPIC || publisher.topic == dds::COMPACT_CATALOG_TOPIC) {
+    if (publisher.topic == wire::COMPACT_BUNDLE_TOPIC || publisher.topic == wire::COMPACT_CATALOG_TOPIC) {
         if (!compact_) {
             compact_ = std::make_unique<CompactUnpacker>(wan_, local_, local_publishers_, tally_, store_,
                                                          grantor_.get(), archive_);
@@ -344,7 +345,7 @@ void Relay::relay(const dds::DiscoveredPublisher& publisher) {
     topic->lanes.push_back(std::move(lane));
 }
 
-void Relay::uplink(const dds::DiscoveredPublisher& publisher) {
+void Relay::uplink(const passthrough::DiscoveredPublisher& publisher) {
     if (uplink_topics_.empty() || !uplink_topics_.robot_topic(publisher.topic)) {
         return;  // nothing else goes from the camp onto the WAN
     }
@@ -354,12 +355,12 @@ void Relay::uplink(const dds::DiscoveredPublisher& publisher) {
     }
 }
 
-void Relay::route_uplink(const dds::DiscoveredPublisher& publisher) {
+void Relay::route_uplink(const passthrough::DiscoveredPublisher& publisher) {
     // The camp publisher's Lifespan goes on with its commands; without one they never expire here, and the gateway
     // gives them its own TTL.
-    std::optional<dds::ResolvedTtl> ttl;
+    std::optional<passthrough::ResolvedTtl> ttl;
     if (publisher.lifespan) {
-        ttl = dds::ResolvedTtl{*publisher.lifespan, dds::TtlSource::publisher};
+        ttl = passthrough::ResolvedTtl{*publisher.lifespan, passthrough::TtlSource::publisher};
     }
     uplink_->route(publisher, publisher.topic, ttl);
 }
@@ -381,14 +382,14 @@ std::optional<ChannelReading> Relay::channel_reading() const {
     return grantor_ ? grantor_->channel_reading() : std::nullopt;
 }
 
-std::vector<dds::UplinkCount> Relay::uplink_counts() const {
-    return uplink_ ? uplink_->counts() : std::vector<dds::UplinkCount>{};
+std::vector<passthrough::UplinkCount> Relay::uplink_counts() const {
+    return uplink_ ? uplink_->counts() : std::vector<passthrough::UplinkCount>{};
 }
 
 void Relay::run(base::Duration duration, const std::atomic<bool>& stop) {
     const auto end = base::SteadyClock::now() + duration;
     while (!stop.load() && base::SteadyClock::now() < end) {
-        for (const dds::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
+        for (const passthrough::DiscoveredPublisher& publisher : discovered_.take(std::chrono::milliseconds(100))) {
             relay(publisher);
         }
         if (compact_) {
@@ -400,7 +401,7 @@ void Relay::run(base::Duration duration, const std::atomic<bool>& stop) {
             }
             grantor_->poll();
         }
-        for (const dds::DiscoveredPublisher& publisher : local_discovered_.take(std::chrono::milliseconds(0))) {
+        for (const passthrough::DiscoveredPublisher& publisher : local_discovered_.take(std::chrono::milliseconds(0))) {
             uplink(publisher);
         }
         if (backfill_) {

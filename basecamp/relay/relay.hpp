@@ -19,12 +19,12 @@
 #include "basecamp/capture/discovery_queue.hpp"
 #include "basecamp/channel/channel_grantor.hpp"
 #include "basecamp/sample/sample_consumer.hpp"
-#include "gateway/dds/discovery.hpp"
-#include "gateway/dds/lane_assignment.hpp"
-#include "gateway/dds/partition_groups.hpp"
-#include "gateway/dds/type_object_guard.hpp"
-#include "gateway/dds/uplink.hpp"
-#include "gateway/dds/uplink_topics.hpp"
+#include "passthrough/discovery.hpp"
+#include "passthrough/lane_assignment.hpp"
+#include "passthrough/partition_groups.hpp"
+#include "passthrough/type_object_guard.hpp"
+#include "passthrough/uplink.hpp"
+#include "passthrough/uplink_topics.hpp"
 
 namespace eprosima::fastdds::dds {
 class DomainParticipant;
@@ -101,7 +101,7 @@ class Relay {
     std::optional<ChannelReading> channel_reading() const;
 
     /// The uplink topics a camp publisher was discovered of, with what became of their samples.
-    std::vector<dds::UplinkCount> uplink_counts() const;
+    std::vector<passthrough::UplinkCount> uplink_counts() const;
 
     /// What the compact WAN mode's unpacker has done; nullptr until a compact-mode gateway appeared.
     const CompactUnpacker* compact() const { return compact_.get(); }
@@ -109,7 +109,7 @@ class Relay {
   private:
     class Lane;
     struct Topic {
-        dds::LaneAssignment writers;
+        passthrough::LaneAssignment writers;
         std::vector<std::unique_ptr<Lane>> lanes;
     };
 
@@ -119,13 +119,14 @@ class Relay {
     void make_uplink();
     /// Deletes the WAN participant and everything on it; the lanes keep their local writers.
     void retire_wan();
-    void relay(const dds::DiscoveredPublisher& publisher);
+    void relay(const passthrough::DiscoveredPublisher& publisher);
     /// The WAN reader of `lane`, which takes `publisher`'s topic with its QoS; false when DDS refuses it.
-    bool attach_reader(Lane& lane, const dds::DiscoveredPublisher& publisher);
+    bool attach_reader(Lane& lane, const passthrough::DiscoveredPublisher& publisher);
     /// Routes a camp publisher of an uplink topic onto the WAN, and remembers it; others are ignored.
-    void uplink(const dds::DiscoveredPublisher& publisher);
-    void route_uplink(const dds::DiscoveredPublisher& publisher);
-    std::unique_ptr<Lane> make_lane(const dds::DiscoveredPublisher& publisher, Topic& topic, std::uint16_t index);
+    void uplink(const passthrough::DiscoveredPublisher& publisher);
+    void route_uplink(const passthrough::DiscoveredPublisher& publisher);
+    std::unique_ptr<Lane> make_lane(const passthrough::DiscoveredPublisher& publisher, Topic& topic,
+                                    std::uint16_t index);
 
     SampleConsumer* store_;
     const int wan_domain_;
@@ -140,21 +141,21 @@ class Relay {
     base::SteadyTime next_report_ = base::SteadyClock::now() + report_period_;
     std::unique_ptr<ReceiverReporter> reporter_;
     DiscoveryQueue discovered_;  ///< before discovery_, whose callback feeds it
-    std::unique_ptr<dds::Discovery> discovery_;
+    std::unique_ptr<passthrough::Discovery> discovery_;
     eprosima::fastdds::dds::DomainParticipant* wan_ = nullptr;
-    const dds::UplinkTopics uplink_topics_;  ///< exact names, the same on both sides
-    DiscoveryQueue local_discovered_;        ///< before local_discovery_, whose callback feeds it
+    const passthrough::UplinkTopics uplink_topics_;  ///< exact names, the same on both sides
+    DiscoveryQueue local_discovered_;                ///< before local_discovery_, whose callback feeds it
     /// The local participant's listener: the camp's publishers of uplink topics (and it keeps the TypeObjects that
     /// base-camp tools announce from Fast DDS, as every listener of the project does).
-    std::unique_ptr<dds::Discovery> local_discovery_;
+    std::unique_ptr<passthrough::Discovery> local_discovery_;
     eprosima::fastdds::dds::DomainParticipant* local_ = nullptr;
-    dds::PartitionGroups<eprosima::fastdds::dds::Subscriber> wan_subscribers_;
-    dds::PartitionGroups<eprosima::fastdds::dds::Publisher> local_publishers_;
+    passthrough::PartitionGroups<eprosima::fastdds::dds::Subscriber> wan_subscribers_;
+    passthrough::PartitionGroups<eprosima::fastdds::dds::Publisher> local_publishers_;
     /// Made when a compact-mode gateway's bundles or catalog appear; before the participants go.
     std::unique_ptr<CompactUnpacker> compact_;
     base::SystemClock clock_;
-    std::unique_ptr<dds::Uplink> uplink_;                      ///< with uplink topics; before the participants go
-    std::vector<dds::DiscoveredPublisher> uplink_publishers_;  ///< the camp's, routed onto the WAN
+    std::unique_ptr<passthrough::Uplink> uplink_;  ///< with uplink topics; before the participants go
+    std::vector<passthrough::DiscoveredPublisher> uplink_publishers_;  ///< the camp's, routed onto the WAN
     std::unique_ptr<ChannelGrantor> grantor_;      ///< with a channel rate; its writer is the WAN participant's
     std::unique_ptr<BackfillEndpoints> backfill_;  ///< with an archive; before the participants go
     BackfillArchive* archive_ = nullptr;           ///< see archive_backfill; the compact unpacker's too

@@ -17,7 +17,7 @@ struct TopicRecord {
     bool keyed = false;
     bool reliable = false;
     std::int64_t discovered_ns = 0;  ///< wall clock
-    /// IDL of the type from the TypeObject its writer announced (dds::type_object_idl), when it described the
+    /// IDL of the type from the TypeObject its writer announced (passthrough::type_object_idl), when it described the
     /// type by itself; empty otherwise.
     std::string announced_idl;
 };

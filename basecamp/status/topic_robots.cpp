@@ -1,12 +1,12 @@
 #include "basecamp/status/topic_robots.hpp"
 
 #include "basecamp/status/gateway_status.hpp"
-#include "gateway/dds/status_topic.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 
 void TopicRobots::add(SampleRecord sample) {
-    if (sample.topic != dds::STATUS_TOPIC) {
+    if (sample.topic != wire::STATUS_TOPIC) {
         return;
     }
     if (const std::optional<idl::GatewayStatus> status = decode_gateway_status(sample.payload)) {

@@ -1,4 +1,4 @@
-// The gateway's reader of the base camp's backfill acknowledgements (dds::BACKFILL_ACK_TOPIC).
+// The gateway's reader of the base camp's backfill acknowledgements (wire::BACKFILL_ACK_TOPIC).
 #pragma once
 
 #include <mutex>

@@ -3,14 +3,31 @@
 #include <algorithm>
 #include <iostream>
 
-#include "gateway/dds/backfill_codec.hpp"
+#include "wire/backfill_codec.hpp"
 
 namespace tgw::dds {
+
+idl::BackfillSample backfill_sample(const log::StoredSample& row, const std::array<std::uint8_t, 16>& log_id) {
+    idl::BackfillSample sample;
+    sample.row_id(static_cast<std::uint64_t>(row.row_id));
+    sample.log_id(log_id);
+    sample.topic(row.topic);
+    sample.type_name(row.type_name);
+    sample.source_ns(base::to_ns(row.source_time));
+    sample.deadline_ns(base::to_ns(row.deadline));
+    sample.reason(row.reason);
+    sample.kind(static_cast<std::uint8_t>(row.kind));
+    sample.keyed(row.key.valid);
+    if (row.key.valid)
+        sample.instance(row.key.bytes);
+    sample.payload(row.payload);
+    return sample;
+}
 
 namespace {
 
 std::array<std::uint8_t, 16> octets_of(const std::string& log_id) {
-    const std::optional<std::array<std::uint8_t, 16>> octets = log_id_octets(log_id);
+    const std::optional<std::array<std::uint8_t, 16>> octets = wire::log_id_octets(log_id);
     if (!octets) {
         std::cerr << "telemetry-gateway: the on-robot log's id '" << log_id << "' is not 32 hex characters\n";
         return {};
@@ -102,7 +119,7 @@ bool BackfillSender::read_ahead(base::SteadyTime now) {
         const std::optional<log::StoredSample> stored = log_.read_dropped(row->id);
         std::vector<std::uint8_t> payload;
         if (stored)
-            payload = encode_backfill(*stored, log_id_);
+            payload = wire::encode_backfill(backfill_sample(*stored, log_id_));
         std::lock_guard<std::mutex> lock(mutex_);
         if (payload.empty()) {
             planner_.forget(row->id);  // pruned at the cap before the camp had it, or unreadable
@@ -162,7 +179,7 @@ void BackfillSender::acknowledged(const std::array<std::uint8_t, 16>& log_id,
         // A row read ahead that the camp has already: not sent again.
         ready_.erase(std::remove_if(ready_.begin(), ready_.end(),
                                     [&](const core::Sample& sample) {
-                                        const std::optional<std::int64_t> row = backfill_row_id(sample.payload);
+                                        const std::optional<std::int64_t> row = wire::backfill_row_id(sample.payload);
                                         return row && std::any_of(ranges.begin(), ranges.end(), [&](const auto& r) {
                                                    return *row >= r.first && *row <= r.second;
                                                });

@@ -14,13 +14,17 @@
 #include <utility>
 #include <vector>
 
+#include "BackfillPubSubTypes.h"
 #include "base/clock.hpp"
-#include "gateway/core/backfill_planner.hpp"
-#include "gateway/core/idle_source.hpp"
-#include "gateway/core/wire_model.hpp"
+#include "core/backfill_planner.hpp"
+#include "core/idle_source.hpp"
+#include "core/wire_model.hpp"
 #include "gateway/log/robot_log.hpp"
 
 namespace tgw::dds {
+
+/// `row` of the log `log_id` as the backfill topic carries it.
+idl::BackfillSample backfill_sample(const log::StoredSample& row, const std::array<std::uint8_t, 16>& log_id);
 
 /// Hands the forwarding loop the log's unacknowledged rows as samples of the backfill topic (idl::BackfillSample),
 /// one at a time when the loop is idle (core::IdleSource). A thread of its own reads the log ahead: the loop asks

@@ -9,7 +9,7 @@
 #include <fastrtps/utils/IPLocator.h>
 #include <fastdds/rtps/common/LocatorsIterator.hpp>
 
-#include "gateway/core/wire_model.hpp"
+#include "core/wire_model.hpp"
 #include "gateway/dds/early_heartbeats.hpp"
 #include "gateway/dds/unstamped_write.hpp"
 
@@ -97,7 +97,7 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     // A scheduled write's message carries its sample: only the rest need reading for it.
     const bool strip_unless_sample = descriptor_.strip_statistics_without_samples && !scheduled_write;
     if (descriptor_.strip_destination || descriptor_.strip_statistics || strip_unless_sample || strip_timestamp) {
-        const RtpsDatagram::Strippable strip = RtpsDatagram::strippable(send_buffer, send_buffer_size);
+        const wire::RtpsDatagram::Strippable strip = wire::RtpsDatagram::strippable(send_buffer, send_buffer_size);
         if (descriptor_.strip_statistics || (strip_unless_sample && !strip.carries_user_sample)) {
             // The trailer is the message's last submessage: the message without it is its first bytes.
             send_buffer_size -= static_cast<std::uint32_t>(strip.trailer_bytes);
@@ -116,9 +116,9 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
             cut += strip.timestamp_bytes;
         }
         if (cut > 0) {
-            const rtps::octet* rest = send_buffer + RtpsDatagram::HEADER_BYTES + cut;
+            const rtps::octet* rest = send_buffer + wire::RtpsDatagram::HEADER_BYTES + cut;
             thread_local std::vector<rtps::octet> stripped;
-            stripped.assign(send_buffer, send_buffer + RtpsDatagram::HEADER_BYTES);
+            stripped.assign(send_buffer, send_buffer + wire::RtpsDatagram::HEADER_BYTES);
             stripped.insert(stripped.end(), rest, send_buffer + send_buffer_size);
             send_buffer = stripped.data();
             send_buffer_size -= static_cast<std::uint32_t>(cut);
@@ -139,7 +139,7 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
     std::optional<std::size_t> heartbeat;
     const auto heartbeat_bytes = [&] {
         if (!heartbeat) {
-            heartbeat = RtpsDatagram::heartbeat_bytes(send_buffer, send_buffer_size);
+            heartbeat = wire::RtpsDatagram::heartbeat_bytes(send_buffer, send_buffer_size);
         }
         return *heartbeat;
     };
@@ -180,7 +180,7 @@ bool CoalescingTransport::send(rtps::SenderResource* low_sender_resource, const 
         return true;  // the schedule sends it in its topic's urgency, and charges it as it leaves
     }
     if (!scheduled_write && coalescer_->holds_control() && copies > 0 &&
-        RtpsDatagram::user_control_only(send_buffer, send_buffer_size)) {
+        wire::RtpsDatagram::user_control_only(send_buffer, send_buffer_size)) {
         return coalescer_->hold(*this, destination, send_buffer, send_buffer_size, copies);  // charged as it leaves
     }
     // A scheduled write was charged for one copy of its message, without the HEARTBEAT a reliable writer may
@@ -213,13 +213,13 @@ bool CoalescingTransport::send_datagram(const DatagramDestination& destination, 
         // Without its statistics submessage a datagram may still look as if it ended with one to the UDP
         // transport below, which would then write over its last 60 bytes: a payload's, or a protected message's
         // signature (seen once in about 10 secured compact-mode runs). PADs at the end keep it whole.
-        const std::size_t padding = RtpsDatagram::padding_against_statistics_fill(bytes, size);
+        const std::size_t padding = wire::RtpsDatagram::padding_against_statistics_fill(bytes, size);
         if (padding > 0) {
             thread_local std::vector<std::uint8_t> padded;
             padded.assign(bytes, bytes + size);
-            for (std::size_t i = 0; i < padding; i += sizeof(RtpsDatagram::PAD_SUBMESSAGE)) {
-                padded.insert(padded.end(), std::begin(RtpsDatagram::PAD_SUBMESSAGE),
-                              std::end(RtpsDatagram::PAD_SUBMESSAGE));
+            for (std::size_t i = 0; i < padding; i += sizeof(wire::RtpsDatagram::PAD_SUBMESSAGE)) {
+                padded.insert(padded.end(), std::begin(wire::RtpsDatagram::PAD_SUBMESSAGE),
+                              std::end(wire::RtpsDatagram::PAD_SUBMESSAGE));
             }
             bytes = padded.data();
             size = padded.size();

@@ -7,13 +7,13 @@
 
 #include "CompactWanPubSubTypes.h"
 #include "base/config_error.hpp"
-#include "gateway/compact/bundle_codec.hpp"
-#include "gateway/core/bundle_builder.hpp"
-#include "gateway/dds/compact_topics.hpp"
+#include "compact/bundle_codec.hpp"
+#include "core/bundle_builder.hpp"
 #include "gateway/dds/keyed_sample.hpp"
 #include "gateway/dds/unstamped_write.hpp"
 #include "gateway/dds/wan_router.hpp"
 #include "gateway/dds/wan_writer.hpp"
+#include "wire/compact_topics.hpp"
 
 namespace tgw::dds {
 
@@ -25,7 +25,7 @@ std::int64_t ns_or_infinite(const std::optional<base::Duration>& d) {
 
 wan::LaneOffer lane_offer(const CatalogLane& lane) {
     wan::LaneOffer out;
-    const OfferedQos& o = lane.offer;
+    const passthrough::OfferedQos& o = lane.offer;
     out.reliable(o.reliable);
     out.transient_local(o.transient_local);
     out.partitions(o.partitions);
@@ -55,17 +55,17 @@ compact::EntryKind entry_kind(core::SampleKind kind) {
 
 CompactWan::CompactWan(WanRouter& wan, const core::WireModel& wire, compact::BundleCompression compression)
     : wire_(wire), compression_(compression) {
-    OfferedQos best_effort;
-    bundle_writer_ = wan.create_writer(COMPACT_BUNDLE_TOPIC, COMPACT_BUNDLE_TOPIC, wan::BundlePubSubType().getName(),
-                                       false, std::nullopt, best_effort, nullptr);
-    OfferedQos latched;
+    passthrough::OfferedQos best_effort;
+    bundle_writer_ = wan.create_writer(wire::COMPACT_BUNDLE_TOPIC, wire::COMPACT_BUNDLE_TOPIC,
+                                       wan::BundlePubSubType().getName(), false, std::nullopt, best_effort, nullptr);
+    passthrough::OfferedQos latched;
     latched.reliable = true;
     latched.transient_local = true;
-    catalog_writer_ = wan.create_writer(COMPACT_CATALOG_TOPIC, COMPACT_CATALOG_TOPIC,
+    catalog_writer_ = wan.create_writer(wire::COMPACT_CATALOG_TOPIC, wire::COMPACT_CATALOG_TOPIC,
                                         wan::CatalogEntryPubSubType().getName(), true, std::nullopt, latched, nullptr);
     if (bundle_writer_ == nullptr || catalog_writer_ == nullptr) {
         throw base::ConfigError("--wan-mode compact: cannot create the WAN writers of " +
-                                std::string(COMPACT_BUNDLE_TOPIC) + " and " + COMPACT_CATALOG_TOPIC);
+                                std::string(wire::COMPACT_BUNDLE_TOPIC) + " and " + wire::COMPACT_CATALOG_TOPIC);
     }
 }
 

@@ -12,11 +12,11 @@
 
 #include "CompactWan.h"
 #include "base/time.hpp"
-#include "gateway/compact/bundle_codec.hpp"
-#include "gateway/core/sample.hpp"
-#include "gateway/core/sample_sink.hpp"
-#include "gateway/core/wire_model.hpp"
-#include "gateway/dds/offered_qos.hpp"
+#include "compact/bundle_codec.hpp"
+#include "core/sample.hpp"
+#include "core/sample_sink.hpp"
+#include "core/wire_model.hpp"
+#include "passthrough/offered_qos.hpp"
 
 namespace tgw::dds {
 
@@ -31,7 +31,7 @@ struct CatalogLane {
     bool keyed = false;
     base::Duration ttl{};
     std::uint16_t lane = 0;
-    OfferedQos offer;
+    passthrough::OfferedQos offer;
     std::optional<base::Duration> lifespan;  ///< what the relay republishes with; nullopt: infinite
     /// Its samples travel as one zstd frame each (the gateway compressed them), which the relay decompresses.
     bool zstd_payload = false;

@@ -6,7 +6,7 @@
 #include <optional>
 #include <utility>
 
-#include "gateway/core/wire_model.hpp"
+#include "core/wire_model.hpp"
 
 namespace tgw::dds {
 

@@ -15,7 +15,7 @@
 #include <fastdds/rtps/common/Locator.h>
 
 #include "base/clock.hpp"
-#include "gateway/dds/rtps_datagram.hpp"
+#include "wire/rtps_datagram.hpp"
 
 namespace tgw::dds {
 
@@ -125,7 +125,7 @@ class DatagramCoalescer {
     struct Batch {
         DatagramSender* sender = nullptr;
         DatagramDestination destination;
-        RtpsDatagram datagram;
+        wire::RtpsDatagram datagram;
         base::SteadyTime deadline{};
         base::SteadyTime last_sent{};
         std::uint64_t sent_at_once_scope = 0;  ///< the last write whose messages went at once

@@ -2,13 +2,13 @@
 
 #include <cstring>
 
-#include "gateway/dds/rtps_submessage.hpp"
+#include "wire/rtps_submessage.hpp"
 
 namespace tgw::dds {
 
 namespace {
 
-using namespace rtps_bytes;
+using namespace wire::rtps_bytes;
 
 /// Whether the DATA_FRAG's fragments end before its sample does.
 bool ends_early(const std::uint8_t* body, bool le) {

@@ -4,11 +4,11 @@
 #include <array>
 #include <cstring>
 
-#include "gateway/dds/rtps_submessage.hpp"
+#include "wire/rtps_submessage.hpp"
 
 namespace tgw::dds {
 
-using namespace rtps_bytes;
+using namespace wire::rtps_bytes;
 
 namespace {
 

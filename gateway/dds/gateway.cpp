@@ -7,19 +7,19 @@
 #include "BackfillPubSubTypes.h"
 #include "GatewayStatusPubSubTypes.h"
 #include "base/config_error.hpp"
-#include "gateway/dds/backfill_topics.hpp"
+#include "base/wan_address.hpp"
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/gateway_sink.hpp"
-#include "gateway/dds/qos_file.hpp"
-#include "gateway/dds/receiver_report_topic.hpp"
 #include "gateway/dds/robot_participant.hpp"
 #include "gateway/dds/status_publisher.hpp"
-#include "gateway/dds/status_topic.hpp"
 #include "gateway/dds/topic_table.hpp"
-#include "gateway/dds/wan_address.hpp"
 #include "gateway/dds/wan_router.hpp"
 #include "gateway/dds/wan_setup.hpp"
 #include "gateway/log/robot_log.hpp"
+#include "passthrough/qos_file.hpp"
+#include "wire/backfill_topics.hpp"
+#include "wire/receiver_report_topic.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::dds {
 
@@ -54,7 +54,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         log_ = std::make_unique<log::RobotLog>(config_.log_file, config_.log_max_bytes);
     }
     if (!config_.qos_file.empty()) {
-        load_qos_file(config_.qos_file);
+        passthrough::load_qos_file(config_.qos_file);
     }
 
     peer_specs_ = wan_peers_of(config_);
@@ -70,7 +70,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         }
     };
     if (!uplink_topics_.empty()) {
-        wan.on_remote_publisher = [link = wan_callbacks_](DiscoveredPublisher&& pub) {
+        wan.on_remote_publisher = [link = wan_callbacks_](passthrough::DiscoveredPublisher&& pub) {
             std::lock_guard<std::mutex> lock(link->mutex);
             if (link->gateway != nullptr) {
                 link->gateway->remote_publisher_discovered(std::move(pub));
@@ -78,7 +78,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         };
         wan.discovery_role = base::DiscoveryRole::super_client;
     }
-    wan_ = std::make_unique<WanRouter>(wan, participant_profile(WAN_PARTICIPANT_PROFILE));
+    wan_ = std::make_unique<WanRouter>(wan, passthrough::participant_profile(passthrough::WAN_PARTICIPANT_PROFILE));
     if (base::QuietDiscoveryPorts::worth_it(wan.interface_address)) {
         // Once the WAN participant has its own port: a base camp announcing itself to the others (Cyclone's
         // peers by address) draws no ICMP from this host over the radio.
@@ -116,19 +116,21 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         // granted its least share sends a status within about a second, but behind a sample already on the wire
         // it could not within STATUS_TTL, and a status doomed each time never told the base camp of the demand
         // that would raise the grant. Within that Lifespan it yields to a sample it would make late.
-        OfferedQos offer;
+        passthrough::OfferedQos offer;
         offer.reliable = true;  // matched by any reader's defaults
-        status_topic_ =
-            loop_->add_topic(core::TopicConfig{STATUS_TOPIC, config_.channel_grants ? STATUS_LIFESPAN : STATUS_TTL,
-                                               config_.channel_grants, STATUS_LIFESPAN});
+        status_topic_ = loop_->add_topic(
+            core::TopicConfig{wire::STATUS_TOPIC, config_.channel_grants ? wire::STATUS_LIFESPAN : wire::STATUS_TTL,
+                              config_.channel_grants, wire::STATUS_LIFESPAN});
         if (compact_) {
-            compact_->announce(CatalogLane{*status_topic_, STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(), true,
-                                           STATUS_TTL, 0, offer, STATUS_LIFESPAN, true});
+            compact_->announce(CatalogLane{*status_topic_, wire::STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(),
+                                           true, wire::STATUS_TTL, 0, offer, wire::STATUS_LIFESPAN, true});
         } else {
-            status_writer_ = wan_->create_writer(STATUS_TOPIC, STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(),
-                                                 true, STATUS_LIFESPAN, offer, nullptr);
+            status_writer_ =
+                wan_->create_writer(wire::STATUS_TOPIC, wire::STATUS_TOPIC, idl::GatewayStatusPubSubType().getName(),
+                                    true, wire::STATUS_LIFESPAN, offer, nullptr);
             if (status_writer_ == nullptr) {
-                throw base::ConfigError("--status-period: cannot create the writer of " + std::string(STATUS_TOPIC));
+                throw base::ConfigError("--status-period: cannot create the writer of " +
+                                        std::string(wire::STATUS_TOPIC));
             }
         }
         sink_->set_status_route(*status_topic_, status_writer_);
@@ -163,8 +165,8 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
         }
     }
 
-    discovery_ = std::make_unique<Discovery>(
-        [this](DiscoveredPublisher&& pub) {
+    discovery_ = std::make_unique<passthrough::Discovery>(
+        [this](passthrough::DiscoveredPublisher&& pub) {
             worker_.post([this, pub = std::move(pub)]() mutable { lifecycle_->gather_nts(std::move(pub)); });
         },
         [this](const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
@@ -181,34 +183,36 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     try {
         RobotTransport transport = config_.robot;
         for (std::string& interface : transport.interfaces) {
-            interface = resolve_interface_address(interface, "--robot-interface");
+            interface = base::resolve_interface_address(interface, "--robot-interface");
         }
         // The declared topics go to the worker first, before any publisher the robot participant finds: a lane
         // declared after a running publisher had its own would not carry it (TopicBridge::lane_for_nts), and the
         // publisher's samples would cross with its QoS instead of the file's.
         if (!config_.qos_file.empty()) {
-            for (const DeclaredTopic& declared : declared_topics(config_.qos_file)) {
-                DiscoveredPublisher pub;
+            for (const passthrough::DeclaredTopic& declared : passthrough::declared_topics(config_.qos_file)) {
+                passthrough::DiscoveredPublisher pub;
                 pub.topic = declared.topic;
                 pub.type_name = declared.type_name;
                 pub.keyed = declared.keyed;
                 pub.lifespan = declared.lifespan;
-                pub.qos = OfferedQos::from_writer(declared.qos, declared.keyed);
+                pub.qos = passthrough::OfferedQos::from_writer(declared.qos, declared.keyed);
                 worker_.post([this, pub = std::move(pub)] { lifecycle_->bridge_nts(pub, true); });
             }
         }
         // Discovery starts inside the participant's creation, and what it finds is posted to the worker: the
         // worker starts once robot_ is set, so that nothing found meanwhile meets a participant not yet there.
-        robot_ = std::make_unique<RobotParticipant>(config_.robot_domain, discovery_.get(), transport,
-                                                    participant_profile(ROBOT_PARTICIPANT_PROFILE));
+        robot_ = std::make_unique<RobotParticipant>(
+            config_.robot_domain, discovery_.get(), transport,
+            passthrough::participant_profile(passthrough::ROBOT_PARTICIPANT_PROFILE));
         discovery_->ignore_participant(robot_->guid_prefix());
         lifecycle_->set_robot(*robot_);
         make_uplink();
         worker_.start();
-        if (std::any_of(peer_specs_.begin(), peer_specs_.end(), [](const WanPeer& p) { return !p.host.empty(); })) {
-            peer_lookup_ = std::make_unique<PeerLookup>(peer_specs_, [this](const std::vector<WanPeer>& now) {
-                const std::vector<WanPeer> peers =
-                    announcement_peers(now, config_.wan_domain, config_.wan_peer_participants);
+        if (std::any_of(peer_specs_.begin(), peer_specs_.end(),
+                        [](const base::WanPeer& p) { return !p.host.empty(); })) {
+            peer_lookup_ = std::make_unique<PeerLookup>(peer_specs_, [this](const std::vector<base::WanPeer>& now) {
+                const std::vector<base::WanPeer> peers =
+                    base::announcement_peers(now, config_.wan_domain, config_.wan_peer_participants);
                 post_wan_remake([this, peers] { remake_wan_nts(wan_->interface_address(), peers); });
             });
         }
@@ -271,20 +275,22 @@ void Gateway::start_backfill() {
     // The least urgent topic of all: its samples go only when no live sample wants the link (core::IdleSource),
     // and wait behind any that comes. Best effort: the camp's acknowledgements make it reliable, at the budget's
     // pace; a reliable writer's repairs would cross outside the schedule's order.
-    backfill_topic_ = loop_->add_topic(core::TopicConfig{BACKFILL_TOPIC, BACKFILL_TTL});
+    backfill_topic_ = loop_->add_topic(core::TopicConfig{wire::BACKFILL_TOPIC, wire::BACKFILL_TTL});
     loop_->set_reachable(*backfill_topic_, false);  // until a camp that stores backfill reads it
-    OfferedQos offer;
+    passthrough::OfferedQos offer;
     offer.reliable = false;
     // In compact mode its samples ride in bundles, and this writer writes nothing: its match says that a camp
     // archives backfill (a relay or a recorder with --out reads the topic), as in standard mode.
-    backfill_writer_ = wan_->create_writer(BACKFILL_TOPIC, BACKFILL_TOPIC, idl::BackfillSamplePubSubType().getName(),
-                                           false, std::nullopt, offer, nullptr);
+    backfill_writer_ =
+        wan_->create_writer(wire::BACKFILL_TOPIC, wire::BACKFILL_TOPIC, idl::BackfillSamplePubSubType().getName(),
+                            false, std::nullopt, offer, nullptr);
     if (backfill_writer_ == nullptr) {
-        throw base::ConfigError("--backfill: cannot create the writer of " + std::string(BACKFILL_TOPIC));
+        throw base::ConfigError("--backfill: cannot create the writer of " + std::string(wire::BACKFILL_TOPIC));
     }
     if (compact_) {
-        compact_->announce(CatalogLane{*backfill_topic_, BACKFILL_TOPIC, idl::BackfillSamplePubSubType().getName(),
-                                       false, BACKFILL_TTL, 0, offer, std::nullopt, false});
+        compact_->announce(CatalogLane{*backfill_topic_, wire::BACKFILL_TOPIC,
+                                       idl::BackfillSamplePubSubType().getName(), false, wire::BACKFILL_TTL, 0, offer,
+                                       std::nullopt, false});
     }
     BackfillSender::Config backfill;
     backfill.planner.max_bps = config_.backfill_max_bps;
@@ -337,7 +343,7 @@ void Gateway::make_uplink() {
     if (uplink_topics_.empty()) {
         return;
     }
-    Uplink::Charge charge;
+    passthrough::Uplink::Charge charge;
     if (config_.uplink_shares_link) {
         // Outside the schedule, as discovery is: so the status tells the base camp's grantor, and a robot's
         // grant leaves room for the commands the camp sends it on the shared channel.
@@ -346,8 +352,8 @@ void Gateway::make_uplink() {
             charge_unscheduled(frame_bytes);
         };
     }
-    uplink_ =
-        std::make_unique<Uplink>(wan_->participant(), robot_->participant(), clock_, camp_wire_, std::move(charge));
+    uplink_ = std::make_unique<passthrough::Uplink>(wan_->participant(), robot_->participant(), clock_, camp_wire_,
+                                                    std::move(charge));
 }
 
 void Gateway::rebind_wan(const std::string& address) {
@@ -369,7 +375,7 @@ void Gateway::rebind_wan_nts(const std::string& address) {
     remake_wan_nts(address, wan_->peers());
 }
 
-void Gateway::remake_wan_nts(const std::string& address, const std::vector<WanPeer>& peers) {
+void Gateway::remake_wan_nts(const std::string& address, const std::vector<base::WanPeer>& peers) {
     if (uplink_) {
         uplink_->close();  // its readers are the old participant's
         uplink_.reset();
@@ -429,7 +435,7 @@ void Gateway::poll_reachability_nts() {
     worker_.post_at(std::chrono::steady_clock::now() + REACHABILITY_POLL, [this] { poll_reachability_nts(); });
 }
 
-void Gateway::remote_publisher_discovered(DiscoveredPublisher&& pub) {
+void Gateway::remote_publisher_discovered(passthrough::DiscoveredPublisher&& pub) {
     std::optional<std::string> robot_topic = uplink_topics_.robot_topic(pub.topic);
     if (!robot_topic) {
         return;  // nothing else flows from the WAN into the robot domain
@@ -438,7 +444,7 @@ void Gateway::remote_publisher_discovered(DiscoveredPublisher&& pub) {
         [this, pub = std::move(pub), robot_topic = std::move(*robot_topic)] { route_uplink_nts(pub, robot_topic); });
 }
 
-void Gateway::route_uplink_nts(const DiscoveredPublisher& pub, const std::string& robot_topic) {
+void Gateway::route_uplink_nts(const passthrough::DiscoveredPublisher& pub, const std::string& robot_topic) {
     if (!uplink_) {
         return;  // stopping
     }
@@ -446,8 +452,8 @@ void Gateway::route_uplink_nts(const DiscoveredPublisher& pub, const std::string
     uplink_->route(pub, robot_topic, lifecycle_->ttl_for(robot_topic, pub.lifespan));
 }
 
-std::vector<UplinkCount> Gateway::uplink_counts() const {
-    return uplink_ ? uplink_->counts() : std::vector<UplinkCount>{};
+std::vector<passthrough::UplinkCount> Gateway::uplink_counts() const {
+    return uplink_ ? uplink_->counts() : std::vector<passthrough::UplinkCount>{};
 }
 
 std::vector<BridgedTopic> Gateway::topics() const {
@@ -572,7 +578,7 @@ std::vector<TopicCount> Gateway::status_rows() const {
         }
     }
     if (retired.received > 0) {
-        rows.push_back(TopicCount{RETIRED_TOPICS_ROW, ResolvedTtl{}, retired, false, 0});
+        rows.push_back(TopicCount{RETIRED_TOPICS_ROW, passthrough::ResolvedTtl{}, retired, false, 0});
     }
     return rows;
 }
@@ -600,7 +606,7 @@ void Gateway::fill_status(idl::GatewayStatus& status, std::int32_t rows_readers)
     status.uplink_topics(uplink_topics_.wan_topics());
     status.uplink_charged(config_.uplink_shares_link);
     std::uint64_t uplink_bytes = 0;
-    for (const UplinkCount& up : uplink_counts()) {
+    for (const passthrough::UplinkCount& up : uplink_counts()) {
         uplink_bytes += up.wire_bytes;
     }
     status.uplink_wire_bytes(uplink_bytes);

@@ -19,21 +19,19 @@
 #include "base/clock.hpp"
 #include "base/event_loop.hpp"
 #include "base/quiet_discovery_ports.hpp"
-#include "gateway/core/demand_watch.hpp"
-#include "gateway/core/forwarding_loop.hpp"
-#include "gateway/core/latency_histogram.hpp"
-#include "gateway/core/scheduler.hpp"
-#include "gateway/core/sent_rate.hpp"
-
+#include "base/wan_address.hpp"
+#include "core/demand_watch.hpp"
+#include "core/forwarding_loop.hpp"
+#include "core/latency_histogram.hpp"
+#include "core/scheduler.hpp"
+#include "core/sent_rate.hpp"
 #include "gateway/dds/backfill_ack_reader.hpp"
 #include "gateway/dds/backfill_sender.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
-#include "gateway/dds/discovery.hpp"
 #include "gateway/dds/gateway_config.hpp"
 #include "gateway/dds/grant_reader.hpp"
-#include "gateway/dds/offered_qos.hpp"
 #include "gateway/dds/peer_lookup.hpp"
 #include "gateway/dds/rate_control.hpp"
 #include "gateway/dds/receiver_report_reader.hpp"
@@ -45,10 +43,11 @@
 #include "gateway/dds/topic_filter.hpp"
 #include "gateway/dds/topic_lifecycle.hpp"
 #include "gateway/dds/topic_rules.hpp"
-#include "gateway/dds/ttl_resolver.hpp"
-#include "gateway/dds/uplink.hpp"
-#include "gateway/dds/uplink_topics.hpp"
-#include "gateway/dds/wan_address.hpp"
+#include "passthrough/discovery.hpp"
+#include "passthrough/offered_qos.hpp"
+#include "passthrough/ttl_resolver.hpp"
+#include "passthrough/uplink.hpp"
+#include "passthrough/uplink_topics.hpp"
 #include "sensor/rate_sensor.hpp"
 #include "types/type_library.hpp"
 
@@ -184,7 +183,7 @@ class Gateway {
     /// Samples handed to the on-robot log.
     std::uint64_t logged() const;
     /// The uplink's topics that a base-camp publisher was discovered of, with what became of their samples.
-    std::vector<UplinkCount> uplink_counts() const;
+    std::vector<passthrough::UplinkCount> uplink_counts() const;
 
     /// The gateway's own processing time of every sample forwarded so far: from its arrival in the scheduler
     /// to the return of the WAN DataWriter's write (time queued for the link budget included).
@@ -216,16 +215,16 @@ class Gateway {
     /// Has the worker charge `frame_bytes` that crossed the link outside the schedule to the loop's budget.
     void charge_link(std::uint64_t frame_bytes);
     /// A base-camp writer discovered on the WAN: routed to the robot domain if its topic is on the uplink list.
-    void remote_publisher_discovered(DiscoveredPublisher&& pub);  // Fast DDS's discovery thread
+    void remote_publisher_discovered(passthrough::DiscoveredPublisher&& pub);  // Fast DDS's discovery thread
     /// Routes a listed topic's base-camp publisher into the robot domain. The worker thread only.
-    void route_uplink_nts(const DiscoveredPublisher& pub, const std::string& robot_topic);
+    void route_uplink_nts(const passthrough::DiscoveredPublisher& pub, const std::string& robot_topic);
     /// The uplink's readers on the WAN participant and writers on the robot's, with --uplink.
     void make_uplink();
     void rebind_wan_nts(const std::string& address);
     /// Holds the rate at 0 from now until `remake` (which ends with remake_wan_nts) has run in the gateway's thread.
     void post_wan_remake(std::function<void()> remake);
     /// The WAN participant made anew on `address`, announcing to `peers`; in the gateway's own thread.
-    void remake_wan_nts(const std::string& address, const std::vector<WanPeer>& peers);
+    void remake_wan_nts(const std::string& address, const std::vector<base::WanPeer>& peers);
 
     GatewayConfig config_;
     const base::Clock& clock_;
@@ -234,7 +233,7 @@ class Gateway {
     const types::TypeLibrary types_;
     /// How the WAN participant's callbacks (unscheduled traffic, base-camp writers) reach this object while it lives.
     std::shared_ptr<WanCallbackLink> wan_callbacks_;
-    UplinkTopics uplink_topics_;
+    passthrough::UplinkTopics uplink_topics_;
     /// What the camp's commands cost on the link: its datagrams as Fast DDS sends them (compact mode strips only
     /// this end's).
     core::WireModel camp_wire_;
@@ -255,15 +254,15 @@ class Gateway {
     std::unique_ptr<core::ForwardingLoop> loop_;
     std::unique_ptr<RateControl> rate_;          ///< after loop_, which it sets the rate of
     std::unique_ptr<TopicLifecycle> lifecycle_;  ///< after loop_ and topics_, which it uses
-    std::unique_ptr<Discovery> discovery_;
+    std::unique_ptr<passthrough::Discovery> discovery_;
 
     /// The worker thread: every *_nts function runs there, and DDS entities are made and deleted there only.
     base::EventLoop worker_;
 
     std::unique_ptr<RobotParticipant> robot_;
-    std::unique_ptr<Uplink> uplink_;                        ///< with --uplink; closed by stop(), before robot_ goes
+    std::unique_ptr<passthrough::Uplink> uplink_;           ///< with --uplink; closed by stop(), before robot_ goes
     std::atomic<std::uint64_t> unscheduled_wire_bytes_{0};  ///< the camp's commands (--duplex half) among them
-    std::vector<WanPeer> peer_specs_;                       ///< --wan-peer as given, names resolved at start
+    std::vector<base::WanPeer> peer_specs_;                 ///< --wan-peer as given, names resolved at start
     std::unique_ptr<PeerLookup> peer_lookup_;  ///< with --wan-peer host names: a change makes the participant anew
     std::atomic<std::uint64_t> wan_rebinds_{0};
     std::shared_ptr<WanWriter> status_writer_;   ///< standard WAN mode

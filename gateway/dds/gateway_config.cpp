@@ -3,9 +3,9 @@
 #include "base/config_error.hpp"
 #include "base/discovery_server.hpp"
 #include "base/robot_namespace.hpp"
-#include "gateway/dds/uplink_topics.hpp"
-#include "gateway/dds/wan_address.hpp"
+#include "base/wan_address.hpp"
 #include "gateway/dds/wan_router.hpp"
+#include "passthrough/uplink_topics.hpp"
 
 namespace tgw::dds {
 
@@ -77,9 +77,9 @@ void GatewayConfig::validate() const {
         throw base::ConfigError("--default-ttl: must be positive");
     }
     for (const std::string& peer : wan_peers) {
-        parse_wan_peer(peer, wan_domain);
+        base::parse_wan_peer(peer, wan_domain);
     }
-    UplinkTopics(uplink, robot_name);  // throws naming --uplink
+    passthrough::UplinkTopics(uplink, robot_name);  // throws naming --uplink
     for (const auto* globs : {&allow, &deny}) {
         for (const std::string& glob : *globs) {
             if (glob.empty()) {

@@ -9,7 +9,7 @@
 
 #include <fastdds/rtps/transport/TransportDescriptorInterface.h>
 #include "base/time.hpp"
-#include "gateway/core/scheduler.hpp"
+#include "core/scheduler.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/robot_transport.hpp"

@@ -2,10 +2,10 @@
 
 #include <utility>
 
-#include "gateway/dds/backfill_codec.hpp"
 #include "gateway/dds/backfill_sender.hpp"
 #include "gateway/dds/compact_wan.hpp"
 #include "gateway/dds/repair_desk.hpp"
+#include "wire/backfill_codec.hpp"
 
 namespace tgw::dds {
 
@@ -181,7 +181,7 @@ void GatewaySink::discard_repair(std::uint64_t id) {
 void GatewaySink::backfill_left(const core::Sample& sample, bool written) {
     std::optional<std::int64_t> row;
     if (!sample.chunk || sample.chunk->offset == 0) {
-        row = backfill_row_id(sample.payload);
+        row = wire::backfill_row_id(sample.payload);
     }
     if (sample.chunk) {
         // The sample is told whole: left with its last chunk; if a chunk fails, the scheduler drops it whole.
@@ -209,7 +209,7 @@ void GatewaySink::backfill_left(const core::Sample& sample, bool written) {
 void GatewaySink::drop(core::Sample&& sample, core::DropReason reason) {
     if (sample.topic == backfill_topic_) {
         // Its row is in the log already: it may go again.
-        if (const std::optional<std::int64_t> row = backfill_row_id(sample.payload)) {
+        if (const std::optional<std::int64_t> row = wire::backfill_row_id(sample.payload)) {
             backfill_->not_left(*row);
         }
         return;

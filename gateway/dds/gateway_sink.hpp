@@ -8,8 +8,8 @@
 #include <unordered_map>
 
 #include "base/clock.hpp"
-#include "gateway/core/latency_histogram.hpp"
-#include "gateway/core/sample_sink.hpp"
+#include "core/latency_histogram.hpp"
+#include "core/sample_sink.hpp"
 #include "gateway/dds/topic_table.hpp"
 #include "gateway/log/robot_log.hpp"
 

@@ -6,7 +6,7 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include "ChannelGrantPubSubTypes.h"
-#include "gateway/dds/channel_grant_topic.hpp"
+#include "wire/channel_grant_topic.hpp"
 
 namespace tgw::dds {
 
@@ -32,7 +32,7 @@ void GrantReader::on_data_available(eprosima::fastdds::dds::DataReader* reader) 
         Heard* heard = nullptr;
         if (std::equal(prefix.begin(), prefix.end(), std::begin(own_.value))) {
             heard = &own_grant_;
-        } else if (prefix == NEWCOMER_PREFIX) {
+        } else if (prefix == wire::NEWCOMER_PREFIX) {
             heard = &newcomer_;
         } else {
             continue;  // another gateway's

@@ -9,7 +9,7 @@
 #include <fastdds/rtps/common/GuidPrefix_t.hpp>
 
 #include "base/clock.hpp"
-#include "gateway/core/granted_rate.hpp"
+#include "core/granted_rate.hpp"
 
 namespace tgw::dds {
 

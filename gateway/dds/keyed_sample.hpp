@@ -3,7 +3,7 @@
 #include <fastdds/rtps/common/InstanceHandle.h>
 #include <fastdds/rtps/common/SerializedPayload.h>
 
-#include "gateway/core/sample.hpp"
+#include "core/sample.hpp"
 
 namespace tgw::dds {
 

@@ -7,8 +7,8 @@
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
-#include "gateway/dds/dds_time.hpp"
-#include "gateway/dds/passthrough_type.hpp"
+#include "passthrough/dds_time.hpp"
+#include "passthrough/passthrough_type.hpp"
 
 namespace tgw::dds {
 
@@ -27,8 +27,8 @@ core::SampleKind kind_of(const fdds::SampleInfo& info) {
 }  // namespace
 
 LaneListener::LaneListener(core::TopicId topic, std::string name, std::uint16_t lane, bool keyed,
-                           const LaneAssignment& lanes, core::ForwardingLoop& loop, const base::Clock& clock,
-                           std::shared_ptr<const types::KeyHasher> key_hasher)
+                           const passthrough::LaneAssignment& lanes, core::ForwardingLoop& loop,
+                           const base::Clock& clock, std::shared_ptr<const types::KeyHasher> key_hasher)
     : topic_(topic),
       name_(std::move(name)),
       lane_(lane),
@@ -42,7 +42,7 @@ void LaneListener::on_data_available(fdds::DataReader* reader) {
     // Fast DDS may call this from the SHM and the UDP receive threads at once: samples go to the loop in the
     // order they were taken.
     std::lock_guard<std::mutex> lock(take_order_);
-    PassthroughData data;
+    passthrough::PassthroughData data;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
         if (!lanes_.carries(info.publication_handle, lane_)) {
@@ -62,7 +62,7 @@ void LaneListener::on_data_available(fdds::DataReader* reader) {
         if (keyed_) {
             set_key(info, sample);
         }
-        if (const auto source = to_wall_time(info.source_timestamp)) {
+        if (const auto source = passthrough::to_wall_time(info.source_timestamp)) {
             sample.source_time = *source;
         } else {
             sample.source_time = clock_.wall_now();
@@ -73,7 +73,8 @@ void LaneListener::on_data_available(fdds::DataReader* reader) {
 }
 
 void LaneListener::set_key(const fdds::SampleInfo& info, core::Sample& sample) {
-    const bool sent = info.instance_handle.isDefined() && info.instance_handle != PassthroughType::UNKNOWN_INSTANCE;
+    const bool sent =
+        info.instance_handle.isDefined() && info.instance_handle != passthrough::PassthroughType::UNKNOWN_INSTANCE;
     if (sent) {
         const eprosima::fastrtps::rtps::octet* hash = info.instance_handle.value;
         std::copy(hash, hash + sample.key.bytes.size(), sample.key.bytes.begin());

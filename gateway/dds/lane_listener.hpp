@@ -10,8 +10,8 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include "base/clock.hpp"
-#include "gateway/core/forwarding_loop.hpp"
-#include "gateway/dds/lane_assignment.hpp"
+#include "core/forwarding_loop.hpp"
+#include "passthrough/lane_assignment.hpp"
 #include "types/key_hash.hpp"
 
 namespace tgw::dds {
@@ -25,8 +25,8 @@ class LaneListener final : public eprosima::fastdds::dds::DataReaderListener {
   public:
     /// `lanes` must outlive the listener. `name`: the topic's, for the warnings about key hashes. `key_hasher`: the
     /// keyed topic's type from IDL (--idl), to compute the key hash a publisher did not send; null: none known.
-    LaneListener(core::TopicId topic, std::string name, std::uint16_t lane, bool keyed, const LaneAssignment& lanes,
-                 core::ForwardingLoop& loop, const base::Clock& clock,
+    LaneListener(core::TopicId topic, std::string name, std::uint16_t lane, bool keyed,
+                 const passthrough::LaneAssignment& lanes, core::ForwardingLoop& loop, const base::Clock& clock,
                  std::shared_ptr<const types::KeyHasher> key_hasher = nullptr);
 
     void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
@@ -54,7 +54,7 @@ class LaneListener final : public eprosima::fastdds::dds::DataReaderListener {
     const std::string name_;
     const std::uint16_t lane_;
     const bool keyed_;
-    const LaneAssignment& lanes_;
+    const passthrough::LaneAssignment& lanes_;
     core::ForwardingLoop& loop_;
     const base::Clock& clock_;
     std::atomic<std::int32_t> matched_{0};

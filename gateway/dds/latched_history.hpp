@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "base/clock.hpp"
-#include "gateway/core/sample.hpp"
+#include "core/sample.hpp"
 
 namespace tgw::dds {
 

@@ -5,7 +5,7 @@
 
 namespace tgw::dds {
 
-PeerLookup::PeerLookup(std::vector<WanPeer> peers, Changed changed)
+PeerLookup::PeerLookup(std::vector<base::WanPeer> peers, Changed changed)
     : given_(std::move(peers)), changed_(std::move(changed)), known_(given_) {
     loop_.start();
     look_later();
@@ -25,7 +25,7 @@ void PeerLookup::look_later() {
 
 void PeerLookup::look() {
     look_later();
-    std::vector<WanPeer> now = resolve_peer_names(given_);  // the resolver may take seconds
+    std::vector<base::WanPeer> now = base::resolve_peer_names(given_);  // the resolver may take seconds
     for (std::size_t i = 0; i < now.size(); ++i) {
         if (now[i].address.empty()) {
             now[i].address = known_[i].address;  // a resolver that fails for a while changes nothing

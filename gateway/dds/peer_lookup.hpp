@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "base/event_loop.hpp"
-#include "gateway/dds/wan_address.hpp"
+#include "base/wan_address.hpp"
 
 namespace tgw::dds {
 
@@ -15,11 +15,11 @@ namespace tgw::dds {
 /// with their new addresses when one moved. A resolver that fails for a while changes nothing: the last address stays.
 class PeerLookup {
   public:
-    using Changed = std::function<void(const std::vector<WanPeer>& peers)>;
+    using Changed = std::function<void(const std::vector<base::WanPeer>& peers)>;
     static constexpr std::chrono::seconds PERIOD{5};
 
     /// `peers` as resolved at start; starts the thread, whose first lookup is PERIOD away.
-    PeerLookup(std::vector<WanPeer> peers, Changed changed);
+    PeerLookup(std::vector<base::WanPeer> peers, Changed changed);
     /// Stops.
     ~PeerLookup();
     PeerLookup(const PeerLookup&) = delete;
@@ -33,9 +33,9 @@ class PeerLookup {
     void look();
     void look_later();
 
-    const std::vector<WanPeer> given_;
+    const std::vector<base::WanPeer> given_;
     const Changed changed_;
-    std::vector<WanPeer> known_;  // in the loop's thread only
+    std::vector<base::WanPeer> known_;  // in the loop's thread only
     base::EventLoop loop_;
 };
 

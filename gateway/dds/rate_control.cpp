@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "gateway/core/granted_rate.hpp"
+#include "core/granted_rate.hpp"
 #include "gateway/dds/grant_reader.hpp"
 #include "gateway/dds/wan_router.hpp"
 #include "gateway/log/robot_log.hpp"

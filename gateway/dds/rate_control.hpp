@@ -6,8 +6,8 @@
 #include <mutex>
 
 #include "base/clock.hpp"
-#include "gateway/core/forwarding_loop.hpp"
-#include "gateway/core/sent_rate.hpp"
+#include "core/forwarding_loop.hpp"
+#include "core/sent_rate.hpp"
 
 namespace tgw::log {
 class RobotLog;

@@ -15,7 +15,7 @@ namespace tgw::dds {
 
 using sensor::ReceiverReportTotals;
 
-/// Listens on dds::RECEIVER_REPORT_TOPIC and keeps the reports about `own` (the gateway's WAN participant) in a
+/// Listens on wire::RECEIVER_REPORT_TOPIC and keeps the reports about `own` (the gateway's WAN participant) in a
 /// sensor::ReceiverReportLedger: one receiver at a time, a silent one given up after RECEIVER_SILENCE. Reports
 /// about other gateways are ignored. Thread-safe.
 class ReceiverReportReader final : public eprosima::fastdds::dds::DataReaderListener {

@@ -5,10 +5,10 @@
 #include <cstring>
 #include <utility>
 
-#include "gateway/core/wire_model.hpp"
+#include "core/wire_model.hpp"
 #include "gateway/dds/gap_for_repair.hpp"
-#include "gateway/dds/rtps_submessage.hpp"
 #include "gateway/dds/writer_announcement.hpp"
+#include "wire/rtps_submessage.hpp"
 
 namespace tgw::dds {
 
@@ -215,7 +215,8 @@ bool RepairDesk::hold_announcement(DatagramSender& sender, const DatagramDestina
     std::array<RtpsSampleRef, MAX_REFS> refs;
     const std::size_t n = rtps_sample_refs(message, size, refs.data(), refs.size());
     const auto announces = [](const RtpsSampleRef& ref) {
-        return std::memcmp(ref.writer.data(), rtps_bytes::SPDP_WRITER_ID, sizeof(rtps_bytes::SPDP_WRITER_ID)) == 0;
+        return std::memcmp(ref.writer.data(), wire::rtps_bytes::SPDP_WRITER_ID,
+                           sizeof(wire::rtps_bytes::SPDP_WRITER_ID)) == 0;
     };
     if (std::none_of(refs.begin(), refs.begin() + static_cast<std::ptrdiff_t>(n), announces)) {
         return false;

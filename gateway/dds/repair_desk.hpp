@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "base/clock.hpp"
-#include "gateway/core/repair.hpp"
+#include "core/repair.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/rtps_sample_refs.hpp"
 

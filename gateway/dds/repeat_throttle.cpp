@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cstring>
 
-#include "gateway/dds/rtps_submessage.hpp"
+#include "wire/rtps_submessage.hpp"
 
 namespace tgw::dds {
 
 namespace {
 
-using namespace rtps_bytes;
+using namespace wire::rtps_bytes;
 
 /// Entries kept before old ones are swept: a few per matched reader and writer.
 constexpr std::size_t SWEEP_ABOVE = 1024;

@@ -11,8 +11,8 @@
 
 #include "base/config_error.hpp"
 #include "base/host_transport.hpp"
-#include "gateway/dds/passthrough_qos.hpp"
-#include "gateway/dds/passthrough_type.hpp"
+#include "passthrough/passthrough_qos.hpp"
+#include "passthrough/passthrough_type.hpp"
 
 namespace tgw::dds {
 
@@ -51,7 +51,7 @@ RobotParticipant::RobotParticipant(int domain, fdds::DomainParticipantListener* 
         throw base::ConfigError("--robot-domain " + std::to_string(domain) +
                                 ": cannot create the robot participant (see the Fast DDS log)");
     }
-    if (subscribers_.get(participant_, OfferedQos{}) == nullptr) {
+    if (subscribers_.get(participant_, passthrough::OfferedQos{}) == nullptr) {
         fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
         throw base::ConfigError("--robot-domain " + std::to_string(domain) + ": cannot create a subscriber");
     }
@@ -66,10 +66,10 @@ RobotParticipant::~RobotParticipant() {
 }
 
 fdds::DataReader* RobotParticipant::create_reader(const std::string& topic_name, const std::string& type_name,
-                                                  bool keyed, const OfferedQos& offer,
+                                                  bool keyed, const passthrough::OfferedQos& offer,
                                                   fdds::DataReaderListener* listener) {
     std::lock_guard<std::mutex> lock(mutex_);
-    fdds::Topic* topic = passthrough_topic(participant_, topic_name, type_name, keyed);
+    fdds::Topic* topic = passthrough::passthrough_topic(participant_, topic_name, type_name, keyed);
     fdds::Subscriber* subscriber = subscribers_.get(participant_, offer);
     // A topic made here for a reader that could not be made goes again: nothing half-made stays behind.
     const auto drop_unused_topic = [&] {
@@ -83,7 +83,8 @@ fdds::DataReader* RobotParticipant::create_reader(const std::string& topic_name,
         return nullptr;
     }
 
-    const fdds::DataReaderQos qos = passthrough_reader_qos(subscriber->get_default_datareader_qos(), offer, keyed);
+    const fdds::DataReaderQos qos =
+        passthrough::passthrough_reader_qos(subscriber->get_default_datareader_qos(), offer, keyed);
 
     fdds::DataReader* reader = subscriber->create_datareader(topic, qos, listener, fdds::StatusMask::all());
     if (reader == nullptr) {

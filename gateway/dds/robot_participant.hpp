@@ -13,9 +13,9 @@
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 
-#include "gateway/dds/offered_qos.hpp"
-#include "gateway/dds/partition_groups.hpp"
 #include "gateway/dds/robot_transport.hpp"
+#include "passthrough/offered_qos.hpp"
+#include "passthrough/partition_groups.hpp"
 
 namespace tgw::dds {
 
@@ -40,7 +40,7 @@ class RobotParticipant {
     /// A passthrough reader of `topic` that matches every publisher offering `offer` (OfferedQos), in its
     /// partitions. Returns nullptr on failure, after logging it.
     eprosima::fastdds::dds::DataReader* create_reader(const std::string& topic, const std::string& type_name,
-                                                      bool keyed, const OfferedQos& offer,
+                                                      bool keyed, const passthrough::OfferedQos& offer,
                                                       eprosima::fastdds::dds::DataReaderListener* listener);
 
     /// Detaches the listener and deletes the reader (its topic goes with the topic's last reader).
@@ -52,7 +52,7 @@ class RobotParticipant {
 
   private:
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
-    PartitionGroups<eprosima::fastdds::dds::Subscriber> subscribers_;
+    passthrough::PartitionGroups<eprosima::fastdds::dds::Subscriber> subscribers_;
     std::map<std::string, int> readers_of_topic_;
     std::mutex mutex_;
 };

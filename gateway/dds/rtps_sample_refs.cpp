@@ -2,11 +2,11 @@
 
 #include <cstring>
 
-#include "gateway/dds/rtps_submessage.hpp"
+#include "wire/rtps_submessage.hpp"
 
 namespace tgw::dds {
 
-using namespace rtps_bytes;
+using namespace wire::rtps_bytes;
 
 std::size_t rtps_sample_refs(const std::uint8_t* message, std::size_t size, RtpsSampleRef* out, std::size_t max) {
     if (size < MESSAGE_HEADER_BYTES || std::memcmp(message, "RTPS", 4) != 0) {

@@ -7,7 +7,7 @@
 
 #include "GatewayStatusPubSubTypes.h"
 #include "base/robot_namespace.hpp"
-#include "gateway/compact/zstd_frame.hpp"
+#include "compact/zstd_frame.hpp"
 #include "gateway/dds/keyed_sample.hpp"
 
 namespace tgw::dds {

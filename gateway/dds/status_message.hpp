@@ -8,8 +8,8 @@
 
 #include "GatewayStatus.h"
 #include "base/time.hpp"
-#include "gateway/core/sample.hpp"
-#include "gateway/core/urgency_demand.hpp"
+#include "core/sample.hpp"
+#include "core/urgency_demand.hpp"
 #include "gateway/dds/topic_accounting.hpp"
 
 namespace tgw::dds {

@@ -4,10 +4,10 @@
 #include <utility>
 
 #include "GatewayStatusPubSubTypes.h"
-#include "gateway/core/alone_wire.hpp"
-#include "gateway/core/urgency_demand.hpp"
+#include "core/alone_wire.hpp"
+#include "core/urgency_demand.hpp"
 #include "gateway/dds/status_message.hpp"
-#include "gateway/dds/status_topic.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::dds {
 
@@ -26,7 +26,7 @@ base::Duration StatusPublisher::spacing(double rate_bps, double wire_bits) const
         return config_.period;
     }
     return std::max(config_.period,
-                    std::chrono::duration_cast<base::Duration>(status_rate_spacing(wire_bits, rate_bps)));
+                    std::chrono::duration_cast<base::Duration>(wire::status_rate_spacing(wire_bits, rate_bps)));
 }
 
 bool StatusPublisher::demand_moved(std::chrono::steady_clock::time_point now, double rate_bps,
@@ -97,7 +97,7 @@ void StatusPublisher::look(std::chrono::steady_clock::time_point now) {
         // paper robot) a robot that starts publishing after the others had its B expire for the 2 s until its
         // demand reached the base camp (three robots, measured channel: B 190 and 192 of 200 in 2 of 5 runs); the
         // floor of the serialized one (about 10,000) carries a robot's A and B meanwhile.
-        sources_.least_share(core::least_share_bps(loads, type.getSerializedSizeProvider(&status)(), STATUS_TTL,
+        sources_.least_share(core::least_share_bps(loads, type.getSerializedSizeProvider(&status)(), wire::STATUS_TTL,
                                                    core::AloneWire{config_.wire, config_.compact_wan},
                                                    config_.budget_fraction));
     }

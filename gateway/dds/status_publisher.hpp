@@ -11,9 +11,9 @@
 
 #include "GatewayStatus.h"
 #include "base/clock.hpp"
-#include "gateway/core/demand_watch.hpp"
-#include "gateway/core/forwarding_loop.hpp"
-#include "gateway/core/wire_model.hpp"
+#include "core/demand_watch.hpp"
+#include "core/forwarding_loop.hpp"
+#include "core/wire_model.hpp"
 #include "gateway/dds/topic_accounting.hpp"
 
 namespace tgw::dds {

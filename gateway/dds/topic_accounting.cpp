@@ -5,7 +5,8 @@
 
 namespace tgw::dds {
 
-void RetiredTopics::keep(const std::string& name, const ResolvedTtl& ttl, const core::TopicCounters& counts) {
+void RetiredTopics::keep(const std::string& name, const passthrough::ResolvedTtl& ttl,
+                         const core::TopicCounters& counts) {
     total_ += counts;
     auto it = by_name_.find(name);
     if (it == by_name_.end() && by_name_.size() >= MAX_NAMED) {

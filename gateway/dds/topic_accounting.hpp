@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "gateway/core/topic_counters.hpp"
-#include "gateway/dds/ttl_resolver.hpp"
+#include "core/topic_counters.hpp"
+#include "passthrough/ttl_resolver.hpp"
 
 namespace tgw::dds {
 
@@ -16,7 +16,7 @@ namespace tgw::dds {
 /// the retired topics past RetiredTopics::MAX_NAMED together (named RetiredTopics::OTHERS).
 struct TopicCount {
     std::string name;
-    ResolvedTtl ttl;  ///< the latest bridge's
+    passthrough::ResolvedTtl ttl;  ///< the latest bridge's
     /// Every bridge the topic had, summed: received = forwarded + queued + dropped holds for each, so for the sum.
     core::TopicCounters counters;
     bool bridged = false;              ///< bridged now
@@ -33,7 +33,7 @@ class RetiredTopics {
     static constexpr const char* OTHERS = "(other retired topics)";
 
     /// Adds `counts` to the record of `name`, with the TTL its last bridge had.
-    void keep(const std::string& name, const ResolvedTtl& ttl, const core::TopicCounters& counts);
+    void keep(const std::string& name, const passthrough::ResolvedTtl& ttl, const core::TopicCounters& counts);
     /// Every retired record together.
     const core::TopicCounters& total() const { return total_; }
     /// `bridged` (the topics bridged now, their counts in the scheduler), each with its earlier bridges' counts
@@ -43,7 +43,7 @@ class RetiredTopics {
   private:
     struct Record {
         core::TopicCounters counters;
-        ResolvedTtl ttl;
+        passthrough::ResolvedTtl ttl;
     };
     std::map<std::string, Record> by_name_;
     Record others_;  ///< beyond MAX_NAMED

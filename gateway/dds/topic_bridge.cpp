@@ -11,7 +11,7 @@
 namespace tgw::dds {
 
 struct TopicBridge::Lane {
-    OfferedQos offer;
+    passthrough::OfferedQos offer;
     bool live = false;
     bool declared = false;  ///< made at start-up from a --qos profile, before any publisher
     eprosima::fastdds::dds::DataReader* reader = nullptr;  ///< owned by the robot participant
@@ -20,7 +20,7 @@ struct TopicBridge::Lane {
 };
 
 TopicBridge::TopicBridge(core::TopicId id, std::string name, std::string wan_name, std::string type_name, bool keyed,
-                         ResolvedTtl ttl, Ends ends, std::shared_ptr<const types::KeyHasher> key_hasher)
+                         passthrough::ResolvedTtl ttl, Ends ends, std::shared_ptr<const types::KeyHasher> key_hasher)
     : id_(id),
       name_(std::move(name)),
       wan_name_(std::move(wan_name)),
@@ -32,7 +32,7 @@ TopicBridge::TopicBridge(core::TopicId id, std::string name, std::string wan_nam
 
 TopicBridge::~TopicBridge() = default;
 
-std::optional<std::uint16_t> TopicBridge::lane_for_nts(const OfferedQos& offer) const {
+std::optional<std::uint16_t> TopicBridge::lane_for_nts(const passthrough::OfferedQos& offer) const {
     for (std::size_t i = 0; i < lanes_.size(); ++i) {
         if (lanes_[i].live && lanes_[i].offer == offer) {
             return static_cast<std::uint16_t>(i);
@@ -48,7 +48,7 @@ std::optional<std::uint16_t> TopicBridge::lane_for_nts(const OfferedQos& offer) 
     return std::nullopt;
 }
 
-bool TopicBridge::admit(const DiscoveredPublisher& pub, bool declared) {
+bool TopicBridge::admit(const passthrough::DiscoveredPublisher& pub, bool declared) {
     if (const auto lane = lane_for_nts(pub.qos)) {
         // The lane's reader matches this publisher already.
         writers_.assign(pub.writer, *lane);

@@ -8,13 +8,13 @@
 #include <vector>
 
 #include "base/clock.hpp"
-#include "gateway/core/forwarding_loop.hpp"
-#include "gateway/core/sample.hpp"
-#include "gateway/dds/discovery.hpp"
-#include "gateway/dds/lane_assignment.hpp"
-#include "gateway/dds/offered_qos.hpp"
-#include "gateway/dds/ttl_resolver.hpp"
+#include "core/forwarding_loop.hpp"
+#include "core/sample.hpp"
 #include "gateway/dds/wan_writer.hpp"
+#include "passthrough/discovery.hpp"
+#include "passthrough/lane_assignment.hpp"
+#include "passthrough/offered_qos.hpp"
+#include "passthrough/ttl_resolver.hpp"
 #include "types/key_hash.hpp"
 
 namespace eprosima::fastdds::dds {
@@ -34,9 +34,9 @@ struct BridgedTopic {
     std::string name;
     std::string type_name;
     bool keyed = false;
-    ResolvedTtl ttl;
+    passthrough::ResolvedTtl ttl;
     /// The QoS offers of its publishers, one lane each (a robot reader and a WAN writer), by lane index.
-    std::vector<OfferedQos> lanes;
+    std::vector<passthrough::OfferedQos> lanes;
     /// By lane index: false once the lane's last publisher has left and the lane was retired (its index is
     /// reused by the next new offer).
     std::vector<bool> live;
@@ -66,7 +66,7 @@ class TopicBridge {
     /// `name` on the robot domain, `wan_name` on the WAN (GatewayConfig::robot_name).
     /// `key_hasher`: see LaneListener; null when the type's IDL is not known.
     TopicBridge(core::TopicId id, std::string name, std::string wan_name, std::string type_name, bool keyed,
-                ResolvedTtl ttl, Ends ends, std::shared_ptr<const types::KeyHasher> key_hasher = nullptr);
+                passthrough::ResolvedTtl ttl, Ends ends, std::shared_ptr<const types::KeyHasher> key_hasher = nullptr);
     /// Lets go of the WAN writers; close_readers() must have run.
     ~TopicBridge();
 
@@ -78,12 +78,12 @@ class TopicBridge {
     /// What the base camp calls it: `name`, under the robot's name when it has one.
     const std::string& wan_name() const { return wan_name_; }
     const std::string& type_name() const { return type_name_; }
-    const ResolvedTtl& ttl() const { return ttl_; }
+    const passthrough::ResolvedTtl& ttl() const { return ttl_; }
 
     /// Carries `pub`'s samples from now on, on the lane of its offer, or on a new one; `declared`: a --qos
     /// profile's lane, made before any publisher, that takes any publisher its reader matches. False (after
     /// logging it) when Fast DDS refused a new lane's reader or writer. The worker thread only.
-    bool admit(const DiscoveredPublisher& pub, bool declared);
+    bool admit(const passthrough::DiscoveredPublisher& pub, bool declared);
     /// A publisher left. Returns its lane when it was the lane's last publisher and the lane may be retired.
     std::optional<std::uint16_t> release(const eprosima::fastrtps::rtps::GUID_t& writer);
     /// Deletes the lane's robot reader and WAN writer, unless a publisher came back to it meanwhile; samples of
@@ -112,17 +112,17 @@ class TopicBridge {
   private:
     struct Lane;
 
-    std::optional<std::uint16_t> lane_for_nts(const OfferedQos& offer) const;
+    std::optional<std::uint16_t> lane_for_nts(const passthrough::OfferedQos& offer) const;
 
     const core::TopicId id_;
     const std::string name_;
     const std::string wan_name_;
     const std::string type_name_;
     const bool keyed_;
-    const ResolvedTtl ttl_;
+    const passthrough::ResolvedTtl ttl_;
     Ends ends_;
     const std::shared_ptr<const types::KeyHasher> key_hasher_;
-    LaneAssignment writers_;  ///< before lanes_: their listeners read it
+    passthrough::LaneAssignment writers_;  ///< before lanes_: their listeners read it
     mutable std::mutex mutex_;
     std::vector<Lane> lanes_;  // by lane index; only the worker thread adds or retires
 };

@@ -5,10 +5,10 @@
 #include <utility>
 
 #include "base/robot_namespace.hpp"
-#include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/robot_participant.hpp"
 #include "gateway/dds/topic_table.hpp"
 #include "gateway/dds/wan_router.hpp"
+#include "passthrough/dds_time.hpp"
 
 namespace tgw::dds {
 
@@ -19,7 +19,7 @@ TopicLifecycle::TopicLifecycle(const GatewayConfig& config, const TopicFilter& f
 void TopicLifecycle::forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer) {
     // Gone before it was bridged: it gets no lane, which would wait for it for ever.
     gathered_.erase(std::remove_if(gathered_.begin(), gathered_.end(),
-                                   [&](const DiscoveredPublisher& pub) { return pub.writer == writer; }),
+                                   [&](const passthrough::DiscoveredPublisher& pub) { return pub.writer == writer; }),
                     gathered_.end());
     const std::shared_ptr<TopicBridge> bridge = ends_.table.find(topic);
     const std::optional<std::uint16_t> lane = bridge != nullptr ? bridge->release(writer) : std::nullopt;
@@ -93,7 +93,7 @@ core::TopicId TopicLifecycle::add_topic_nts(const core::TopicConfig& topic) {
     return id;
 }
 
-void TopicLifecycle::gather_nts(DiscoveredPublisher&& pub) {
+void TopicLifecycle::gather_nts(passthrough::DiscoveredPublisher&& pub) {
     gathered_.push_back(std::move(pub));
     if (gathered_.size() == 1) {
         ends_.worker.post_at(std::chrono::steady_clock::now() + DISCOVERY_GATHERING, [this] { bridge_gathered_nts(); });
@@ -101,9 +101,9 @@ void TopicLifecycle::gather_nts(DiscoveredPublisher&& pub) {
 }
 
 void TopicLifecycle::bridge_gathered_nts() {
-    std::vector<std::pair<base::Duration, DiscoveredPublisher>> by_ttl;
+    std::vector<std::pair<base::Duration, passthrough::DiscoveredPublisher>> by_ttl;
     by_ttl.reserve(gathered_.size());
-    for (DiscoveredPublisher& pub : gathered_) {
+    for (passthrough::DiscoveredPublisher& pub : gathered_) {
         const base::Duration ttl = ttl_for(pub.topic, pub.lifespan).ttl;
         by_ttl.emplace_back(ttl, std::move(pub));
     }
@@ -114,19 +114,20 @@ void TopicLifecycle::bridge_gathered_nts() {
     }
 }
 
-ResolvedTtl TopicLifecycle::ttl_for(const std::string& topic, std::optional<base::Duration> publisher_lifespan) const {
+passthrough::ResolvedTtl TopicLifecycle::ttl_for(const std::string& topic,
+                                                 std::optional<base::Duration> publisher_lifespan) const {
     std::optional<base::Duration> rule_ttl;
     if (const TopicRule* rule = config_.topic_rules.rule_for(topic)) {
         rule_ttl = rule->ttl;
     }
     std::optional<base::Duration> profile_lifespan;
     if (auto profile = ends_.wan.writer_profile(topic)) {
-        profile_lifespan = to_duration(profile->lifespan().duration);
+        profile_lifespan = passthrough::to_duration(profile->lifespan().duration);
     }
-    return resolve_ttl(rule_ttl, profile_lifespan, publisher_lifespan, config_.default_ttl);
+    return passthrough::resolve_ttl(rule_ttl, profile_lifespan, publisher_lifespan, config_.default_ttl);
 }
 
-void TopicLifecycle::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
+void TopicLifecycle::bridge_nts(const passthrough::DiscoveredPublisher& pub, bool declared) {
     // The worker starts after set_robot, and the Gateway stops it before its robot participant goes.
     if (!filter_.admits(pub.topic)) {
         return;
@@ -137,7 +138,7 @@ void TopicLifecycle::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
         }
         return;
     }
-    const ResolvedTtl ttl = ttl_for(pub.topic, pub.lifespan);
+    const passthrough::ResolvedTtl ttl = ttl_for(pub.topic, pub.lifespan);
     core::TopicConfig topic{pub.topic, ttl.ttl};
     if (const TopicRule* rule = config_.topic_rules.rule_for(pub.topic)) {
         topic.max_rate_hz = rule->max_rate_hz;
@@ -171,7 +172,8 @@ void TopicLifecycle::bridge_nts(const DiscoveredPublisher& pub, bool declared) {
     }
 }
 
-std::shared_ptr<const types::KeyHasher> TopicLifecycle::key_hasher_for(const DiscoveredPublisher& pub) const {
+std::shared_ptr<const types::KeyHasher> TopicLifecycle::key_hasher_for(
+    const passthrough::DiscoveredPublisher& pub) const {
     if (!pub.keyed || types_.find(pub.type_name) == nullptr) {
         return nullptr;
     }

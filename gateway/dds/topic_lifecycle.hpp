@@ -15,14 +15,14 @@
 
 #include "base/clock.hpp"
 #include "base/event_loop.hpp"
-#include "gateway/core/forwarding_loop.hpp"
-#include "gateway/dds/discovery.hpp"
+#include "core/forwarding_loop.hpp"
 #include "gateway/dds/gateway_config.hpp"
 #include "gateway/dds/repair_desk.hpp"
 #include "gateway/dds/topic_accounting.hpp"
 #include "gateway/dds/topic_bridge.hpp"
 #include "gateway/dds/topic_filter.hpp"
-#include "gateway/dds/ttl_resolver.hpp"
+#include "passthrough/discovery.hpp"
+#include "passthrough/ttl_resolver.hpp"
 #include "types/type_library.hpp"
 
 namespace tgw::dds {
@@ -58,9 +58,9 @@ class TopicLifecycle {
 
     /// A publisher discovered: bridged with those found within DISCOVERY_GATHERING of the first, most urgent first
     /// (bridge_gathered_nts).
-    void gather_nts(DiscoveredPublisher&& pub);
+    void gather_nts(passthrough::DiscoveredPublisher&& pub);
     /// Bridges `pub`'s topic, or finds or makes its lane; `declared`: from a --qos profile, no publisher yet.
-    void bridge_nts(const DiscoveredPublisher& pub, bool declared = false);
+    void bridge_nts(const passthrough::DiscoveredPublisher& pub, bool declared = false);
     /// A publisher left: if it was its lane's last, the lane is retired once its queued samples are past.
     void forget_writer_nts(const std::string& topic, const eprosima::fastrtps::rtps::GUID_t& writer);
     /// Tells the loop whether anyone at the base camp reads topic `id` (`reaches`), when that changed.
@@ -69,7 +69,7 @@ class TopicLifecycle {
     void poll_reachability_nts();
 
     /// `topic`'s TTL: its rule's, a --qos profile's named after it, `publisher_lifespan`, --default-ttl.
-    ResolvedTtl ttl_for(const std::string& topic, std::optional<base::Duration> publisher_lifespan) const;
+    passthrough::ResolvedTtl ttl_for(const std::string& topic, std::optional<base::Duration> publisher_lifespan) const;
     /// Per topic name, what became of its samples, over every bridge it had: the topics bridged now, by name, then
     /// the retired ones, by name.
     std::vector<TopicCount> topic_counts() const;
@@ -103,7 +103,7 @@ class TopicLifecycle {
     /// entry says so already), else a free or new one. It starts unreachable.
     core::TopicId add_topic_nts(const core::TopicConfig& topic);
     /// For a keyed topic whose type `types_` declares: what computes the key hashes its publishers do not send.
-    std::shared_ptr<const types::KeyHasher> key_hasher_for(const DiscoveredPublisher& pub) const;
+    std::shared_ptr<const types::KeyHasher> key_hasher_for(const passthrough::DiscoveredPublisher& pub) const;
 
     const GatewayConfig& config_;
     const TopicFilter& filter_;
@@ -111,8 +111,8 @@ class TopicLifecycle {
     Ends ends_;
     RobotParticipant* robot_ = nullptr;
     std::atomic<std::uint64_t> refused_lanes_{0};
-    std::vector<DiscoveredPublisher> gathered_;  ///< publishers discovered, to be bridged (gather_nts)
-    std::vector<signed char> reachable_;         ///< per topic, as last told to the loop; -1: not yet
+    std::vector<passthrough::DiscoveredPublisher> gathered_;  ///< publishers discovered, to be bridged (gather_nts)
+    std::vector<signed char> reachable_;                      ///< per topic, as last told to the loop; -1: not yet
     /// Compact WAN mode: the scheduler slot (the catalog's topic id) of each topic ever bridged and now retired,
     /// taken again by the same name only, so that an id in the catalog never changes its topic. The worker only.
     std::map<std::string, core::TopicId> compact_slots_;

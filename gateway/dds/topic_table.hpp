@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "gateway/core/sample.hpp"
+#include "core/sample.hpp"
 #include "gateway/dds/topic_bridge.hpp"
 
 namespace tgw::dds {

@@ -20,17 +20,17 @@
 #include "ReceiverReportPubSubTypes.h"
 #include "base/config_error.hpp"
 #include "base/dds_security.hpp"
-#include "gateway/core/wire_model.hpp"
-#include "gateway/dds/backfill_topics.hpp"
-#include "gateway/dds/channel_grant_topic.hpp"
+#include "core/wire_model.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
-#include "gateway/dds/dds_time.hpp"
-#include "gateway/dds/guarded_type.hpp"
 #include "gateway/dds/introduction_schedule.hpp"
-#include "gateway/dds/passthrough_qos.hpp"
-#include "gateway/dds/passthrough_type.hpp"
-#include "gateway/dds/receiver_report_topic.hpp"
-#include "gateway/dds/type_object_guard.hpp"
+#include "passthrough/dds_time.hpp"
+#include "passthrough/guarded_type.hpp"
+#include "passthrough/passthrough_qos.hpp"
+#include "passthrough/passthrough_type.hpp"
+#include "passthrough/type_object_guard.hpp"
+#include "wire/backfill_topics.hpp"
+#include "wire/channel_grant_topic.hpp"
+#include "wire/receiver_report_topic.hpp"
 
 namespace tgw::dds {
 
@@ -147,10 +147,10 @@ class WanRouter::Introducer {
 /// Counts the base-camp participants the WAN participant has discovered: each new endpoint's SEDP announcement
 /// goes to each of them. With DDS Security, those it has authenticated: Fast DDS reports a participant discovered
 /// from its first announcement, before the handshake, and one that fails it (another CA's) never gets an SEDP.
-class WanRouter::ParticipantCounter final : public TypeObjectGuard {
+class WanRouter::ParticipantCounter final : public passthrough::TypeObjectGuard {
   public:
     ParticipantCounter(bool secured, Introducer& introducer,
-                       std::function<void(DiscoveredPublisher&&)> on_remote_publisher)
+                       std::function<void(passthrough::DiscoveredPublisher&&)> on_remote_publisher)
         : secured_(secured), introducer_(introducer), on_remote_publisher_(std::move(on_remote_publisher)) {}
 
     void on_participant_discovery(fdds::DomainParticipant* /*participant*/,
@@ -172,7 +172,7 @@ class WanRouter::ParticipantCounter final : public TypeObjectGuard {
     void on_publisher_discovery(fdds::DomainParticipant* participant,
                                 eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
         std::shared_ptr<const eprosima::fastrtps::types::TypeObject> type_object =
-            take_type_object(participant, info.info);
+            passthrough::take_type_object(participant, info.info);
         if (info.status != eprosima::fastrtps::rtps::WriterDiscoveryInfo::DISCOVERED_WRITER) {
             return;
         }
@@ -180,7 +180,7 @@ class WanRouter::ParticipantCounter final : public TypeObjectGuard {
         introducer_.answered(to_array(prefix));
         // Its own writers are reported too.
         if (on_remote_publisher_ && participant != nullptr && prefix != participant->guid().guidPrefix) {
-            on_remote_publisher_(discovered_publisher(info.info, std::move(type_object)));
+            on_remote_publisher_(passthrough::discovered_publisher(info.info, std::move(type_object)));
         }
     }
     void on_subscriber_discovery(fdds::DomainParticipant* participant,
@@ -188,7 +188,7 @@ class WanRouter::ParticipantCounter final : public TypeObjectGuard {
         if (info.status == eprosima::fastrtps::rtps::ReaderDiscoveryInfo::DISCOVERED_READER) {
             introducer_.answered(to_array(info.info.guid().guidPrefix));
         }
-        TypeObjectGuard::on_subscriber_discovery(participant, std::move(info));
+        passthrough::TypeObjectGuard::on_subscriber_discovery(participant, std::move(info));
     }
 
 #if HAVE_SECURITY
@@ -230,7 +230,7 @@ class WanRouter::ParticipantCounter final : public TypeObjectGuard {
 
     const bool secured_;
     Introducer& introducer_;
-    const std::function<void(DiscoveredPublisher&&)> on_remote_publisher_;
+    const std::function<void(passthrough::DiscoveredPublisher&&)> on_remote_publisher_;
     mutable std::mutex mutex_;
     std::set<eprosima::fastrtps::rtps::GuidPrefix_t> discovered_;     // under mutex_
     std::set<eprosima::fastrtps::rtps::GuidPrefix_t> authenticated_;  // under mutex_
@@ -306,8 +306,9 @@ WanRouter::WanRouter(const WanConfig& config, const std::optional<fdds::DomainPa
     }
     if (!base) {
         // A participant profile from the --qos file sets its own discovery timing.
-        builtin.discovery_config.leaseDuration = to_dds_duration(config.lease_duration);
-        builtin.discovery_config.leaseDuration_announcementperiod = to_dds_duration(config.announcement_period);
+        builtin.discovery_config.leaseDuration = passthrough::to_dds_duration(config.lease_duration);
+        builtin.discovery_config.leaseDuration_announcementperiod =
+            passthrough::to_dds_duration(config.announcement_period);
     }
 
     if (config.security) {
@@ -335,7 +336,7 @@ bool WanRouter::create_participant_nts(const std::string& interface_address) {
     builtin.metatrafficUnicastLocatorList.clear();
     builtin.metatrafficUnicastLocatorList.push_back(udp_locator(interface_address, listen_port_));
     builtin.initialPeersList.clear();
-    for (const WanPeer& peer : peers_) {
+    for (const base::WanPeer& peer : peers_) {
         builtin.initialPeersList.push_back(udp_locator(peer.address, peer.port));
     }
     if (!interface_address.empty()) {
@@ -351,8 +352,8 @@ bool WanRouter::create_participant_nts(const std::string& interface_address) {
     if (participant_ == nullptr) {
         return false;
     }
-    publishers_ = PartitionGroups<fdds::Publisher>();
-    publisher_ = publishers_.get(participant_, OfferedQos{});
+    publishers_ = passthrough::PartitionGroups<fdds::Publisher>();
+    publisher_ = publishers_.get(participant_, passthrough::OfferedQos{});
     if (publisher_ == nullptr) {
         factory->delete_participant(participant_);
         participant_ = nullptr;
@@ -393,12 +394,12 @@ bool WanRouter::rebind(const std::string& interface_address) {
     return rebind(interface_address, peers());
 }
 
-std::vector<WanPeer> WanRouter::peers() const {
+std::vector<base::WanPeer> WanRouter::peers() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return peers_;
 }
 
-bool WanRouter::rebind(const std::string& interface_address, const std::vector<WanPeer>& peers) {
+bool WanRouter::rebind(const std::string& interface_address, const std::vector<base::WanPeer>& peers) {
     introducer_->stop();
     // Held until the lock is released: a WanWriter whose last holder lets go here deletes its writer through
     // delete_writer(), which takes the lock.
@@ -477,9 +478,9 @@ std::optional<fdds::DataWriterQos> WanRouter::writer_profile_nts(const std::stri
 
 std::shared_ptr<WanWriter> WanRouter::create_writer(
     const std::string& topic, const std::string& wan_topic, const std::string& type_name, bool keyed,
-    std::optional<base::Duration> lifespan, const OfferedQos& offer,
+    std::optional<base::Duration> lifespan, const passthrough::OfferedQos& offer,
     const std::shared_ptr<const eprosima::fastrtps::types::TypeObject>& announced) {
-    auto matches = std::make_unique<WriterMatchCounter>();
+    auto matches = std::make_unique<passthrough::WriterMatchCounter>();
     WriterRecipe recipe{{}, topic, wan_topic, type_name, keyed, lifespan, offer, announced};
 
     std::lock_guard<std::mutex> lock(mutex_);
@@ -498,8 +499,8 @@ fdds::DataWriter* WanRouter::create_datawriter_nts(const WriterRecipe& recipe, f
     if (participant_ == nullptr) {
         return nullptr;
     }
-    fdds::Topic* dds_topic =
-        passthrough_topic(participant_, recipe.wan_topic, recipe.type_name, recipe.keyed, recipe.announced);
+    fdds::Topic* dds_topic = passthrough::passthrough_topic(participant_, recipe.wan_topic, recipe.type_name,
+                                                            recipe.keyed, recipe.announced);
     fdds::Publisher* publisher = publishers_.get(participant_, recipe.offer);
     if (dds_topic == nullptr || publisher == nullptr) {
         std::cerr << "telemetry-gateway: cannot create WAN topic " << recipe.wan_topic << " (type " << recipe.type_name
@@ -511,8 +512,8 @@ fdds::DataWriter* WanRouter::create_datawriter_nts(const WriterRecipe& recipe, f
     // A data_writer profile named after the topic is the starting point (its Lifespan already made the TTL);
     // what decides matching is the publishers' offer, except that a profile may ask for best effort.
     const std::optional<fdds::DataWriterQos> profile = writer_profile_nts(recipe.topic);
-    fdds::DataWriterQos qos = passthrough_writer_qos(profile.value_or(publisher->get_default_datawriter_qos()),
-                                                     recipe.offer, recipe.keyed, recipe.lifespan);
+    fdds::DataWriterQos qos = passthrough::passthrough_writer_qos(
+        profile.value_or(publisher->get_default_datawriter_qos()), recipe.offer, recipe.keyed, recipe.lifespan);
     if (profile && profile->reliability().kind == fdds::BEST_EFFORT_RELIABILITY_QOS) {
         // The operator's word (a writer's default is reliable, so this was asked for): no HEARTBEAT or
         // ACKNACK on the link for this topic, at the price of reliable base-camp readers not matching.
@@ -573,16 +574,16 @@ void WanRouter::announce_again() {
 
 bool WanRouter::subscribe_receiver_reports(fdds::DataReaderListener* listener) {
     subscriptions_.push_back([this, listener] {
-        return subscribe(RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new GuardedType<idl::ReceiverReportPubSubType>()),
-                         listener);
+        return subscribe(wire::RECEIVER_REPORT_TOPIC,
+                         fdds::TypeSupport(new passthrough::GuardedType<idl::ReceiverReportPubSubType>()), listener);
     });
     return subscriptions_.back()();
 }
 
 bool WanRouter::subscribe_grants(fdds::DataReaderListener* listener) {
     subscriptions_.push_back([this, listener] {
-        return subscribe(CHANNEL_GRANT_TOPIC, fdds::TypeSupport(new GuardedType<idl::ChannelGrantPubSubType>()),
-                         listener);
+        return subscribe(wire::CHANNEL_GRANT_TOPIC,
+                         fdds::TypeSupport(new passthrough::GuardedType<idl::ChannelGrantPubSubType>()), listener);
     });
     return subscriptions_.back()();
 }
@@ -592,8 +593,8 @@ bool WanRouter::subscribe_backfill_acks(fdds::DataReaderListener* listener) {
     // before it is taken.
     constexpr std::int32_t KEPT = 16;
     subscriptions_.push_back([this, listener] {
-        return subscribe(BACKFILL_ACK_TOPIC, fdds::TypeSupport(new GuardedType<idl::BackfillAckPubSubType>()), listener,
-                         KEPT);
+        return subscribe(wire::BACKFILL_ACK_TOPIC,
+                         fdds::TypeSupport(new passthrough::GuardedType<idl::BackfillAckPubSubType>()), listener, KEPT);
     });
     return subscriptions_.back()();
 }

@@ -25,15 +25,15 @@
 #include "base/clock.hpp"
 #include "base/discovery_server.hpp"
 #include "base/security_files.hpp"
-#include "gateway/core/sample.hpp"
-#include "gateway/core/wire_model.hpp"
+#include "base/wan_address.hpp"
+#include "core/sample.hpp"
+#include "core/wire_model.hpp"
 #include "gateway/dds/coalescing_transport.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
-#include "gateway/dds/discovery.hpp"
-#include "gateway/dds/offered_qos.hpp"
-#include "gateway/dds/partition_groups.hpp"
-#include "gateway/dds/wan_address.hpp"
 #include "gateway/dds/wan_writer.hpp"
+#include "passthrough/discovery.hpp"
+#include "passthrough/offered_qos.hpp"
+#include "passthrough/partition_groups.hpp"
 
 namespace tgw::dds {
 
@@ -48,7 +48,7 @@ constexpr std::size_t SECURE_MIN_DATAGRAM_BYTES = 8192;
 /// How the WAN participant reaches the base camp.
 struct WanConfig {
     int domain = 1;
-    std::vector<WanPeer> peers;
+    std::vector<base::WanPeer> peers;
     /// A Fast DDS Discovery Server to be a client of, instead of announcing to `peers`.
     std::optional<base::DiscoveryServerAddress> discovery_server;
     /// IPv4 address to bind to (see resolve_interface_address); empty: every interface.
@@ -109,7 +109,7 @@ struct WanConfig {
     bool strip_early_heartbeats = true;
     /// Every base-camp writer the participant discovers (the uplink's commands), from Fast DDS's discovery thread:
     /// it must return quickly and create no entities. None: they are not reported.
-    std::function<void(DiscoveredPublisher&&)> on_remote_publisher;
+    std::function<void(passthrough::DiscoveredPublisher&&)> on_remote_publisher;
     /// With a discovery server: a plain client hears only of endpoints of its own topics. A super client hears of
     /// every one, which the uplink needs to learn a command's type from its publisher.
     base::DiscoveryRole discovery_role = base::DiscoveryRole::client;
@@ -142,16 +142,16 @@ class WanRouter {
     /// it) when Fast DDS refuses. Every writer must be released before the router goes.
     std::shared_ptr<WanWriter> create_writer(
         const std::string& topic, const std::string& wan_topic, const std::string& type_name, bool keyed,
-        std::optional<base::Duration> lifespan, const OfferedQos& offer,
+        std::optional<base::Duration> lifespan, const passthrough::OfferedQos& offer,
         const std::shared_ptr<const eprosima::fastrtps::types::TypeObject>& announced);
 
-    /// Creates a reader of dds::RECEIVER_REPORT_TOPIC for `listener`, which must outlive the router. False
+    /// Creates a reader of wire::RECEIVER_REPORT_TOPIC for `listener`, which must outlive the router. False
     /// (after logging it) when Fast DDS refuses.
     bool subscribe_receiver_reports(eprosima::fastdds::dds::DataReaderListener* listener);
-    /// Creates a reader of dds::CHANNEL_GRANT_TOPIC for `listener`, which must outlive the router. False (after
+    /// Creates a reader of wire::CHANNEL_GRANT_TOPIC for `listener`, which must outlive the router. False (after
     /// logging it) when Fast DDS refuses.
     bool subscribe_grants(eprosima::fastdds::dds::DataReaderListener* listener);
-    /// Creates a reader of dds::BACKFILL_ACK_TOPIC for `listener`, which must outlive the router: reliable, as the
+    /// Creates a reader of wire::BACKFILL_ACK_TOPIC for `listener`, which must outlive the router: reliable, as the
     /// camp writes them (each tells what is new since the last). False (after logging it) when Fast DDS refuses.
     bool subscribe_backfill_acks(eprosima::fastdds::dds::DataReaderListener* listener);
 
@@ -181,9 +181,9 @@ class WanRouter {
     /// (after logging it) when Fast DDS refuses; writes fail until a later rebind succeeds.
     bool rebind(const std::string& interface_address);
     /// The same, announcing to `peers` from now on (a peer given by name whose address came or changed).
-    bool rebind(const std::string& interface_address, const std::vector<WanPeer>& peers);
+    bool rebind(const std::string& interface_address, const std::vector<base::WanPeer>& peers);
     /// The peers the participant announces itself to.
-    std::vector<WanPeer> peers() const;
+    std::vector<base::WanPeer> peers() const;
     /// The address the participant is bound to now; empty: every interface.
     std::string interface_address() const;
 
@@ -208,7 +208,7 @@ class WanRouter {
         std::string type_name;
         bool keyed = false;
         std::optional<base::Duration> lifespan;
-        OfferedQos offer;
+        passthrough::OfferedQos offer;
         std::shared_ptr<const eprosima::fastrtps::types::TypeObject> announced;
     };
 
@@ -240,17 +240,17 @@ class WanRouter {
     eprosima::fastdds::dds::DomainParticipantQos qos_;  ///< all but the locators, which the address sets
     std::uint16_t listen_port_ = 0;
     mutable std::mutex mutex_;
-    std::string interface_address_;  // under mutex_
-    std::vector<WanPeer> peers_;     // under mutex_
+    std::string interface_address_;     // under mutex_
+    std::vector<base::WanPeer> peers_;  // under mutex_
     eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
-    eprosima::fastdds::dds::Publisher* publisher_ = nullptr;         ///< the default partition's
-    PartitionGroups<eprosima::fastdds::dds::Publisher> publishers_;  // under mutex_
-    std::map<std::string, int> writers_of_topic_;                    // under mutex_
-    std::vector<WriterRecipe> recipes_;                              // under mutex_; of the writers alive
-    std::set<eprosima::fastdds::dds::DataWriter*> live_writers_;     // under mutex_: of participant_
-    std::vector<std::function<bool()>> subscriptions_;               ///< subscribe's calls, to make again
-    std::unique_ptr<Introducer> introducer_;                         ///< stopped before participant_'s deletion
-    std::unique_ptr<ParticipantCounter> participants_;               ///< before participant_'s deletion
+    eprosima::fastdds::dds::Publisher* publisher_ = nullptr;                      ///< the default partition's
+    passthrough::PartitionGroups<eprosima::fastdds::dds::Publisher> publishers_;  // under mutex_
+    std::map<std::string, int> writers_of_topic_;                                 // under mutex_
+    std::vector<WriterRecipe> recipes_;                                           // under mutex_; of the writers alive
+    std::set<eprosima::fastdds::dds::DataWriter*> live_writers_;                  // under mutex_: of participant_
+    std::vector<std::function<bool()>> subscriptions_;                            ///< subscribe's calls, to make again
+    std::unique_ptr<Introducer> introducer_;            ///< stopped before participant_'s deletion
+    std::unique_ptr<ParticipantCounter> participants_;  ///< before participant_'s deletion
 };
 
 }  // namespace tgw::dds

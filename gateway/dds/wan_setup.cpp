@@ -9,13 +9,13 @@
 
 namespace tgw::dds {
 
-std::vector<WanPeer> wan_peers_of(const GatewayConfig& config) {
-    std::vector<WanPeer> peers;
+std::vector<base::WanPeer> wan_peers_of(const GatewayConfig& config) {
+    std::vector<base::WanPeer> peers;
     for (const std::string& text : config.wan_peers) {
-        peers.push_back(parse_wan_peer(text, config.wan_domain));
+        peers.push_back(base::parse_wan_peer(text, config.wan_domain));
     }
-    peers = resolve_peer_names(std::move(peers));
-    for (const WanPeer& peer : peers) {
+    peers = base::resolve_peer_names(std::move(peers));
+    for (const base::WanPeer& peer : peers) {
         if (!peer.host.empty()) {
             std::cerr << "telemetry-gateway: --wan-peer " << peer.host << ": "
                       << (peer.address.empty() ? "does not resolve yet" : peer.address) << "; looked up again every "
@@ -26,13 +26,13 @@ std::vector<WanPeer> wan_peers_of(const GatewayConfig& config) {
 }
 
 WanConfig wan_config_for(GatewayConfig& config, std::optional<base::SecurityFiles> security,
-                         const std::vector<WanPeer>& peers) {
+                         const std::vector<base::WanPeer>& peers) {
     WanConfig wan;
     wan.domain = config.wan_domain;
     wan.security = std::move(security);
-    wan.peers = announcement_peers(peers, config.wan_domain, config.wan_peer_participants);
+    wan.peers = base::announcement_peers(peers, config.wan_domain, config.wan_peer_participants);
     if (!config.wan_interface.empty()) {
-        wan.interface_address = initial_wan_address(config.wan_interface);
+        wan.interface_address = base::initial_wan_address(config.wan_interface);
     }
     wan.listen_port = config.wan_port;
     if (!config.wan_discovery_server.empty()) {

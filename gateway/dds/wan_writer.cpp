@@ -7,17 +7,17 @@
 #include <fastdds/dds/publisher/Publisher.hpp>
 
 #include "gateway/dds/datagram_coalescer.hpp"
-#include "gateway/dds/dds_time.hpp"
-#include "gateway/dds/passthrough_type.hpp"
 #include "gateway/dds/repair_desk.hpp"
+#include "passthrough/dds_time.hpp"
+#include "passthrough/passthrough_type.hpp"
 
 namespace tgw::dds {
 
 namespace fdds = eprosima::fastdds::dds;
 using eprosima::fastrtps::types::ReturnCode_t;
 
-WanWriter::WanWriter(fdds::DataWriter* writer, std::unique_ptr<WriterMatchCounter> matches, std::string topic,
-                     bool keyed, Deleter deleter)
+WanWriter::WanWriter(fdds::DataWriter* writer, std::unique_ptr<passthrough::WriterMatchCounter> matches,
+                     std::string topic, bool keyed, Deleter deleter)
     : writer_(writer),
       matches_(std::move(matches)),
       deleter_(std::move(deleter)),
@@ -25,7 +25,7 @@ WanWriter::WanWriter(fdds::DataWriter* writer, std::unique_ptr<WriterMatchCounte
       keyed_(keyed),
       reliable_(writer->get_qos().reliability().kind == fdds::RELIABLE_RELIABILITY_QOS),
       latched_(writer->get_qos().durability().kind != fdds::VOLATILE_DURABILITY_QOS),
-      lifespan_(to_duration(writer->get_qos().lifespan().duration)) {}
+      lifespan_(passthrough::to_duration(writer->get_qos().lifespan().duration)) {}
 
 WanWriter::~WanWriter() {
     fdds::DataWriter* writer = nullptr;
@@ -74,7 +74,7 @@ ReturnCode_t WanWriter::write_nts(core::Sample& sample) {
     if (writer_ == nullptr) {
         return ReturnCode_t::RETCODE_NOT_ENABLED;
     }
-    PassthroughData data;
+    passthrough::PassthroughData data;
     const std::size_t payload_bytes = sample.payload.size();
     // Borrowed for the write, which copies it once into the change, and handed back after.
     data.payload = std::move(sample.payload);
@@ -85,9 +85,9 @@ ReturnCode_t WanWriter::write_nts(core::Sample& sample) {
                 data.key.value[i] = sample.key.bytes[i];
             }
         }
-        handle = data.key.isDefined() ? data.key : PassthroughType::UNKNOWN_INSTANCE;
+        handle = data.key.isDefined() ? data.key : passthrough::PassthroughType::UNKNOWN_INSTANCE;
     }
-    const auto stamp = to_dds_time(sample.source_time);
+    const auto stamp = passthrough::to_dds_time(sample.source_time);
     const ReturnCode_t rc = [&] {
         const DatagramCoalescer::DeferScope may_wait;
         // Only a reliable writer repairs: a best-effort lane's samples need not be remembered.

@@ -11,9 +11,9 @@
 #include <fastrtps/types/TypesBase.h>
 
 #include "base/clock.hpp"
-#include "gateway/core/sample.hpp"
+#include "core/sample.hpp"
 #include "gateway/dds/latched_history.hpp"
-#include "gateway/dds/writer_match_counter.hpp"
+#include "passthrough/writer_match_counter.hpp"
 
 namespace eprosima::fastdds::dds {
 class DataWriter;
@@ -36,7 +36,7 @@ class WanWriter {
     using Deleter = std::function<void(eprosima::fastdds::dds::DataWriter*)>;
 
     /// Takes `writer`, which must have been created with `matches` as its listener; `deleter` deletes it.
-    WanWriter(eprosima::fastdds::dds::DataWriter* writer, std::unique_ptr<WriterMatchCounter> matches,
+    WanWriter(eprosima::fastdds::dds::DataWriter* writer, std::unique_ptr<passthrough::WriterMatchCounter> matches,
               std::string topic, bool keyed, Deleter deleter);
     ~WanWriter();
 
@@ -52,7 +52,7 @@ class WanWriter {
     /// written what the camp's late joiners must get.
     void replace(eprosima::fastdds::dds::DataWriter* writer);
     /// The listener a successor must be made with.
-    WriterMatchCounter* match_listener() const { return matches_.get(); }
+    passthrough::WriterMatchCounter* match_listener() const { return matches_.get(); }
 
     /// Base-camp readers matched now.
     std::int32_t matched_readers() const { return matches_->matched.load(); }
@@ -64,7 +64,7 @@ class WanWriter {
 
     mutable std::mutex mutex_;                    // a write against detach() and replace()
     eprosima::fastdds::dds::DataWriter* writer_;  // under mutex_; null while detached
-    std::unique_ptr<WriterMatchCounter> matches_;
+    std::unique_ptr<passthrough::WriterMatchCounter> matches_;
     Deleter deleter_;
     const std::string topic_;
     const bool keyed_;

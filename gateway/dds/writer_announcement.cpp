@@ -2,13 +2,13 @@
 
 #include <cstring>
 
-#include "gateway/dds/rtps_submessage.hpp"
+#include "wire/rtps_submessage.hpp"
 
 namespace tgw::dds {
 
 namespace {
 
-using namespace rtps_bytes;
+using namespace wire::rtps_bytes;
 
 constexpr std::uint8_t FLAG_INLINE_QOS = 0x02;
 constexpr std::uint8_t FLAG_DATA = 0x04;

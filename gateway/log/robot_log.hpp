@@ -8,8 +8,8 @@
 #include <string_view>
 #include <vector>
 
-#include "gateway/core/drop_reason.hpp"
-#include "gateway/core/sample.hpp"
+#include "core/drop_reason.hpp"
+#include "core/sample.hpp"
 
 namespace tgw::log {
 

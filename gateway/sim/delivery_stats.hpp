@@ -5,7 +5,7 @@
 #include <cstdint>
 
 #include "base/time.hpp"
-#include "gateway/core/drop_reason.hpp"
+#include "core/drop_reason.hpp"
 
 namespace tgw::sim {
 

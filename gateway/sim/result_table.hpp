@@ -3,8 +3,8 @@
 #include <string>
 #include <vector>
 
-#include "gateway/core/paper_workload.hpp"
-#include "gateway/core/policy_kind.hpp"
+#include "core/paper_workload.hpp"
+#include "core/policy_kind.hpp"
 #include "gateway/sim/simulation.hpp"
 
 namespace tgw::sim {

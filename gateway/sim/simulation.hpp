@@ -3,8 +3,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "gateway/core/paper_workload.hpp"
-#include "gateway/core/scheduler.hpp"
+#include "core/paper_workload.hpp"
+#include "core/scheduler.hpp"
 #include "gateway/sim/delivery_stats.hpp"
 #include "gateway/sim/rate_profile.hpp"
 

@@ -21,8 +21,8 @@
 
 #include "PaperWorkloadPubSubTypes.h"
 #include "base/clock.hpp"
-#include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway.hpp"
+#include "passthrough/dds_time.hpp"
 #include "test/integration/dds_test_support.hpp"
 
 namespace tgw::bench {
@@ -47,9 +47,9 @@ struct BenchDomains {
         BenchDomains d;
         d.robot = 200 + static_cast<int>(::getpid() % 15) * 2;
         d.wan = d.robot + 1;
-        d.wan_reader_port = tgw::dds::metatraffic_unicast_port(d.wan, 60);
-        d.gateway_wan_port = tgw::dds::metatraffic_unicast_port(d.wan, 61);
-        d.publisher_port = tgw::dds::metatraffic_unicast_port(d.robot, PUBLISHER_PARTICIPANT_ID);
+        d.wan_reader_port = base::metatraffic_unicast_port(d.wan, 60);
+        d.gateway_wan_port = base::metatraffic_unicast_port(d.wan, 61);
+        d.publisher_port = base::metatraffic_unicast_port(d.robot, PUBLISHER_PARTICIPANT_ID);
         return d;
     }
 };
@@ -105,7 +105,7 @@ inline fdds::DomainParticipantQos direct_reader_qos(const BenchDomains& d) {
     udp->interfaceWhiteList.push_back("127.0.0.1");
     qos.transport().user_transports.push_back(udp);
     qos.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(
-        loopback(tgw::dds::metatraffic_unicast_port(d.robot, DIRECT_READER_PARTICIPANT_ID)));
+        loopback(base::metatraffic_unicast_port(d.robot, DIRECT_READER_PARTICIPANT_ID)));
     qos.wire_protocol().builtin.initialPeersList.push_back(loopback(d.publisher_port));
     return qos;
 }
@@ -172,7 +172,7 @@ class CountingReader final : public fdds::DataReaderListener {
                 continue;
             }
             const auto received = tgw::base::WallClock::now();
-            const auto source = tgw::dds::to_wall_time(info.source_timestamp);
+            const auto source = tgw::passthrough::to_wall_time(info.source_timestamp);
             if (source) {
                 std::lock_guard<std::mutex> lock(mutex_);
                 latencies_ns_.push_back(

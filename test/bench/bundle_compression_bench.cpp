@@ -15,9 +15,9 @@
 #include "PaperWorkload.h"
 #include "RobotPose.h"
 #include "RosString.h"
-#include "gateway/compact/bundle_codec.hpp"
-#include "gateway/core/bundle_builder.hpp"
-#include "gateway/core/paper_workload.hpp"
+#include "compact/bundle_codec.hpp"
+#include "core/bundle_builder.hpp"
+#include "core/paper_workload.hpp"
 
 namespace {
 

@@ -26,8 +26,8 @@
 
 #include "PaperWorkloadPubSubTypes.h"
 #include "base/clock.hpp"
-#include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway.hpp"
+#include "passthrough/dds_time.hpp"
 #include "test/bench/bench_support.hpp"
 #include "test/bench/side_by_side.hpp"
 #include "test/integration/dds_test_support.hpp"
@@ -83,7 +83,7 @@ class LatencyReader final : public fdds::DataReaderListener {
             if (!info.valid_data) {
                 continue;
             }
-            const auto source = tgw::dds::to_wall_time(info.source_timestamp);
+            const auto source = tgw::passthrough::to_wall_time(info.source_timestamp);
             received_.fetch_add(1);
             if (!source || static_cast<int>(data_.sequence_number()) < warmup_) {
                 continue;

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "PaperWorkloadPubSubTypes.h"
-#include "gateway/core/drop_reason.hpp"
+#include "core/drop_reason.hpp"
 #include "test/bench/bench_support.hpp"
 #include "test/integration/child_process.hpp"
 

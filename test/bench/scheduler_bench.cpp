@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "gateway/core/scheduler.hpp"
+#include "core/scheduler.hpp"
 
 namespace {
 

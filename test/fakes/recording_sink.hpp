@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "gateway/core/sample_sink.hpp"
+#include "core/sample_sink.hpp"
 
 namespace tgw::test {
 

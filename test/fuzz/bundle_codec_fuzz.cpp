@@ -9,7 +9,7 @@
 #include <limits>
 #include <string>
 
-#include "gateway/compact/bundle_codec.hpp"
+#include "compact/bundle_codec.hpp"
 #include "test/fuzz/fuzz_target.hpp"
 #include "test/unit/compact/bundle_entries.hpp"
 

@@ -14,8 +14,8 @@
 #include <fastdds/dds/log/Log.hpp>
 
 #include "base/config_error.hpp"
-#include "gateway/dds/qos_file.hpp"
-#include "gateway/dds/ttl_resolver.hpp"
+#include "passthrough/qos_file.hpp"
+#include "passthrough/ttl_resolver.hpp"
 #include "test/fuzz/fuzz_target.hpp"
 
 namespace tgw::fuzz {
@@ -75,25 +75,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         return std::string(e.what()).rfind("--qos " + path, 0) == 0;
     };
     try {
-        dds::load_qos_file(path);
-        std::vector<dds::DeclaredTopic> declared;
+        passthrough::load_qos_file(path);
+        std::vector<passthrough::DeclaredTopic> declared;
         try {
-            declared = dds::declared_topics(path);
+            declared = passthrough::declared_topics(path);
         } catch (const base::ConfigError& e) {
             TGW_FUZZ_CHECK(names_the_file(e));
         }
         constexpr base::Duration DEFAULT_TTL = std::chrono::seconds(5);
-        for (const dds::DeclaredTopic& topic : declared) {
+        for (const passthrough::DeclaredTopic& topic : declared) {
             TGW_FUZZ_CHECK(!topic.topic.empty() && !topic.type_name.empty());
-            const std::optional<base::Duration> profile = dds::writer_profile_lifespan(topic.topic);
+            const std::optional<base::Duration> profile = passthrough::writer_profile_lifespan(topic.topic);
             TGW_FUZZ_CHECK(!profile || *profile > base::Duration::zero());
-            const dds::ResolvedTtl ttl = dds::resolve_ttl(profile, topic.lifespan, DEFAULT_TTL);
+            const passthrough::ResolvedTtl ttl = passthrough::resolve_ttl(profile, topic.lifespan, DEFAULT_TTL);
             TGW_FUZZ_CHECK(ttl.ttl > base::Duration::zero() && ttl.ttl < base::Duration::max());
-            TGW_FUZZ_CHECK((ttl.source == dds::TtlSource::profile) == (profile && *profile != base::Duration::max()));
-            TGW_FUZZ_CHECK(ttl.source != dds::TtlSource::fallback || ttl.ttl == DEFAULT_TTL);
+            TGW_FUZZ_CHECK((ttl.source == passthrough::TtlSource::profile) ==
+                           (profile && *profile != base::Duration::max()));
+            TGW_FUZZ_CHECK(ttl.source != passthrough::TtlSource::fallback || ttl.ttl == DEFAULT_TTL);
         }
-        dds::participant_profile(dds::ROBOT_PARTICIPANT_PROFILE);
-        dds::participant_profile(dds::WAN_PARTICIPANT_PROFILE);
+        passthrough::participant_profile(passthrough::ROBOT_PARTICIPANT_PROFILE);
+        passthrough::participant_profile(passthrough::WAN_PARTICIPANT_PROFILE);
     } catch (const base::ConfigError& e) {
         TGW_FUZZ_CHECK(names_the_file(e));
     }

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "ReceiverReportPubSubTypes.h"
-#include "gateway/dds/guarded_type.hpp"
+#include "passthrough/guarded_type.hpp"
 #include "sensor/delivered_rate_estimator.hpp"
 #include "sensor/receiver_report_ledger.hpp"
 #include "sensor/receiver_report_source.hpp"
@@ -60,7 +60,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     test::FakeClock clock;
     sensor::ReceiverReportLedger ledger(clock, std::chrono::seconds(5));
     sensor::DeliveredRateEstimator estimator({}, clock);
-    dds::GuardedType<idl::ReceiverReportPubSubType> type;
+    passthrough::GuardedType<idl::ReceiverReportPubSubType> type;
     std::uint64_t forwarded = 0;
     std::uint64_t sent_bytes = 0;
 

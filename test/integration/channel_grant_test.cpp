@@ -17,10 +17,10 @@
 #include "ChannelGrantPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
 #include "basecamp/recording/sample_store.hpp"
-#include "gateway/core/granted_rate.hpp"
-#include "gateway/dds/channel_grant_topic.hpp"
-#include "gateway/dds/dds_time.hpp"
+#include "core/granted_rate.hpp"
+#include "passthrough/dds_time.hpp"
 #include "test/integration/relay_fixture.hpp"
+#include "wire/channel_grant_topic.hpp"
 
 namespace tgw::test {
 namespace {
@@ -44,7 +44,7 @@ class ChannelGrantTest : public RelayTest {
         c2.robot_name = "rover2";
         c2.uplink = {};
         c2.allow = {topic_prefix_ + "bulk"};
-        c2.wan_port = dds::metatraffic_unicast_port(domains_.wan, 62);
+        c2.wan_port = base::metatraffic_unicast_port(domains_.wan, 62);
         start_gateway(c1);
         rover2_ = std::make_unique<Gateway>(c2, clock_);
         store_path_ = temp_file(".db");
@@ -221,7 +221,7 @@ TEST_F(ChannelGrantTest, TheCampsCommandsToARobotAreInItsGrant) {
     const double least = *gateway_->granted_bps();
 
     fdds::DataWriterQos qos = local_->default_writer_qos();  // a camp program's defaults: reliable
-    qos.lifespan().duration = dds::to_dds_duration(200ms);
+    qos.lifespan().duration = passthrough::to_dds_duration(200ms);
     auto& matches = listener<MatchCounter>();
     auto* commands =
         local_->make_writer(camp_command(), fdds::TypeSupport(new idl::PaperMessagePubSubType()), qos, &matches);
@@ -295,7 +295,7 @@ TEST_F(NewcomerShareTest, AReliableReaderOfACampToolGetsTheGrants) {
     const auto tool = camp_tool();
     ASSERT_TRUE(tool->ok());
     CollectingReader<idl::ChannelGrant> grants;
-    ASSERT_NE(tool->make_reader(dds::CHANNEL_GRANT_TOPIC, fdds::TypeSupport(new idl::ChannelGrantPubSubType()),
+    ASSERT_NE(tool->make_reader(wire::CHANNEL_GRANT_TOPIC, fdds::TypeSupport(new idl::ChannelGrantPubSubType()),
                                 reliable_reader_qos(*tool), &grants),
               nullptr);
     ASSERT_TRUE(wait_until([&] { return grants.count() > 0; }, 20s)) << "no grant reached the tool";

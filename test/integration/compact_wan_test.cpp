@@ -10,14 +10,14 @@
 #include "GatewayStatusPubSubTypes.h"
 #include "KeyedReadingPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
+#include "base/wan_address.hpp"
 #include "basecamp/relay/compact_unpacker.hpp"
-#include "gateway/compact/bundle_codec.hpp"
-#include "gateway/dds/compact_topics.hpp"
-#include "gateway/dds/dds_time.hpp"
-#include "gateway/dds/status_topic.hpp"
-#include "gateway/dds/wan_address.hpp"
+#include "compact/bundle_codec.hpp"
+#include "passthrough/dds_time.hpp"
 #include "test/integration/raw_sample_type.hpp"
 #include "test/integration/relay_fixture.hpp"
+#include "wire/compact_topics.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::test {
 namespace {
@@ -191,7 +191,7 @@ TEST_F(CompactWanTest, TheStatusTravelsCompressedAndReachesTheCampWhole) {
     auto* writer = started_paper_path(c, paper, reader);
     ASSERT_NE(writer, nullptr);
     auto& statuses = listener<CollectingReader<idl::GatewayStatus>>();
-    local_reader<idl::GatewayStatusPubSubType>(dds::STATUS_TOPIC, local_->default_reader_qos(), statuses);
+    local_reader<idl::GatewayStatusPubSubType>(wire::STATUS_TOPIC, local_->default_reader_qos(), statuses);
     publish_paper(writer, 0, 10);
     ASSERT_TRUE(wait_until([&] { return reader.count() >= 10; })) << reader.count() << " of 10";
     // A status made after the samples left says so.
@@ -247,14 +247,14 @@ TEST_F(CompactWanTest, BundlesLeaveWithoutTheirDdsTimestampAndAMeasuringRelayTim
     c.status_period = 1s;  // the relay counts the bundles of gateways it heard a status from
     start_gateway(c);
     start_relay(nullptr, 1s, {}, 30'000, true);
-    TestParticipant other(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 62),
+    TestParticipant other(domains_.wan, TestParticipant::wan_qos(base::metatraffic_unicast_port(domains_.wan, 62),
                                                                  domains_.gateway_wan_port));
     ASSERT_TRUE(other.ok());
     auto& bundles = listener<CollectingReader<wan::Bundle>>();
     fdds::DataReaderQos qos = other.default_reader_qos();
     qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
     ASSERT_NE(
-        other.make_reader(dds::COMPACT_BUNDLE_TOPIC, fdds::TypeSupport(new wan::BundlePubSubType()), qos, &bundles),
+        other.make_reader(wire::COMPACT_BUNDLE_TOPIC, fdds::TypeSupport(new wan::BundlePubSubType()), qos, &bundles),
         nullptr);
     const std::string paper = topic_prefix_ + "paper";
     auto& reader = listener<CollectingReader<idl::PaperMessage>>();
@@ -275,7 +275,7 @@ TEST_F(CompactWanTest, BundlesLeaveWithoutTheirDdsTimestampAndAMeasuringRelayTim
     })) << "the relay timed no bundle";
 
     for (const auto& received : bundles.received()) {
-        EXPECT_FALSE(dds::to_wall_time(received.info.source_timestamp).has_value())
+        EXPECT_FALSE(passthrough::to_wall_time(received.info.source_timestamp).has_value())
             << "a bundle came with its DDS timestamp";
         compact::Bundle decoded;
         ASSERT_EQ(compact::BundleCodec::decode(received.data.bytes().data(), received.data.bytes().size(), decoded),
@@ -329,14 +329,14 @@ TEST_F(CompactWanTest, TheRelayRejectsCorruptAndTruncatedBundlesAndGoesOn) {
     ASSERT_NE(writer, nullptr);
 
     // Another participant on the WAN domain writes bundles that are not: cut short, a bit flipped, noise.
-    TestParticipant other(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 62),
+    TestParticipant other(domains_.wan, TestParticipant::wan_qos(base::metatraffic_unicast_port(domains_.wan, 62),
                                                                  domains_.wan_reader_port));
     ASSERT_TRUE(other.ok());
     auto& matches = listener<MatchCounter>();
     fdds::DataWriterQos qos = other.default_writer_qos();
     qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
     auto* forger =
-        other.make_writer(dds::COMPACT_BUNDLE_TOPIC, fdds::TypeSupport(new wan::BundlePubSubType()), qos, &matches);
+        other.make_writer(wire::COMPACT_BUNDLE_TOPIC, fdds::TypeSupport(new wan::BundlePubSubType()), qos, &matches);
     ASSERT_NE(forger, nullptr);
     ASSERT_TRUE(wait_until([&] { return matches.matched.load() > 0; }, 3 * MATCH_TIMEOUT));
     compact::Bundle real;
@@ -367,11 +367,11 @@ TEST_F(CompactWanTest, TheRelayRejectsCorruptAndTruncatedBundlesAndGoesOn) {
         << relay_rejected() - primed << " of " << forged.size() << " rejected";
 
     // And samples that are not even CDR: an encapsulation that does not exist makes Fast-CDR throw inside take().
-    TestParticipant raw(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 63),
+    TestParticipant raw(domains_.wan, TestParticipant::wan_qos(base::metatraffic_unicast_port(domains_.wan, 63),
                                                                domains_.wan_reader_port));
     ASSERT_TRUE(raw.ok());
     auto& raw_matches = listener<MatchCounter>();
-    auto* raw_forger = raw.make_writer(dds::COMPACT_BUNDLE_TOPIC,
+    auto* raw_forger = raw.make_writer(wire::COMPACT_BUNDLE_TOPIC,
                                        fdds::TypeSupport(new RawSampleType(wan::BundlePubSubType().getName(), false)),
                                        qos, &raw_matches);
     ASSERT_NE(raw_forger, nullptr);

@@ -35,7 +35,7 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
-#include "gateway/dds/wan_address.hpp"
+#include "base/wan_address.hpp"
 
 namespace tgw::test {
 
@@ -104,8 +104,8 @@ struct TestDomains {
         d.wan = 85 + test_slot();
         d.camp = 160 + test_slot();
         // Participant ids well above what Fast DDS assigns in one process, so the ports are free.
-        d.wan_reader_port = dds::metatraffic_unicast_port(d.wan, 60);
-        d.gateway_wan_port = dds::metatraffic_unicast_port(d.wan, 61);
+        d.wan_reader_port = base::metatraffic_unicast_port(d.wan, 60);
+        d.gateway_wan_port = base::metatraffic_unicast_port(d.wan, 61);
         return d;
     }
 };

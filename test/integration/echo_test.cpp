@@ -10,9 +10,8 @@
 #include "AnnouncedTypesPubSubTypes.h"
 #include "AnnouncedTypesTypeObject.h"
 #include "GatewayStatusPubSubTypes.h"
-
+#include "base/wan_address.hpp"
 #include "basecamp/live/echo.hpp"
-#include "gateway/dds/wan_address.hpp"
 #include "test/integration/child_process.hpp"
 #include "test/integration/dds_test_support.hpp"
 #include "test/integration/error_log_counter.hpp"
@@ -34,8 +33,8 @@ class EchoTest : public ::testing::Test {
         stderr_file_ = "/tmp/tgw_it_" + std::to_string(::getpid()) + "_echo.err";
         // The publisher on loopback UDP alone, announcing itself to the first participant port of the domain,
         // where the echo's participant (unicast, --peer 127.0.0.1) listens.
-        fdds::DomainParticipantQos qos = TestParticipant::wan_qos(dds::metatraffic_unicast_port(domain_, PUBLISHER_ID),
-                                                                  dds::metatraffic_unicast_port(domain_, 0));
+        fdds::DomainParticipantQos qos = TestParticipant::wan_qos(base::metatraffic_unicast_port(domain_, PUBLISHER_ID),
+                                                                  base::metatraffic_unicast_port(domain_, 0));
         qos.name("test/echo publisher");
         qos.wire_protocol().participant_id = PUBLISHER_ID;
         publisher_ = std::make_unique<TestParticipant>(domain_, qos);

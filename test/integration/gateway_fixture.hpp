@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "base/clock.hpp"
-#include "gateway/dds/dds_time.hpp"
 #include "gateway/dds/gateway.hpp"
+#include "passthrough/dds_time.hpp"
 #include "test/integration/dds_test_support.hpp"
 #include "test/integration/error_log_counter.hpp"
 
@@ -109,7 +109,7 @@ class GatewayIntegrationTest : public ::testing::Test {
         q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
         q.history().depth = 1000;
         if (lifespan) {
-            q.lifespan().duration = dds::to_dds_duration(*lifespan);
+            q.lifespan().duration = passthrough::to_dds_duration(*lifespan);
         }
         return q;
     }
@@ -185,7 +185,7 @@ class GatewayIntegrationTest : public ::testing::Test {
             << c.dropped_total();
     }
 
-    static eprosima::fastrtps::Time_t wall_stamp(base::WallTime t) { return dds::to_dds_time(t); }
+    static eprosima::fastrtps::Time_t wall_stamp(base::WallTime t) { return passthrough::to_dds_time(t); }
 
     base::SystemClock clock_;
     TestDomains domains_;

@@ -21,9 +21,9 @@
 #include "base/clock.hpp"
 #include "basecamp/capture/delivery_tally.hpp"
 #include "basecamp/capture/receiver_reporter.hpp"
-#include "gateway/core/wire_model.hpp"
-#include "gateway/dds/dds_time.hpp"
+#include "core/wire_model.hpp"
 #include "gateway/dds/gateway.hpp"
+#include "passthrough/dds_time.hpp"
 #include "test/integration/error_log_counter.hpp"
 #include "test/integration/gateway_fixture.hpp"
 #include "test/integration/opaque_type.hpp"
@@ -382,7 +382,7 @@ TEST_F(GatewayIntegrationTest, TakesTheTtlFromThePublishersLifespan) {
     ASSERT_NE(writer, nullptr);
 
     const auto bridged = gateway_->find_topic(topic);
-    EXPECT_EQ(bridged->ttl.source, dds::TtlSource::publisher);
+    EXPECT_EQ(bridged->ttl.source, passthrough::TtlSource::publisher);
     EXPECT_EQ(bridged->ttl.ttl, base::Duration(3s));
     EXPECT_EQ(gateway_->wan_writer_lifespan(bridged->id), base::Duration(3s));
     PublisherWatcher::Seen seen;
@@ -401,7 +401,7 @@ TEST_F(GatewayIntegrationTest, TakesTheTtlFromAnXmlProfileNamedAfterTheTopic) {
     ASSERT_NE(writer, nullptr);
 
     const auto bridged = gateway_->find_topic(topic);
-    EXPECT_EQ(bridged->ttl.source, dds::TtlSource::profile) << "the profile must win over the publisher's 3 s";
+    EXPECT_EQ(bridged->ttl.source, passthrough::TtlSource::profile) << "the profile must win over the publisher's 3 s";
     EXPECT_EQ(bridged->ttl.ttl, base::Duration(7s));
     PublisherWatcher::Seen seen;
     ASSERT_TRUE(wait_until([&] { return watcher_.find(topic, seen); }));
@@ -483,7 +483,7 @@ TEST_F(GatewayIntegrationTest, UsesTheDefaultTtlWhenNothingElseApplies) {
               nullptr);
     ASSERT_TRUE(gateway_->wait_for_topic(topic, MATCH_TIMEOUT));
     const auto bridged = gateway_->find_topic(topic);
-    EXPECT_EQ(bridged->ttl.source, dds::TtlSource::fallback);
+    EXPECT_EQ(bridged->ttl.source, passthrough::TtlSource::fallback);
     EXPECT_EQ(bridged->ttl.ttl, base::Duration(9s));
 }
 

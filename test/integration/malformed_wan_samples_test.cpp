@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "ReceiverReportPubSubTypes.h"
-#include "gateway/dds/receiver_report_topic.hpp"
-#include "gateway/dds/wan_address.hpp"
+#include "base/wan_address.hpp"
 #include "test/integration/gateway_fixture.hpp"
 #include "test/integration/raw_sample_type.hpp"
+#include "wire/receiver_report_topic.hpp"
 
 namespace tgw::test {
 namespace {
@@ -32,12 +32,12 @@ TEST_F(MalformedWanSamplesTest, AMalformedReceiverReportIsRefusedAndTheNextGoodO
     GatewayConfig c = config();
     c.receiver_reports = true;
     start_gateway(c);
-    TestParticipant stranger(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 62),
+    TestParticipant stranger(domains_.wan, TestParticipant::wan_qos(base::metatraffic_unicast_port(domains_.wan, 62),
                                                                     domains_.gateway_wan_port));
     ASSERT_TRUE(stranger.ok());
     auto& matches = listener<MatchCounter>();
     fdds::DataWriter* writer = stranger.make_writer(
-        dds::RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new RawSampleType("tgw::idl::ReceiverReport", true)),
+        wire::RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new RawSampleType("tgw::idl::ReceiverReport", true)),
         stranger.default_writer_qos(), &matches);
     ASSERT_NE(writer, nullptr);
     ASSERT_TRUE(wait_until([&] { return matches.matched > 0; }, MATCH_TIMEOUT)) << "the gateway's reader never matched";

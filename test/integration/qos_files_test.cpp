@@ -10,7 +10,7 @@
 #include <fastdds/dds/publisher/Publisher.hpp>
 
 #include "base/config_error.hpp"
-#include "gateway/dds/qos_file.hpp"
+#include "passthrough/qos_file.hpp"
 #include "test/integration/dds_test_support.hpp"
 #include "test/integration/error_log_counter.hpp"
 
@@ -43,12 +43,12 @@ TEST_F(QosFilesTest, EveryXmlFileInQosLoads) {
         // The gateway loads one --qos file; files that define the same profiles (the paper's best-effort and
         // reliable variants) cannot share a process.
         eprosima::fastrtps::xmlparser::XMLProfileManager::DeleteInstance();
-        EXPECT_NO_THROW(dds::load_qos_file(file.string())) << file;
+        EXPECT_NO_THROW(passthrough::load_qos_file(file.string())) << file;
     }
 }
 
 TEST_F(QosFilesTest, PaperWorkloadProfilesCarryTheTtlsAsLifespan) {
-    dds::load_qos_file(std::string(TGW_QOS_DIR) + "/paper_workload.xml");
+    passthrough::load_qos_file(std::string(TGW_QOS_DIR) + "/paper_workload.xml");
     TestParticipant p(TestDomains::for_this_process().robot, fdds::PARTICIPANT_QOS_DEFAULT);
     ASSERT_TRUE(p.ok());
     fdds::Publisher* publisher = p.participant()->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
@@ -63,16 +63,16 @@ TEST_F(QosFilesTest, PaperWorkloadProfilesCarryTheTtlsAsLifespan) {
 }
 
 TEST_F(QosFilesTest, WriterProfileLifespanNeedsNoParticipant) {
-    dds::load_qos_file(std::string(TGW_QOS_DIR) + "/paper_workload.xml");
-    EXPECT_EQ(dds::writer_profile_lifespan("telemetry/A"), std::chrono::seconds(1));
-    EXPECT_EQ(dds::writer_profile_lifespan("telemetry/D"), std::chrono::seconds(20));
-    EXPECT_FALSE(dds::writer_profile_lifespan("no/such/topic"));
+    passthrough::load_qos_file(std::string(TGW_QOS_DIR) + "/paper_workload.xml");
+    EXPECT_EQ(passthrough::writer_profile_lifespan("telemetry/A"), std::chrono::seconds(1));
+    EXPECT_EQ(passthrough::writer_profile_lifespan("telemetry/D"), std::chrono::seconds(20));
+    EXPECT_FALSE(passthrough::writer_profile_lifespan("no/such/topic"));
 }
 
 TEST_F(QosFilesTest, PaperWorkloadDeclaresItsFourTopicsWithTheirType) {
     const std::string path = std::string(TGW_QOS_DIR) + "/paper_workload.xml";
-    dds::load_qos_file(path);
-    const auto declared = dds::declared_topics(path);
+    passthrough::load_qos_file(path);
+    const auto declared = passthrough::declared_topics(path);
     ASSERT_EQ(declared.size(), 4u);
     const char* names[] = {"telemetry/A", "telemetry/B", "telemetry/C", "telemetry/D"};
     for (std::size_t i = 0; i < 4; ++i) {
@@ -92,9 +92,9 @@ TEST_F(QosFilesTest, AProfileForAnotherTopicThanItsNameIsAConfigErrorNamingTheLi
                "<profiles>\n<data_writer profile_name=\"tgw_test/a\">\n"
                "<topic><name>tgw_test/b</name><dataType>T</dataType></topic>\n</data_writer>\n</profiles>\n</dds>\n";
     }
-    dds::load_qos_file(path);
+    passthrough::load_qos_file(path);
     try {
-        dds::declared_topics(path);
+        passthrough::declared_topics(path);
         ADD_FAILURE() << "no ConfigError";
     } catch (const base::ConfigError& e) {
         const std::string what = e.what();
@@ -105,12 +105,12 @@ TEST_F(QosFilesTest, AProfileForAnotherTopicThanItsNameIsAConfigErrorNamingTheLi
 }
 
 TEST_F(QosFilesTest, ParticipantProfilesExist) {
-    dds::load_qos_file(std::string(TGW_QOS_DIR) + "/gateway_participants.xml");
-    const auto wan = dds::participant_profile(dds::WAN_PARTICIPANT_PROFILE);
+    passthrough::load_qos_file(std::string(TGW_QOS_DIR) + "/gateway_participants.xml");
+    const auto wan = passthrough::participant_profile(passthrough::WAN_PARTICIPANT_PROFILE);
     ASSERT_TRUE(wan);
     EXPECT_EQ(wan->wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod,
               eprosima::fastrtps::Duration_t(20, 0));
-    EXPECT_TRUE(dds::participant_profile(dds::ROBOT_PARTICIPANT_PROFILE));
+    EXPECT_TRUE(passthrough::participant_profile(passthrough::ROBOT_PARTICIPANT_PROFILE));
 }
 
 TEST_F(QosFilesTest, MalformedXmlNamesTheFileAndLine) {
@@ -120,7 +120,7 @@ TEST_F(QosFilesTest, MalformedXmlNamesTheFileAndLine) {
         out << "<?xml version=\"1.0\"?>\n<dds>\n<profiles>\n<data_writer profile_name=\"x\">\n</dds>\n";
     }
     try {
-        dds::load_qos_file(path);
+        passthrough::load_qos_file(path);
         ADD_FAILURE() << "no ConfigError";
     } catch (const base::ConfigError& e) {
         const std::string what = e.what();
@@ -131,7 +131,7 @@ TEST_F(QosFilesTest, MalformedXmlNamesTheFileAndLine) {
 }
 
 TEST_F(QosFilesTest, MissingFileIsAConfigError) {
-    EXPECT_THROW(dds::load_qos_file("/nonexistent/tgw.xml"), base::ConfigError);
+    EXPECT_THROW(passthrough::load_qos_file("/nonexistent/tgw.xml"), base::ConfigError);
 }
 
 }  // namespace

@@ -17,7 +17,7 @@
 namespace tgw::test {
 namespace {
 
-using Offer = dds::OfferedQos;
+using Offer = passthrough::OfferedQos;
 
 class QosMatchingTest : public GatewayIntegrationTest {
   protected:

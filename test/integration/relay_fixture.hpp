@@ -81,7 +81,7 @@ class RelayTest : public GatewayIntegrationTest {
     std::unique_ptr<TestParticipant> camp_tool() const {
         return std::make_unique<TestParticipant>(
             domains_.wan,
-            TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 63), domains_.wan_reader_port));
+            TestParticipant::wan_qos(base::metatraffic_unicast_port(domains_.wan, 63), domains_.wan_reader_port));
     }
 
     /// What a ROS 2 tool reads with: reliable.

@@ -18,10 +18,9 @@
 #include "PaperWorkloadPubSubTypes.h"
 #include "ReceiverReportPubSubTypes.h"
 #include "RosStringPubSubTypes.h"
-
 #include "basecamp/recording/sample_store.hpp"
-#include "gateway/dds/receiver_report_topic.hpp"
 #include "test/integration/relay_fixture.hpp"
+#include "wire/receiver_report_topic.hpp"
 
 namespace tgw::test {
 namespace {
@@ -332,13 +331,13 @@ TEST_F(RelayTest, RecordsWhatItRelaysAndReportsItToTheGateway) {
 TEST_F(RelayTest, AReliableReaderOfACampToolGetsTheReceiverReports) {
     start_gateway(config());
     start_relay(nullptr, 200ms);
-    TestParticipant tool(domains_.wan, TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 63),
+    TestParticipant tool(domains_.wan, TestParticipant::wan_qos(base::metatraffic_unicast_port(domains_.wan, 63),
                                                                 domains_.wan_reader_port));
     ASSERT_TRUE(tool.ok());
     fdds::DataReaderQos qos = tool.default_reader_qos();
     qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
     CollectingReader<idl::ReceiverReport> reports;
-    ASSERT_NE(tool.make_reader(dds::RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new idl::ReceiverReportPubSubType()), qos,
+    ASSERT_NE(tool.make_reader(wire::RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new idl::ReceiverReportPubSubType()), qos,
                                &reports),
               nullptr);
     const std::string topic = topic_prefix_ + "reported";

@@ -17,15 +17,15 @@
 #include "ReceiverReportPubSubTypes.h"
 #include "base/dds_security.hpp"
 #include "base/security_files.hpp"
+#include "base/wan_address.hpp"
 #include "basecamp/capture/backfill_archive.hpp"
 #include "basecamp/capture/recorder.hpp"
 #include "basecamp/recording/sample_store.hpp"
 #include "basecamp/sample/sample_consumer.hpp"
-#include "gateway/dds/receiver_report_topic.hpp"
-#include "gateway/dds/status_topic.hpp"
-#include "gateway/dds/wan_address.hpp"
 #include "gateway/dds/wan_router.hpp"
 #include "test/integration/relay_fixture.hpp"
+#include "wire/receiver_report_topic.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::test {
 namespace {
@@ -204,8 +204,8 @@ TEST_F(SecurityTest, SecuredBaseCampGetsEverySampleTheStatusAndSendsItsReports) 
     auto& statuses = listener<CollectingReader<idl::GatewayStatus>>();
     fdds::DataReaderQos reliable = basecamp_->default_reader_qos();
     reliable.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-    ASSERT_NE(basecamp_->make_reader(dds::STATUS_TOPIC, fdds::TypeSupport(new idl::GatewayStatusPubSubType()), reliable,
-                                     &statuses),
+    ASSERT_NE(basecamp_->make_reader(wire::STATUS_TOPIC, fdds::TypeSupport(new idl::GatewayStatusPubSubType()),
+                                     reliable, &statuses),
               nullptr);
     start_gateway(c);
     // tm-basecamp record too, as DIR/basecamp: it reads every topic and reports on tgw/receiver_report.
@@ -230,7 +230,7 @@ TEST_F(SecurityTest, SecuredBaseCampGetsEverySampleTheStatusAndSendsItsReports) 
         << "base camp " << wan.count() << ", recorder " << recorder.kept.count(topic) << " of " << N;
     expect_intact(wan, N);
     EXPECT_EQ(recorder.kept.count(topic), N);
-    ASSERT_TRUE(wait_until([&] { return statuses.count() > 0; })) << "no status on " << dds::STATUS_TOPIC;
+    ASSERT_TRUE(wait_until([&] { return statuses.count() > 0; })) << "no status on " << wire::STATUS_TOPIC;
     ASSERT_TRUE(wait_until([&] {
         const auto report = gateway_->receiver_report();
         return report && report->received_samples >= N;
@@ -381,7 +381,7 @@ TEST_F(SecurityTest, PlainParticipantGetsNothingAndItsReportsNeverReachTheGatewa
     auto& seen = listener<ParticipantsSeen>();
     TestParticipant plain(
         domains_.wan,
-        TestParticipant::wan_qos(dds::metatraffic_unicast_port(domains_.wan, 62), domains_.gateway_wan_port), &seen);
+        TestParticipant::wan_qos(base::metatraffic_unicast_port(domains_.wan, 62), domains_.gateway_wan_port), &seen);
     ASSERT_TRUE(plain.ok());
     // In touch: the gateway's announcements, which are never protected, reach it.
     ASSERT_TRUE(wait_until([&] { return seen.has(gateway_->wan_guid_prefix()); }, MATCH_TIMEOUT))
@@ -390,8 +390,9 @@ TEST_F(SecurityTest, PlainParticipantGetsNothingAndItsReportsNeverReachTheGatewa
     ASSERT_NE(plain.make_reader(topic, fdds::TypeSupport(new idl::PaperMessagePubSubType()), plain.default_reader_qos(),
                                 &eavesdropped),
               nullptr);
-    fdds::DataWriter* forged = plain.make_writer(
-        dds::RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new idl::ReceiverReportPubSubType()), plain.default_writer_qos());
+    fdds::DataWriter* forged =
+        plain.make_writer(wire::RECEIVER_REPORT_TOPIC, fdds::TypeSupport(new idl::ReceiverReportPubSubType()),
+                          plain.default_writer_qos());
     ASSERT_NE(forged, nullptr);
     idl::ReceiverReport report;
     const auto prefix = gateway_->wan_guid_prefix();

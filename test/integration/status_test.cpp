@@ -7,8 +7,8 @@
 
 #include "GatewayStatusPubSubTypes.h"
 #include "PaperWorkloadPubSubTypes.h"
-#include "gateway/dds/status_topic.hpp"
 #include "test/integration/gateway_fixture.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::test {
 namespace {
@@ -20,7 +20,7 @@ class StatusTest : public GatewayIntegrationTest {
         auto& reader = listener<CollectingReader<idl::GatewayStatus>>();
         fdds::DataReaderQos qos = basecamp_->default_reader_qos();
         qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-        EXPECT_NE(basecamp_->make_reader(dds::STATUS_TOPIC, fdds::TypeSupport(new idl::GatewayStatusPubSubType()), qos,
+        EXPECT_NE(basecamp_->make_reader(wire::STATUS_TOPIC, fdds::TypeSupport(new idl::GatewayStatusPubSubType()), qos,
                                          &reader),
                   nullptr);
         return reader;

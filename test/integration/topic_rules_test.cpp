@@ -52,7 +52,7 @@ TEST_F(TopicRulesTest, ACappedTopicReachesTheCampAtItsCapTheRestLoggedAsRateCapp
     ASSERT_NE(writer, nullptr);
     const auto bridged = gateway_->find_topic(topic);
     ASSERT_TRUE(bridged);
-    EXPECT_EQ(bridged->ttl.source, dds::TtlSource::rule);
+    EXPECT_EQ(bridged->ttl.source, passthrough::TtlSource::rule);
     EXPECT_EQ(bridged->ttl.ttl, base::Duration(3s));
 
     constexpr int N = 60;

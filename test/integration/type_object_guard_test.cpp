@@ -11,8 +11,8 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "base/peer_transport.hpp"
-#include "gateway/dds/discovery.hpp"
-#include "gateway/dds/type_object_idl.hpp"
+#include "passthrough/discovery.hpp"
+#include "passthrough/type_object_idl.hpp"
 #include "test/integration/child_process.hpp"
 #include "test/integration/dds_test_support.hpp"
 
@@ -26,8 +26,8 @@ TEST(TypeObjectGuardTest, ATypeObjectFastDdsWouldCrashOnReachesTheListenerAndNoF
     const std::string topic = "tgw_it/type_object_guard/convoy";
 
     std::mutex mutex;
-    std::vector<dds::DiscoveredPublisher> discovered;
-    dds::Discovery listener([&](dds::DiscoveredPublisher&& publisher) {
+    std::vector<passthrough::DiscoveredPublisher> discovered;
+    passthrough::Discovery listener([&](passthrough::DiscoveredPublisher&& publisher) {
         std::lock_guard<std::mutex> lock(mutex);
         discovered.push_back(std::move(publisher));
     });
@@ -45,7 +45,7 @@ TEST(TypeObjectGuardTest, ATypeObjectFastDdsWouldCrashOnReachesTheListenerAndNoF
     const auto convoy_found = [&] {
         std::lock_guard<std::mutex> lock(mutex);
         return std::any_of(discovered.begin(), discovered.end(),
-                           [&](const dds::DiscoveredPublisher& p) { return p.topic == topic; });
+                           [&](const passthrough::DiscoveredPublisher& p) { return p.topic == topic; });
     };
     const bool found = wait_until(convoy_found, 20s);
     // Long enough for Fast DDS to have built its DynamicType, had it been given the TypeObject.
@@ -56,10 +56,10 @@ TEST(TypeObjectGuardTest, ATypeObjectFastDdsWouldCrashOnReachesTheListenerAndNoF
 
     std::lock_guard<std::mutex> lock(mutex);
     const auto it = std::find_if(discovered.begin(), discovered.end(),
-                                 [&](const dds::DiscoveredPublisher& p) { return p.topic == topic; });
+                                 [&](const passthrough::DiscoveredPublisher& p) { return p.topic == topic; });
     EXPECT_EQ(it->type_name, "tgw_test::Convoy");
     ASSERT_NE(it->type_object, nullptr) << "the publisher announced a TypeObject";
-    const dds::TypeObjectIdl idl = dds::type_object_idl(*it->type_object, it->type_name, {});
+    const passthrough::TypeObjectIdl idl = passthrough::type_object_idl(*it->type_object, it->type_name, {});
     EXPECT_NE(idl.missing.find("member 'members' of tgw_test::Convoy: refers to a type its publisher did not "
                                "announce"),
               std::string::npos)

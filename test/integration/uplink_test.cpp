@@ -18,7 +18,7 @@ using UplinkTest = GatewayIntegrationTest;
 
 /// Whether an uplink's one route has matched both its ends: the writer whose commands its reader takes, and a reader
 /// of what it writes.
-bool route_matched(const std::vector<dds::UplinkCount>& counts) {
+bool route_matched(const std::vector<passthrough::UplinkCount>& counts) {
     return counts.size() == 1 && counts.front().writers > 0 && counts.front().readers > 0;
 }
 
@@ -39,14 +39,14 @@ std::vector<base::WallTime> write_commands(fdds::DataWriter* command, fdds::Data
     for (std::uint64_t i = 0; i < fresh; ++i) {
         idl::PaperMessage m = numbered(i);
         stamps.push_back(clock.wall_now());
-        EXPECT_TRUE(command->write_w_timestamp(&m, fdds::HANDLE_NIL, dds::to_dds_time(stamps.back())) ==
+        EXPECT_TRUE(command->write_w_timestamp(&m, fdds::HANDLE_NIL, passthrough::to_dds_time(stamps.back())) ==
                     ReturnCode_t::RETCODE_OK);
         idl::PaperMessage not_listed = numbered(100 + i);
         EXPECT_TRUE(stray->write(&not_listed));
     }
     for (std::uint64_t i = 0; i < stale; ++i) {
         idl::PaperMessage m = numbered(fresh + i);
-        EXPECT_TRUE(command->write_w_timestamp(&m, fdds::HANDLE_NIL, dds::to_dds_time(clock.wall_now() - 2s)) ==
+        EXPECT_TRUE(command->write_w_timestamp(&m, fdds::HANDLE_NIL, passthrough::to_dds_time(clock.wall_now() - 2s)) ==
                     ReturnCode_t::RETCODE_OK);
     }
     idl::PaperMessage last = numbered(99);
@@ -77,7 +77,7 @@ TEST_F(UplinkTest, ListedCommandsReachTheRobotFreshAndNothingElseDoes) {
 
     // The base camp publishes both under the robot's name, with a writer's defaults and a Lifespan of 1 s.
     fdds::DataWriterQos qos = basecamp_->default_writer_qos();
-    qos.lifespan().duration = dds::to_dds_duration(1s);
+    qos.lifespan().duration = passthrough::to_dds_duration(1s);
     auto& command_matches = listener<MatchCounter>();
     auto* command_writer =
         basecamp_->make_writer(std::string(ROBOT) + "/" + command, fdds::TypeSupport(new idl::PaperMessagePubSubType()),
@@ -100,7 +100,7 @@ TEST_F(UplinkTest, ListedCommandsReachTheRobotFreshAndNothingElseDoes) {
     PublisherWatcher::Seen seen;
     ASSERT_TRUE(wait_until([&] { return offered.find(command, seen); }, MATCH_TIMEOUT));
     EXPECT_EQ(seen.reliability, fdds::RELIABLE_RELIABILITY_QOS);
-    EXPECT_EQ(seen.lifespan, dds::to_dds_duration(1s));
+    EXPECT_EQ(seen.lifespan, passthrough::to_dds_duration(1s));
 
     // Fresh commands arrive whole, with the base camp's source timestamps; stale ones (2 s old, Lifespan 1 s) never
     // do; a fresh one after them shows that nothing of them was still on its way.
@@ -125,14 +125,14 @@ TEST_F(UplinkTest, ListedCommandsReachTheRobotFreshAndNothingElseDoes) {
     EXPECT_FALSE(offered.find(other, seen));
     EXPECT_FALSE(offered.find(std::string(ROBOT) + "/" + other, seen));
 
-    const std::vector<dds::UplinkCount> counts = gateway_->uplink_counts();
+    const std::vector<passthrough::UplinkCount> counts = gateway_->uplink_counts();
     ASSERT_EQ(counts.size(), 1u);
-    const dds::UplinkCount& up = counts.front();
+    const passthrough::UplinkCount& up = counts.front();
     EXPECT_EQ(up.from_topic, std::string(ROBOT) + "/" + command);
     EXPECT_EQ(up.to_topic, command);
     ASSERT_TRUE(up.ttl);
     EXPECT_EQ(up.ttl->ttl, 1s);
-    EXPECT_EQ(up.ttl->source, dds::TtlSource::publisher);
+    EXPECT_EQ(up.ttl->source, passthrough::TtlSource::publisher);
     EXPECT_EQ(up.received, FRESH + STALE + 1);
     EXPECT_EQ(up.delivered, FRESH + 1);
     EXPECT_EQ(up.expired, STALE);
@@ -172,7 +172,7 @@ TEST_F(UplinkRelayTest, ACampProgramsCommandsReachTheRobotThroughTheRelay) {
                                   robot_->default_reader_qos(), &others),
               nullptr);
     fdds::DataWriterQos qos = local_->default_writer_qos();
-    qos.lifespan().duration = dds::to_dds_duration(1s);
+    qos.lifespan().duration = passthrough::to_dds_duration(1s);
     auto& command_matches = listener<MatchCounter>();
     auto& other_matches = listener<MatchCounter>();
     auto* command_writer =

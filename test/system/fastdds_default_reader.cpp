@@ -21,7 +21,7 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
-#include "gateway/dds/passthrough_type.hpp"
+#include "passthrough/passthrough_type.hpp"
 
 namespace fdds = eprosima::fastdds::dds;
 
@@ -30,7 +30,7 @@ namespace {
 class SeqCollector final : public fdds::DataReaderListener {
   public:
     void on_data_available(fdds::DataReader* reader) override {
-        tgw::dds::PassthroughData data;
+        tgw::passthrough::PassthroughData data;
         fdds::SampleInfo info;
         while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
             if (!info.valid_data || data.payload.size() < 8) {
@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "fastdds_default_reader: cannot create a participant on domain %d\n", domain);
         return 1;
     }
-    fdds::TypeSupport type(new tgw::dds::PassthroughType(type_name, false));
+    fdds::TypeSupport type(new tgw::passthrough::PassthroughType(type_name, false));
     type.register_type(participant);
     fdds::Topic* topic = participant->create_topic(topic_name, type_name, fdds::TOPIC_QOS_DEFAULT);
     fdds::Subscriber* subscriber = participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);

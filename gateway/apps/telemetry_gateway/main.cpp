@@ -18,11 +18,11 @@
 #include "base/config_file.hpp"
 #include "base/fastdds_log_reporter.hpp"
 #include "base/robot_namespace.hpp"
+#include "base/wan_address.hpp"
+#include "core/policy_kind.hpp"
 #include "gateway/apps/telemetry_gateway/topic_rules_file.hpp"
-#include "gateway/core/policy_kind.hpp"
 #include "gateway/dds/gateway.hpp"
 #include "gateway/dds/rate_poller.hpp"
-#include "gateway/dds/wan_address.hpp"
 #include "gateway/dds/wan_router.hpp"
 #include "gateway/log/default_log_path.hpp"
 #include "sensor/delivered_rate_check.hpp"
@@ -53,7 +53,7 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
         for (auto d : c.dropped) {
             std::printf(" %9llu", static_cast<unsigned long long>(d));
         }
-        const auto source = tgw::dds::to_string(topic.ttl.source);
+        const auto source = tgw::passthrough::to_string(topic.ttl.source);
         std::printf("  %.3g s (%.*s%s)\n", tgw::base::to_seconds(topic.ttl.ttl), static_cast<int>(source.size()),
                     source.data(), topic.bridged ? "" : ", retired");
     }
@@ -185,10 +185,10 @@ void print_summary(const tgw::dds::Gateway& gateway, bool uplink_charged) {
             static_cast<unsigned long long>(report->lost_samples),
             static_cast<unsigned long long>(report->in_flight_samples));
     }
-    for (const tgw::dds::UplinkCount& up : gateway.uplink_counts()) {
+    for (const tgw::passthrough::UplinkCount& up : gateway.uplink_counts()) {
         // The gateway always resolves a TTL (--default-ttl at last).
-        const tgw::dds::ResolvedTtl ttl = up.ttl.value_or(tgw::dds::ResolvedTtl{});
-        const auto source = tgw::dds::to_string(ttl.source);
+        const tgw::passthrough::ResolvedTtl ttl = up.ttl.value_or(tgw::passthrough::ResolvedTtl{});
+        const auto source = tgw::passthrough::to_string(ttl.source);
         std::printf(
             "uplink %s -> %s: %llu received, %llu delivered, %llu expired before they came (never delivered), "
             "%llu failed, %llu written while no robot reader listened; TTL %.3g s (%.*s); %llu bytes on the link%s\n",
@@ -477,7 +477,7 @@ int main(int argc, char** argv) {
                 throw ConfigError(
                     "--delivered-check: name the interface with --wan-interface or --delivered-interface");
             }
-            delivered_interface = tgw::dds::resolve_interface_name(config.wan_interface);
+            delivered_interface = tgw::base::resolve_interface_name(config.wan_interface);
         }
         // Checked before the participants start, so a wrong interface is a start-up error.
         std::optional<tgw::sensor::DeliveredRateSources> delivered_sources;
@@ -540,7 +540,7 @@ int main(int argc, char** argv) {
         // it is up.
         std::unique_ptr<tgw::sensor::LinkStateWatch> link_watch;
         if (!config.wan_interface.empty()) {
-            const std::string wan_name = tgw::dds::resolve_interface_name(config.wan_interface);
+            const std::string wan_name = tgw::base::resolve_interface_name(config.wan_interface);
             link_watch = std::make_unique<tgw::sensor::LinkStateWatch>(
                 wan_name, [&gateway, wan_name](const tgw::sensor::LinkState& state) {
                     // An address that went (a new DHCP lease, a mesh radio's), or the first one (an interface with

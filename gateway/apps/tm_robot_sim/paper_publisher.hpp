@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "base/peer_transport.hpp"
-#include "gateway/core/paper_workload.hpp"
+#include "core/paper_workload.hpp"
 
 namespace eprosima::fastdds::dds {
 class DomainParticipant;

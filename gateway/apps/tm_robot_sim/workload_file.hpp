@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "gateway/core/paper_workload.hpp"
+#include "core/paper_workload.hpp"
 
 namespace tgw::robot_sim {
 

@@ -30,7 +30,7 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
-#include "gateway/dds/passthrough_type.hpp"
+#include "passthrough/passthrough_type.hpp"
 
 namespace fdds = eprosima::fastdds::dds;
 
@@ -97,7 +97,7 @@ class MixListener final : public fdds::DataReaderListener {
     MixListener(std::string topic, bool keyed, SampleLog* log) : topic_(std::move(topic)), keyed_(keyed), log_(log) {}
 
     void on_data_available(fdds::DataReader* reader) override {
-        tgw::dds::PassthroughData data;
+        tgw::passthrough::PassthroughData data;
         fdds::SampleInfo info;
         while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
             const std::int64_t arrival_ns = wall_clock_ns();
@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
     std::vector<std::unique_ptr<MixListener>> listeners;
     std::vector<fdds::DataReader*> readers;
     for (const MixTopic& t : TOPICS) {
-        fdds::Topic* topic = tgw::dds::passthrough_topic(participant, t.name, t.type_name, t.keyed);
+        fdds::Topic* topic = tgw::passthrough::passthrough_topic(participant, t.name, t.type_name, t.keyed);
         listeners.push_back(std::make_unique<MixListener>(t.name, t.keyed, &log));
         fdds::DataReader* reader =
             topic == nullptr ? nullptr : subscriber->create_datareader(topic, qos, listeners.back().get());

@@ -1,4 +1,4 @@
-#include "gateway/compact/bundle_codec.hpp"
+#include "compact/bundle_codec.hpp"
 #include "test/unit/compact/bundle_entries.hpp"
 
 #include <gtest/gtest.h>

@@ -5,7 +5,7 @@
 #include <utility>
 #include <vector>
 
-#include "gateway/compact/bundle_codec.hpp"
+#include "compact/bundle_codec.hpp"
 
 namespace tgw::compact::test {
 

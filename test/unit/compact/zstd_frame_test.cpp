@@ -1,4 +1,4 @@
-#include "gateway/compact/zstd_frame.hpp"
+#include "compact/zstd_frame.hpp"
 
 #include <gtest/gtest.h>
 

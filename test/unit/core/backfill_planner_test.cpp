@@ -1,4 +1,4 @@
-#include "gateway/core/backfill_planner.hpp"
+#include "core/backfill_planner.hpp"
 
 #include <gtest/gtest.h>
 

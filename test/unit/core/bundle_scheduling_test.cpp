@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <random>
 
-#include "gateway/compact/bundle_codec.hpp"
-#include "gateway/core/paper_workload.hpp"
-#include "gateway/core/urgency_demand.hpp"
+#include "compact/bundle_codec.hpp"
+#include "core/paper_workload.hpp"
+#include "core/urgency_demand.hpp"
 #include "test/unit/core/scheduler_fixture.hpp"
 
 namespace tgw::core {

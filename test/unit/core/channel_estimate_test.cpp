@@ -1,4 +1,4 @@
-#include "gateway/core/channel_estimate.hpp"
+#include "core/channel_estimate.hpp"
 
 #include <gtest/gtest.h>
 

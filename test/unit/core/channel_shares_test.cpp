@@ -1,4 +1,4 @@
-#include "gateway/core/channel_shares.hpp"
+#include "core/channel_shares.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "gateway/core/deadline_queue.hpp"
+#include "core/deadline_queue.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "gateway/core/demand_watch.hpp"
+#include "core/demand_watch.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "gateway/core/forwarding_loop.hpp"
+#include "core/forwarding_loop.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "gateway/core/granted_rate.hpp"
+#include "core/granted_rate.hpp"
 
 #include <gtest/gtest.h>
 

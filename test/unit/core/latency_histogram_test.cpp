@@ -1,4 +1,4 @@
-#include "gateway/core/latency_histogram.hpp"
+#include "core/latency_histogram.hpp"
 
 #include <gtest/gtest.h>
 

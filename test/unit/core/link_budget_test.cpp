@@ -1,4 +1,4 @@
-#include "gateway/core/link_budget.hpp"
+#include "core/link_budget.hpp"
 
 #include <gtest/gtest.h>
 

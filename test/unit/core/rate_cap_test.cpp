@@ -1,5 +1,5 @@
 // RateCap: a topic's max_rate_hz, as a token bucket that takes a publisher at the cap whole despite its jitter.
-#include "gateway/core/rate_cap.hpp"
+#include "core/rate_cap.hpp"
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 #include <memory>
 #include <random>
 
-#include "gateway/core/scheduler.hpp"
+#include "core/scheduler.hpp"
 #include "test/fakes/fake_clock.hpp"
 #include "test/fakes/recording_sink.hpp"
 

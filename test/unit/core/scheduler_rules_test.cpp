@@ -4,10 +4,10 @@
 
 #include <vector>
 
-#include "gateway/core/chunk_planning.hpp"
-#include "gateway/core/link_reserve.hpp"
-#include "gateway/core/paper_filter.hpp"
-#include "gateway/core/protected_topics.hpp"
+#include "core/chunk_planning.hpp"
+#include "core/link_reserve.hpp"
+#include "core/paper_filter.hpp"
+#include "core/protected_topics.hpp"
 
 namespace tgw::core {
 namespace {

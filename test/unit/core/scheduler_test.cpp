@@ -2,7 +2,7 @@
 
 #include <random>
 
-#include "gateway/core/urgency_demand.hpp"
+#include "core/urgency_demand.hpp"
 #include "test/unit/core/scheduler_fixture.hpp"
 
 namespace tgw::core {

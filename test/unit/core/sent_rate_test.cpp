@@ -1,4 +1,4 @@
-#include "gateway/core/sent_rate.hpp"
+#include "core/sent_rate.hpp"
 
 #include <gtest/gtest.h>
 

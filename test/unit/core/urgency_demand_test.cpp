@@ -1,4 +1,4 @@
-#include "gateway/core/urgency_demand.hpp"
+#include "core/urgency_demand.hpp"
 
 #include <gtest/gtest.h>
 

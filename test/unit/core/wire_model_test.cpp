@@ -1,9 +1,9 @@
-#include "gateway/core/wire_model.hpp"
+#include "core/wire_model.hpp"
 
 #include <gtest/gtest.h>
 
-#include "gateway/core/bundle_builder.hpp"
-#include "gateway/core/paper_workload.hpp"
+#include "core/bundle_builder.hpp"
+#include "core/paper_workload.hpp"
 
 namespace tgw::core {
 namespace {

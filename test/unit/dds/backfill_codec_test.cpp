@@ -1,6 +1,8 @@
-#include "gateway/dds/backfill_codec.hpp"
+#include "wire/backfill_codec.hpp"
 
 #include <gtest/gtest.h>
+
+#include "gateway/dds/backfill_sender.hpp"
 
 namespace tgw::dds {
 namespace {
@@ -22,11 +24,11 @@ log::StoredSample a_row() {
 }
 
 TEST(BackfillCodecTest, ASampleComesBackAsItWasWithItsRowReadableWithoutDecoding) {
-    const std::array<std::uint8_t, 16> log_id = *log_id_octets("00112233445566778899aabbccddeeff");
-    const std::vector<std::uint8_t> bytes = encode_backfill(a_row(), log_id);
+    const std::array<std::uint8_t, 16> log_id = *wire::log_id_octets("00112233445566778899aabbccddeeff");
+    const std::vector<std::uint8_t> bytes = wire::encode_backfill(backfill_sample(a_row(), log_id));
     ASSERT_FALSE(bytes.empty());
-    EXPECT_EQ(backfill_row_id(bytes), 0x0102030405060708);
-    const std::optional<idl::BackfillSample> sample = decode_backfill(bytes);
+    EXPECT_EQ(wire::backfill_row_id(bytes), 0x0102030405060708);
+    const std::optional<idl::BackfillSample> sample = wire::decode_backfill(bytes);
     ASSERT_TRUE(sample);
     EXPECT_EQ(sample->row_id(), 0x0102030405060708u);
     EXPECT_EQ(sample->log_id(), log_id);
@@ -42,30 +44,30 @@ TEST(BackfillCodecTest, ASampleComesBackAsItWasWithItsRowReadableWithoutDecoding
 
 TEST(BackfillCodecTest, TheRowIdIsReadInEitherByteOrder) {
     std::vector<std::uint8_t> big = {0x00, 0x00, 0, 0, 0, 0, 0, 0, 0, 0, 0x01, 0x02};
-    EXPECT_EQ(backfill_row_id(big), 0x0102);
+    EXPECT_EQ(wire::backfill_row_id(big), 0x0102);
     std::vector<std::uint8_t> little = {0x00, 0x01, 0, 0, 0x02, 0x01, 0, 0, 0, 0, 0, 0};
-    EXPECT_EQ(backfill_row_id(little), 0x0102);
-    EXPECT_FALSE(backfill_row_id({0x00, 0x01, 0, 0, 1, 2, 3})) << "too short";
-    EXPECT_FALSE(backfill_row_id({0x00, 0x07, 0, 0, 1, 2, 3, 4, 5, 6, 7, 8})) << "not plain CDR";
+    EXPECT_EQ(wire::backfill_row_id(little), 0x0102);
+    EXPECT_FALSE(wire::backfill_row_id({0x00, 0x01, 0, 0, 1, 2, 3})) << "too short";
+    EXPECT_FALSE(wire::backfill_row_id({0x00, 0x07, 0, 0, 1, 2, 3, 4, 5, 6, 7, 8})) << "not plain CDR";
 }
 
 TEST(BackfillCodecTest, BytesThatAreNotASampleAreRefused) {
-    EXPECT_FALSE(decode_backfill({0x00, 0x01, 0, 0, 1}));
-    EXPECT_FALSE(decode_backfill({}));
+    EXPECT_FALSE(wire::decode_backfill({0x00, 0x01, 0, 0, 1}));
+    EXPECT_FALSE(wire::decode_backfill({}));
 }
 
 TEST(BackfillCodecTest, ALogIdIsThirtyTwoHexCharacters) {
-    const std::optional<std::array<std::uint8_t, 16>> octets = log_id_octets("00112233445566778899AABBCCDDEEFF");
+    const std::optional<std::array<std::uint8_t, 16>> octets = wire::log_id_octets("00112233445566778899AABBCCDDEEFF");
     ASSERT_TRUE(octets);
-    EXPECT_EQ(log_id_hex(*octets), "00112233445566778899aabbccddeeff");
-    EXPECT_FALSE(log_id_octets("00112233"));
-    EXPECT_FALSE(log_id_octets("zz112233445566778899aabbccddeeff"));
+    EXPECT_EQ(wire::log_id_hex(*octets), "00112233445566778899aabbccddeeff");
+    EXPECT_FALSE(wire::log_id_octets("00112233"));
+    EXPECT_FALSE(wire::log_id_octets("zz112233445566778899aabbccddeeff"));
 }
 
 TEST(BackfillCodecTest, RowsBecomeSortedJoinedRanges) {
     using Ranges = std::vector<std::pair<std::int64_t, std::int64_t>>;
-    EXPECT_EQ(row_ranges({7, 3, 4, 5, 9, 5, 10, 1}), (Ranges{{1, 1}, {3, 5}, {7, 7}, {9, 10}}));
-    EXPECT_EQ(row_ranges({}), Ranges{});
+    EXPECT_EQ(wire::row_ranges({7, 3, 4, 5, 9, 5, 10, 1}), (Ranges{{1, 1}, {3, 5}, {7, 7}, {9, 10}}));
+    EXPECT_EQ(wire::row_ranges({}), Ranges{});
 }
 
 }  // namespace

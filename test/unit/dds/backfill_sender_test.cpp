@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <thread>
 
-#include "gateway/dds/backfill_codec.hpp"
 #include "test/fakes/fake_clock.hpp"
+#include "wire/backfill_codec.hpp"
 
 namespace tgw::dds {
 namespace {
@@ -65,7 +65,7 @@ class BackfillSenderTest : public ::testing::Test {
     }
 
     /// The topic a sample handed out carries.
-    static std::string topic_of(const core::Sample& sample) { return decode_backfill(sample.payload)->topic(); }
+    static std::string topic_of(const core::Sample& sample) { return wire::decode_backfill(sample.payload)->topic(); }
 
     std::int64_t column(const std::string& sql) {
         sqlite3* db = nullptr;
@@ -109,7 +109,7 @@ TEST_F(BackfillSenderTest, ASampleThatLeftIsCountedInTheLogAndAnAcknowledgementM
     start();
     const std::optional<core::Sample> first = next();
     ASSERT_TRUE(first);
-    const std::int64_t row = *backfill_row_id(first->payload);
+    const std::int64_t row = *wire::backfill_row_id(first->payload);
     sender_->left(row, first->payload.size());
     std::array<std::uint8_t, 16> someone_else = sender_->log_id();
     someone_else[0] ^= 0xFF;
@@ -132,11 +132,11 @@ TEST_F(BackfillSenderTest, ARowThatDidNotLeaveGoesAgainAndOneThatLeftWaitsForIts
     start(config);
     std::optional<core::Sample> sample = next();
     ASSERT_TRUE(sample);
-    const std::int64_t row = *backfill_row_id(sample->payload);
+    const std::int64_t row = *wire::backfill_row_id(sample->payload);
     sender_->not_left(row);
     sample = next();
     ASSERT_TRUE(sample) << "handed out again";
-    EXPECT_EQ(backfill_row_id(sample->payload), row);
+    EXPECT_EQ(wire::backfill_row_id(sample->payload), row);
     sender_->left(row, sample->payload.size());
     std::this_thread::sleep_for(100ms);
     EXPECT_FALSE(sender_->next_when_idle(clock_.now())) << "waits for its acknowledgement";

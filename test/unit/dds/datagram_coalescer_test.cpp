@@ -5,10 +5,10 @@
 #include <thread>
 #include <vector>
 
-#include "gateway/core/wire_model.hpp"
+#include "core/wire_model.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "test/fakes/fake_clock.hpp"
-#include "test/unit/dds/rtps_bytes.hpp"
+#include "test/unit/wire/rtps_bytes.hpp"
 
 namespace tgw::dds {
 namespace {
@@ -73,7 +73,7 @@ class DatagramCoalescerTest : public ::testing::Test {
     /// The RTPS header and both samples' submessages in one datagram.
     static Bytes packed(const Bytes& first, const Bytes& second) {
         Bytes out = first;
-        out.insert(out.end(), second.begin() + RtpsDatagram::HEADER_BYTES, second.end());
+        out.insert(out.end(), second.begin() + wire::RtpsDatagram::HEADER_BYTES, second.end());
         return out;
     }
 
@@ -221,7 +221,7 @@ class HeldControlTest : public DatagramCoalescerTest {
     static Bytes addressed(std::uint8_t i) { return message({info_dst(0x33), info_ts(i), data(40)}); }
 
     /// What a message to the same participant leaves out when it joins another: its header and its INFO_DST.
-    static constexpr std::size_t SHARED_BYTES = RtpsDatagram::HEADER_BYTES + 16;
+    static constexpr std::size_t SHARED_BYTES = wire::RtpsDatagram::HEADER_BYTES + 16;
     static Bytes joined(const Bytes& first, const Bytes& second) {
         Bytes out = first;
         out.insert(out.end(), second.begin() + SHARED_BYTES, second.end());

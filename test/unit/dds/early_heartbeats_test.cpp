@@ -4,7 +4,7 @@
 
 #include <array>
 
-#include "test/unit/dds/rtps_bytes.hpp"
+#include "test/unit/wire/rtps_bytes.hpp"
 
 namespace tgw::dds {
 namespace {

@@ -8,9 +8,9 @@
 #include <mutex>
 #include <vector>
 
-#include "gateway/core/wire_model.hpp"
+#include "core/wire_model.hpp"
 #include "test/fakes/fake_clock.hpp"
-#include "test/unit/dds/rtps_bytes.hpp"
+#include "test/unit/wire/rtps_bytes.hpp"
 
 namespace tgw::dds {
 namespace {

@@ -4,7 +4,7 @@
 #include <chrono>
 
 #include "gateway/dds/repeat_throttle.hpp"
-#include "test/unit/dds/rtps_bytes.hpp"
+#include "test/unit/wire/rtps_bytes.hpp"
 
 namespace tgw::dds {
 namespace {

@@ -5,7 +5,7 @@
 #include <array>
 #include <vector>
 
-#include "test/unit/dds/rtps_bytes.hpp"
+#include "test/unit/wire/rtps_bytes.hpp"
 
 namespace tgw::dds {
 namespace {

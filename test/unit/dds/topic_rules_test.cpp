@@ -10,7 +10,7 @@
 #include "base/config_error.hpp"
 #include "gateway/apps/telemetry_gateway/topic_rules_file.hpp"
 #include "gateway/dds/topic_filter.hpp"
-#include "gateway/dds/ttl_resolver.hpp"
+#include "passthrough/ttl_resolver.hpp"
 
 namespace tgw::dds {
 namespace {
@@ -59,12 +59,12 @@ TEST(TopicRulesTest, ARuleDecidesBridgingBeforeAllowAndDeny) {
 }
 
 TEST(TopicRulesTest, ARulesTtlComesFirst) {
-    const auto sut = resolve_ttl(base::Duration(1s), base::Duration(7s), base::Duration(3s), 5s);
+    const auto sut = passthrough::resolve_ttl(base::Duration(1s), base::Duration(7s), base::Duration(3s), 5s);
     EXPECT_EQ(sut.ttl, base::Duration(1s));
-    EXPECT_EQ(sut.source, TtlSource::rule);
+    EXPECT_EQ(sut.source, passthrough::TtlSource::rule);
     EXPECT_EQ(to_string(sut.source), "rule");
-    const auto without = resolve_ttl(std::nullopt, base::Duration(7s), base::Duration(3s), 5s);
-    EXPECT_EQ(without.source, TtlSource::profile);
+    const auto without = passthrough::resolve_ttl(std::nullopt, base::Duration(7s), base::Duration(3s), 5s);
+    EXPECT_EQ(without.source, passthrough::TtlSource::profile);
 }
 
 TopicRules read(const std::string& yaml) {

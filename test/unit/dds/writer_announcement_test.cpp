@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "test/unit/dds/rtps_bytes.hpp"
+#include "test/unit/wire/rtps_bytes.hpp"
 
 namespace tgw::dds {
 namespace {

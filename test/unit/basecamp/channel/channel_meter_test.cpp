@@ -5,9 +5,9 @@
 
 #include <optional>
 
-#include "gateway/dds/rtps_datagram.hpp"
 #include "test/fakes/fake_clock.hpp"
-#include "test/unit/dds/rtps_bytes.hpp"
+#include "test/unit/wire/rtps_bytes.hpp"
+#include "wire/rtps_datagram.hpp"
 
 namespace tgw::basecamp {
 namespace {
@@ -51,7 +51,7 @@ class ChannelMeterTest : public ::testing::Test {
 
     /// From `from`: by default the address of the sender the test participant `bytes` names (10.0.0.N).
     void receive(const Bytes& bytes, std::optional<SourceAddress> from = std::nullopt) {
-        const std::optional<ParticipantPrefix> sender = dds::RtpsDatagram::sender(bytes.data(), bytes.size());
+        const std::optional<ParticipantPrefix> sender = wire::RtpsDatagram::sender(bytes.data(), bytes.size());
         meter_.datagram(bytes.data(), bytes.size(), from ? *from : ipv4(sender ? (*sender)[0] : 0));
     }
 

@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "basecamp/status/gateway_status.hpp"
-#include "gateway/dds/status_topic.hpp"
 #include "test/unit/basecamp/status_samples.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 namespace {
@@ -22,7 +22,7 @@ SampleRecord status_at(std::int64_t sent_ns, double rate_bps, std::uint8_t gatew
     status.sensor("qdisc:veth0");
     status.topics().push_back(test::topic_status("telemetry/A", 1000, 150, 2));
     SampleRecord r;
-    r.topic = dds::STATUS_TOPIC;
+    r.topic = wire::STATUS_TOPIC;
     r.receive_ns = sent_ns + S / 10;
     r.source_ns = sent_ns;
     r.payload = test::serialized(status);

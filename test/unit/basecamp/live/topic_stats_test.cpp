@@ -4,8 +4,8 @@
 
 #include <sstream>
 
-#include "gateway/dds/status_topic.hpp"
 #include "test/unit/basecamp/status_samples.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 namespace {
@@ -75,7 +75,7 @@ TEST_F(TopicStatsTest, TheGatewaysStatusGivesWhatTheRobotLoggedAndTheTtl) {
     idl::GatewayStatus status;
     status.gateway_prefix()[0] = 1;
     status.topics().push_back(test::topic_status("a", 2000, 40, 3));
-    SampleRecord s = received(dds::STATUS_TOPIC, T0, 5 * MS, 0);
+    SampleRecord s = received(wire::STATUS_TOPIC, T0, 5 * MS, 0);
     s.payload = test::serialized(status);
     sut.add(s);
     sut.add(received("a", T0, 2500 * MS, 10));
@@ -88,11 +88,11 @@ TEST_F(TopicStatsTest, TheGatewaysStatusGivesWhatTheRobotLoggedAndTheTtl) {
     EXPECT_EQ(a.logged_on_robot, 3u);
     EXPECT_DOUBLE_EQ(*a.ttl_s, 2.0) << "no Lifespan: the status's TTL";
     EXPECT_DOUBLE_EQ(*a.on_time_pct, 50.0);
-    EXPECT_EQ(rows[1].topic, dds::STATUS_TOPIC);
+    EXPECT_EQ(rows[1].topic, wire::STATUS_TOPIC);
 }
 
 TEST_F(TopicStatsTest, AMalformedStatusIsCountedAsASampleAndOtherwiseIgnored) {
-    SampleRecord s = received(dds::STATUS_TOPIC, T0, 5 * MS, 0);
+    SampleRecord s = received(wire::STATUS_TOPIC, T0, 5 * MS, 0);
     s.payload = {0x00, 0x01, 0x00, 0x00, 0xff, 0xff, 0xff, 0xff, 0x01};
     sut.add(s);
     const auto rows = sut.rows(T0);

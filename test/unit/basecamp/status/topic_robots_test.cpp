@@ -10,10 +10,10 @@
 #include "basecamp/analysis/report.hpp"
 #include "basecamp/live/status_view.hpp"
 #include "basecamp/live/topic_stats.hpp"
-#include "gateway/dds/status_topic.hpp"
 #include "test/unit/basecamp/recording_file.hpp"
 #include "test/unit/basecamp/scratch_dir.hpp"
 #include "test/unit/basecamp/status_samples.hpp"
+#include "wire/status_topic.hpp"
 
 namespace tgw::basecamp {
 namespace {
@@ -34,7 +34,7 @@ SampleRecord status_of(std::uint8_t gateway, const std::string& robot, const std
         status.topics().push_back(test::topic_status(topic, 1000, 10, 0));
     }
     SampleRecord r;
-    r.topic = dds::STATUS_TOPIC;
+    r.topic = wire::STATUS_TOPIC;
     r.type_name = "tgw::idl::GatewayStatus";
     r.source_ns = receive_ns - 100 * MS;
     r.receive_ns = receive_ns;
@@ -81,7 +81,7 @@ TEST(TopicRobotsTest, NamesTheRobotWhoseGatewayBridgesEachTopic) {
     EXPECT_EQ(robots.robot_of("rover2/telemetry/A"), "rover2");
     EXPECT_EQ(robots.robot_of("telemetry/A"), "") << "an unnamed robot";
     EXPECT_EQ(robots.robot_of("rover3/telemetry/A"), "") << "no status names it: the topic's name is not a guess";
-    EXPECT_EQ(robots.robot_of(dds::STATUS_TOPIC), "") << "every gateway's";
+    EXPECT_EQ(robots.robot_of(wire::STATUS_TOPIC), "") << "every gateway's";
     EXPECT_TRUE(robots.any());
 }
 
@@ -104,7 +104,7 @@ TEST(TopicRobotsTest, TheStatsTableHasARobotColumnForAFleetOnly) {
     EXPECT_EQ(fields_of(out.str().substr(0, out.str().find('\n'))).back(), "robot") << out.str();
     EXPECT_EQ(row_of(out.str(), "rover1/telemetry/A").back(), "rover1") << out.str();
     EXPECT_EQ(row_of(out.str(), "rover2/telemetry/A").back(), "rover2") << out.str();
-    EXPECT_EQ(row_of(out.str(), dds::STATUS_TOPIC).back(), "-") << out.str();
+    EXPECT_EQ(row_of(out.str(), wire::STATUS_TOPIC).back(), "-") << out.str();
 
     TopicStats single(std::chrono::seconds(10));
     single.add(status_of(1, "", {"telemetry/A"}));
@@ -158,7 +158,7 @@ TEST_F(ReportRobotsTest, ARecordingOfAFleetReportsEachTopicsRobot) {
     EXPECT_EQ(row_of(text, "rover1/telemetry/A").size(), 10u) << text;
     EXPECT_EQ(row_of(text, "rover1/telemetry/A").back(), "rover1") << text;
     EXPECT_EQ(row_of(text, "rover2/telemetry/A").back(), "rover2") << text;
-    EXPECT_EQ(row_of(text, dds::STATUS_TOPIC).back(), "-") << text;
+    EXPECT_EQ(row_of(text, wire::STATUS_TOPIC).back(), "-") << text;
 }
 
 TEST_F(ReportRobotsTest, ASingleUnnamedRobotsReportKeepsItsNineColumns) {

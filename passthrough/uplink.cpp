@@ -8,64 +8,27 @@
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
-#include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 
 #include "passthrough/dds_time.hpp"
-#include "passthrough/pass_on.hpp"
 #include "passthrough/passthrough_qos.hpp"
+#include "passthrough/passthrough_route.hpp"
 #include "passthrough/passthrough_type.hpp"
 #include "passthrough/uplink_topics.hpp"
-#include "passthrough/writer_match_counter.hpp"
 
 namespace tgw::passthrough {
 
 namespace fdds = eprosima::fastdds::dds;
 using eprosima::fastrtps::types::ReturnCode_t;
 
-/// One listed topic: the reader, whose listener writes every fresh sample in the taking thread, and the writer.
-class Uplink::Route final : public fdds::DataReaderListener {
+/// One listed topic: a passthrough route of its fresh samples, stamped with their source time, counted and charged
+/// to the link.
+class Uplink::Route final : public PassthroughRoute {
   public:
     Route(UplinkCount names, bool keyed, const eprosima::fastrtps::rtps::GuidPrefix_t& own, const base::Clock& clock,
           const core::WireModel& wire, const Charge& charge)
-        : names_(std::move(names)), keyed_(keyed), own_(own), clock_(clock), wire_(wire), charge_(charge) {}
-
-    ~Route() override { delete_reader_then_writer(reader, writer); }
-
-    void on_data_available(fdds::DataReader* from) override {
-        PassthroughData data;
-        fdds::SampleInfo info;
-        while (from->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
-            if (info.sample_identity.writer_guid().guidPrefix == own_) {
-                continue;  // our own writer of a topic also bridged the other way
-            }
-            if (!info.valid_data && !keyed_) {
-                continue;  // an unkeyed topic's one instance: nothing to pass on
-            }
-            received_.fetch_add(1, std::memory_order_relaxed);
-            const std::uint64_t wire_bytes = wire_.wire_bytes(data.payload.size());
-            wire_bytes_.fetch_add(wire_bytes, std::memory_order_relaxed);
-            if (charge_) {
-                charge_(wire_bytes);
-            }
-            // A sample without a source timestamp is judged by its arrival: it cannot be older than that.
-            const base::WallTime now = clock_.wall_now();
-            const base::WallTime source = to_wall_time(info.source_timestamp).value_or(now);
-            if (names_.ttl && uplink_expired(source, names_.ttl->ttl, now)) {
-                expired_.fetch_add(1, std::memory_order_relaxed);
-                continue;
-            }
-            // Matched before the write: a reader that matches during it may or may not have it.
-            const bool heard = reader_matches.matched.load() > 0;
-            const ReturnCode_t rc = pass_on(*writer, data, info, keyed_, to_dds_time(source));
-            if (rc == ReturnCode_t::RETCODE_OK) {
-                (heard ? delivered_ : no_reader_).fetch_add(1, std::memory_order_relaxed);
-            } else if (failed_.fetch_add(1, std::memory_order_relaxed) == 0) {
-                std::cerr << "uplink: a write on " << names_.to_topic << " failed (code " << rc() << ")\n";
-            }
-        }
-    }
+        : PassthroughRoute(keyed), names_(std::move(names)), own_(own), clock_(clock), wire_(wire), charge_(charge) {}
 
     void on_subscription_matched(fdds::DataReader* /*reader*/, const fdds::SubscriptionMatchedStatus& info) override {
         writers_.store(info.current_count);
@@ -80,17 +43,41 @@ class Uplink::Route final : public fdds::DataReaderListener {
         out.failed = failed_.load();
         out.wire_bytes = wire_bytes_.load();
         out.writers = writers_.load();
-        out.readers = reader_matches.matched.load();
+        out.readers = readers_matched();
         return out;
     }
 
-    fdds::DataReader* reader = nullptr;
-    fdds::DataWriter* writer = nullptr;
-    WriterMatchCounter reader_matches;  ///< the writer's
-
   private:
+    std::optional<eprosima::fastrtps::Time_t> admit(const PassthroughData& data,
+                                                    const fdds::SampleInfo& info) override {
+        if (info.sample_identity.writer_guid().guidPrefix == own_) {
+            return std::nullopt;  // our own writer of a topic also bridged the other way
+        }
+        received_.fetch_add(1, std::memory_order_relaxed);
+        const std::uint64_t wire_bytes = wire_.wire_bytes(data.payload.size());
+        wire_bytes_.fetch_add(wire_bytes, std::memory_order_relaxed);
+        if (charge_) {
+            charge_(wire_bytes);
+        }
+        // A sample without a source timestamp is judged by its arrival: it cannot be older than that.
+        const base::WallTime now = clock_.wall_now();
+        const base::WallTime source = to_wall_time(info.source_timestamp).value_or(now);
+        if (names_.ttl && uplink_expired(source, names_.ttl->ttl, now)) {
+            expired_.fetch_add(1, std::memory_order_relaxed);
+            return std::nullopt;
+        }
+        return to_dds_time(source);
+    }
+
+    void written(ReturnCode_t rc, bool reader_matched) override {
+        if (rc == ReturnCode_t::RETCODE_OK) {
+            (reader_matched ? delivered_ : no_reader_).fetch_add(1, std::memory_order_relaxed);
+        } else if (failed_.fetch_add(1, std::memory_order_relaxed) == 0) {
+            std::cerr << "uplink: a write on " << names_.to_topic << " failed (code " << rc() << ")\n";
+        }
+    }
+
     const UplinkCount names_;
-    const bool keyed_;
     const eprosima::fastrtps::rtps::GuidPrefix_t own_;
     const base::Clock& clock_;
     const core::WireModel& wire_;
@@ -154,21 +141,17 @@ bool Uplink::route(const DiscoveredPublisher& publisher, const std::string& to_t
     names.type_name = publisher.type_name;
     names.ttl = ttl;
     auto route = std::make_unique<Route>(std::move(names), publisher.keyed, own_, clock_, wire_, charge_);
-    // The writer first, so that nothing the reader takes finds no writer.
     const std::optional<base::Duration> lifespan = ttl ? std::optional<base::Duration>(ttl->ttl) : std::nullopt;
-    route->writer = to_publisher->create_datawriter(
-        to_topic_entity,
-        passthrough_writer_qos(to_publisher->get_default_datawriter_qos(), publisher.qos, publisher.keyed, lifespan),
-        &route->reader_matches, fdds::StatusMask::publication_matched());
-    if (route->writer != nullptr) {
-        OfferedQos any_writer = publisher.qos;
-        any_writer.reliable = false;  // best effort matches every writer, and asks the link for no repairs
-        any_writer.transient_local = false;
-        route->reader = subscriber->create_datareader(
-            from_topic, passthrough_reader_qos(subscriber->get_default_datareader_qos(), any_writer, publisher.keyed),
-            route.get(), fdds::StatusMask::all());
-    }
-    if (route->reader == nullptr) {
+    OfferedQos any_writer = publisher.qos;
+    any_writer.reliable = false;  // best effort matches every writer, and asks the link for no repairs
+    any_writer.transient_local = false;
+    const bool routed = route->open_writer(*to_publisher, to_topic_entity,
+                                           passthrough_writer_qos(to_publisher->get_default_datawriter_qos(),
+                                                                  publisher.qos, publisher.keyed, lifespan)) &&
+                        route->attach_reader(*subscriber, from_topic,
+                                             passthrough_reader_qos(subscriber->get_default_datareader_qos(),
+                                                                    any_writer, publisher.keyed));
+    if (!routed) {
         std::cerr << "uplink: cannot create the route of " << publisher.topic << " (" << publisher.qos.describe()
                   << ")\n";
         return false;

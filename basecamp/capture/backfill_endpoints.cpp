@@ -16,6 +16,7 @@
 #include "base/config_error.hpp"
 #include "base/time.hpp"
 #include "passthrough/guarded_type.hpp"
+#include "passthrough/take_each.hpp"
 #include "wire/backfill_topics.hpp"
 
 namespace tgw::basecamp {
@@ -87,12 +88,10 @@ BackfillEndpoints::~BackfillEndpoints() {
 }
 
 void BackfillEndpoints::on_data_available(fdds::DataReader* reader) {
-    idl::BackfillSample sample;
-    fdds::SampleInfo info;
-    while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
-        if (info.valid_data)
+    passthrough::take_valid<idl::BackfillSample>(
+        *reader, [this](const idl::BackfillSample& sample, const fdds::SampleInfo& /*info*/) {
             archive_.take(sample, base::to_ns(base::WallClock::now()));
-    }
+        });
 }
 
 void BackfillEndpoints::publish_acks_when_due() {

@@ -21,6 +21,7 @@
 #include "basecamp/capture/wan_capture.hpp"
 #include "passthrough/dds_time.hpp"
 #include "passthrough/passthrough_type.hpp"
+#include "passthrough/take_each.hpp"
 #include "wire/backfill_topics.hpp"
 #include "wire/receiver_report_topic.hpp"
 
@@ -35,15 +36,12 @@ class Recorder::TopicReader final : public fdds::DataReaderListener {
         : topic_(topic_record(publisher)), store_(store), tally_(tally) {}
 
     void on_data_available(fdds::DataReader* reader) override {
-        passthrough::PassthroughData data;
-        fdds::SampleInfo info;
-        while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
-            if (!info.valid_data)
-                continue;
-            tally_sample(tally_, topic_, info, data.payload.size());
-            store_.add(sample_record(topic_, std::move(data.payload), info));
-            ++received;
-        }
+        passthrough::take_valid<passthrough::PassthroughData>(
+            *reader, [this](passthrough::PassthroughData& data, const fdds::SampleInfo& info) {
+                tally_sample(tally_, topic_, info, data.payload.size());
+                store_.add(sample_record(topic_, std::move(data.payload), info));
+                ++received;
+            });
     }
 
     void on_subscription_matched(fdds::DataReader* /*reader*/, const fdds::SubscriptionMatchedStatus& info) override {

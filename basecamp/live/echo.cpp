@@ -17,6 +17,7 @@
 #include "passthrough/dds_time.hpp"
 #include "passthrough/passthrough_qos.hpp"
 #include "passthrough/passthrough_type.hpp"
+#include "passthrough/take_each.hpp"
 #include "passthrough/type_object_idl.hpp"
 
 namespace tgw::basecamp {
@@ -42,26 +43,25 @@ class Echo::Lane final : public fdds::DataReaderListener {
     }
 
     void on_data_available(fdds::DataReader* from) override {
-        passthrough::PassthroughData data;
-        fdds::SampleInfo info;
-        while (from->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
-            // Disposes and unregisters carry no sample to print.
-            if (!info.valid_data || !echo_.writers_.carries(info.publication_handle, index_))
-                continue;
-            ReceivedSample sample;
-            sample.payload = std::move(data.payload);
-            sample.source = passthrough::to_wall_time(info.source_timestamp);
-            if (echo_.keyed_ && info.instance_handle == passthrough::PassthroughType::UNKNOWN_INSTANCE) {
-                sample.instance = "unknown (the writer sent no key hash)";
-            } else if (echo_.keyed_ && info.instance_handle.isDefined()) {
-                // The handle's value holds a flag after the 16 bytes of the key hash.
-                std::uint8_t key_hash[KEY_HASH_BYTES];
-                for (std::size_t i = 0; i < KEY_HASH_BYTES; ++i)
-                    key_hash[i] = info.instance_handle.value[i];
-                sample.instance = hex_text(key_hash, KEY_HASH_BYTES);
-            }
-            echo_.push(std::move(sample));
-        }
+        // Disposes and unregisters carry no sample to print.
+        passthrough::take_valid<passthrough::PassthroughData>(
+            *from, [this](passthrough::PassthroughData& data, const fdds::SampleInfo& info) {
+                if (!echo_.writers_.carries(info.publication_handle, index_))
+                    return;
+                ReceivedSample sample;
+                sample.payload = std::move(data.payload);
+                sample.source = passthrough::to_wall_time(info.source_timestamp);
+                if (echo_.keyed_ && info.instance_handle == passthrough::PassthroughType::UNKNOWN_INSTANCE) {
+                    sample.instance = "unknown (the writer sent no key hash)";
+                } else if (echo_.keyed_ && info.instance_handle.isDefined()) {
+                    // The handle's value holds a flag after the 16 bytes of the key hash.
+                    std::uint8_t key_hash[KEY_HASH_BYTES];
+                    for (std::size_t i = 0; i < KEY_HASH_BYTES; ++i)
+                        key_hash[i] = info.instance_handle.value[i];
+                    sample.instance = hex_text(key_hash, KEY_HASH_BYTES);
+                }
+                echo_.push(std::move(sample));
+            });
     }
 
     fdds::DataReader* reader = nullptr;

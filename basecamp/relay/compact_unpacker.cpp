@@ -25,6 +25,7 @@
 #include "passthrough/offered_qos.hpp"
 #include "passthrough/passthrough_qos.hpp"
 #include "passthrough/passthrough_type.hpp"
+#include "passthrough/take_each.hpp"
 #include "passthrough/writer_match_counter.hpp"
 #include "wire/backfill_codec.hpp"
 #include "wire/backfill_topics.hpp"
@@ -94,15 +95,7 @@ class TakingListener final : public fdds::DataReaderListener {
   public:
     explicit TakingListener(std::function<void(Data&, const fdds::SampleInfo&)> on_sample)
         : on_sample_(std::move(on_sample)) {}
-    void on_data_available(fdds::DataReader* reader) override {
-        Data data;
-        fdds::SampleInfo info;
-        while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
-            if (info.valid_data) {
-                on_sample_(data, info);
-            }
-        }
-    }
+    void on_data_available(fdds::DataReader* reader) override { passthrough::take_valid<Data>(*reader, on_sample_); }
 
   private:
     std::function<void(Data&, const fdds::SampleInfo&)> on_sample_;

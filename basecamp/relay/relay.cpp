@@ -22,10 +22,9 @@
 #include "basecamp/capture/wan_capture.hpp"
 #include "basecamp/relay/compact_unpacker.hpp"
 #include "basecamp/relay/metered_transport.hpp"
-#include "passthrough/pass_on.hpp"
 #include "passthrough/passthrough_qos.hpp"
+#include "passthrough/passthrough_route.hpp"
 #include "passthrough/passthrough_type.hpp"
-#include "passthrough/writer_match_counter.hpp"
 #include "wire/backfill_topics.hpp"
 #include "wire/compact_topics.hpp"
 #include "wire/receiver_report_topic.hpp"
@@ -35,65 +34,55 @@ namespace tgw::basecamp {
 
 namespace fdds = eprosima::fastdds::dds;
 
-/// One QoS offer of a topic: the WAN reader that asks for it, and the local writer that offers it. Its
-/// listener writes every sample it takes on the local domain, in the taking thread.
-class Relay::Lane final : public fdds::DataReaderListener {
+/// One QoS offer of a topic: the WAN reader that asks for it, and the local writer that offers it, a passthrough
+/// route that tallies, records and passes on every sample of the writers it carries.
+class Relay::Lane final : public passthrough::PassthroughRoute {
   public:
     /// `store`: where --out records, or nullptr.
     Lane(const passthrough::LaneAssignment& writers, std::uint16_t index, TopicRecord topic, DeliveryTally& tally,
          SampleConsumer* store)
-        : writers_(writers),
+        : PassthroughRoute(topic.keyed),
+          writers_(writers),
           index_(index),
-          keyed_(topic.keyed),
           topic_(std::move(topic)),
           tally_(tally),
           store_(store) {}
 
-    ~Lane() override { passthrough::delete_reader_then_writer(reader, writer); }
-
-    void on_data_available(fdds::DataReader* from) override {
-        passthrough::PassthroughData data;
-        fdds::SampleInfo info;
-        while (from->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
-            if (!writers_.carries(info.publication_handle, index_)) {
-                continue;  // the writer's own lane passes it on
-            }
-            if (!info.valid_data && !keyed_) {
-                continue;  // an unkeyed topic's one instance: nothing to pass on
-            }
-            if (info.valid_data) {
-                tally_sample(tally_, topic_, info, data.payload.size());
-                if (store_ != nullptr) {
-                    store_->add(sample_record(topic_, data.payload, info));
-                }
-                if (statuses != nullptr) {
-                    statuses->take_status(data.payload, data.payload.size());
-                }
-            }
-            // SampleInfo carries the RTPS time type; the writers take the DDS one.
-            const eprosima::fastrtps::Time_t stamp(info.source_timestamp.seconds(), info.source_timestamp.nanosec());
-            const ReturnCode_t rc = passthrough::pass_on(*writer, data, info, keyed_, stamp);
-            if (rc == ReturnCode_t::RETCODE_OK) {
-                relayed.fetch_add(1, std::memory_order_relaxed);
-            } else if (failures.fetch_add(1, std::memory_order_relaxed) == 0) {
-                std::fprintf(stderr, "tm-basecamp relay: a local write on '%s' failed (code %d)\n",
-                             from->get_topicdescription()->get_name().c_str(), static_cast<int>(rc()));
-            }
-        }
-    }
-
-    fdds::DataReader* reader = nullptr;
-    fdds::DataWriter* writer = nullptr;
-    ChannelGrantor* statuses = nullptr;              ///< the lanes of tgw/status, with a channel rate
-    passthrough::WriterMatchCounter writer_matches;  ///< the local readers it has matched
+    ChannelGrantor* statuses = nullptr;  ///< the lanes of tgw/status, with a channel rate
     passthrough::OfferedQos offer;
     std::atomic<std::uint64_t> relayed{0};
     std::atomic<std::uint64_t> failures{0};
 
   private:
+    std::optional<eprosima::fastrtps::Time_t> admit(const passthrough::PassthroughData& data,
+                                                    const fdds::SampleInfo& info) override {
+        if (!writers_.carries(info.publication_handle, index_)) {
+            return std::nullopt;  // the writer's own lane passes it on
+        }
+        if (info.valid_data) {
+            tally_sample(tally_, topic_, info, data.payload.size());
+            if (store_ != nullptr) {
+                store_->add(sample_record(topic_, data.payload, info));
+            }
+            if (statuses != nullptr) {
+                statuses->take_status(data.payload, data.payload.size());
+            }
+        }
+        // SampleInfo carries the RTPS time type; the writers take the DDS one.
+        return eprosima::fastrtps::Time_t(info.source_timestamp.seconds(), info.source_timestamp.nanosec());
+    }
+
+    void written(ReturnCode_t rc, bool /*reader_matched*/) override {
+        if (rc == ReturnCode_t::RETCODE_OK) {
+            relayed.fetch_add(1, std::memory_order_relaxed);
+        } else if (failures.fetch_add(1, std::memory_order_relaxed) == 0) {
+            std::fprintf(stderr, "tm-basecamp relay: a local write on '%s' failed (code %d)\n", topic_.topic.c_str(),
+                         static_cast<int>(rc()));
+        }
+    }
+
     const passthrough::LaneAssignment& writers_;
     const std::uint16_t index_;
-    const bool keyed_;
     const TopicRecord topic_;
     DeliveryTally& tally_;
     SampleConsumer* store_;
@@ -209,8 +198,7 @@ void Relay::retire_wan() {
         std::lock_guard<std::mutex> lock(topics_mutex_);
         for (auto& [name, topic] : topics_) {
             for (auto& lane : topic->lanes) {
-                passthrough::delete_reader_then_writer(lane->reader, nullptr);  // the local writer stays
-                lane->reader = nullptr;
+                lane->detach_reader();  // the local writer stays
                 lane->statuses = nullptr;
             }
         }
@@ -270,12 +258,11 @@ std::unique_ptr<Relay::Lane> Relay::make_lane(const passthrough::DiscoveredPubli
     }
     // The writer first, so that nothing the reader takes finds no writer. Its Lifespan is the gateway's (TTL, or
     // none on a latched topic): with the source timestamp kept, a sample expires here when it would have there.
-    lane->writer = publisher_entity->create_datawriter(
-        local_topic,
-        passthrough::passthrough_writer_qos(publisher_entity->get_default_datawriter_qos(), publisher.qos,
-                                            publisher.keyed, publisher.lifespan),
-        &lane->writer_matches, fdds::StatusMask::publication_matched());
-    if (lane->writer == nullptr || !attach_reader(*lane, publisher)) {
+    const bool writing =
+        lane->open_writer(*publisher_entity, local_topic,
+                          passthrough::passthrough_writer_qos(publisher_entity->get_default_datawriter_qos(),
+                                                              publisher.qos, publisher.keyed, publisher.lifespan));
+    if (!writing || !attach_reader(*lane, publisher)) {
         std::fprintf(stderr, "tm-basecamp relay: cannot relay '%s' (%s)\n", publisher.topic.c_str(),
                      publisher.qos.describe().c_str());
         return nullptr;
@@ -290,11 +277,9 @@ bool Relay::attach_reader(Lane& lane, const passthrough::DiscoveredPublisher& pu
     if (wan_topic == nullptr || subscriber == nullptr) {
         return false;
     }
-    lane.reader = subscriber->create_datareader(
-        wan_topic,
-        passthrough::passthrough_reader_qos(subscriber->get_default_datareader_qos(), publisher.qos, publisher.keyed),
-        &lane, fdds::StatusMask::all());
-    return lane.reader != nullptr;
+    return lane.attach_reader(
+        *subscriber, wan_topic,
+        passthrough::passthrough_reader_qos(subscriber->get_default_datareader_qos(), publisher.qos, publisher.keyed));
 }
 
 void Relay::relay(const passthrough::DiscoveredPublisher& publisher) {
@@ -321,7 +306,7 @@ void Relay::relay(const passthrough::DiscoveredPublisher& publisher) {
         if (lane.offer == publisher.qos) {
             topic->writers.assign(publisher.writer, static_cast<std::uint16_t>(i));
             // A lane whose WAN participant was made anew reads again on the new one; its local writer never left.
-            if (lane.reader == nullptr) {
+            if (!lane.has_reader()) {
                 lock.unlock();  // entity creation may call back into discovery
                 if (!attach_reader(lane, publisher)) {
                     std::fprintf(stderr, "tm-basecamp relay: cannot relay '%s' again (%s)\n", publisher.topic.c_str(),
@@ -420,7 +405,7 @@ std::int32_t Relay::local_readers(const std::string& topic) const {
     std::int32_t n = 0;
     if (it != topics_.end()) {
         for (const auto& lane : it->second->lanes) {
-            n += lane->writer_matches.matched.load();
+            n += lane->readers_matched();
         }
     }
     return n + (compact_ ? compact_->local_readers(topic) : 0);

@@ -6,6 +6,7 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include "ChannelGrantPubSubTypes.h"
+#include "passthrough/take_each.hpp"
 #include "wire/channel_grant_topic.hpp"
 
 namespace tgw::dds {
@@ -21,26 +22,23 @@ void GrantReader::set_own(const eprosima::fastrtps::rtps::GuidPrefix_t& own) {
 }
 
 void GrantReader::on_data_available(eprosima::fastdds::dds::DataReader* reader) {
-    idl::ChannelGrant grant;
-    eprosima::fastdds::dds::SampleInfo info;
     bool ours = false;
-    while (reader->take_next_sample(&grant, &info) == ReturnCode_t::RETCODE_OK) {
-        if (!info.valid_data)
-            continue;
-        const auto& prefix = grant.gateway_prefix();
-        std::lock_guard<std::mutex> lock(mutex_);
-        Heard* heard = nullptr;
-        if (std::equal(prefix.begin(), prefix.end(), std::begin(own_.value))) {
-            heard = &own_grant_;
-        } else if (prefix == wire::NEWCOMER_PREFIX) {
-            heard = &newcomer_;
-        } else {
-            continue;  // another gateway's
-        }
-        heard->rate_bps = std::max(0.0, grant.rate_bps());
-        heard->valid_until = clock_.now() + std::chrono::milliseconds(grant.valid_ms());
-        ours = true;
-    }
+    passthrough::take_valid<idl::ChannelGrant>(
+        *reader, [&](const idl::ChannelGrant& grant, const eprosima::fastdds::dds::SampleInfo& /*info*/) {
+            const auto& prefix = grant.gateway_prefix();
+            std::lock_guard<std::mutex> lock(mutex_);
+            Heard* heard = nullptr;
+            if (std::equal(prefix.begin(), prefix.end(), std::begin(own_.value))) {
+                heard = &own_grant_;
+            } else if (prefix == wire::NEWCOMER_PREFIX) {
+                heard = &newcomer_;
+            } else {
+                return;  // another gateway's
+            }
+            heard->rate_bps = std::max(0.0, grant.rate_bps());
+            heard->valid_until = clock_.now() + std::chrono::milliseconds(grant.valid_ms());
+            ours = true;
+        });
     std::lock_guard<std::mutex> lock(changed_mutex_);
     if (ours && changed_ && !closed_) {
         changed_();

@@ -9,6 +9,7 @@
 
 #include "passthrough/dds_time.hpp"
 #include "passthrough/passthrough_type.hpp"
+#include "passthrough/take_each.hpp"
 
 namespace tgw::dds {
 
@@ -42,34 +43,33 @@ void LaneListener::on_data_available(fdds::DataReader* reader) {
     // Fast DDS may call this from the SHM and the UDP receive threads at once: samples go to the loop in the
     // order they were taken.
     std::lock_guard<std::mutex> lock(take_order_);
-    passthrough::PassthroughData data;
-    fdds::SampleInfo info;
-    while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
-        if (!lanes_.carries(info.publication_handle, lane_)) {
-            continue;  // the writer's own lane carries it
-        }
-        core::Sample sample;
-        sample.kind = kind_of(info);
-        if (sample.kind != core::SampleKind::data && !keyed_) {
-            continue;  // an unkeyed topic's one instance: nothing for the base camp to learn
-        }
-        sample.topic = topic_;
-        sample.route = lane_;
-        if (sample.kind == core::SampleKind::data) {
-            sample.payload = std::move(data.payload);
-        }
-        data.payload = {};
-        if (keyed_) {
-            set_key(info, sample);
-        }
-        if (const auto source = passthrough::to_wall_time(info.source_timestamp)) {
-            sample.source_time = *source;
-        } else {
-            sample.source_time = clock_.wall_now();
-            stamped_on_arrival_.fetch_add(1, std::memory_order_relaxed);
-        }
-        loop_.submit(std::move(sample));
-    }
+    passthrough::take_each<passthrough::PassthroughData>(
+        *reader, [this](passthrough::PassthroughData& data, const fdds::SampleInfo& info) {
+            if (!lanes_.carries(info.publication_handle, lane_)) {
+                return;  // the writer's own lane carries it
+            }
+            core::Sample sample;
+            sample.kind = kind_of(info);
+            if (sample.kind != core::SampleKind::data && !keyed_) {
+                return;  // an unkeyed topic's one instance: nothing for the base camp to learn
+            }
+            sample.topic = topic_;
+            sample.route = lane_;
+            if (sample.kind == core::SampleKind::data) {
+                sample.payload = std::move(data.payload);
+            }
+            data.payload = {};
+            if (keyed_) {
+                set_key(info, sample);
+            }
+            if (const auto source = passthrough::to_wall_time(info.source_timestamp)) {
+                sample.source_time = *source;
+            } else {
+                sample.source_time = clock_.wall_now();
+                stamped_on_arrival_.fetch_add(1, std::memory_order_relaxed);
+            }
+            loop_.submit(std::move(sample));
+        });
 }
 
 void LaneListener::set_key(const fdds::SampleInfo& info, core::Sample& sample) {

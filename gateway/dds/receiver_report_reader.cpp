@@ -8,6 +8,7 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include "ReceiverReport.h"
+#include "passthrough/take_each.hpp"
 
 namespace tgw::dds {
 
@@ -25,22 +26,23 @@ void ReceiverReportReader::set_own(const eprosima::fastrtps::rtps::GuidPrefix_t&
 }
 
 void ReceiverReportReader::on_data_available(fdds::DataReader* reader) {
-    idl::ReceiverReport report;
-    fdds::SampleInfo info;
     // Held throughout, forwarded_samples_ included: close() waits for a report being taken.
     std::lock_guard<std::mutex> lock(mutex_);
-    while (!closed_ && reader->take_next_sample(&report, &info) == ReturnCode_t::RETCODE_OK) {
-        if (!info.valid_data ||
-            !std::equal(report.gateway_prefix().begin(), report.gateway_prefix().end(), std::begin(own_.value))) {
-            continue;
-        }
-        const eprosima::fastrtps::rtps::GUID_t& writer = info.sample_identity.writer_guid();
-        sensor::ReceiverId from{};
-        std::copy(std::begin(writer.guidPrefix.value), std::end(writer.guidPrefix.value), from.begin());
-        std::copy(std::begin(writer.entityId.value), std::end(writer.entityId.value), from.begin() + 12);
-        ledger_.take(from, {report.received_samples(), report.received_bytes(), report.lost_samples()},
-                     forwarded_samples_());
+    if (closed_) {
+        return;
     }
+    passthrough::take_valid<idl::ReceiverReport>(
+        *reader, [this](const idl::ReceiverReport& report, const fdds::SampleInfo& info) {
+            if (!std::equal(report.gateway_prefix().begin(), report.gateway_prefix().end(), std::begin(own_.value))) {
+                return;  // another gateway's
+            }
+            const eprosima::fastrtps::rtps::GUID_t& writer = info.sample_identity.writer_guid();
+            sensor::ReceiverId from{};
+            std::copy(std::begin(writer.guidPrefix.value), std::end(writer.guidPrefix.value), from.begin());
+            std::copy(std::begin(writer.entityId.value), std::end(writer.entityId.value), from.begin() + 12);
+            ledger_.take(from, {report.received_samples(), report.received_bytes(), report.lost_samples()},
+                         forwarded_samples_());
+        });
 }
 
 void ReceiverReportReader::close() {

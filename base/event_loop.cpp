@@ -28,6 +28,13 @@ void EventLoop::post_at(TimePoint at, Task task) {
     changed_.notify_one();
 }
 
+void EventLoop::post_every(std::chrono::steady_clock::duration period, Task task) {
+    post_at(std::chrono::steady_clock::now() + period, [this, period, task = std::move(task)]() mutable {
+        task();
+        post_every(period, std::move(task));
+    });
+}
+
 void EventLoop::stop() {
     {
         std::lock_guard<std::mutex> lock(mutex_);

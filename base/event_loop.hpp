@@ -32,6 +32,8 @@ class EventLoop {
     /// Runs `task` in the loop's thread once the steady clock reaches `at` (a real-time wait, whatever clock the
     /// caller's logic runs on).
     void post_at(TimePoint at, Task task);
+    /// Runs `task` in the loop's thread `period` from now, and again `period` after each run ends, until stop().
+    void post_every(std::chrono::steady_clock::duration period, Task task);
     /// Lets the task running finish, then ends the thread; the tasks still waiting never run. Idempotent, and from
     /// any thread but the loop's.
     void stop();

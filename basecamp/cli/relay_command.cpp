@@ -2,20 +2,19 @@
 
 #include <algorithm>
 #include <chrono>
-#include <condition_variable>
 #include <iostream>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "base/config_error.hpp"
 #include "base/dds_security.hpp"
+#include "base/event_loop.hpp"
 #include "base/interface_addresses.hpp"
 #include "base/peer_transport.hpp"
 #include "base/wan_address.hpp"
@@ -91,24 +90,19 @@ class WanAddressFollower {
     sensor::LinkStateWatch watch_;        // last: its thread calls on_change
 };
 
-/// Looks the relay's --peer host names up again every PEER_LOOKUP_PERIOD, in a thread of its own (a robot on DHCP,
-/// known by its name): says once when one resolves to another address than before, so that the relay is made anew
-/// announcing to it. A lookup that fails keeps the last address.
+/// Looks the relay's --peer host names up again every PEER_LOOKUP_PERIOD, in a thread of its own (a base::EventLoop; a
+/// robot on DHCP, known by its name): says once when one resolves to another address than before, so that the relay is
+/// made anew announcing to it. A lookup that fails keeps the last address.
 class PeerNameFollower {
   public:
     static constexpr std::chrono::seconds PEER_LOOKUP_PERIOD{5};
 
     /// `peers` as given to --peer, all of them resolved once already (base::resolve_peers).
-    explicit PeerNameFollower(std::vector<std::string> peers)
-        : peers_(std::move(peers)), known_(lookup()), thread_([this] { run(); }) {}
-    ~PeerNameFollower() {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            stopping_ = true;
-        }
-        wake_.notify_all();
-        thread_.join();
+    explicit PeerNameFollower(std::vector<std::string> peers) : peers_(std::move(peers)), known_(lookup()) {
+        loop_.start();
+        loop_.post_every(PEER_LOOKUP_PERIOD, [this] { look(); });
     }
+    ~PeerNameFollower() { loop_.stop(); }
     PeerNameFollower(const PeerNameFollower&) = delete;
     PeerNameFollower& operator=(const PeerNameFollower&) = delete;
 
@@ -128,28 +122,22 @@ class PeerNameFollower {
         return addresses;
     }
 
-    void run() {
-        std::unique_lock<std::mutex> lock(mutex_);
-        while (!wake_.wait_for(lock, PEER_LOOKUP_PERIOD, [this] { return stopping_; })) {
-            lock.unlock();
-            const std::vector<std::string> now = lookup();  // the resolver may take seconds
-            lock.lock();
-            for (std::size_t i = 0; i < now.size(); ++i) {
-                if (!now[i].empty() && now[i] != known_[i]) {
-                    known_[i] = now[i];
-                    changed_ += (changed_.empty() ? "" : ", ") + peers_[i] + " is " + now[i];
-                }
+    void look() {
+        const std::vector<std::string> now = lookup();  // the resolver may take seconds
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (std::size_t i = 0; i < now.size(); ++i) {
+            if (!now[i].empty() && now[i] != known_[i]) {
+                known_[i] = now[i];
+                changed_ += (changed_.empty() ? "" : ", ") + peers_[i] + " is " + now[i];
             }
         }
     }
 
     const std::vector<std::string> peers_;
     std::mutex mutex_;
-    std::condition_variable wake_;
-    bool stopping_ = false;           // under mutex_
     std::vector<std::string> known_;  // under mutex_
     std::string changed_;             // under mutex_
-    std::thread thread_;              // last: it runs run()
+    base::EventLoop loop_;            // last: its tasks use the members above
 };
 
 void print_summary(const Relay& relaying, const std::map<std::string, std::uint64_t>& relayed) {

@@ -8,7 +8,7 @@ namespace tgw::dds {
 PeerLookup::PeerLookup(std::vector<base::WanPeer> peers, Changed changed)
     : given_(std::move(peers)), changed_(std::move(changed)), known_(given_) {
     loop_.start();
-    look_later();
+    loop_.post_every(PERIOD, [this] { look(); });
 }
 
 PeerLookup::~PeerLookup() {
@@ -19,12 +19,7 @@ void PeerLookup::stop() {
     loop_.stop();
 }
 
-void PeerLookup::look_later() {
-    loop_.post_at(std::chrono::steady_clock::now() + PERIOD, [this] { look(); });
-}
-
 void PeerLookup::look() {
-    look_later();
     std::vector<base::WanPeer> now = base::resolve_peer_names(given_);  // the resolver may take seconds
     for (std::size_t i = 0; i < now.size(); ++i) {
         if (now[i].address.empty()) {

@@ -29,9 +29,7 @@ class PeerLookup {
     void stop();
 
   private:
-    /// One lookup, and the next one PERIOD later.
     void look();
-    void look_later();
 
     const std::vector<base::WanPeer> given_;
     const Changed changed_;

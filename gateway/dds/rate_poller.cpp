@@ -15,18 +15,12 @@ RatePoller::~RatePoller() {
 
 void RatePoller::start() {
     poll_once();
-    thread_ = std::thread([this] { run(); });
+    loop_.start();
+    loop_.post_every(interval_, [this] { poll_once(); });
 }
 
 void RatePoller::stop() {
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        stopping_ = true;
-    }
-    wake_.notify_all();
-    if (thread_.joinable()) {
-        thread_.join();
-    }
+    loop_.stop();
 }
 
 void RatePoller::poll_once() {
@@ -38,15 +32,6 @@ void RatePoller::poll_once() {
     if (failures_.fetch_add(1) == 0) {
         std::cerr << "telemetry-gateway: rate sensor " << sensor_.describe() << ": " << reading.error
                   << " (keeping the last rate; reported once)\n";
-    }
-}
-
-void RatePoller::run() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    while (!wake_.wait_for(lock, interval_, [this] { return stopping_; })) {
-        lock.unlock();
-        poll_once();
-        lock.lock();
     }
 }
 

@@ -2,18 +2,17 @@
 
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
 #include <functional>
-#include <mutex>
-#include <thread>
 
+#include "base/event_loop.hpp"
 #include "sensor/rate_sensor.hpp"
 
 namespace tgw::dds {
 
-/// Reads the rate sensor every `interval` in a thread of its own and hands each good reading to `apply`
-/// (the gateway's rate and link backlog). A failed reading keeps the last rate; the first failure is reported once.
+/// Reads the rate sensor every `interval` in a thread of its own (a base::EventLoop) and hands each good reading to
+/// `apply` (the gateway's rate and link backlog). A failed reading keeps the last rate; the first failure is reported
+/// once.
 class RatePoller {
   public:
     RatePoller(sensor::RateSensor& sensor, std::function<void(const sensor::RateReading&)> apply,
@@ -25,22 +24,19 @@ class RatePoller {
 
     /// Reads once in the calling thread (so the rate is set before traffic), then starts the thread.
     void start();
+    /// Ends the thread, a reading under way first. Idempotent.
     void stop();
 
     std::uint64_t failures() const { return failures_.load(); }
 
   private:
     void poll_once();
-    void run();
 
     sensor::RateSensor& sensor_;
-    std::function<void(const sensor::RateReading&)> apply_;
-    std::chrono::milliseconds interval_;
-    std::mutex mutex_;
-    std::condition_variable wake_;
-    bool stopping_ = false;
-    std::thread thread_;
+    const std::function<void(const sensor::RateReading&)> apply_;
+    const std::chrono::milliseconds interval_;
     std::atomic<std::uint64_t> failures_{0};
+    base::EventLoop loop_;
 };
 
 }  // namespace tgw::dds

@@ -66,6 +66,25 @@ TEST(EventLoopTest, StopLetsTheRunningTaskFinishAndRunsNothingMore) {
     loop.stop();  // idempotent
 }
 
+TEST(EventLoopTest, RunsAPeriodicTaskAPeriodAfterEachRunUntilStopped) {
+    EventLoop loop;
+    std::vector<std::chrono::steady_clock::time_point> runs;
+    std::promise<void> third;
+    const auto start = std::chrono::steady_clock::now();
+    loop.post_every(20ms, [&] {
+        runs.push_back(std::chrono::steady_clock::now());
+        if (runs.size() == 3)
+            third.set_value();
+    });
+    loop.start();
+    third.get_future().wait();
+    loop.stop();
+    ASSERT_EQ(runs.size(), 3u) << "nothing after stop";
+    EXPECT_GE(runs[0] - start, 20ms) << "the first a period from the post";
+    EXPECT_GE(runs[1] - runs[0], 20ms);
+    EXPECT_GE(runs[2] - runs[1], 20ms);
+}
+
 TEST(EventLoopTest, ALoopNeverStartedStopsAtOnce) {
     EventLoop loop;
     loop.post([] { FAIL() << "never started, never run"; });

@@ -1,5 +1,6 @@
-// The one take loop: every sample a reader holds, in order, each into the same object (a passthrough sample's
-// payload keeps its capacity from one to the next).
+// The one take loop: every sample a reader holds, in order, each into the same object. A payload the caller leaves
+// in it keeps its capacity for the next sample; one moved out (the robot lanes, the recorder, echo) does not, so
+// each of their samples allocates anew.
 #pragma once
 
 #include <fastrtps/types/TypesBase.h>

@@ -9,11 +9,16 @@ LatchedHistory::Instance LatchedHistory::instance_of(const core::Sample& change)
 }
 
 void LatchedHistory::keep(const core::Sample& change) {
+    // Runs for every sample a latched writer sends: an instance seen before takes the new change into its own
+    // node, whose payload keeps its capacity, and the node moves to the back. No allocation once every instance
+    // has been written.
     const Instance instance = instance_of(change);
     if (const auto found = by_instance_.find(instance); found != by_instance_.end()) {
-        order_.erase(found->second);
-        by_instance_.erase(found);
-    } else if (order_.size() >= max_instances_ && !order_.empty()) {
+        *found->second = change;
+        order_.splice(order_.end(), order_, found->second);
+        return;
+    }
+    if (order_.size() >= max_instances_ && !order_.empty()) {
         by_instance_.erase(instance_of(order_.front()));
         order_.pop_front();
     }

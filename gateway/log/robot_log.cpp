@@ -16,6 +16,7 @@
 #include "base/config_error.hpp"
 #include "base/sqlite_handles.hpp"
 #include "gateway/log/backfill_reader.hpp"
+#include "gateway/log/interned_names.hpp"
 #include "gateway/log/log_schema.hpp"
 
 namespace tgw::log {
@@ -25,6 +26,8 @@ namespace {
 /// A batch is committed when it holds this many rows, or when its oldest row has waited BATCH_DELAY.
 constexpr std::size_t BATCH_ROWS = 1000;
 constexpr auto BATCH_DELAY = std::chrono::milliseconds(50);
+/// The batch's vector is kept for the next up to this many rows; one that a stalled disk made larger goes.
+constexpr std::size_t MAX_SPARE_ROWS = 4 * BATCH_ROWS;
 /// Past this much buffered payload (the disk stalled, or is far slower than the drops), further rows are
 /// refused and counted as write errors rather than letting the gateway run out of memory. A forwarded row has
 /// no payload and counts for its own size instead.
@@ -40,8 +43,8 @@ constexpr int PRUNE_ROWS = 16;
 struct Row {
     enum class Kind { dropped, forwarded, rate, sent, acknowledged };
     Kind kind = Kind::dropped;
-    std::string topic;
-    std::string type_name;
+    std::string_view topic;             ///< the log's copy (InternedNames), once the row is in the buffer
+    std::string_view type_name;         ///< the same
     std::vector<std::uint8_t> payload;  ///< dropped rows only
     std::size_t payload_bytes = 0;      ///< forwarded rows only
     std::optional<core::InstanceKey> key;
@@ -116,8 +119,7 @@ class RobotLog::Impl {
                 // A sample that left in chunks is logged with its last: the whole sample's size.
                 row.payload_bytes =
                     record.sample->chunk ? record.sample->chunk->total_bytes : record.sample->payload.size();
-            const std::size_t footprint = sizeof(Row) + row.topic.size() + row.type_name.size();
-            enqueue(std::move(row), footprint);
+            enqueue(std::move(row), sizeof(Row));
         } catch (const std::exception& e) {
             fail_rows(1, e.what());
         }
@@ -175,8 +177,8 @@ class RobotLog::Impl {
     static Row common_row(std::string_view topic, std::string_view type_name, const core::Sample* sample,
                           base::WallTime arrival, base::WallTime deadline, base::WallTime logged_at) {
         Row row;
-        row.topic.assign(topic.data(), topic.size());
-        row.type_name.assign(type_name.data(), type_name.size());
+        row.topic = topic;  // the caller's until enqueue() takes the log's copy
+        row.type_name = type_name;
         if (sample != nullptr) {
             if (sample->key.valid)
                 row.key = sample->key;
@@ -209,6 +211,10 @@ class RobotLog::Impl {
             lock.unlock();
             fail_rows(1, "buffer full: the disk is not keeping up");
             return;
+        }
+        if (row.kind == Row::Kind::dropped || row.kind == Row::Kind::forwarded) {
+            row.topic = names_.intern(row.topic);
+            row.type_name = names_.intern(row.type_name);
         }
         pending_.push_back(std::move(row));
         ++appended_;
@@ -353,6 +359,8 @@ class RobotLog::Impl {
                                     [&] { return stopping_ || flush_requested_ || pending_.size() >= BATCH_ROWS; });
             std::vector<Row> batch;
             batch.swap(pending_);
+            // The buffer goes on with the last batch's vector: appending a row does not grow it again.
+            pending_.swap(spare_rows_);
             buffered_bytes_ = 0;
             flush_requested_ = false;
             lock.unlock();
@@ -363,6 +371,10 @@ class RobotLog::Impl {
             acknowledged_rows_ += written.acknowledged;
             pruned_rows_ += pruned;
             done_ += batch.size();
+            if (batch.capacity() <= MAX_SPARE_ROWS) {
+                batch.clear();
+                spare_rows_.swap(batch);
+            }
             done_changed_.notify_all();
         }
     }
@@ -590,6 +602,9 @@ class RobotLog::Impl {
     std::condition_variable wake_writer_;
     std::condition_variable done_changed_;
     std::vector<Row> pending_;
+    std::vector<Row> spare_rows_;  ///< the vector of the batch last written, emptied, to be pending_ next
+    InternedNames names_;          ///< the rows' names; the writer reads them without the lock, which is safe as
+                                   ///< a kept name never moves
     std::size_t buffered_bytes_ = 0;
     std::chrono::steady_clock::time_point first_pending_at_{};
     std::uint64_t appended_ = 0;  ///< rows that reached the buffer

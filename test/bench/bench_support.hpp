@@ -115,6 +115,7 @@ struct GatewayOptions {
     std::size_t wan_max_datagram_bytes = 0;  ///< 0: the gateway's default (one Ethernet frame)
     bool robot_shm = false;
     std::int64_t wan_coalesce_us = tgw::dds::DatagramCoalescer::DEFAULT_WINDOW.count();
+    std::string log_file{};  ///< empty: no on-robot log
 
     /// Adds the flags above, as the gateway names them, to a bench's command line.
     void add_flags(CLI::App& app) {
@@ -125,13 +126,17 @@ struct GatewayOptions {
         app.add_flag("--robot-shm", robot_shm,
                      "the gateway's --robot-shm: its robot side offers shared memory too, so the publisher (shared "
                      "memory and UDP) sends each sample both ways");
+        app.add_option("--log", log_file,
+                       "the gateway's --log: its on-robot log, a row per sample forwarded (telemetry-gateway keeps "
+                       "one by default)");
     }
 
     /// What the bench's header line says of the gateway.
     std::string describe() const {
         return std::string("gateway's robot side ") + (robot_shm ? "shared memory and UDP" : "UDP") +
                ", WAN coalescing " +
-               (wan_coalesce_us > 0 ? "within " + std::to_string(wan_coalesce_us) + " us" : std::string("off"));
+               (wan_coalesce_us > 0 ? "within " + std::to_string(wan_coalesce_us) + " us" : std::string("off")) +
+               (log_file.empty() ? ", no on-robot log" : ", on-robot log " + log_file);
     }
 };
 
@@ -151,6 +156,7 @@ inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, const Gatew
     }
     config.robot.shm = options.robot_shm;
     config.wan_coalesce_window = std::chrono::microseconds(options.wan_coalesce_us);
+    config.log_file = options.log_file;
     return config;
 }
 

@@ -75,6 +75,17 @@ TEST(LatchedHistoryTest, ADisposeIsTheInstancesLastChangeAsInTheWritersHistory) 
     EXPECT_EQ(live[0].kind, core::SampleKind::dispose);
 }
 
+TEST(LatchedHistoryTest, AShorterChangeReplacesTheWholeOfItsInstancesLongerOne) {
+    LatchedHistory sut;
+    core::Sample image = change(1, 10);
+    image.payload.assign(6000, 0xAB);
+    sut.keep(image);
+    sut.keep(change(1, 11));
+    const std::vector<core::Sample> live = sut.live(T0, std::nullopt);
+    ASSERT_EQ(live.size(), 1u);
+    EXPECT_EQ(live[0].payload, (std::vector<std::uint8_t>{0, 1, 0, 0, 11}));
+}
+
 TEST(LatchedHistoryTest, LeavesOutWhatIsPastTheWritersLifespan) {
     LatchedHistory sut;
     sut.keep(change(1, 10, T0));

@@ -14,7 +14,8 @@ import collections
 import re
 import sys
 
-# The path's steps, innermost first: a stack counts for the first one one of its frames matches, leaf first.
+# The path's steps, innermost first. A stack counts for the step its leaf-most matching frame names; where one
+# frame matches two steps, the earlier one.
 STEPS = [
     ("send: Fast DDS's setsockopt(SO_SNDTIMEO) per datagram", r"setsockopt"),
     ("send: sendto, the kernel's loopback delivery", r"sendto"),

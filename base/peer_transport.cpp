@@ -60,8 +60,11 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
     using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
     using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
     const bool remote = !transport.peers.empty() || !transport.discovery_server.empty();
-    if (!remote && transport.interface.empty())
+    if (!remote && transport.interface.empty()) {
+        // Fast DDS's builtin UDP transport takes its receive buffer from here.
+        qos.transport().listen_socket_buffer_size = transport.receive_buffer_bytes;
         return;
+    }
     if (!transport.peers.empty() && !transport.discovery_server.empty())
         throw ConfigError(transport.discovery_server_flag + " excludes " + transport.peers_flag +
                           ": the server tells each participant of the others");
@@ -71,6 +74,7 @@ void apply_peer_transport(eprosima::fastdds::dds::DomainParticipantQos& qos, con
         server = parse_discovery_server(transport.discovery_server, transport.discovery_server_flag);
 
     auto udp = std::make_shared<UDPv4TransportDescriptor>();
+    udp->receiveBufferSize = transport.receive_buffer_bytes;
     std::string bound;
     if (!transport.interface.empty()) {
         bound = resolve_ipv4(transport.interface, transport.interface_flag);

@@ -7,6 +7,7 @@
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
 #include "base/discovery_server.hpp"
+#include "base/receive_buffer.hpp"
 #include "base/rtps_ports.hpp"
 
 namespace tgw::base {
@@ -18,6 +19,9 @@ struct PeerTransport {
     /// ADDR:PORT of a Fast DDS Discovery Server (base/discovery_server.hpp): discovery through it alone, UDP
     /// unicast only; excludes `peers`.
     std::string discovery_server;
+    /// SO_RCVBUF of the UDP sockets: a camp tool takes whole frames off the link, and behind by three 64 KiB
+    /// samples the system's default buffer would drop the next (base/receive_buffer.hpp).
+    std::uint32_t receive_buffer_bytes = DEFAULT_RECEIVE_BUFFER_BYTES;
     /// A base-camp tool subscribes to whatever it discovers, so it hears of every endpoint.
     DiscoveryRole discovery_role = DiscoveryRole::super_client;
     std::string peers_flag = "--peer";
@@ -42,7 +46,8 @@ std::vector<std::string> resolve_peers(const PeerTransport& transport);
 /// the order they start. A datagram to loopback costs the radio nothing.
 constexpr int SAME_HOST_PEER_PARTICIPANTS = 8;
 
-/// Configures `qos` for the link to the other end of `domain`. With peers (resolve_peers): UDPv4 only (no shared
+/// Configures `qos` for the link to the other end of `domain`, its UDP sockets with `transport.receive_buffer_bytes`
+/// whatever else is set. With peers (resolve_peers): UDPv4 only (no shared
 /// memory, no multicast), SPDP to a remote peer's first participant port only (to a loopback peer's first
 /// SAME_HOST_PEER_PARTICIPANTS), longer announcement period. With a discovery server: the same, but discovery
 /// through the server. With an interface: every UDP socket bound to its address. Throws ConfigError on a bad

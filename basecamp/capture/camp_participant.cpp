@@ -1,10 +1,13 @@
 #include "basecamp/capture/camp_participant.hpp"
 
+#include <iostream>
+
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "base/config_error.hpp"
 #include "base/dds_security.hpp"
+#include "base/receive_buffer.hpp"
 
 namespace tgw::basecamp {
 
@@ -17,6 +20,7 @@ fdds::DomainParticipant* create_camp_participant(int domain, const base::PeerTra
     fdds::DomainParticipantQos qos = factory->get_default_participant_qos();
     qos.name(name);
     base::apply_peer_transport(qos, transport, domain);
+    base::warn_if_receive_buffer_capped(std::cerr, "tm-basecamp", "--receive-buffer", transport.receive_buffer_bytes);
     if (security)
         base::apply_dds_security(qos, *security);
     fdds::DomainParticipant* participant =

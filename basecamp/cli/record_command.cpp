@@ -109,6 +109,7 @@ Subcommand add_record_command(CLI::App& app) {
     command->add_option("--interface", options->transport.interface,
                         "interface name or IPv4 address to bind every socket to");
     add_discovery_server_option(*command, options->transport);
+    add_receive_buffer_option(*command, options->transport);
     command->add_option("--out", options->out, "the SQLite file to write (WAL mode)");
     add_mcap_options(*command, options->mcap, false);
     command->add_option("--duration", options->duration_s, "seconds to record; until SIGINT/SIGTERM without it")

@@ -17,6 +17,7 @@
 #include "base/event_loop.hpp"
 #include "base/interface_addresses.hpp"
 #include "base/peer_transport.hpp"
+#include "base/receive_buffer.hpp"
 #include "base/wan_address.hpp"
 #include "basecamp/capture/backfill_archive.hpp"
 #include "basecamp/cli/progress_line.hpp"
@@ -185,6 +186,8 @@ int run_relay(const RelayOptions& options) {
             base::apply_dds_security(qos, *security);
         return qos;
     };
+    base::warn_if_receive_buffer_capped(std::cerr, "tm-basecamp relay", "--receive-buffer",
+                                        options.transport.receive_buffer_bytes);
     const auto first_wan_qos = wan_qos("");
     auto local_qos = factory->get_default_participant_qos();
     const std::vector<std::string> camp_addresses =
@@ -302,6 +305,7 @@ Subcommand add_relay_command(CLI::App& app) {
                       "interface name or IPv4 address to bind the WAN participant's sockets to (followed: on a new "
                       "address the relay is made anew on it)");
     add_discovery_server_option(*relay, options->transport);
+    add_receive_buffer_option(*relay, options->transport);
     relay
         ->add_option("--local-domain", options->local_domain,
                      "the camp's own domain: every topic appears there, for programs with their vendors' defaults")

@@ -2,6 +2,8 @@
 
 #include <csignal>
 
+#include "base/receive_buffer.hpp"
+
 namespace tgw::basecamp {
 
 namespace {
@@ -27,7 +29,17 @@ void add_domain_options(CLI::App& command, DomainOptions& options) {
     command.add_option("--interface", options.transport.interface,
                        "interface name or IPv4 address to bind every socket to");
     add_discovery_server_option(command, options.transport);
+    add_receive_buffer_option(command, options.transport);
     add_security_option(command, options.security_dir);
+}
+
+void add_receive_buffer_option(CLI::App& command, base::PeerTransport& transport) {
+    command
+        .add_option("--receive-buffer", transport.receive_buffer_bytes,
+                    "bytes of UDP receive buffer on the WAN: room for large samples while the tool is busy (capped "
+                    "by net.core.rmem_max)")
+        ->check(CLI::Range(base::MIN_RECEIVE_BUFFER_BYTES, base::MAX_RECEIVE_BUFFER_BYTES))
+        ->capture_default_str();
 }
 
 void add_discovery_server_option(CLI::App& command, base::PeerTransport& transport) {

@@ -33,12 +33,15 @@ struct DomainOptions {
     std::string security_dir;  ///< empty: a plain participant
 };
 
-/// Adds --domain, --peer, --interface, --discovery-server and --security to `command` for `options`, which must
-/// outlive the app.
+/// Adds --domain, --peer, --interface, --discovery-server, --receive-buffer and --security to `command` for `options`,
+/// which must outlive the app.
 void add_domain_options(CLI::App& command, DomainOptions& options);
 
 /// Adds --discovery-server ADDR:PORT to `command`: the WAN participant a client of a Fast DDS Discovery Server.
 void add_discovery_server_option(CLI::App& command, base::PeerTransport& transport);
+
+/// Adds --receive-buffer BYTES to `command`: SO_RCVBUF of the WAN participant's UDP sockets.
+void add_receive_buffer_option(CLI::App& command, base::PeerTransport& transport);
 
 /// Adds --security DIR to `command`: the WAN participant's DDS Security identity (scripts/make-certs).
 void add_security_option(CLI::App& command, std::string& dir);

@@ -2,6 +2,7 @@
 
 #include "base/config_error.hpp"
 #include "base/discovery_server.hpp"
+#include "base/receive_buffer.hpp"
 #include "base/robot_namespace.hpp"
 #include "base/wan_address.hpp"
 #include "gateway/dds/wan_router.hpp"
@@ -52,11 +53,11 @@ void GatewayConfig::validate() const {
                                 std::to_string(SECURE_MIN_DATAGRAM_BYTES) +
                                 " bytes, or Fast DDS cannot send its authentication handshake");
     }
-    if (robot.receive_buffer_bytes < RobotTransport::MIN_RECEIVE_BUFFER_BYTES ||
-        robot.receive_buffer_bytes > RobotTransport::MAX_RECEIVE_BUFFER_BYTES) {
+    if (robot.receive_buffer_bytes < base::MIN_RECEIVE_BUFFER_BYTES ||
+        robot.receive_buffer_bytes > base::MAX_RECEIVE_BUFFER_BYTES) {
         throw base::ConfigError("--robot-receive-buffer " + std::to_string(robot.receive_buffer_bytes) + ": expected " +
-                                std::to_string(RobotTransport::MIN_RECEIVE_BUFFER_BYTES) + " to " +
-                                std::to_string(RobotTransport::MAX_RECEIVE_BUFFER_BYTES) + " bytes");
+                                std::to_string(base::MIN_RECEIVE_BUFFER_BYTES) + " to " +
+                                std::to_string(base::MAX_RECEIVE_BUFFER_BYTES) + " bytes");
     }
     if (wan_coalesce_window < std::chrono::microseconds::zero() || wan_coalesce_window > MAX_COALESCE_WINDOW) {
         throw base::ConfigError("--wan-coalesce-us " + std::to_string(wan_coalesce_window.count()) +

@@ -1,7 +1,6 @@
 #include "gateway/dds/robot_participant.hpp"
 
 #include <cstdint>
-#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -11,6 +10,7 @@
 
 #include "base/config_error.hpp"
 #include "base/host_transport.hpp"
+#include "base/receive_buffer.hpp"
 #include "passthrough/passthrough_qos.hpp"
 #include "passthrough/passthrough_type.hpp"
 
@@ -18,31 +18,14 @@ namespace tgw::dds {
 
 namespace fdds = eprosima::fastdds::dds;
 
-namespace {
-
-// The kernel caps SO_RCVBUF at this without a word.
-constexpr const char* RMEM_MAX_PATH = "/proc/sys/net/core/rmem_max";
-
-/// Says so when the kernel will give the robot sockets less receive buffer than asked for.
-void warn_if_capped(std::uint32_t requested_bytes) {
-    std::ifstream file(RMEM_MAX_PATH);
-    std::uint64_t rmem_max = 0;
-    if (file >> rmem_max && rmem_max < requested_bytes) {
-        std::cerr << "telemetry-gateway: " << RMEM_MAX_PATH << " is " << rmem_max
-                  << " bytes, so the robot receive buffer gets that, not --robot-receive-buffer " << requested_bytes
-                  << "; raise it (sysctl -w net.core.rmem_max=" << requested_bytes << ") for room for bursts\n";
-    }
-}
-
-}  // namespace
-
 RobotParticipant::RobotParticipant(int domain, fdds::DomainParticipantListener* listener,
                                    const RobotTransport& transport,
                                    const std::optional<fdds::DomainParticipantQos>& base) {
     fdds::DomainParticipantQos qos =
         base ? *base : fdds::DomainParticipantFactory::get_instance()->get_default_participant_qos();
     qos.name("telemetry-gateway/robot");
-    warn_if_capped(transport.receive_buffer_bytes);
+    base::warn_if_receive_buffer_capped(std::cerr, "telemetry-gateway", "--robot-receive-buffer",
+                                        transport.receive_buffer_bytes);
     base::apply_host_transport(qos, domain, {transport.interfaces, transport.shm, transport.receive_buffer_bytes});
 
     participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(

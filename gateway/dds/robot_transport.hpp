@@ -4,15 +4,12 @@
 #include <string>
 #include <vector>
 
+#include "base/receive_buffer.hpp"
+
 namespace tgw::dds {
 
 /// How the gateway's robot participant listens (--robot-interface, --robot-shm, --robot-receive-buffer).
 struct RobotTransport {
-    static constexpr std::uint32_t DEFAULT_RECEIVE_BUFFER_BYTES = 4u << 20;
-    /// Fast DDS refuses a receive buffer smaller than its largest message (65500 B).
-    static constexpr std::uint32_t MIN_RECEIVE_BUFFER_BYTES = 1u << 16;
-    static constexpr std::uint32_t MAX_RECEIVE_BUFFER_BYTES = 1u << 30;
-
     /// IPv4 addresses or interface names the UDP transport uses (the Gateway resolves names). On loopback the
     /// participant announces itself to every participant index's discovery port and answers a process's other
     /// addresses on 127.0.0.1 (base::apply_host_transport), so it finds every robot process with UDP, whoever
@@ -24,7 +21,7 @@ struct RobotTransport {
     /// gateway and never reach it. With it on, a publisher with both transports sends every sample both ways.
     bool shm = false;
     /// SO_RCVBUF of the UDP sockets: room for a burst while the forwarding thread is busy.
-    std::uint32_t receive_buffer_bytes = DEFAULT_RECEIVE_BUFFER_BYTES;
+    std::uint32_t receive_buffer_bytes = base::DEFAULT_RECEIVE_BUFFER_BYTES;
 };
 
 }  // namespace tgw::dds

@@ -34,8 +34,10 @@ has() {
 has "$robot" /usr/bin/telemetry-gateway /usr/bin/tm-sense /usr/bin/tm-robot-sim /usr/bin/tm-sim \
     /usr/lib/systemd/system/telemetry-gateway.service /etc/telemetry-gateway/gateway.yaml \
     /usr/share/telemetry-gateway/qos/paper_workload.xml /usr/share/telemetry-gateway/config/robot-ros2.yaml \
-    /usr/share/telemetry-gateway/config/basecamp-relay.yaml /usr/share/doc/telemetry-gateway/README.md
-has "$camp" /usr/bin/tm-basecamp /usr/lib/systemd/system/tm-basecamp-relay.service /etc/telemetry-gateway/relay.yaml
+    /usr/share/telemetry-gateway/config/basecamp-relay.yaml /usr/share/doc/telemetry-gateway/README.md \
+    /usr/lib/sysctl.d/60-telemetry-gateway.conf
+has "$camp" /usr/bin/tm-basecamp /usr/lib/systemd/system/tm-basecamp-relay.service /etc/telemetry-gateway/relay.yaml \
+    /usr/lib/sysctl.d/60-telemetry-gateway-basecamp.conf
 if dpkg-deb -c "$robot" | awk '{ print $NF }' | grep -q '^./usr/bin/tm-basecamp$'; then
     no "the robot's package carries tm-basecamp"
 fi
@@ -45,10 +47,12 @@ for package in "$robot" "$camp"; do
     depends="$(dpkg-deb -f "$package" Depends)"
     grep -q 'libfastrtps' <<<"$depends" && ok "$name depends on Fast DDS ($depends)" ||
         no "$name: Depends lacks Fast DDS: '$depends'"
-    dpkg-deb --ctrl-tarfile "$package" | tar -x -C "$WORK" ./conffiles 2>/dev/null
+    dpkg-deb --ctrl-tarfile "$package" | tar -x -C "$WORK" ./conffiles ./postinst 2>/dev/null
     [ -s "$WORK/conffiles" ] && grep -q '^/etc/telemetry-gateway/' "$WORK/conffiles" &&
         ok "$name: conffiles $(tr '\n' ' ' <"$WORK/conffiles")" || no "$name: no conffile under /etc/telemetry-gateway"
-    rm -f "$WORK/conffiles"
+    [ -x "$WORK/postinst" ] && grep -q 'net.core.rmem_max' "$WORK/postinst" &&
+        ok "$name: postinst raises net.core.rmem_max" || no "$name: no postinst raising net.core.rmem_max"
+    rm -f "$WORK/conffiles" "$WORK/postinst"
 done
 
 # A fresh root with both packages unpacked: the programs run from it, reading the files the services read.

@@ -102,6 +102,10 @@ DatagramCoalescer::Batch& DatagramCoalescer::batch_for_nts(DatagramSender& sende
     return *batches_.back();
 }
 
+bool DatagramCoalescer::fills_datagram(std::size_t size) const {
+    return size + max_datagram_bytes_ / FULL_DATAGRAM_ROOM_FRACTION > max_datagram_bytes_;
+}
+
 bool DatagramCoalescer::send_now_nts(Batch& batch, const std::uint8_t* bytes, std::size_t size, base::SteadyTime now) {
     batch.last_sent = now;
     ++counts_.datagrams;
@@ -237,6 +241,14 @@ bool DatagramCoalescer::send_nts(std::unique_lock<std::mutex>& lock, DatagramSen
             return *sent;
         }
         flush_nts(batch, now);
+    }
+    // A message that fills its datagram goes at once, after what waits: nothing could share its datagram, and
+    // holding it would cost a copy and a wake-up of the flush thread (a large sample's fragments on a fast link).
+    // The rest of its write follows it.
+    if (fills_datagram(size)) {
+        flush_nts(batch, now);
+        batch.sent_at_once_scope = scope;
+        return send_now_nts(batch, message, size, now);
     }
     // A sample that comes alone goes at once, all its fragments; with a zero window every sample does.
     if (batch.datagram.empty() && (now - batch.last_sent >= window_ || batch.sent_at_once_scope == scope)) {

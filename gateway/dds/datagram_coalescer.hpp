@@ -48,7 +48,8 @@ struct HeldControl {
 /// Only messages sent while a DeferScope lives on the sending thread may wait: the gateway's WAN writes. A
 /// message to a destination that has seen no datagram for `window` goes at once, as without coalescing, so a
 /// sample that comes alone pays no hand-off. One that follows closer waits, at most `window`, for more to the
-/// same destination; the datagram goes when it is full or when the window ends (the flush thread). A write's
+/// same destination; the datagram goes when it is full or when the window ends (the flush thread). A message that
+/// fills a datagram alone (less than a sixteenth of it left) goes at once, whenever it comes. A write's
 /// messages (a large sample's fragments) all go at once or all may wait, as its first did. Any other
 /// send to that destination (heartbeats, discovery) sends what waits first, so nothing overtakes.
 ///
@@ -137,6 +138,10 @@ class DatagramCoalescer {
     };
 
     Batch& batch_for_nts(DatagramSender& sender, const DatagramDestination& destination);
+    /// A message of `size` leaves its datagram less room than 1 / FULL_DATAGRAM_ROOM_FRACTION of it: what could
+    /// ride in the rest would save less than holding the message costs.
+    static constexpr std::size_t FULL_DATAGRAM_ROOM_FRACTION = 16;
+    bool fills_datagram(std::size_t size) const;
     Batch* find_nts(const DatagramSender& sender, const DatagramDestination& destination);
     bool send_now_nts(Batch& batch, const std::uint8_t* bytes, std::size_t size, base::SteadyTime now);
     void flush_nts(Batch& batch, base::SteadyTime now);

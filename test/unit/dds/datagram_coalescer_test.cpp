@@ -138,6 +138,37 @@ TEST_F(DatagramCoalescerTest, SendsAFullDatagramAtOnce) {
     EXPECT_EQ(sender.sent()[1].bytes, packed(sample(2), sample(3)));
 }
 
+// A 64 KiB sample's first fragment fills a 65,500-byte datagram: holding it only cost a copy and a thread's wake-up.
+TEST_F(DatagramCoalescerTest, SendsAMessageThatFillsItsDatagramAtOnceAfterWhatWaits) {
+    const Bytes full = message({info_ts(3), data(1400)});
+    ASSERT_LE(full.size(), 1472u);
+    ASSERT_GT(full.size() + 1472u / 16, 1472u);
+    write(1, base_camp);
+    clock.advance(10us);
+    write(2, base_camp);  // within the window: waits
+    {
+        const DatagramCoalescer::DeferScope scope;
+        ASSERT_TRUE(sut.send(sender, base_camp, full.data(), full.size()));
+        const Bytes tail = sample(4);  // the rest of the same write follows it
+        ASSERT_TRUE(sut.send(sender, base_camp, tail.data(), tail.size()));
+    }
+    const auto sent = sender.sent();
+    ASSERT_EQ(sent.size(), 4u);
+    EXPECT_EQ(sent[1].bytes, sample(2));
+    EXPECT_EQ(sent[2].bytes, full);
+    EXPECT_EQ(sent[3].bytes, sample(4));
+}
+
+TEST_F(DatagramCoalescerTest, AMessageWithRoomLeftStillWaitsForItsWindow) {
+    const Bytes large = message({info_ts(3), data(1200)});
+    ASSERT_LE(large.size() + 1472u / 16, 1472u);
+    write(1, base_camp);
+    clock.advance(10us);
+    const DatagramCoalescer::DeferScope scope;
+    sut.send(sender, base_camp, large.data(), large.size());
+    EXPECT_EQ(sender.sent().size(), 1u);
+}
+
 TEST_F(DatagramCoalescerTest, SendsEveryMessageOfAWriteAtOnceWhenItsFirstWentAtOnce) {
     // A large sample's fragments: one write, several messages.
     const DatagramCoalescer::DeferScope scope;

@@ -123,6 +123,10 @@ struct GatewayOptions {
                        "the gateway's --wan-coalesce-us: how long a WAN sample that follows closely may wait to "
                        "share a datagram; 0: never")
             ->capture_default_str();
+        app.add_option("--wan-max-datagram", wan_max_datagram_bytes,
+                       "the gateway's --wan-max-datagram: its largest WAN datagram, bytes; 0: the gateway's default "
+                       "(one Ethernet frame)")
+            ->capture_default_str();
         app.add_flag("--robot-shm", robot_shm,
                      "the gateway's --robot-shm: its robot side offers shared memory too, so the publisher (shared "
                      "memory and UDP) sends each sample both ways");
@@ -136,7 +140,9 @@ struct GatewayOptions {
         return std::string("gateway's robot side ") + (robot_shm ? "shared memory and UDP" : "UDP") +
                ", WAN coalescing " +
                (wan_coalesce_us > 0 ? "within " + std::to_string(wan_coalesce_us) + " us" : std::string("off")) +
-               (log_file.empty() ? ", no on-robot log" : ", on-robot log " + log_file);
+               (log_file.empty() ? ", no on-robot log" : ", on-robot log " + log_file) +
+               (wan_max_datagram_bytes > 0 ? ", WAN datagrams up to " + std::to_string(wan_max_datagram_bytes) + " B"
+                                           : std::string(", WAN datagrams of one Ethernet frame"));
     }
 };
 

@@ -12,11 +12,15 @@
 // last loss-free and first lossy rate. Not run by ctest.
 #include <CLI/CLI.hpp>
 
+#include <sys/resource.h>
+
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <optional>
 #include <string>
 
+#include "base/receive_buffer.hpp"
 #include "test/bench/bench_support.hpp"
 #include "test/bench/side_by_side.hpp"
 
@@ -37,7 +41,8 @@ struct Options {
     int bisect_steps = 3;
     int repeat = 1;
     tgw::bench::GatewayOptions gateway{tgw::core::WireModel::MAX_UDP_PAYLOAD_BYTES};
-    std::uint32_t reader_receive_buffer_bytes = 0;
+    /// As the camp's tools have it (tm-basecamp --receive-buffer), on both paths alike.
+    std::uint32_t reader_receive_buffer_bytes = tgw::base::DEFAULT_RECEIVE_BUFFER_BYTES;
 };
 
 class Bench {
@@ -70,10 +75,13 @@ class Bench {
             Path via_path{"gateway", pair->via_writer, via_reader, pair->id};
             search(direct_path, via_path, message);
             const double mb = static_cast<double>(size) / 1e6;
-            std::printf("%8zu %4d %12.0f%s %10.1f %12.0f%s %10.1f %7.2f\n", size, run, direct_path.best_rate,
-                        direct_path.writer_bound ? "+" : " ", direct_path.best_rate * mb, via_path.best_rate,
-                        via_path.writer_bound ? "+" : " ", via_path.best_rate * mb,
-                        direct_path.best_rate > 0 ? via_path.best_rate / direct_path.best_rate : 0.0);
+            const double cpu_rate = common_loss_free_rate(direct_path, via_path);
+            std::printf("%8zu %4d %12.0f%s %10.1f %12.0f%s %10.1f %7.2f %8.0f %13.1f %10.1f\n", size, run,
+                        direct_path.best_rate, direct_path.writer_bound ? "+" : " ", direct_path.best_rate * mb,
+                        via_path.best_rate, via_path.writer_bound ? "+" : " ", via_path.best_rate * mb,
+                        direct_path.best_rate > 0 ? via_path.best_rate / direct_path.best_rate : 0.0, cpu_rate,
+                        cpu_rate > 0 ? direct_path.cpu_us_at_rate.at(cpu_rate) : 0.0,
+                        cpu_rate > 0 ? via_path.cpu_us_at_rate.at(cpu_rate) : 0.0);
             std::fflush(stdout);
         }
         return true;
@@ -93,16 +101,36 @@ class Bench {
         CountingReader& reader;
         std::optional<tgw::core::TopicId> gateway_topic;  ///< set for the path through the gateway
         double best_rate = 0;                             ///< the highest loss-free rate so far
-        double first_lossy_rate = 0;                      ///< the lowest lossy rate above best_rate, 0 while none
+        /// The process's CPU per sample (every thread: writer, gateway, reader) at each loss-free ramp rate.
+        std::map<double, double> cpu_us_at_rate{};
+        double first_lossy_rate = 0;  ///< the lowest lossy rate above best_rate, 0 while none
         int lossy_in_a_row = 0;
         bool writer_bound = false;
         bool done = false;
     };
 
+    /// The highest ramp rate both paths carried without loss, where their CPU per sample compares; 0 if none.
+    static double common_loss_free_rate(const Path& direct, const Path& via) {
+        for (auto it = direct.cpu_us_at_rate.rbegin(); it != direct.cpu_us_at_rate.rend(); ++it) {
+            if (via.cpu_us_at_rate.count(it->first) != 0)
+                return it->first;
+        }
+        return 0;
+    }
+
     struct Step {
         double loss = 1.0;
         double achieved = 0;
+        double cpu_us_per_sample = 0;
     };
+
+    /// CPU seconds this process has used, user and system, every thread.
+    static double process_cpu_s() {
+        rusage usage{};
+        ::getrusage(RUSAGE_SELF, &usage);
+        const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + t.tv_usec / 1e6; };
+        return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+    }
 
     /// Offers `rate` on the path for the duration and counts what arrived once the reader has drained.
     Step measure(Path& path, tgw::idl::PaperMessage& message, double rate) {
@@ -111,12 +139,14 @@ class Bench {
         if (path.gateway_topic) {
             gw_before = side_.gateway().counters(*path.gateway_topic);
         }
+        const double cpu_before_s = process_cpu_s();
         const auto [sent, achieved] = burst(path.writer, message, rate, sequence_);
         tgw::bench::settle([&] { return path.reader.received(); });
         const std::uint64_t got = path.reader.received() - before;
         Step step;
         step.loss = sent == 0 ? 1.0 : 1.0 - static_cast<double>(got) / static_cast<double>(sent);
         step.achieved = achieved;
+        step.cpu_us_per_sample = sent == 0 ? 0 : (process_cpu_s() - cpu_before_s) * 1e6 / static_cast<double>(sent);
         if (options_.verbose) {
             // Where a gateway-path sample was lost: before the gateway (robot side), in it, or after.
             tgw::core::TopicCounters gw;
@@ -124,10 +154,10 @@ class Bench {
                 gw = side_.gateway().counters(*path.gateway_topic);
             }
             std::fprintf(stderr,
-                         "  %-7s offered %9.0f/s achieved %9.0f/s sent %8llu got %8llu "
+                         "  %-7s offered %9.0f/s achieved %9.0f/s sent %8llu got %8llu cpu %.1f us/sample "
                          "(gateway in %llu fwd %llu dropped %llu)\n",
                          path.name, rate, achieved, static_cast<unsigned long long>(sent),
-                         static_cast<unsigned long long>(got),
+                         static_cast<unsigned long long>(got), step.cpu_us_per_sample,
                          static_cast<unsigned long long>(gw.received - gw_before.received),
                          static_cast<unsigned long long>(gw.forwarded - gw_before.forwarded),
                          static_cast<unsigned long long>(gw.dropped_total() - gw_before.dropped_total()));
@@ -175,6 +205,7 @@ class Bench {
                 path.done = true;
             } else {
                 path.best_rate = rate;
+                path.cpu_us_at_rate[rate] = step.cpu_us_per_sample;
                 path.first_lossy_rate = 0;
             }
             return;
@@ -249,13 +280,10 @@ int main(int argc, char** argv) {
     app.add_option("--repeat", options.repeat, "searches per size, a row each: the figure is noisy near the threshold")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    app.add_option("--wan-max-datagram", options.gateway.wan_max_datagram_bytes,
-                   "the gateway's --wan-max-datagram; the default is Fast DDS's, as the direct path has it")
-        ->capture_default_str();
     options.gateway.add_flags(app);
     app.add_option("--reader-receive-buffer", options.reader_receive_buffer_bytes,
-                   "SO_RCVBUF of both readers' participants, bytes; 0: the system's default (the gateway's robot side "
-                   "has its own, --robot-receive-buffer)")
+                   "SO_RCVBUF of both readers' participants, bytes, as tm-basecamp's --receive-buffer; 0: the system's "
+                   "default (the gateway's robot side has its own, --robot-receive-buffer)")
         ->capture_default_str();
     app.add_flag("--verbose", options.verbose, "print every step to stderr");
     try {
@@ -270,12 +298,11 @@ int main(int argc, char** argv) {
     std::printf(
         "throughput: highest offered rate with loss < %.2f %%, steps x1.5 of %.1f s then %d bisections, best effort, "
         "writer KEEP_LAST 100, readers KEEP_LAST 1000, direct reader UDP, %s, budget 10 Gbit/s, "
-        "largest datagram: direct %s B, via the gateway %zu B; '+': publisher-bound floor\n",
+        "direct path's datagrams up to %s B; '+': publisher-bound floor\n",
         options.max_loss * 100, options.duration_s, options.bisect_steps, options.gateway.describe().c_str(),
-        options.direct_max_message_bytes > 0 ? std::to_string(options.direct_max_message_bytes).c_str() : "65500",
-        options.gateway.wan_max_datagram_bytes);
-    std::printf("%8s %4s %13s %10s %13s %10s %7s\n", "bytes", "run", "direct/s", "direct_MB/s", "via_gw/s", "via_MB/s",
-                "ratio");
+        options.direct_max_message_bytes > 0 ? std::to_string(options.direct_max_message_bytes).c_str() : "65500");
+    std::printf("%8s %4s %13s %10s %13s %10s %7s %8s %13s %10s\n", "bytes", "run", "direct/s", "direct_MB/s",
+                "via_gw/s", "via_MB/s", "ratio", "cpu_at/s", "direct_cpu_us", "via_cpu_us");
     int rc = 0;
     for (std::size_t size : options.sizes) {
         if (!bench.run(size)) {

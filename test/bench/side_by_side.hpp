@@ -8,6 +8,7 @@
 #include <string>
 
 #include "base/config_error.hpp"
+#include "base/receive_buffer.hpp"
 #include "test/bench/bench_support.hpp"
 
 namespace tgw::bench {
@@ -16,11 +17,12 @@ namespace tgw::bench {
 class SideBySide {
   public:
     /// Creates the participants, then the gateway. Both readers' participants get `reader_receive_buffer_bytes`
-    /// of SO_RCVBUF (0: the system's default). False, after saying why (prefixed by `bench`), when DDS or the
+    /// of SO_RCVBUF (0: the system's default; by default what the camp's tools ask for). False, after saying why (prefixed by `bench`), when DDS or the
     /// gateway's configuration refuses.
     bool set_up(const char* bench, const BenchDomains& d, const fdds::DomainParticipantQos& publisher_qos,
                 const fdds::DomainParticipantQos& direct_qos, const tgw::dds::GatewayConfig& gateway_config,
-                const base::Clock& clock, std::uint32_t reader_receive_buffer_bytes = 0) {
+                const base::Clock& clock,
+                std::uint32_t reader_receive_buffer_bytes = base::DEFAULT_RECEIVE_BUFFER_BYTES) {
         tgw::test::use_transports_in_process();
         publisher_ = std::make_unique<tgw::test::TestParticipant>(d.robot, publisher_qos);
         direct_ = std::make_unique<tgw::test::TestParticipant>(

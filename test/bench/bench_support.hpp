@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -78,6 +79,18 @@ inline fdds::DomainParticipantQos publisher_qos(std::uint32_t udp_max_message_by
     }
     qos.transport().user_transports.push_back(udp);
     return qos;
+}
+
+/// VmRSS of process `pid` (this one by default) in kB; 0 when it cannot be read.
+inline long rss_kb(const std::string& pid = "self") {
+    std::ifstream status("/proc/" + pid + "/status");
+    std::string line;
+    while (std::getline(status, line)) {
+        if (line.rfind("VmRSS:", 0) == 0) {
+            return std::stol(line.substr(6));
+        }
+    }
+    return 0;
 }
 
 /// `qos` with SO_RCVBUF of `bytes` on its UDP transports; 0 leaves the system's default.

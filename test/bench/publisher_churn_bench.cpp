@@ -18,7 +18,6 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <mutex>
 #include <set>
@@ -83,18 +82,6 @@ class GatewayReaders final : public fdds::DomainParticipantListener {
     std::set<eprosima::fastrtps::rtps::GUID_t> readers_;
 };
 
-/// VmRSS of `pid` in kB; 0 when it cannot be read.
-long rss_kb(pid_t pid) {
-    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-    std::string line;
-    while (std::getline(status, line)) {
-        if (line.rfind("VmRSS:", 0) == 0) {
-            return std::stol(line.substr(6));
-        }
-    }
-    return 0;
-}
-
 bool wait_until(const std::function<bool()>& condition, std::chrono::seconds timeout) {
     const auto end = std::chrono::steady_clock::now() + timeout;
     while (!condition()) {
@@ -156,7 +143,7 @@ class Churn {
         for (fdds::DataWriter* writer : writers) {
             writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(options_.timeout_s, 0));
         }
-        figures.bridged_kb = rss_kb(gateway);
+        figures.bridged_kb = tgw::bench::rss_kb(std::to_string(gateway));
         for (fdds::DataWriter* writer : writers) {
             const_cast<fdds::Publisher*>(writer->get_publisher())->delete_datawriter(writer);
         }
@@ -166,7 +153,7 @@ class Churn {
             return false;
         }
         std::this_thread::sleep_for(1s);  // the topics retired with their last lane; their entities are gone
-        figures.gone_kb = rss_kb(gateway);
+        figures.gone_kb = tgw::bench::rss_kb(std::to_string(gateway));
         figures.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return true;
     }
@@ -241,7 +228,7 @@ int run(const Options& options) {
         return 1;
     }
     std::this_thread::sleep_for(1s);
-    const long started_kb = rss_kb(gateway.pid());
+    const long started_kb = tgw::bench::rss_kb(std::to_string(gateway.pid()));
 
     Churn churn(options, robot, readers, prefix);
     CycleFigures warm_up;

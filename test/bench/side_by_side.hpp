@@ -17,8 +17,8 @@ namespace tgw::bench {
 class SideBySide {
   public:
     /// Creates the participants, then the gateway. Both readers' participants get `reader_receive_buffer_bytes`
-    /// of SO_RCVBUF (0: the system's default; by default what the camp's tools ask for). False, after saying why (prefixed by `bench`), when DDS or the
-    /// gateway's configuration refuses.
+    /// of SO_RCVBUF (0: the system's default; by default what the camp's tools ask for). False, after saying why
+    /// (prefixed by `bench`), when DDS or the gateway's configuration refuses.
     bool set_up(const char* bench, const BenchDomains& d, const fdds::DomainParticipantQos& publisher_qos,
                 const fdds::DomainParticipantQos& direct_qos, const tgw::dds::GatewayConfig& gateway_config,
                 const base::Clock& clock,

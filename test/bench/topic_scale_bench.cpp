@@ -8,10 +8,17 @@
 // --duration seconds (paced in 1 ms ticks spread over the topics); printed: sent, delivered, delivered/sent and
 // the one-way latency (WAN reader's receive time minus source timestamp). Best effort, KEEP_LAST 10 at the
 // writers, 100 at the readers. Not run by ctest.
+//
+// --direct-baseline: first, before the gateway exists, a UDP-only participant in the robot domain creates a reader
+// on each topic, as a process would without the gateway, and the time until every reader and every writer matched
+// is printed; that participant is then deleted, the gateway made, and its bridging timed from its creation.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <functional>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "base/config_error.hpp"
 #include "test/bench/bench_support.hpp"
@@ -30,12 +37,56 @@ struct Options {
     int timeout_s = 60;
     std::size_t size = 64;
     bool wan_readers = true;
+    bool direct_baseline = false;
     tgw::bench::GatewayOptions gateway;
     std::uint32_t reader_receive_buffer_bytes = 0;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Seconds from the first create_datareader of a UDP-only participant in the robot domain, one reader per topic of
+/// `writers`, until every reader has matched its writer and every writer a reader; none, after saying so, on a
+/// timeout. The participant is deleted before it returns.
+std::optional<double> direct_match_seconds(const tgw::bench::BenchDomains& domains,
+                                           const std::vector<fdds::DataWriter*>& writers,
+                                           const std::function<std::string(int)>& topic_name, fdds::TypeSupport type,
+                                           const fdds::DataReaderQos& qos, std::chrono::seconds timeout) {
+    TestParticipant direct(domains.robot, tgw::bench::direct_reader_qos(domains));
+    if (!direct.ok()) {
+        std::fprintf(stderr, "topic_scale_bench: cannot create the direct participant\n");
+        return std::nullopt;
+    }
+    CountingReader listener(false);
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < static_cast<int>(writers.size()); ++i) {
+        if (direct.make_reader(topic_name(i), type, qos, &listener) == nullptr) {
+            std::fprintf(stderr, "topic_scale_bench: cannot create direct reader %d\n", i);
+            return std::nullopt;
+        }
+    }
+    const double created_s = seconds_since(start);
+    const bool matched = tgw::test::wait_until(
+        [&] {
+            if (listener.matched.load() < static_cast<int>(writers.size()))
+                return false;
+            fdds::PublicationMatchedStatus status;
+            for (fdds::DataWriter* writer : writers) {
+                writer->get_publication_matched_status(status);
+                if (status.current_count == 0)
+                    return false;
+            }
+            return true;
+        },
+        timeout);
+    const double matched_s = seconds_since(start);
+    std::printf("%-34s %10.3f\n", "direct: readers created", created_s);
+    std::printf("%-34s %10.3f%s\n", "direct: all readers matched", matched_s, matched ? "" : "  TIMEOUT");
+    std::fflush(stdout);
+    if (!matched)
+        return std::nullopt;
+    return matched_s;
 }
 
 int run(const Options& options) {
@@ -51,7 +102,10 @@ int run(const Options& options) {
         return 1;
     }
     tgw::base::SystemClock clock;
-    tgw::dds::Gateway gateway(tgw::bench::gateway_config(domains, options.gateway), clock);
+    // Without a baseline the gateway is there first and sees the writers appear; with one, it comes after them.
+    std::optional<tgw::dds::Gateway> gateway_first;
+    if (!options.direct_baseline)
+        gateway_first.emplace(tgw::bench::gateway_config(domains, options.gateway), clock);
 
     fdds::TypeSupport type(new tgw::idl::PaperMessagePubSubType());
     fdds::DataWriterQos wq = publisher.default_writer_qos();
@@ -80,25 +134,52 @@ int run(const Options& options) {
     const double created_s = seconds_since(start);
     const auto timeout = std::chrono::seconds(options.timeout_s);
     const auto n = static_cast<std::size_t>(options.topics);
+    std::printf(
+        "topic scale: %d robot topics from one participant, loopback, budget 10 Gbit/s; times in s from the "
+        "first create_datawriter%s\n",
+        options.topics, options.direct_baseline ? ", the gateway's from its creation" : "");
+    std::printf("%-34s %10.3f\n", "writers created", created_s);
+    std::fflush(stdout);
+    double direct_s = 0;
+    if (options.direct_baseline) {
+        const std::optional<double> matched_s = direct_match_seconds(domains, writers, topic_name, type, rq, timeout);
+        if (!matched_s)
+            return 1;
+        direct_s = *matched_s;
+    }
+    std::optional<tgw::dds::Gateway> gateway_after;
+    const long before_gateway_kb = tgw::bench::rss_kb();
+    const auto gateway_start = std::chrono::steady_clock::now();
+    if (options.direct_baseline)
+        gateway_after.emplace(tgw::bench::gateway_config(domains, options.gateway), clock);
+    tgw::dds::Gateway& gateway = gateway_first ? *gateway_first : *gateway_after;
+    if (options.direct_baseline)
+        std::printf("%-34s %10.3f\n", "gateway made", seconds_since(gateway_start));
+    const auto bridging_start = options.direct_baseline ? gateway_start : start;
+    double first_s = -1;
     double half_s = -1;
     const bool bridged = tgw::test::wait_until(
         [&] {
             const std::size_t count = gateway.topics().size();
+            if (first_s < 0 && count >= 1)
+                first_s = seconds_since(bridging_start);
             if (half_s < 0 && count >= n / 2) {
-                half_s = seconds_since(start);
+                half_s = seconds_since(bridging_start);
             }
             return count >= n;
         },
         timeout);
-    const double bridged_s = seconds_since(start);
-    std::printf(
-        "topic scale: %d robot topics from one participant, loopback, budget 10 Gbit/s; times in s from the "
-        "first create_datawriter\n",
-        options.topics);
-    std::printf("%-34s %10.3f\n", "writers created", created_s);
+    const double bridged_s = seconds_since(bridging_start);
+    std::printf("%-34s %10.3f\n", "first topic bridged", first_s);
     std::printf("%-34s %10.3f\n", "half the topics bridged", half_s);
     std::printf("%-34s %10.3f%s\n", "all topics bridged (topics())", bridged_s, bridged ? "" : "  TIMEOUT");
     std::printf("%-34s %10zu\n", "topics bridged", gateway.topics().size());
+    if (options.direct_baseline) {
+        std::printf("%-34s %10.2f\n", "bridged / direct matched", direct_s > 0 ? bridged_s / direct_s : 0.0);
+        // The gateway's growth, and the publisher's for the gateway's readers: an upper bound per topic.
+        std::printf("%-34s %10.1f\n", "process memory per topic, KiB",
+                    static_cast<double>(tgw::bench::rss_kb() - before_gateway_kb) / options.topics);
+    }
     std::fflush(stdout);
     if (!bridged || !options.wan_readers) {
         return bridged ? 0 : 1;
@@ -193,6 +274,9 @@ int main(int argc, char** argv) {
     app.add_option("--size", options.size, "serialized sample size in bytes")->capture_default_str();
     app.add_option("--timeout", options.timeout_s, "seconds to wait for bridging and matching")->capture_default_str();
     app.add_flag("!--no-wan-readers", options.wan_readers, "measure bridging only");
+    app.add_flag("--direct-baseline", options.direct_baseline,
+                 "first time a UDP-only participant matching every writer with a reader of its own, then the gateway "
+                 "bridging the same writers from its creation");
     app.add_option("--reader-receive-buffer", options.reader_receive_buffer_bytes,
                    "SO_RCVBUF of the base camp's participant, bytes; 0: the system's default")
         ->capture_default_str();

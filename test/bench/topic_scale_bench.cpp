@@ -103,9 +103,9 @@ int run(const Options& options) {
     }
     tgw::base::SystemClock clock;
     // Without a baseline the gateway is there first and sees the writers appear; with one, it comes after them.
-    std::optional<tgw::dds::Gateway> gateway_first;
+    std::optional<tgw::dds::Gateway> gateway;
     if (!options.direct_baseline)
-        gateway_first.emplace(tgw::bench::gateway_config(domains, options.gateway), clock);
+        gateway.emplace(tgw::bench::gateway_config(domains, options.gateway), clock);
 
     fdds::TypeSupport type(new tgw::idl::PaperMessagePubSubType());
     fdds::DataWriterQos wq = publisher.default_writer_qos();
@@ -147,20 +147,17 @@ int run(const Options& options) {
             return 1;
         direct_s = *matched_s;
     }
-    std::optional<tgw::dds::Gateway> gateway_after;
     const long before_gateway_kb = tgw::bench::rss_kb();
-    const auto gateway_start = std::chrono::steady_clock::now();
-    if (options.direct_baseline)
-        gateway_after.emplace(tgw::bench::gateway_config(domains, options.gateway), clock);
-    tgw::dds::Gateway& gateway = gateway_first ? *gateway_first : *gateway_after;
-    if (options.direct_baseline)
-        std::printf("%-34s %10.3f\n", "gateway made", seconds_since(gateway_start));
-    const auto bridging_start = options.direct_baseline ? gateway_start : start;
+    const auto bridging_start = options.direct_baseline ? std::chrono::steady_clock::now() : start;
+    if (options.direct_baseline) {
+        gateway.emplace(tgw::bench::gateway_config(domains, options.gateway), clock);
+        std::printf("%-34s %10.3f\n", "gateway made", seconds_since(bridging_start));
+    }
     double first_s = -1;
     double half_s = -1;
     const bool bridged = tgw::test::wait_until(
         [&] {
-            const std::size_t count = gateway.topics().size();
+            const std::size_t count = gateway->topics().size();
             if (first_s < 0 && count >= 1)
                 first_s = seconds_since(bridging_start);
             if (half_s < 0 && count >= n / 2) {
@@ -173,7 +170,7 @@ int run(const Options& options) {
     std::printf("%-34s %10.3f\n", "first topic bridged", first_s);
     std::printf("%-34s %10.3f\n", "half the topics bridged", half_s);
     std::printf("%-34s %10.3f%s\n", "all topics bridged (topics())", bridged_s, bridged ? "" : "  TIMEOUT");
-    std::printf("%-34s %10zu\n", "topics bridged", gateway.topics().size());
+    std::printf("%-34s %10zu\n", "topics bridged", gateway->topics().size());
     if (options.direct_baseline) {
         std::printf("%-34s %10.2f\n", "bridged / direct matched", direct_s > 0 ? bridged_s / direct_s : 0.0);
         // The gateway's growth, and the publisher's for the gateway's readers: an upper bound per topic.
@@ -199,8 +196,8 @@ int run(const Options& options) {
                 return false;
             }
             for (int i = 0; i < options.topics; ++i) {
-                const auto topic = gateway.find_topic(topic_name(i));
-                if (!topic || gateway.wan_matched_readers(topic->id) == 0) {
+                const auto topic = gateway->find_topic(topic_name(i));
+                if (!topic || gateway->wan_matched_readers(topic->id) == 0) {
                     return false;
                 }
             }
@@ -217,8 +214,8 @@ int run(const Options& options) {
         options.size > tgw::bench::PAPER_MESSAGE_FIXED_BYTES ? options.size - tgw::bench::PAPER_MESSAGE_FIXED_BYTES : 0,
         0x5a);
     const double total_rate = options.hz * options.topics;
-    const tgw::core::TopicCounters gateway_before = gateway.total_counters();
-    const auto datagrams_before = gateway.wan_datagrams();
+    const tgw::core::TopicCounters gateway_before = gateway->total_counters();
+    const auto datagrams_before = gateway->wan_datagrams();
     const auto write_start = std::chrono::steady_clock::now();
     auto next = write_start;
     std::uint64_t sent = 0;
@@ -247,8 +244,8 @@ int run(const Options& options) {
                 tgw::bench::percentile_us(latencies, 0.5), tgw::bench::percentile_us(latencies, 0.99),
                 tgw::bench::percentile_us(latencies, 1.0));
     // Where a loss happened: before the gateway, in it, or after it.
-    const tgw::core::TopicCounters in_gateway = gateway.total_counters();
-    const auto datagrams = gateway.wan_datagrams();
+    const tgw::core::TopicCounters in_gateway = gateway->total_counters();
+    const auto datagrams = gateway->wan_datagrams();
     std::printf("gateway: %llu received, %llu forwarded, in %llu WAN datagrams (%llu failed)\n",
                 static_cast<unsigned long long>(in_gateway.received - gateway_before.received),
                 static_cast<unsigned long long>(in_gateway.forwarded - gateway_before.forwarded),

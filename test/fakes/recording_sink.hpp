@@ -32,7 +32,7 @@ class RecordingSink final : public core::SampleSink {
         if (refused) {
             dropped_.push_back(Dropped{std::move(sample), core::DropReason::write_failed});
         } else {
-            departures_.push_back("sample " + std::to_string(sample.topic));
+            depart("sample " + std::to_string(sample.topic));
             forwarded_.push_back(std::move(sample));
         }
         changed_.notify_all();
@@ -40,8 +40,7 @@ class RecordingSink final : public core::SampleSink {
     }
     void send_repair(std::uint64_t id) override {
         std::lock_guard<std::mutex> lock(mutex_);
-        departures_.push_back("repair " + std::to_string(id));
-        repair_threads_.push_back(std::this_thread::get_id());
+        depart("repair " + std::to_string(id));
         changed_.notify_all();
     }
     void discard_repair(std::uint64_t id) override {
@@ -69,10 +68,10 @@ class RecordingSink final : public core::SampleSink {
         std::unique_lock<std::mutex> lock(mutex_);
         return changed_.wait_for(lock, timeout, [&] { return departures_.size() >= n; });
     }
-    /// The thread that sent each repair, in order.
-    std::vector<std::thread::id> repair_threads() const {
+    /// The thread that wrote each departure (departures()), in order.
+    std::vector<std::thread::id> departure_threads() const {
         std::lock_guard<std::mutex> lock(mutex_);
-        return repair_threads_;
+        return departure_threads_;
     }
     std::vector<std::uint64_t> discarded_repairs() const {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -93,7 +92,7 @@ class RecordingSink final : public core::SampleSink {
             }
         }
         if (!refused)
-            departures_.push_back("bundle");
+            depart("bundle");
         bundles_.push_back(std::move(bundle));
         changed_.notify_all();
         return refused ? 0 : wire_bytes;
@@ -143,6 +142,10 @@ class RecordingSink final : public core::SampleSink {
     }
 
   private:
+    void depart(std::string what) {  // mutex_ held
+        departures_.push_back(std::move(what));
+        departure_threads_.push_back(std::this_thread::get_id());
+    }
     static constexpr std::size_t ALL = SIZE_MAX;
     bool refuses_nts() {
         if (passes_left_ > 0) {
@@ -166,7 +169,7 @@ class RecordingSink final : public core::SampleSink {
     std::vector<std::string> departures_;
     std::vector<std::uint64_t> discarded_repairs_;
     std::vector<std::pair<std::uint64_t, core::DropReason>> cut_short_;
-    std::vector<std::thread::id> repair_threads_;
+    std::vector<std::thread::id> departure_threads_;
     std::size_t passes_left_ = 0;
     std::size_t refusals_left_ = 0;
 };

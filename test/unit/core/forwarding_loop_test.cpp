@@ -55,6 +55,7 @@ TEST_F(ForwardingLoopTest, ForwardsInTheSubmittingThreadWhenTheLinkIsFree) {
     make_sut(1e9);
     sut->submit(sample());
     EXPECT_EQ(sink.forwarded().size(), 1u);
+    EXPECT_EQ(sink.departure_threads(), std::vector<std::thread::id>{std::this_thread::get_id()});
 }
 
 TEST_F(ForwardingLoopTest, SendsARepairFromItsOwnThreadNotTheSubmittingOne) {
@@ -63,7 +64,7 @@ TEST_F(ForwardingLoopTest, SendsARepairFromItsOwnThreadNotTheSubmittingOne) {
     sut->submit_repair(Repair{7, topic, clock.now() + seconds(5), 8 * 200});
     ASSERT_TRUE(sink.wait_for_departures(1, milliseconds(5000)));
     EXPECT_EQ(sink.departures(), (std::vector<std::string>{"repair 7"}));
-    EXPECT_NE(sink.repair_threads().front(), submitter)
+    EXPECT_NE(sink.departure_threads().front(), submitter)
         << "Fast DDS's thread submits it holding its writer's lock; the loop's thread writes";
     EXPECT_EQ(sut->repair_counters().sent, 1u);
 }

@@ -79,7 +79,7 @@ PIDS+=("$gateway")
     --duration "$STATS_S" >"$WORK/via.stats" 2>&1 &
 via_stats=$!
 PIDS+=("$via_stats")
-# The gateway's memory before the publisher: started, matched with the camp's participant.
+# The gateway's memory before the publisher, 3 s after its start.
 sleep 3
 rss_start="$(kib "$gateway" VmRSS)"
 "${tb[@]}" robot "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload "$WORK/workload" \

@@ -11,6 +11,7 @@
 #include "base/config_error.hpp"
 #include "base/sqlite_handles.hpp"
 #include "basecamp/recording/read_only_db.hpp"
+#include "wire/gateway_topics.hpp"
 
 namespace tgw::basecamp {
 
@@ -23,17 +24,13 @@ struct Arrival {
     std::uint64_t bytes;
 };
 
-bool gateway_topic(const std::string& topic) {
-    return topic.rfind("tgw/", 0) == 0;
-}
-
 }  // namespace
 
 std::optional<OnTimePayload> read_on_time_payload(const std::string& path, const std::vector<TopicReport>& reports,
                                                   std::int64_t since_ns, double link_rate_bps) {
     std::map<std::string, std::int64_t> ttl_ns;
     for (const TopicReport& r : reports) {
-        if (r.ttl_s && !gateway_topic(r.topic)) {
+        if (r.ttl_s && !wire::is_gateway_topic(r.topic)) {
             ttl_ns[r.topic] = static_cast<std::int64_t>(*r.ttl_s * 1e9);
         }
     }

@@ -1,5 +1,6 @@
 #include "basecamp/cli/stats_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <iostream>
@@ -8,6 +9,7 @@
 #include "basecamp/capture/recorder.hpp"
 #include "basecamp/cli/live_screen.hpp"
 #include "basecamp/live/topic_stats.hpp"
+#include "wire/gateway_topics.hpp"
 
 namespace tgw::basecamp {
 
@@ -19,11 +21,17 @@ struct StatsOptions : DomainOptions {
     double duration_s = 0.0;
 };
 
-/// How long --once waits for the first topic before its window starts.
+/// How long --once waits for the robot's first sample before its window starts.
 constexpr auto ONCE_DISCOVERY_WAIT = std::chrono::seconds(20);
 
 std::int64_t wall_now_ns() {
     return base::to_ns(base::WallClock::now());
+}
+
+bool received_robot_sample(const Recorder& subscriber) {
+    const auto received = subscriber.received();
+    return std::any_of(received.begin(), received.end(),
+                       [](const auto& topic) { return topic.second > 0 && !wire::is_gateway_topic(topic.first); });
 }
 
 int run_stats(const StatsOptions& options) {
@@ -33,10 +41,11 @@ int run_stats(const StatsOptions& options) {
                         security_files(options.security_dir));
     stop_on_signals();
     if (options.once) {
-        // The window starts once a topic is subscribed: discovery on a link takes a few seconds, and a window that
-        // began before would under-count every rate.
+        // The window starts with the first sample of the robot's: discovery on a link takes a few seconds, and a
+        // window that began before would under-count every rate. Behind a gateway its status comes first, before
+        // any publisher on the robot may have started.
         const auto give_up = base::SteadyClock::now() + ONCE_DISCOVERY_WAIT;
-        while (subscriber.received().empty() && !stop_requested().load() && base::SteadyClock::now() < give_up)
+        while (!received_robot_sample(subscriber) && !stop_requested().load() && base::SteadyClock::now() < give_up)
             subscriber.run(std::chrono::milliseconds(100), stop_requested());
         subscriber.run(base::from_seconds(options.window_s), stop_requested());
         print_stats_table(std::cout, stats.rows(wall_now_ns()));
@@ -68,8 +77,8 @@ Subcommand add_stats_command(CLI::App& app) {
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     command->add_flag("--once", options->once,
-                      "collect for one window from the first topic discovered (up to 20 s), print one table and exit "
-                      "(for scripts)");
+                      "collect for one window from the first sample of a robot's topic (the gateway's own, tgw/..., "
+                      "do not start it; up to 20 s), print one table and exit (for scripts)");
     command->add_option("--duration", options->duration_s, "seconds to run; until Ctrl-C without it")
         ->check(CLI::PositiveNumber);
     return {command, [options] { return run_stats(*options); }};

@@ -3,8 +3,8 @@
 # on loopback (1 Mbit/s, nothing held back, a recorder reading from the start) bridges tm-robot-sim's
 # stats/ten_hz (100 B at 10 Hz, TTL 1 s) and stats/two_hz (500 B at 2 Hz, TTL 5 s). stats --once must show those
 # rates, the bit/s of what tm-robot-sim says it serialized, everything within its TTL and nothing logged on the
-# robot; status --once, taken after publishing ended, must show per topic the counts of the gateway's own exit
-# summary.
+# robot, also when started before the robot publishes; status --once, taken after publishing ended, must show per
+# topic the counts of the gateway's own exit summary.
 set -euo pipefail
 BIN=$1
 ROBOT=$((200 + $$ % 15 * 2))  # 200..228: above the in-process tests' domains, apart from parallel runs
@@ -57,6 +57,11 @@ sleep 1
     --qos "$work/qos.xml" --duration 60 >"$work/gateway.out" 2>&1 &
 gateway=$!
 pids+=("$gateway")
+# A stats --once started before the robot publishes: its window must open on the robot's first sample, not on the
+# gateway's status (and WAN writers) that come first (a 20 s window so opened missed the last 3 s of a camera's run).
+"$BIN/tm-basecamp" stats --domain "$WAN" --peer 127.0.0.1 --once --window 5 >"$work/stats-early.out" 2>&1 &
+early=$!
+pids+=("$early")
 sleep 3
 "$BIN/tm-robot-sim" --domain "$ROBOT" --workload "$work/workload" --duration 9 >"$work/sim.out" 2>&1 &
 sim=$!
@@ -66,6 +71,11 @@ sleep 2
 cat "$work/stats.out"
 wait "$sim"
 cat "$work/sim.out"
+wait "$early" || true
+cat "$work/stats-early.out"
+early_total=$(awk '$1 == "stats/ten_hz" { print $NF }' "$work/stats-early.out")
+check "stats --once started before the robot: stats/ten_hz's samples in its 5 s window (10 Hz)" "a >= 40" \
+    "${early_total:-none}" 0
 for topic in stats/ten_hz stats/two_hz; do
     hz=$(awk -v t="$topic" '$1 == t { print $2 }' "$work/stats.out")
     bps=$(awk -v t="$topic" '$1 == t { print $3 }' "$work/stats.out")

@@ -86,9 +86,9 @@ wait "$direct_stats" || true
     --log "$WORK/robot-log.db" --duration "$((STATS_S + 5))" "${gateway_config[@]}" >"$WORK/gateway.out" 2>&1 &
 gateway=$!
 PIDS+=("$gateway")
-# Its window opens on the first topic, the gateway's status, 3 s before the publisher starts, and stays open 2 s
-# after it stops: the frames still queued then (on a link they overload) go out.
-"${tb[@]}" basecamp "$BIN/tm-basecamp" stats --domain 1 --peer "$robot_addr" --once --window "$((DURATION + 5))" \
+# Its window opens on the first frame and stays open 2 s after the publisher stops: the frames still queued then
+# (on a link they overload) go out.
+"${tb[@]}" basecamp "$BIN/tm-basecamp" stats --domain 1 --peer "$robot_addr" --once --window "$((DURATION + 2))" \
     --duration "$STATS_S" >"$WORK/via.stats" 2>&1 &
 via_stats=$!
 PIDS+=("$via_stats")

@@ -123,20 +123,20 @@ class GatewayIntegrationTest : public ::testing::Test {
     }
 
     /// Waits until the gateway bridges `topic`, its robot reader matched `writer_matches` and its WAN writer
-    /// matched `reader_matches`.
+    /// matched `reader_matches`, each for up to `timeout`.
     void wait_for_bridge(const std::string& topic, const MatchCounter& writer_matches,
-                         const std::atomic<int>& reader_matches) {
-        ASSERT_TRUE(gateway_->wait_for_topic(topic, MATCH_TIMEOUT)) << topic << " was never bridged";
-        ASSERT_TRUE(wait_until([&] { return writer_matches.matched.load() > 0; }, MATCH_TIMEOUT))
+                         const std::atomic<int>& reader_matches, std::chrono::milliseconds timeout = MATCH_TIMEOUT) {
+        ASSERT_TRUE(gateway_->wait_for_topic(topic, timeout)) << topic << " was never bridged";
+        ASSERT_TRUE(wait_until([&] { return writer_matches.matched.load() > 0; }, timeout))
             << "the gateway's robot reader never matched " << topic;
-        ASSERT_TRUE(wait_until([&] { return reader_matches.load() > 0; }, MATCH_TIMEOUT))
+        ASSERT_TRUE(wait_until([&] { return reader_matches.load() > 0; }, timeout))
             << "the base camp never matched the gateway's WAN writer of " << topic;
         // Both ends must know each other: the WAN writer is best effort, so what it writes before it has
         // matched the base camp's reader is lost for good.
         const core::TopicId id = gateway_->find_topic(topic)->id;
-        ASSERT_TRUE(wait_until([&] { return gateway_->wan_matched_readers(id) > 0; }, MATCH_TIMEOUT))
+        ASSERT_TRUE(wait_until([&] { return gateway_->wan_matched_readers(id) > 0; }, timeout))
             << "the gateway's WAN writer never matched the base camp's reader of " << topic;
-        ASSERT_TRUE(wait_until([&] { return gateway_->robot_matched_writers(id) > 0; }, MATCH_TIMEOUT))
+        ASSERT_TRUE(wait_until([&] { return gateway_->robot_matched_writers(id) > 0; }, timeout))
             << "the gateway's robot reader never matched the writer of " << topic;
     }
 

@@ -8,6 +8,10 @@ BackfillArchive::BackfillArchive(SampleStore& store) : store_(store) {
     store_.on_backfill_stored([this](const std::string& log_id, std::int64_t row_id) { stored(log_id, row_id); });
 }
 
+BackfillArchive::~BackfillArchive() {
+    store_.on_backfill_stored({});
+}
+
 void BackfillArchive::take(const idl::BackfillSample& sample, std::int64_t receive_ns) {
     received_.fetch_add(1, std::memory_order_relaxed);
     SampleRecord record;

@@ -20,6 +20,9 @@ class BackfillArchive {
     /// Rows go into `store`, whose acknowledgement callback (SampleStore::on_backfill_stored) this takes; `store`
     /// must outlive it, and no sample may have been added to it yet.
     explicit BackfillArchive(SampleStore& store);
+    /// Takes its callback back from the store, waiting for a call in progress: the store's writer thread may still
+    /// commit rows after this is gone (a camp tool destroys it before the store).
+    ~BackfillArchive();
     BackfillArchive(const BackfillArchive&) = delete;
     BackfillArchive& operator=(const BackfillArchive&) = delete;
 

@@ -187,7 +187,7 @@ class SampleStore::Impl {
     }
 
     void on_backfill_stored(StoredBackfill callback) {
-        std::lock_guard<std::mutex> lock(mutex_);
+        std::lock_guard<std::mutex> lock(stored_backfill_mutex_);
         stored_backfill_ = std::move(callback);
     }
 
@@ -332,8 +332,10 @@ class SampleStore::Impl {
         unacknowledged_.emplace_back(s.backfill->log_id, s.backfill->row_id);
     }
 
-    /// After a commit; on the writer thread, with mutex_ not held, so the callback may call add().
+    /// After a commit; on the writer thread, with mutex_ not held, so the callback may call add(). Under
+    /// stored_backfill_mutex_: whoever replaces the callback (its owner, going away) waits for the call to end.
     void acknowledge() {
+        std::lock_guard<std::mutex> lock(stored_backfill_mutex_);
         if (stored_backfill_)
             for (const auto& [log_id, row_id] : unacknowledged_)
                 stored_backfill_(log_id, row_id);
@@ -375,7 +377,8 @@ class SampleStore::Impl {
     bool stopping_ = false;
     bool flush_requested_ = false;
     /// Set before samples are added, then read by the writer thread alone.
-    StoredBackfill stored_backfill_;
+    std::mutex stored_backfill_mutex_;
+    StoredBackfill stored_backfill_;  // under stored_backfill_mutex_
     /// The writer thread's: backfilled rows written since the last commit, to acknowledge once it commits.
     std::vector<std::pair<std::string, std::int64_t>> unacknowledged_;
     std::thread writer_;

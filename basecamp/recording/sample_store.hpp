@@ -42,7 +42,8 @@ class SampleStore final : public SampleConsumer {
     /// thread, once per backfilled sample added (a duplicate included, since the robot may have missed the first
     /// acknowledgement), after the commit that holds the row and never when that commit failed, with no lock of
     /// add()'s held: it may write to DDS or call add(), but not flush(), and must not throw. The destructor commits
-    /// the last batch, so it may be called until the store is destroyed.
+    /// the last batch, so it may be called until the store is destroyed, or until it is replaced: replacing it waits
+    /// for a call in progress.
     void on_backfill_stored(StoredBackfill callback);
 
     /// Samples inserted; backfilled duplicates are not.

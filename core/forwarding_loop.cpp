@@ -5,6 +5,25 @@
 
 namespace tgw::core {
 
+namespace {
+
+/// The loop whose decisions this thread is writing, if any (charge_link_from_write).
+thread_local const ForwardingLoop* loop_writing_here = nullptr;
+
+/// Marks the calling thread as writing `loop`'s decisions while it lives.
+class WritingHere {
+  public:
+    explicit WritingHere(const ForwardingLoop* loop) : before_(loop_writing_here) { loop_writing_here = loop; }
+    ~WritingHere() { loop_writing_here = before_; }
+    WritingHere(const WritingHere&) = delete;
+    WritingHere& operator=(const WritingHere&) = delete;
+
+  private:
+    const ForwardingLoop* before_;
+};
+
+}  // namespace
+
 ForwardingLoop::ForwardingLoop(const SchedulerConfig& config, const base::Clock& clock, SampleSink& sink)
     : clock_(clock), sink_(sink), scheduler_(config), outbox_(sink) {}
 
@@ -123,6 +142,15 @@ void ForwardingLoop::charge_link(std::uint64_t bits) {
     scheduler_.charge_link(clock_.now(), bits);
 }
 
+bool ForwardingLoop::charge_link_from_write(std::uint64_t bits) {
+    if (loop_writing_here != this) {
+        return false;
+    }
+    // Only the writing thread touches it until it takes the lock again and settles it.
+    write_charge_bits_ += bits;
+    return true;
+}
+
 void ForwardingLoop::observe_link_backlog(std::uint64_t bits) {
     std::lock_guard<std::mutex> lock(mutex_);
     scheduler_.observe_link_backlog(clock_.now(), bits);
@@ -161,9 +189,12 @@ void ForwardingLoop::write_outbox(std::unique_lock<std::mutex>& lock) {
     while (!outbox_.empty()) {
         outbox_.take(writing_now_);
         lock.unlock();
-        write_decisions();
+        {
+            const WritingHere here(this);
+            write_decisions();
+        }
         lock.lock();
-        settle_failures();
+        settle_writes();
     }
     writing_ = false;
     written_.notify_all();
@@ -245,7 +276,7 @@ void ForwardingLoop::write_bundle(WriteOutbox::BundleWrite& d) {
     }
 }
 
-void ForwardingLoop::settle_failures() {
+void ForwardingLoop::settle_writes() {
     for (const FailedWrite& f : failed_) {
         switch (f.kind) {
             case FailedWrite::Kind::sample:
@@ -265,6 +296,10 @@ void ForwardingLoop::settle_failures() {
         }
     }
     failed_.clear();
+    if (write_charge_bits_ > 0) {
+        scheduler_.charge_link(clock_.now(), write_charge_bits_);
+        write_charge_bits_ = 0;
+    }
 }
 
 void ForwardingLoop::kick_nts() {

@@ -56,6 +56,11 @@ class ForwardingLoop {
     void kick();
     /// See Scheduler::charge_link.
     void charge_link(std::uint64_t bits);
+    /// Charges `bits` that a write of this loop's decisions put on the link beyond what the scheduler charged for
+    /// it (a reliable writer's HEARTBEAT, a sample's copy to a second reader), when the calling thread is the one
+    /// writing them: the charge then waits for the lock the writing thread takes again after the write, before
+    /// any further decision, and no other thread is woken for it. False in any other thread: nothing charged.
+    bool charge_link_from_write(std::uint64_t bits);
     /// See Scheduler::observe_link_backlog.
     void observe_link_backlog(std::uint64_t bits);
 
@@ -75,8 +80,8 @@ class ForwardingLoop {
     /// The writing thread's, without the lock: writes writing_now_ and notes what failed.
     void write_decisions();
     void write_bundle(WriteOutbox::BundleWrite& bundle);
-    /// The writing thread's, under the lock: tells the scheduler what failed.
-    void settle_failures();
+    /// The writing thread's, under the lock: tells the scheduler what failed, and what the writes charged.
+    void settle_writes();
     void run();
     void kick_nts();  // the lock is held
 
@@ -89,6 +94,8 @@ class ForwardingLoop {
     bool writing_ = false;  // under mutex_: a thread is writing the outbox to the sink
     // The rest is the writing thread's, while writing_.
     std::vector<WriteOutbox::Decision> writing_now_;
+    /// What the writes of writing_now_ charged (charge_link_from_write), for the scheduler once the lock is back.
+    std::uint64_t write_charge_bits_ = 0;
     /// A write that failed, to settle with the scheduler.
     struct FailedWrite {
         enum class Kind : std::uint8_t {

@@ -99,6 +99,7 @@ Gateway::Gateway(GatewayConfig config, const base::Clock& clock)
     sink_->set_compact(compact_.get());
     sink_->set_repair_desk(wan_->repair_desk());
     loop_ = std::make_unique<core::ForwardingLoop>(config_.scheduler, clock_, *sink_);
+    charging_loop_.store(loop_.get());
     rate_ = std::make_unique<RateControl>(*loop_, *wan_, log_.get(), config_.scheduler.budget_fraction,
                                           config_.scheduler.initial_rate_bps, clock_);
     lifecycle_ = std::make_unique<TopicLifecycle>(
@@ -555,6 +556,12 @@ void Gateway::charge_unscheduled(std::uint64_t frame_bytes) {
 }
 
 void Gateway::charge_link(std::uint64_t frame_bytes) {
+    // A scheduled write's own extra (a reliable writer's HEARTBEAT, a copy to a second reader) is charged by the
+    // writing thread once it is done: a hand-off per sample cost a thread's wake-up, 9 us here.
+    core::ForwardingLoop* loop = charging_loop_.load();
+    if (loop != nullptr && loop->charge_link_from_write(8u * frame_bytes)) {
+        return;
+    }
     pending_unscheduled_bytes_.fetch_add(frame_bytes, std::memory_order_relaxed);
     // One task charges whatever has come by the time it runs: a burst of copies costs one hand-off, not one each.
     if (!unscheduled_charge_posted_.exchange(true)) {

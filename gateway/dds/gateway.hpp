@@ -212,7 +212,8 @@ class Gateway {
     /// Counts traffic outside the schedule (what the WAN transport sent; commands received on a half-duplex link)
     /// and charges it to the loop (charge_link).
     void charge_unscheduled(std::uint64_t frame_bytes);
-    /// Has the worker charge `frame_bytes` that crossed the link outside the schedule to the loop's budget.
+    /// Charges `frame_bytes` that crossed the link outside the schedule to the loop's budget: in the loop's own
+    /// write, after it; otherwise through the worker.
     void charge_link(std::uint64_t frame_bytes);
     /// A base-camp writer discovered on the WAN: routed to the robot domain if its topic is on the uplink list.
     void remote_publisher_discovered(passthrough::DiscoveredPublisher&& pub);  // Fast DDS's discovery thread
@@ -276,6 +277,8 @@ class Gateway {
     double delivered_cap_bps_ = 0.0;                           ///< 0: the delivered-rate check does not cap
     std::atomic<std::uint64_t> pending_unscheduled_bytes_{0};  ///< reported, not yet charged to the loop
     std::atomic<bool> unscheduled_charge_posted_{false};
+    /// loop_ once made, for Fast DDS's sending threads, which may report traffic while the constructor runs.
+    std::atomic<core::ForwardingLoop*> charging_loop_{nullptr};
     std::mutex stop_mutex_;
     bool stopped_ = false;
 };

@@ -297,6 +297,58 @@ TEST_P(ForwardingLoopWritesTest, AListenerIsNotHeldUpByAWanWriteThatBlocks) {
     EXPECT_EQ(sut.total_counters().forwarded, 2u);
 }
 
+/// A sink whose writes put `extra_bits` more on the link than the scheduler charged, as a reliable WAN writer's
+/// HEARTBEAT does, and charge them to the loop from within the write.
+class ChargingSink final : public SampleSink {
+  public:
+    bool forward(Sample&& sample) override {
+        if (loop != nullptr) {
+            charged_from_write.push_back(loop->charge_link_from_write(extra_bits));
+        }
+        return inner.forward(std::move(sample));
+    }
+    std::size_t forward_bundle(std::vector<Sample>&& samples, std::size_t wire_bytes) override {
+        return inner.forward_bundle(std::move(samples), wire_bytes);
+    }
+    void drop(Sample&& sample, DropReason reason) override { inner.drop(std::move(sample), reason); }
+
+    ForwardingLoop* loop = nullptr;
+    std::uint64_t extra_bits = 0;
+    std::vector<bool> charged_from_write;  ///< the writing thread's alone
+    test::RecordingSink inner;
+};
+
+TEST(ForwardingLoopChargeTest, WhatAWriteAddsIsChargedBeforeTheNextDecisionByTheWritingThread) {
+    base::SystemClock clock;
+    ChargingSink sink;
+    SchedulerConfig config;
+    config.initial_rate_bps = 1e6;
+    ForwardingLoop sut(config, clock, sink);
+    const TopicId topic = sut.add_topic({"A", seconds(5)});
+    sut.start();
+    sink.loop = &sut;
+    // Beyond the reserve's 1,000,000 bits (5 % of the rate saved over 20 s): the link is then busy for the
+    // budget's bound, a second ahead.
+    sink.extra_bits = 4'000'000;
+    const auto sample = [&] {
+        Sample s;
+        s.topic = topic;
+        s.payload.assign(100, 1);
+        s.source_time = clock.wall_now();
+        return s;
+    };
+
+    EXPECT_FALSE(sut.charge_link_from_write(8)) << "this thread writes none of the loop's decisions";
+    sut.submit(sample());
+    ASSERT_EQ(sink.inner.forwarded().size(), 1u);
+    EXPECT_EQ(sink.charged_from_write, std::vector<bool>{true});
+    sut.submit(sample());
+    EXPECT_EQ(sut.queued_samples(), 1u) << "the first write's extra holds the link: charged before this decision";
+    EXPECT_TRUE(sink.inner.wait_for_forwarded(2, milliseconds(5'000)));
+    sut.stop();
+    EXPECT_EQ(sut.total_counters().forwarded, 2u);
+}
+
 INSTANTIATE_TEST_SUITE_P(WanModes, ForwardingLoopWritesTest, ::testing::Values(false, true),
                          [](const ::testing::TestParamInfo<bool>& info) {
                              return info.param ? "Compact" : "Standard";

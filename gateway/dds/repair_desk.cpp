@@ -54,14 +54,6 @@ RepairDesk::PacedWatch::~PacedWatch() {
     current_watch = outer_;
 }
 
-std::size_t RepairDesk::SampleKeyHash::operator()(const SampleKey& key) const {
-    std::uint64_t h = static_cast<std::uint64_t>(key.sequence) * 0x9E3779B97F4A7C15ull;
-    for (std::uint8_t b : key.writer) {
-        h = (h ^ b) * 0x100000001B3ull;
-    }
-    return static_cast<std::size_t>(h);
-}
-
 RepairDesk::RepairDesk(std::shared_ptr<DatagramCoalescer> coalescer, const base::Clock& clock, bool samples)
     : coalescer_(std::move(coalescer)), clock_(clock), samples_(samples) {}
 
@@ -90,7 +82,6 @@ void RepairDesk::forget(const DatagramSender& sender) {
         }
     }
     written_.clear();  // the new participant's writers number their samples afresh
-    expiring_writers_.clear();
     skipped_.erase(std::remove_if(skipped_.begin(), skipped_.end(),
                                   [&](const SkippedAnnouncements& s) { return s.sender == &sender; }),
                    skipped_.end());
@@ -126,10 +117,8 @@ bool RepairDesk::note_scheduled(DatagramSender& sender, const DatagramDestinatio
     }
     if (scope->reliable_) {
         for (std::size_t i = 0; i < n; ++i) {
-            written_[SampleKey{refs[i].writer, refs[i].sequence}] = Written{scope->topic_, scope->deadline_};
-            if (!scope->latched_) {
-                expiring_writers_.insert(entity_id(refs[i].writer));
-            }
+            written_.note(entity_id(refs[i].writer), refs[i].sequence, {scope->topic_, scope->deadline_},
+                          !scope->latched_);
         }
         prune_nts(now);
     }
@@ -176,19 +165,18 @@ RepairDesk::Verdict RepairDesk::hold(DatagramSender& sender, const DatagramDesti
         return Verdict::send;
     }
     // The message goes with its most urgent sample: the others ride along.
-    const Written* owner = nullptr;
+    const WrittenSamples::Written* owner = nullptr;
     for (std::size_t i = 0; i < n; ++i) {
-        const auto it = written_.find(SampleKey{refs[i].writer, refs[i].sequence});
-        if (it != written_.end() && it->second.deadline > now &&
-            (owner == nullptr || it->second.deadline < owner->deadline)) {
-            owner = &it->second;
+        const WrittenSamples::Written* written = written_.find(entity_id(refs[i].writer), refs[i].sequence, now);
+        if (written != nullptr && (owner == nullptr || written->deadline < owner->deadline)) {
+            owner = written;
         }
     }
     if (owner == nullptr) {
         // None due any more. Every one a volatile reliable writer's: past its deadline, and no use to the reader.
         const bool past_deadline =
             std::all_of(refs.begin(), refs.begin() + static_cast<std::ptrdiff_t>(n),
-                        [&](const RtpsSampleRef& ref) { return expiring_writers_.count(entity_id(ref.writer)) > 0; });
+                        [&](const RtpsSampleRef& ref) { return written_.expiring(entity_id(ref.writer)); });
         if (past_deadline && gap_for_repair(message, size, gap)) {
             ++counts_.gapped;
             return Verdict::gap;
@@ -375,9 +363,7 @@ void RepairDesk::prune_nts(base::SteadyTime now) {
         return;
     }
     next_prune_ = now + PRUNE_PERIOD;
-    for (auto it = written_.begin(); it != written_.end();) {
-        it = it->second.deadline <= now ? written_.erase(it) : std::next(it);
-    }
+    written_.prune(now);
 }
 
 }  // namespace tgw::dds

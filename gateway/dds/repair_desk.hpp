@@ -9,13 +9,13 @@
 #include <optional>
 #include <string_view>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 #include "base/clock.hpp"
 #include "core/repair.hpp"
 #include "gateway/dds/datagram_coalescer.hpp"
 #include "gateway/dds/rtps_sample_refs.hpp"
+#include "gateway/dds/written_samples.hpp"
 
 namespace tgw::dds {
 
@@ -162,18 +162,6 @@ class RepairDesk {
     Counts counts() const;
 
   private:
-    struct SampleKey {
-        std::array<std::uint8_t, 4> writer{};
-        std::int64_t sequence = 0;
-        bool operator==(const SampleKey& other) const { return writer == other.writer && sequence == other.sequence; }
-    };
-    struct SampleKeyHash {
-        std::size_t operator()(const SampleKey& key) const;
-    };
-    struct Written {
-        core::TopicId topic;
-        base::SteadyTime deadline;
-    };
     struct Held {
         DatagramSender* sender = nullptr;
         DatagramDestination destination;
@@ -204,10 +192,9 @@ class RepairDesk {
     std::function<void(const core::Repair&)> submit_;
     TopicLookup topic_lookup_;
     bool stopped_ = false;
-    std::unordered_map<SampleKey, Written, SampleKeyHash> written_;
-    /// The entity ids of the volatile reliable writers whose samples written_ remembers: a repair of theirs not
-    /// there any more is of a sample past its deadline.
-    std::unordered_set<std::uint32_t> expiring_writers_;
+    /// With the volatile writers among them: a repair of theirs not there any more is of a sample past its
+    /// deadline.
+    WrittenSamples written_;
     base::SteadyTime next_prune_{};
     std::unordered_map<std::uint64_t, Held> held_;
     std::vector<SkippedAnnouncements> skipped_;  // a few ports

@@ -34,13 +34,14 @@ bool GatewaySink::forward(core::Sample&& sample) {
         return written;
     }
     WriteResult result = WriteResult::unknown_topic;
+    const std::size_t payload_bytes = sample.payload.size();  // a latched writer may take the payload
     const bool status = sample.topic == status_topic_;
     std::shared_ptr<TopicBridge> bridge = status ? nullptr : topics_.find(sample.topic);
     const RepairDesk::PacedWatch paced;
     if (status) {
         result = status_writer_->write(sample);
     } else if (bridge != nullptr) {
-        result = bridge->write(sample);
+        result = bridge->write(sample, AfterWrite::payload_spent);
     }
     if (result != WriteResult::ok) {
         // The payload is still ours: keep it, so that a refused write is never silently lost.
@@ -56,7 +57,7 @@ bool GatewaySink::forward(core::Sample&& sample) {
         paced_[paced.sample()] = PacedSample{std::move(sample), std::move(bridge), paced.continuations()};
         return true;
     }
-    log_forwarded(sample, bridge.get(), written);
+    log_forwarded(sample, bridge.get(), written, payload_bytes);
     return true;
 }
 
@@ -97,7 +98,8 @@ bool GatewaySink::write_bundle(std::vector<core::Sample>&& samples, core::Encode
     return written;
 }
 
-void GatewaySink::log_forwarded(const core::Sample& sample, const TopicBridge* bridge, base::SteadyTime written) {
+void GatewaySink::log_forwarded(const core::Sample& sample, const TopicBridge* bridge, base::SteadyTime written,
+                                std::optional<std::size_t> payload_bytes) {
     // The log says what left the robot, so that the mission archive can tell lost on the link from never produced.
     // Not the status (the gateway's own, not telemetry), nor a dispose or unregister: the base camp records data
     // samples only, so one could never be matched.
@@ -111,6 +113,7 @@ void GatewaySink::log_forwarded(const core::Sample& sample, const TopicBridge* b
         record.topic = bridge->wan_name();  // as the base camp records it: merge and report match on it
         record.type_name = bridge->type_name();
         record.sample = &sample;
+        record.payload_bytes = payload_bytes;
         record.arrival = wall(sample.arrival);
         record.deadline = wall(sample.deadline);
         record.forwarded_at = written_wall;

@@ -61,7 +61,9 @@ class GatewaySink final : public core::SampleSink {
   private:
     /// The on-robot log's record of a sample that left for the WAN at `written` (clock_'s now). `bridge`: its
     /// topic's, null for the status.
-    void log_forwarded(const core::Sample& sample, const TopicBridge* bridge, base::SteadyTime written);
+    /// `payload_bytes`: the sample's, when a latched writer took its payload.
+    void log_forwarded(const core::Sample& sample, const TopicBridge* bridge, base::SteadyTime written,
+                       std::optional<std::size_t> payload_bytes = std::nullopt);
     /// A sample whose fragments after the first the RepairDesk paced (core::Repair::Kind::continuation): it has
     /// left once its last fragment has, and is logged then; cut short, it is kept with its reason instead.
     struct PacedSample {

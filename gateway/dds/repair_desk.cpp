@@ -54,6 +54,10 @@ RepairDesk::PacedWatch::~PacedWatch() {
     current_watch = outer_;
 }
 
+bool RepairDesk::PacedWatch::holding_here() {
+    return current_watch != nullptr && current_watch->sample_ != 0;
+}
+
 RepairDesk::RepairDesk(std::shared_ptr<DatagramCoalescer> coalescer, const base::Clock& clock, bool samples)
     : coalescer_(std::move(coalescer)), clock_(clock), samples_(samples) {}
 

@@ -70,6 +70,8 @@ class RepairDesk {
         /// core::Repair::sample of the continuations held, 0 when none was.
         std::uint64_t sample() const { return sample_; }
         std::size_t continuations() const { return continuations_; }
+        /// Whether this thread's innermost watch saw continuations held: the sample's payload is still needed.
+        static bool holding_here();
 
       private:
         friend class RepairDesk;

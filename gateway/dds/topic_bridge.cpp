@@ -141,7 +141,7 @@ bool TopicBridge::idle() const {
     return std::none_of(lanes_.begin(), lanes_.end(), [](const Lane& lane) { return lane.live; });
 }
 
-WriteResult TopicBridge::write(core::Sample& sample) const {
+WriteResult TopicBridge::write(core::Sample& sample, AfterWrite after) const {
     std::shared_ptr<WanWriter> writer;
     {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -149,7 +149,7 @@ WriteResult TopicBridge::write(core::Sample& sample) const {
             writer = lanes_[sample.route].writer;
         }
     }
-    return writer ? writer->write(sample) : WriteResult::unknown_topic;
+    return writer ? writer->write(sample, after) : WriteResult::unknown_topic;
 }
 
 std::int32_t TopicBridge::matched_writers() const {

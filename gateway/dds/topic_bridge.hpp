@@ -96,7 +96,7 @@ class TopicBridge {
     bool idle() const;
 
     /// Writes (or disposes, or unregisters) through the WAN writer of the sample's lane. Never throws.
-    WriteResult write(core::Sample& sample) const;
+    WriteResult write(core::Sample& sample, AfterWrite after = AfterWrite::payload_needed) const;
 
     /// Robot-domain writers matched now, all lanes together.
     std::int32_t matched_writers() const;

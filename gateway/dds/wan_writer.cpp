@@ -55,7 +55,7 @@ void WanWriter::replace(fdds::DataWriter* writer) {
     }
 }
 
-WriteResult WanWriter::write(core::Sample& sample) {
+WriteResult WanWriter::write(core::Sample& sample, AfterWrite after) {
     std::lock_guard<std::mutex> lock(mutex_);
     const ReturnCode_t rc = write_nts(sample);
     if (rc != ReturnCode_t::RETCODE_OK) {
@@ -65,7 +65,11 @@ WriteResult WanWriter::write(core::Sample& sample) {
         return WriteResult::failed;
     }
     if (latched_) {
-        latched_history_.keep(sample);
+        if (after == AfterWrite::payload_spent && !RepairDesk::PacedWatch::holding_here()) {
+            latched_history_.keep_taking_payload(sample);
+        } else {
+            latched_history_.keep(sample);
+        }
     }
     return WriteResult::ok;
 }

@@ -24,6 +24,10 @@ namespace tgw::dds {
 /// Outcome of one write, counted by the caller; nothing on this path throws.
 enum class WriteResult { ok, unknown_topic, failed };
 
+/// What the caller of a write does with the sample's payload once it is written: a latched writer, which keeps each
+/// instance's last change, takes a spent one instead of copying it.
+enum class AfterWrite { payload_needed, payload_spent };
+
 /// One lane's DataWriter on the WAN domain (made by WanRouter::create_writer): writes, disposes and unregisters
 /// with the sample's source timestamp and instance, and counts the base-camp readers it matches. It deletes the
 /// writer when the last holder lets go of it, so a write in progress finishes first; every holder must let go
@@ -43,8 +47,10 @@ class WanWriter {
     WanWriter(const WanWriter&) = delete;
     WanWriter& operator=(const WanWriter&) = delete;
 
-    /// The sample keeps its payload, so that a refused write can still be logged. Never throws.
-    WriteResult write(core::Sample& sample);
+    /// The sample keeps its payload, so that a refused write can still be logged; after a write that succeeded,
+    /// a latched writer takes a `payload_spent` one (unless the repair desk holds the sample's continuations:
+    /// RepairDesk::PacedWatch) and leaves the sample without it. Never throws.
+    WriteResult write(core::Sample& sample, AfterWrite after = AfterWrite::payload_needed);
 
     /// No writer until replace(): the participant is going. Waits for a write in progress; later writes fail.
     void detach();

@@ -115,7 +115,9 @@ class RobotLog::Impl {
             Row row = common_row(record.topic, record.type_name, record.sample, record.arrival, record.deadline,
                                  record.forwarded_at);
             row.kind = Row::Kind::forwarded;
-            if (record.sample != nullptr)
+            if (record.payload_bytes)
+                row.payload_bytes = *record.payload_bytes;
+            else if (record.sample != nullptr)
                 // A sample that left in chunks is logged with its last: the whole sample's size.
                 row.payload_bytes =
                     record.sample->chunk ? record.sample->chunk->total_bytes : record.sample->payload.size();

@@ -35,6 +35,8 @@ struct ForwardRecord {
     base::WallTime arrival;
     base::WallTime deadline;
     base::WallTime forwarded_at;
+    /// The payload's size when the sample no longer holds it (a latched writer's history took it).
+    std::optional<std::size_t> payload_bytes;
 };
 
 /// The link rate the gateway plans with from `at` on: the sensor's, and the budget it gives.

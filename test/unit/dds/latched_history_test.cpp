@@ -103,5 +103,24 @@ TEST(LatchedHistoryTest, HoldsAtMostItsLimitOfInstancesForgettingTheLeastRecentl
     EXPECT_EQ(kept(sut), (std::vector<std::pair<int, int>>{{1, 11}, {3, 30}}));
 }
 
+TEST(LatchedHistoryTest, TakingAPayloadKeepsTheSameAsCopyingItAndLeavesTheChangeWithoutOne) {
+    LatchedHistory sut(2);
+    core::Sample first = change(1, 10);
+    core::Sample second = change(2, 20);
+    core::Sample again = change(1, 11);
+    sut.keep_taking_payload(first);
+    sut.keep(second);
+    sut.keep_taking_payload(again);
+
+    EXPECT_EQ(kept(sut), (std::vector<std::pair<int, int>>{{2, 20}, {1, 11}}));
+    EXPECT_TRUE(again.payload.empty());
+    EXPECT_TRUE(again.key.valid) << "only the payload is taken";
+    EXPECT_EQ(again.source_time, T0);
+    EXPECT_EQ(second.payload.size(), 5u) << "copied";
+    core::Sample third = change(3, 30);
+    sut.keep_taking_payload(third);
+    EXPECT_EQ(kept(sut), (std::vector<std::pair<int, int>>{{1, 11}, {3, 30}})) << "its limit holds";
+}
+
 }  // namespace
 }  // namespace tgw::dds

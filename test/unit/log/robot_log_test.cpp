@@ -214,8 +214,8 @@ class RobotLogTest : public ::testing::Test {
         // Rows that take no payload push the file over its cap: the acknowledged rows go, and a few sent ones.
         const core::Sample sent = sample({1, 2, 3});
         for (int i = 0; i < 10'000; ++i)
-            sut->append_forwarded(
-                {"telemetry/A", "tgw::PaperMessage", &sent, clock.wall_now(), clock.wall_now(), clock.wall_now()});
+            sut->append_forwarded({"telemetry/A", "tgw::PaperMessage", &sent, clock.wall_now(), clock.wall_now(),
+                                   clock.wall_now(), std::nullopt});
         sut->flush();
         EXPECT_FALSE(sut->read_dropped(ids.back()).has_value()) << "the newest row must be pruned";
         EXPECT_TRUE(sut->read_dropped(ids[29]).has_value()) << "and the unacknowledged ones kept";
@@ -286,8 +286,8 @@ TEST_F(RobotLogTest, AtItsCapTheOldestRowsMakeRoomSentOnesFirst) {
     sut = std::make_unique<RobotLog>(path, CAP);
     const core::Sample sent = sample({1, 2, 3});
     for (int i = 0; i < 3000; ++i)
-        sut->append_forwarded(
-            {"telemetry/A", "tgw::PaperMessage", &sent, clock.wall_now(), clock.wall_now(), clock.wall_now()});
+        sut->append_forwarded({"telemetry/A", "tgw::PaperMessage", &sent, clock.wall_now(), clock.wall_now(),
+                               clock.wall_now(), std::nullopt});
     sut->flush();
     // 6 MB of samples not sent, 10 kB each, committed 200 kB at a time as a slow link would drop them.
     constexpr int DROPPED = 600;
@@ -726,8 +726,8 @@ TEST_F(RobotLogTest, AtItsCapTheAcknowledgedRowsGoFirstThenTheSentOnesThenTheRes
     const core::Sample sent = sample({1, 2, 3});
     constexpr int FORWARDED = 2'000;
     for (int i = 0; i < FORWARDED; ++i)
-        sut->append_forwarded(
-            {"telemetry/A", "tgw::PaperMessage", &sent, clock.wall_now(), clock.wall_now(), clock.wall_now()});
+        sut->append_forwarded({"telemetry/A", "tgw::PaperMessage", &sent, clock.wall_now(), clock.wall_now(),
+                               clock.wall_now(), std::nullopt});
     sut->flush();
     ASSERT_EQ(sut->acknowledged_rows(), 20u);
     ASSERT_EQ(sut->pruned_rows(), 0u) << "under the cap so far";

@@ -128,7 +128,7 @@ class MissionArchiveTest : public ::testing::Test {
             if (r.reason) {
                 log.append({r.topic, TYPE, &r.sample, *r.reason, arrival, deadline, deadline});
             } else {
-                log.append_forwarded({r.topic, TYPE, &r.sample, arrival, deadline, arrival});
+                log.append_forwarded({r.topic, TYPE, &r.sample, arrival, deadline, arrival, std::nullopt});
             }
         }
         log.flush();

@@ -15,8 +15,7 @@ void LatchedHistory::keep(const core::Sample& change) {
 }
 
 void LatchedHistory::keep_taking_payload(core::Sample& change) {
-    std::vector<std::uint8_t> payload = std::move(change.payload);
-    change.payload = {};
+    std::vector<std::uint8_t> payload = std::move(change.payload);  // leaves it empty
     core::Sample& slot = slot_for(change);
     slot = change;  // without a payload: no copy
     slot.payload = std::move(payload);

@@ -1,6 +1,7 @@
 #include "gateway/dds/written_samples.hpp"
 
 #include <algorithm>
+#include <iterator>
 
 namespace tgw::dds {
 
@@ -15,17 +16,19 @@ auto at_or_after(Samples& samples, std::int64_t sequence) {
 }  // namespace
 
 void WrittenSamples::note(std::uint32_t writer, std::int64_t sequence, const Written& written, bool expiring) {
-    Writer& w = writers_[writer];
-    w.expiring = w.expiring || expiring;
-    if (w.samples.empty() || w.samples.back().sequence < sequence) {
-        w.samples.push_back(Entry{sequence, written});  // the usual case: the writer's newest
+    if (expiring) {
+        expiring_.insert(writer);
+    }
+    std::deque<Entry>& samples = writers_[writer];
+    if (samples.empty() || samples.back().sequence < sequence) {
+        samples.push_back(Entry{sequence, written});  // the usual case: the writer's newest
         return;
     }
-    const auto it = at_or_after(w.samples, sequence);
-    if (it != w.samples.end() && it->sequence == sequence) {
+    const auto it = at_or_after(samples, sequence);
+    if (it != samples.end() && it->sequence == sequence) {
         it->written = written;
     } else {
-        w.samples.insert(it, Entry{sequence, written});
+        samples.insert(it, Entry{sequence, written});
     }
 }
 
@@ -35,30 +38,31 @@ const WrittenSamples::Written* WrittenSamples::find(std::uint32_t writer, std::i
     if (w == writers_.end()) {
         return nullptr;
     }
-    const auto it = at_or_after(w->second.samples, sequence);
-    if (it == w->second.samples.end() || it->sequence != sequence || it->written.deadline <= now) {
+    const auto it = at_or_after(w->second, sequence);
+    if (it == w->second.end() || it->sequence != sequence || it->written.deadline <= now) {
         return nullptr;
     }
     return &it->written;
 }
 
 bool WrittenSamples::expiring(std::uint32_t writer) const {
-    const auto w = writers_.find(writer);
-    return w != writers_.end() && w->second.expiring;
+    return expiring_.count(writer) > 0;
 }
 
 void WrittenSamples::prune(base::SteadyTime now) {
-    for (auto& [id, w] : writers_) {
-        while (!w.samples.empty() && w.samples.front().written.deadline <= now) {
-            w.samples.pop_front();
+    for (auto w = writers_.begin(); w != writers_.end();) {
+        std::deque<Entry>& samples = w->second;
+        while (!samples.empty() && samples.front().written.deadline <= now) {
+            samples.pop_front();
         }
+        w = samples.empty() ? writers_.erase(w) : std::next(w);
     }
 }
 
 std::size_t WrittenSamples::size() const {
     std::size_t n = 0;
-    for (const auto& [id, w] : writers_) {
-        n += w.samples.size();
+    for (const auto& [id, samples] : writers_) {
+        n += samples.size();
     }
     return n;
 }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <deque>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "base/time.hpp"
 #include "core/sample.hpp"
@@ -29,11 +30,15 @@ class WrittenSamples {
     const Written* find(std::uint32_t writer, std::int64_t sequence, base::SteadyTime now) const;
     /// Whether `writer` wrote a sample noted as expiring since the last clear().
     bool expiring(std::uint32_t writer) const;
-    /// Forgets each writer's oldest samples while they are past their deadlines at `now`. One with a later
+    /// Forgets each writer's oldest samples while they are past their deadlines at `now`, and a writer none of
+    /// whose samples is left (its deque's memory with it; expiring() still knows it). A sample with a later
     /// deadline ahead of them keeps them a little longer; find() does not return them.
     void prune(base::SteadyTime now);
     /// Forgets every sample and writer (a new participant's writers number their samples afresh).
-    void clear() { writers_.clear(); }
+    void clear() {
+        writers_.clear();
+        expiring_.clear();
+    }
     /// Samples kept.
     std::size_t size() const;
 
@@ -42,11 +47,10 @@ class WrittenSamples {
         std::int64_t sequence;
         Written written;
     };
-    struct Writer {
-        std::deque<Entry> samples;  ///< by sequence
-        bool expiring = false;
-    };
-    std::unordered_map<std::uint32_t, Writer> writers_;
+    /// Each writer's samples by sequence.
+    std::unordered_map<std::uint32_t, std::deque<Entry>> writers_;
+    /// The writers noted expiring, kept after their samples are pruned.
+    std::unordered_set<std::uint32_t> expiring_;
 };
 
 }  // namespace tgw::dds

@@ -6,6 +6,9 @@
 # --wan-max-datagram 65500 with a fixed sensor at the link's rate, the same tm-basecamp stats on the WAN domain).
 # The publisher is reliable, Lifespan 1 s, history of a second's frames (tm-robot-sim's), as a camera driver's.
 #
+# --transient-local: the publisher's writer is transient local, as Fast DDS's default writer (a camera driver left at
+# its defaults): the gateway then gives the topic a latched lane, which keeps the last frame for late joiners.
+#
 # --latest-only: the gateway's rule for the topic is latest_only (a newer frame replaces the one still waiting, which
 # goes to the on-robot log as superseded), as a camera's should be when frames may ask for more than the link.
 #
@@ -15,7 +18,7 @@
 #
 # Needs root (network namespaces); exits 77 (skip) without. Not in ctest: about 75 s.
 #   test/bench/large_samples_veth.sh BIN_DIR [--size BYTES] [--rate-hz HZ] [--duration S] [--link-rate BPS]
-#                                            [--latest-only] [--keep DIR]
+#                                            [--transient-local] [--latest-only] [--keep DIR]
 set -euo pipefail
 
 SIZE=1048576
@@ -23,11 +26,12 @@ RATE_HZ=30
 DURATION=20
 LINK_RATE=1000000000
 LATEST_ONLY=""
+SIM_DURABILITY=()
 KEEP_DIR="${TGW_TEST_KEEP:-}"
 die_usage() {
     echo "large_samples_veth: $*" >&2
     echo "usage: test/bench/large_samples_veth.sh BIN_DIR [--size BYTES] [--rate-hz HZ] [--duration S]" \
-        "[--link-rate BPS] [--latest-only] [--keep DIR]" >&2
+        "[--link-rate BPS] [--transient-local] [--latest-only] [--keep DIR]" >&2
     exit 2
 }
 need() { if [ "$2" -lt 2 ] || ! [[ "$3" =~ $4 ]]; then die_usage "$1"; fi; }
@@ -38,6 +42,7 @@ while [ $# -gt 0 ]; do
         --rate-hz) need "--rate-hz: expected samples/s" $# "${2:-}" '^[1-9][0-9]*$'; RATE_HZ="$2"; shift 2 ;;
         --duration) need "--duration: expected whole seconds" $# "${2:-}" '^[1-9][0-9]*$'; DURATION="$2"; shift 2 ;;
         --link-rate) need "--link-rate: expected bit/s" $# "${2:-}" '^[1-9][0-9]*$'; LINK_RATE="$2"; shift 2 ;;
+        --transient-local) SIM_DURABILITY=(--transient-local); shift ;;
         --latest-only) LATEST_ONLY=1; shift ;;
         --keep) need "--keep: expected a directory" $# "${2:-}" '.'; KEEP_DIR="$2"; shift 2 ;;
         -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
@@ -77,7 +82,7 @@ kib() { awk -v f="$2:" '$1 == f { print $2 }' "/proc/$1/status"; }
 direct_stats=$!
 PIDS+=("$direct_stats")
 "${tb[@]}" robot "$BIN/tm-robot-sim" --domain 0 --peer "$basecamp_addr" --workload "$WORK/workload" \
-    --duration "$DURATION" --linger 1 --wait-match 10 >"$WORK/direct.sim" 2>&1 || { cat "$WORK/direct.sim"; exit 1; }
+    --duration "$DURATION" --linger 1 --wait-match 10 "${SIM_DURABILITY[@]+"${SIM_DURABILITY[@]}"}" >"$WORK/direct.sim" 2>&1 || { cat "$WORK/direct.sim"; exit 1; }
 wait "$direct_stats" || true
 
 # 2. Through the gateway.
@@ -96,7 +101,7 @@ PIDS+=("$via_stats")
 sleep 3
 rss_start="$(kib "$gateway" VmRSS)"
 "${tb[@]}" robot "$BIN/tm-robot-sim" --domain 0 --interface 127.0.0.1 --workload "$WORK/workload" \
-    --duration "$DURATION" --linger 1 --wait-match 10 >"$WORK/via.sim" 2>&1 &
+    --duration "$DURATION" --linger 1 --wait-match 10 "${SIM_DURABILITY[@]+"${SIM_DURABILITY[@]}"}" >"$WORK/via.sim" 2>&1 &
 via_sim=$!
 PIDS+=("$via_sim")
 wait "$via_sim" || true

@@ -52,6 +52,10 @@ int main(int argc, char** argv) {
     app.add_option("--peer", transport.peers,
                    "IPv4 address of the other end (repeatable): UDP unicast only, no multicast, no shared memory");
     app.add_option("--interface", transport.interface, "interface name or IPv4 address to bind every socket to");
+    bool transient_local = false;
+    app.add_flag("--transient-local", transient_local,
+                 "writers keep their last samples (within the history and the TTL) for readers that join later, as "
+                 "Fast DDS's default writer does (a camera driver left at its defaults); default: volatile");
     std::string pose_topic;
     app.add_option("--pose", pose_topic,
                    "also publish the robot's pose (tgw::idl::RobotPose, 5 Hz, TTL 1 s) on this topic as it drives a "
@@ -75,7 +79,9 @@ int main(int argc, char** argv) {
             return 0;
         }
         const auto streams = tgw::robot_sim::load_workload(workload, rate_hz);
-        tgw::robot_sim::PaperPublisher publisher(domain, streams, transport);
+        tgw::robot_sim::PaperPublisher publisher(domain, streams, transport,
+                                                 transient_local ? tgw::robot_sim::WriterDurability::transient_local
+                                                                 : tgw::robot_sim::WriterDurability::volatile_kind);
         std::signal(SIGINT, on_signal);
         std::signal(SIGTERM, on_signal);
         if (wait_match_s > 0) {

@@ -35,7 +35,7 @@ eprosima::fastrtps::Duration_t to_dds_duration(base::Duration d) {
 }  // namespace
 
 PaperPublisher::PaperPublisher(int domain, const std::vector<core::MessageStream>& streams,
-                               const base::PeerTransport& transport)
+                               const base::PeerTransport& transport, WriterDurability durability)
     : streams_(streams) {
     auto* factory = dds::DomainParticipantFactory::get_instance();
     dds::DomainParticipantQos pqos = factory->get_default_participant_qos();
@@ -58,7 +58,8 @@ PaperPublisher::PaperPublisher(int domain, const std::vector<core::MessageStream
             throw base::ConfigError("--workload: cannot create topic '" + stream.topic + "'");
         dds::DataWriterQos wqos = publisher_->get_default_datawriter_qos();
         wqos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
-        wqos.durability().kind = dds::VOLATILE_DURABILITY_QOS;
+        wqos.durability().kind = durability == WriterDurability::transient_local ? dds::TRANSIENT_LOCAL_DURABILITY_QOS
+                                                                                 : dds::VOLATILE_DURABILITY_QOS;
         wqos.lifespan().duration = to_dds_duration(stream.ttl);
         // Keep what can still be alive within the TTL: the writer queues like the paper's control did,
         // and the Lifespan purges what has expired.

@@ -27,12 +27,19 @@ struct StreamReport {
     std::size_t serialized_bytes = 0;  ///< payload size on the wire, CDR with encapsulation
 };
 
+/// How long the writers keep what they wrote for readers that join later (DDS Durability).
+enum class WriterDurability {
+    volatile_kind,    ///< for the readers matched when it is written only
+    transient_local,  ///< also for a late joiner, within the history and the Lifespan: Fast DDS's default
+};
+
 /// Publishes a workload as tgw::idl::PaperMessage, one topic and writer per stream, Lifespan = the stream's
 /// TTL, source timestamp = generated_ns = the wall clock at publication.
 class PaperPublisher {
   public:
     /// Creates the participant and writers. Throws base::ConfigError when DDS refuses them.
-    PaperPublisher(int domain, const std::vector<core::MessageStream>& streams, const base::PeerTransport& transport);
+    PaperPublisher(int domain, const std::vector<core::MessageStream>& streams, const base::PeerTransport& transport,
+                   WriterDurability durability = WriterDurability::volatile_kind);
     ~PaperPublisher();
     PaperPublisher(const PaperPublisher&) = delete;
     PaperPublisher& operator=(const PaperPublisher&) = delete;

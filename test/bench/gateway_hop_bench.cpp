@@ -56,6 +56,7 @@ struct Options {
     int repeat = 1;
     bool direct_shm = false;
     bool reliable = false;
+    bool volatile_writer = false;
     tgw::bench::GatewayOptions gateway;
 };
 
@@ -135,8 +136,8 @@ class Bench {
         auto direct_reader = std::make_unique<LatencyReader>(options_.warmup);
         // The direct reader is what the gateway's robot reader is: reliable when the publisher is.
         const auto pair = side_.open_pair(
-            "gateway_hop_bench", via_topic, direct_topic, side_.writer_qos(options_.reliable), side_.reader_qos(false),
-            side_.reader_qos(options_.reliable), *via_reader, *direct_reader, MATCH_TIMEOUT);
+            "gateway_hop_bench", via_topic, direct_topic, side_.writer_qos(options_.reliable, options_.volatile_writer),
+            side_.reader_qos(false), side_.reader_qos(options_.reliable), *via_reader, *direct_reader, MATCH_TIMEOUT);
         if (!pair) {
             return false;
         }
@@ -211,6 +212,9 @@ int main(int argc, char** argv) {
     options.gateway.add_flags(app);
     app.add_flag("--reliable", options.reliable,
                  "reliable publisher (the gateway's robot reader and the direct reader follow; default: best effort)");
+    app.add_flag("--volatile", options.volatile_writer,
+                 "volatile publisher, as a ROS 2 node's (default: Fast DDS's transient local, for which the gateway "
+                 "keeps each instance's last sample for late joiners)");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -222,10 +226,11 @@ int main(int argc, char** argv) {
         return 1;
     }
     std::printf(
-        "gateway hop: %d samples per path, one every %d us per path, %s publisher, direct reader on %s, %s, "
+        "gateway hop: %d samples per path, one every %d us per path, %s%s publisher, direct reader on %s, %s, "
         "loopback, budget unconstrained; times in us\n",
         options.samples, 2 * options.period_us, options.reliable ? "reliable" : "best-effort",
-        options.direct_shm ? "shared memory" : "UDP", options.gateway.describe().c_str());
+        options.volatile_writer ? " volatile" : " transient-local", options.direct_shm ? "shared memory" : "UDP",
+        options.gateway.describe().c_str());
     std::printf("%6s %4s %8s %8s %8s %9s %9s %9s %9s %9s %7s %7s %7s\n", "bytes", "run", "proc50", "proc90", "proc99",
                 "direct50", "direct99", "via_gw50", "via_gw99", "added50", "ratio", "lost_gw", "lost_dir");
     int rc = 0;

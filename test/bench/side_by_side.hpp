@@ -53,10 +53,15 @@ class SideBySide {
 
     tgw::dds::Gateway& gateway() { return *gateway_; }
 
-    /// The publisher's writers on both paths: KEEP_LAST 100, no data sharing.
-    fdds::DataWriterQos writer_qos(bool reliable) const {
+    /// The publisher's writers on both paths: KEEP_LAST 100, no data sharing; transient local as Fast DDS's default
+    /// (the gateway then keeps each instance's last sample for late joiners) unless `volatile_writer`, as a ROS 2
+    /// node's.
+    fdds::DataWriterQos writer_qos(bool reliable, bool volatile_writer = false) const {
         fdds::DataWriterQos q = publisher_->default_writer_qos();
         q.reliability().kind = reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+        if (volatile_writer) {
+            q.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
+        }
         q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
         q.history().depth = 100;
         q.data_sharing().off();

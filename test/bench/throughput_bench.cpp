@@ -6,7 +6,8 @@
 // batches, first on a topic read directly by a UDP-only reader in the robot domain, then on a topic the
 // Gateway bridges to a UDP-only reader in the WAN domain; after each burst the reader is let drain (200 ms
 // quiet). A path's figure is the highest offered rate at which its loss was below --max-loss. Both paths use
-// the same QoS: best effort, KEEP_LAST 100 at the writer, KEEP_LAST 1000 at the readers, data sharing off.
+// the same QoS: best effort, KEEP_LAST 100 at the writer (transient local, Fast DDS's default, or volatile with
+// --volatile), KEEP_LAST 1000 at the readers, data sharing off.
 // A path stops stepping after two lossy steps in a row, or once the publisher cannot write at the offered
 // rate (then the figure is a floor). Then --bisect steps halve (geometrically) the gap between each path's
 // last loss-free and first lossy rate. Not run by ctest.
@@ -37,6 +38,7 @@ struct Options {
     double max_rate = 2e6;
     double max_loss = 0.001;
     bool verbose = false;
+    bool volatile_writer = false;
     std::uint32_t direct_max_message_bytes = 0;
     int bisect_steps = 3;
     int repeat = 1;
@@ -60,10 +62,10 @@ class Bench {
     bool run(std::size_t size) {
         CountingReader via_reader;
         CountingReader direct_reader;
-        const auto pair =
-            side_.open_pair("throughput_bench", "bench/gateway/tput/" + std::to_string(size),
-                            "bench/direct/tput/" + std::to_string(size), side_.writer_qos(false),
-                            side_.reader_qos(false), side_.reader_qos(false), via_reader, direct_reader, 10s);
+        const auto pair = side_.open_pair("throughput_bench", "bench/gateway/tput/" + std::to_string(size),
+                                          "bench/direct/tput/" + std::to_string(size),
+                                          side_.writer_qos(false, options_.volatile_writer), side_.reader_qos(false),
+                                          side_.reader_qos(false), via_reader, direct_reader, 10s);
         if (!pair) {
             return false;
         }
@@ -285,6 +287,9 @@ int main(int argc, char** argv) {
                    "SO_RCVBUF of both readers' participants, bytes, as tm-basecamp's --receive-buffer; 0: the system's "
                    "default (the gateway's robot side has its own, --robot-receive-buffer)")
         ->capture_default_str();
+    app.add_flag("--volatile", options.volatile_writer,
+                 "volatile writer, as a ROS 2 node's (default: Fast DDS's transient local, for which the gateway keeps "
+                 "each instance's last sample for late joiners)");
     app.add_flag("--verbose", options.verbose, "print every step to stderr");
     try {
         app.parse(argc, argv);
@@ -297,9 +302,10 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "throughput: highest offered rate with loss < %.2f %%, steps x1.5 of %.1f s then %d bisections, best effort, "
-        "writer KEEP_LAST 100, readers KEEP_LAST 1000, direct reader UDP, %s, budget 10 Gbit/s, "
+        "writer KEEP_LAST 100 %s, readers KEEP_LAST 1000, direct reader UDP, %s, budget 10 Gbit/s, "
         "direct path's datagrams up to %s B; '+': publisher-bound floor\n",
-        options.max_loss * 100, options.duration_s, options.bisect_steps, options.gateway.describe().c_str(),
+        options.max_loss * 100, options.duration_s, options.bisect_steps,
+        options.volatile_writer ? "volatile" : "transient local", options.gateway.describe().c_str(),
         options.direct_max_message_bytes > 0 ? std::to_string(options.direct_max_message_bytes).c_str() : "65500");
     std::printf("%8s %4s %13s %10s %13s %10s %7s %8s %13s %10s\n", "bytes", "run", "direct/s", "direct_MB/s",
                 "via_gw/s", "via_MB/s", "ratio", "cpu_at/s", "direct_cpu_us", "via_cpu_us");

@@ -159,6 +159,13 @@ struct GatewayOptions {
     }
 };
 
+/// The publisher's --volatile flag of the side-by-side benches (SideBySide::writer_qos).
+inline void add_volatile_flag(CLI::App& app, bool& volatile_writer) {
+    app.add_flag("--volatile", volatile_writer,
+                 "volatile publisher, as a ROS 2 node's (default: Fast DDS's transient local, for which the gateway "
+                 "keeps each instance's last sample for late joiners)");
+}
+
 /// The gateway of the benches: budget unconstrained, the direct topics denied.
 inline tgw::dds::GatewayConfig gateway_config(const BenchDomains& d, const GatewayOptions& options = {}) {
     tgw::dds::GatewayConfig config;

@@ -212,9 +212,7 @@ int main(int argc, char** argv) {
     options.gateway.add_flags(app);
     app.add_flag("--reliable", options.reliable,
                  "reliable publisher (the gateway's robot reader and the direct reader follow; default: best effort)");
-    app.add_flag("--volatile", options.volatile_writer,
-                 "volatile publisher, as a ROS 2 node's (default: Fast DDS's transient local, for which the gateway "
-                 "keeps each instance's last sample for late joiners)");
+    tgw::bench::add_volatile_flag(app, options.volatile_writer);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -287,9 +287,7 @@ int main(int argc, char** argv) {
                    "SO_RCVBUF of both readers' participants, bytes, as tm-basecamp's --receive-buffer; 0: the system's "
                    "default (the gateway's robot side has its own, --robot-receive-buffer)")
         ->capture_default_str();
-    app.add_flag("--volatile", options.volatile_writer,
-                 "volatile writer, as a ROS 2 node's (default: Fast DDS's transient local, for which the gateway keeps "
-                 "each instance's last sample for late joiners)");
+    tgw::bench::add_volatile_flag(app, options.volatile_writer);
     app.add_flag("--verbose", options.verbose, "print every step to stderr");
     try {
         app.parse(argc, argv);

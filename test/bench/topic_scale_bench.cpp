@@ -135,9 +135,10 @@ int run(const Options& options) {
     const auto timeout = std::chrono::seconds(options.timeout_s);
     const auto n = static_cast<std::size_t>(options.topics);
     std::printf(
-        "topic scale: %d robot topics from one participant, loopback, budget 10 Gbit/s; times in s from the "
+        "topic scale: %d robot topics from one participant, loopback, %s; times in s from the "
         "first create_datawriter%s\n",
-        options.topics, options.direct_baseline ? ", the gateway's from its creation" : "");
+        options.topics, tgw::bench::UNCONSTRAINED_BUDGET,
+        options.direct_baseline ? ", the gateway's from its creation" : "");
     std::printf("%-34s %10.3f\n", "writers created", created_s);
     std::fflush(stdout);
     double direct_s = 0;

@@ -318,7 +318,7 @@ int main(int argc, char** argv) {
         "direct path's datagrams up to %s B; '+': publisher-bound floor\n",
         options.max_loss * 100, options.duration_s, options.bisect_steps,
         options.volatile_writer ? "volatile" : "transient local", options.gateway.describe().c_str(),
-        tgw::bench::UNCONSTRAINED_BUDGET,
+        tgw::bench::describe_unconstrained_budget().c_str(),
         options.direct_max_message_bytes > 0 ? std::to_string(options.direct_max_message_bytes).c_str() : "65500");
     std::printf("%8s %4s %13s %10s %13s %10s %7s %8s %13s %10s\n", "bytes", "run", "direct/s", "direct_MB/s",
                 "via_gw/s", "via_MB/s", "ratio", "cpu_at/s", "direct_cpu_us", "via_cpu_us");

@@ -137,7 +137,7 @@ int run(const Options& options) {
     std::printf(
         "topic scale: %d robot topics from one participant, loopback, %s; times in s from the "
         "first create_datawriter%s\n",
-        options.topics, tgw::bench::UNCONSTRAINED_BUDGET,
+        options.topics, tgw::bench::describe_unconstrained_budget().c_str(),
         options.direct_baseline ? ", the gateway's from its creation" : "");
     std::printf("%-34s %10.3f\n", "writers created", created_s);
     std::fflush(stdout);

@@ -209,6 +209,8 @@ class CountingReader final : public fdds::DataReaderListener {
                 continue;
             }
             received_.fetch_add(1);
+            static thread_local const pid_t this_thread = ::gettid();
+            listener_thread_.store(this_thread, std::memory_order_relaxed);
             if (!keep_latencies_) {
                 continue;
             }
@@ -228,6 +230,8 @@ class CountingReader final : public fdds::DataReaderListener {
     }
 
     std::uint64_t received() const { return received_.load(); }
+    /// The thread that took the last sample (Fast DDS's receive thread for the reader's socket); 0 before any.
+    pid_t listener_thread() const { return listener_thread_.load(std::memory_order_relaxed); }
     std::vector<std::int64_t> latencies_ns() const {
         std::lock_guard<std::mutex> lock(mutex_);
         return latencies_ns_;
@@ -242,6 +246,7 @@ class CountingReader final : public fdds::DataReaderListener {
   private:
     const bool keep_latencies_;
     std::atomic<std::uint64_t> received_{0};
+    std::atomic<pid_t> listener_thread_{0};
     mutable std::mutex mutex_;
     std::vector<std::int64_t> latencies_ns_;
 };

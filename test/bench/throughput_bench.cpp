@@ -10,7 +10,9 @@
 // --volatile), KEEP_LAST 1000 at the readers, data sharing off.
 // A path stops stepping after two lossy steps in a row, or once the publisher cannot write at the offered
 // rate (then the figure is a floor). Then --bisect steps halve (geometrically) the gap between each path's
-// last loss-free and first lossy rate. Not run by ctest.
+// last loss-free and first lossy rate. At the highest rate both paths carried, each path's CPU per sample is
+// given for the whole process and for its busiest thread (from the kernel's per-thread run time): a path cannot
+// carry more than 1 s over the latter a second, whatever the number of cores. Not run by ctest.
 #include <CLI/CLI.hpp>
 
 #include <sys/resource.h>
@@ -24,6 +26,7 @@
 #include "base/receive_buffer.hpp"
 #include "test/bench/bench_support.hpp"
 #include "test/bench/side_by_side.hpp"
+#include "test/bench/thread_cpu.hpp"
 
 namespace {
 
@@ -60,6 +63,25 @@ std::string drop_reasons(const tgw::core::TopicCounters& now, const tgw::core::T
     return out;
 }
 
+/// "writer 30.2, reader 16.4, 4711 46.5": the three threads that used the most CPU per sample, busiest first; the
+/// bench's own thread (the writer's) and the reader's named, the gateway's and Fast DDS's by thread id.
+std::string describe_busiest(const std::map<pid_t, double>& us_per_sample, pid_t reader_thread) {
+    std::vector<std::pair<double, pid_t>> busiest;
+    for (const auto& [tid, us] : us_per_sample) {
+        busiest.emplace_back(us, tid);
+    }
+    std::sort(busiest.rbegin(), busiest.rend());
+    std::string out;
+    for (std::size_t i = 0; i < std::min<std::size_t>(busiest.size(), 3); ++i) {
+        const auto [us, tid] = busiest[i];
+        const std::string name = tid == ::getpid() ? "writer" : tid == reader_thread ? "reader" : std::to_string(tid);
+        char figure[32];
+        std::snprintf(figure, sizeof figure, "%.1f", us);
+        out += (i > 0 ? ", " : "") + name + " " + figure;
+    }
+    return out;
+}
+
 class Bench {
   public:
     explicit Bench(const Options& options)
@@ -91,12 +113,14 @@ class Bench {
             search(direct_path, via_path, message);
             const double mb = static_cast<double>(size) / 1e6;
             const double cpu_rate = common_loss_free_rate(direct_path, via_path);
-            std::printf("%8zu %4d %12.0f%s %10.1f %12.0f%s %10.1f %7.2f %8.0f %13.1f %10.1f\n", size, run,
+            std::printf("%8zu %4d %12.0f%s %10.1f %12.0f%s %10.1f %7.2f %8.0f %13.1f %10.1f %13.1f %10.1f\n", size, run,
                         direct_path.best_rate, direct_path.writer_bound ? "+" : " ", direct_path.best_rate * mb,
                         via_path.best_rate, via_path.writer_bound ? "+" : " ", via_path.best_rate * mb,
                         direct_path.best_rate > 0 ? via_path.best_rate / direct_path.best_rate : 0.0, cpu_rate,
                         cpu_rate > 0 ? direct_path.cpu_us_at_rate.at(cpu_rate) : 0.0,
-                        cpu_rate > 0 ? via_path.cpu_us_at_rate.at(cpu_rate) : 0.0);
+                        cpu_rate > 0 ? via_path.cpu_us_at_rate.at(cpu_rate) : 0.0,
+                        cpu_rate > 0 ? direct_path.busiest_us_at_rate.at(cpu_rate) : 0.0,
+                        cpu_rate > 0 ? via_path.busiest_us_at_rate.at(cpu_rate) : 0.0);
             std::fflush(stdout);
         }
         return true;
@@ -118,6 +142,9 @@ class Bench {
         double best_rate = 0;                             ///< the highest loss-free rate so far
         /// The process's CPU per sample (every thread: writer, gateway, reader) at each loss-free ramp rate.
         std::map<double, double> cpu_us_at_rate{};
+        /// The CPU per sample of the thread that used the most, at each loss-free ramp rate: the path carries at
+        /// most 1 s over it a second.
+        std::map<double, double> busiest_us_at_rate{};
         double first_lossy_rate = 0;  ///< the lowest lossy rate above best_rate, 0 while none
         int lossy_in_a_row = 0;
         bool writer_bound = false;
@@ -137,6 +164,7 @@ class Bench {
         double loss = 1.0;
         double achieved = 0;
         double cpu_us_per_sample = 0;
+        double busiest_thread_us_per_sample = 0;
     };
 
     /// CPU seconds this process has used, user and system, every thread.
@@ -155,6 +183,7 @@ class Bench {
             gw_before = side_.gateway().counters(*path.gateway_topic);
         }
         const double cpu_before_s = process_cpu_s();
+        const tgw::bench::ThreadCpu threads_before = tgw::bench::ThreadCpu::now();
         const auto [sent, achieved] = burst(path.writer, message, rate, sequence_);
         tgw::bench::settle([&] { return path.reader.received(); });
         const std::uint64_t got = path.reader.received() - before;
@@ -162,6 +191,10 @@ class Bench {
         step.loss = sent == 0 ? 1.0 : 1.0 - static_cast<double>(got) / static_cast<double>(sent);
         step.achieved = achieved;
         step.cpu_us_per_sample = sent == 0 ? 0 : (process_cpu_s() - cpu_before_s) * 1e6 / static_cast<double>(sent);
+        const std::map<pid_t, double> threads = tgw::bench::ThreadCpu::now().us_per_sample_since(threads_before, sent);
+        for (const auto& [tid, us] : threads) {
+            step.busiest_thread_us_per_sample = std::max(step.busiest_thread_us_per_sample, us);
+        }
         if (options_.verbose) {
             // Where a gateway-path sample was lost: before the gateway (robot side), in it, or after.
             tgw::core::TopicCounters gw;
@@ -177,6 +210,8 @@ class Bench {
                          static_cast<unsigned long long>(gw.forwarded - gw_before.forwarded),
                          static_cast<unsigned long long>(gw.dropped_total() - gw_before.dropped_total()),
                          drop_reasons(gw, gw_before).c_str());
+            std::fprintf(stderr, "          threads, us/sample: %s\n",
+                         describe_busiest(threads, path.reader.listener_thread()).c_str());
         }
         return step;
     }
@@ -222,6 +257,7 @@ class Bench {
             } else {
                 path.best_rate = rate;
                 path.cpu_us_at_rate[rate] = step.cpu_us_per_sample;
+                path.busiest_us_at_rate[rate] = step.busiest_thread_us_per_sample;
                 path.first_lossy_rate = 0;
             }
             return;
@@ -315,13 +351,15 @@ int main(int argc, char** argv) {
     std::printf(
         "throughput: highest offered rate with loss < %.2f %%, steps x1.5 of %.1f s then %d bisections, best effort, "
         "writer KEEP_LAST 100 %s, readers KEEP_LAST 1000, direct reader UDP, %s, %s, "
-        "direct path's datagrams up to %s B; '+': publisher-bound floor\n",
+        "direct path's datagrams up to %s B; '+': publisher-bound floor; *_max_us: the CPU per sample of the path's "
+        "busiest thread, which bounds its rate\n",
         options.max_loss * 100, options.duration_s, options.bisect_steps,
         options.volatile_writer ? "volatile" : "transient local", options.gateway.describe().c_str(),
         tgw::bench::describe_unconstrained_budget().c_str(),
         options.direct_max_message_bytes > 0 ? std::to_string(options.direct_max_message_bytes).c_str() : "65500");
-    std::printf("%8s %4s %13s %10s %13s %10s %7s %8s %13s %10s\n", "bytes", "run", "direct/s", "direct_MB/s",
-                "via_gw/s", "via_MB/s", "ratio", "cpu_at/s", "direct_cpu_us", "via_cpu_us");
+    std::printf("%8s %4s %13s %10s %13s %10s %7s %8s %13s %10s %13s %10s\n", "bytes", "run", "direct/s", "direct_MB/s",
+                "via_gw/s", "via_MB/s", "ratio", "cpu_at/s", "direct_cpu_us", "via_cpu_us", "direct_max_us",
+                "via_max_us");
     int rc = 0;
     for (std::size_t size : options.sizes) {
         if (!bench.run(size)) {

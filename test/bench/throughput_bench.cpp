@@ -113,14 +113,14 @@ class Bench {
             search(direct_path, via_path, message);
             const double mb = static_cast<double>(size) / 1e6;
             const double cpu_rate = common_loss_free_rate(direct_path, via_path);
+            const CpuPerSample direct_cpu = cpu_rate > 0 ? direct_path.cpu_at_rate.at(cpu_rate) : CpuPerSample{};
+            const CpuPerSample via_cpu = cpu_rate > 0 ? via_path.cpu_at_rate.at(cpu_rate) : CpuPerSample{};
             std::printf("%8zu %4d %12.0f%s %10.1f %12.0f%s %10.1f %7.2f %8.0f %13.1f %10.1f %13.1f %10.1f\n", size, run,
                         direct_path.best_rate, direct_path.writer_bound ? "+" : " ", direct_path.best_rate * mb,
                         via_path.best_rate, via_path.writer_bound ? "+" : " ", via_path.best_rate * mb,
                         direct_path.best_rate > 0 ? via_path.best_rate / direct_path.best_rate : 0.0, cpu_rate,
-                        cpu_rate > 0 ? direct_path.cpu_us_at_rate.at(cpu_rate) : 0.0,
-                        cpu_rate > 0 ? via_path.cpu_us_at_rate.at(cpu_rate) : 0.0,
-                        cpu_rate > 0 ? direct_path.busiest_us_at_rate.at(cpu_rate) : 0.0,
-                        cpu_rate > 0 ? via_path.busiest_us_at_rate.at(cpu_rate) : 0.0);
+                        direct_cpu.process_us, via_cpu.process_us, direct_cpu.busiest_thread_us,
+                        via_cpu.busiest_thread_us);
             std::fflush(stdout);
         }
         return true;
@@ -133,6 +133,13 @@ class Bench {
     /// A step whose publisher achieved less than this fraction of the offered rate measures the publisher.
     static constexpr double WRITER_BOUND_FRACTION = 0.9;
 
+    /// CPU time per sample of a step.
+    struct CpuPerSample {
+        double process_us = 0;  ///< every thread: writer, gateway, reader
+        /// The thread that used the most: the path carries at most 1 s over it a second.
+        double busiest_thread_us = 0;
+    };
+
     /// One path under test and where its search stands.
     struct Path {
         const char* name;
@@ -140,12 +147,8 @@ class Bench {
         CountingReader& reader;
         std::optional<tgw::core::TopicId> gateway_topic;  ///< set for the path through the gateway
         double best_rate = 0;                             ///< the highest loss-free rate so far
-        /// The process's CPU per sample (every thread: writer, gateway, reader) at each loss-free ramp rate.
-        std::map<double, double> cpu_us_at_rate{};
-        /// The CPU per sample of the thread that used the most, at each loss-free ramp rate: the path carries at
-        /// most 1 s over it a second.
-        std::map<double, double> busiest_us_at_rate{};
-        double first_lossy_rate = 0;  ///< the lowest lossy rate above best_rate, 0 while none
+        std::map<double, CpuPerSample> cpu_at_rate{};     ///< at each loss-free ramp rate
+        double first_lossy_rate = 0;                      ///< the lowest lossy rate above best_rate, 0 while none
         int lossy_in_a_row = 0;
         bool writer_bound = false;
         bool done = false;
@@ -153,8 +156,8 @@ class Bench {
 
     /// The highest ramp rate both paths carried without loss, where their CPU per sample compares; 0 if none.
     static double common_loss_free_rate(const Path& direct, const Path& via) {
-        for (auto it = direct.cpu_us_at_rate.rbegin(); it != direct.cpu_us_at_rate.rend(); ++it) {
-            if (via.cpu_us_at_rate.count(it->first) != 0)
+        for (auto it = direct.cpu_at_rate.rbegin(); it != direct.cpu_at_rate.rend(); ++it) {
+            if (via.cpu_at_rate.count(it->first) != 0)
                 return it->first;
         }
         return 0;
@@ -163,8 +166,7 @@ class Bench {
     struct Step {
         double loss = 1.0;
         double achieved = 0;
-        double cpu_us_per_sample = 0;
-        double busiest_thread_us_per_sample = 0;
+        CpuPerSample cpu;
     };
 
     /// CPU seconds this process has used, user and system, every thread.
@@ -190,10 +192,10 @@ class Bench {
         Step step;
         step.loss = sent == 0 ? 1.0 : 1.0 - static_cast<double>(got) / static_cast<double>(sent);
         step.achieved = achieved;
-        step.cpu_us_per_sample = sent == 0 ? 0 : (process_cpu_s() - cpu_before_s) * 1e6 / static_cast<double>(sent);
+        step.cpu.process_us = sent == 0 ? 0 : (process_cpu_s() - cpu_before_s) * 1e6 / static_cast<double>(sent);
         const std::map<pid_t, double> threads = tgw::bench::ThreadCpu::now().us_per_sample_since(threads_before, sent);
         for (const auto& [tid, us] : threads) {
-            step.busiest_thread_us_per_sample = std::max(step.busiest_thread_us_per_sample, us);
+            step.cpu.busiest_thread_us = std::max(step.cpu.busiest_thread_us, us);
         }
         if (options_.verbose) {
             // Where a gateway-path sample was lost: before the gateway (robot side), in it, or after.
@@ -205,7 +207,7 @@ class Bench {
                          "  %-7s offered %9.0f/s achieved %9.0f/s sent %8llu got %8llu cpu %.1f us/sample "
                          "(gateway in %llu fwd %llu dropped %llu%s)\n",
                          path.name, rate, achieved, static_cast<unsigned long long>(sent),
-                         static_cast<unsigned long long>(got), step.cpu_us_per_sample,
+                         static_cast<unsigned long long>(got), step.cpu.process_us,
                          static_cast<unsigned long long>(gw.received - gw_before.received),
                          static_cast<unsigned long long>(gw.forwarded - gw_before.forwarded),
                          static_cast<unsigned long long>(gw.dropped_total() - gw_before.dropped_total()),
@@ -256,8 +258,7 @@ class Bench {
                 path.done = true;
             } else {
                 path.best_rate = rate;
-                path.cpu_us_at_rate[rate] = step.cpu_us_per_sample;
-                path.busiest_us_at_rate[rate] = step.busiest_thread_us_per_sample;
+                path.cpu_at_rate[rate] = step.cpu;
                 path.first_lossy_rate = 0;
             }
             return;
